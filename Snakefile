@@ -1,0 +1,27 @@
+# sleighsim workflow: every figure of Fedonyuk & Tallapragada, from the mechanics up.
+#   snakemake -c2                                  paper fidelity (config/config.yaml)
+#   snakemake -c2 --configfile config/smoke.yaml   tiny, for CI
+#   snakemake -c2 fig3                             one figure and what it needs
+from snakemake.utils import min_version, validate
+
+min_version("8.0")
+
+
+configfile: "config/config.yaml"
+
+
+# Stop before any job on a bad value; the message names the offending key.
+validate(config, schema="workflow/schemas/config.schema.yaml", set_default=True)
+
+R = config["results"]
+
+
+include: "workflow/rules/common.smk"
+include: "workflow/rules/scenes.smk"
+include: "workflow/rules/figures.smk"
+
+
+rule all:
+    input:
+        figure_files(FIGURES),
+    default_target: True

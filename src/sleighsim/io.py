@@ -1,0 +1,66 @@
+"""Dataset provenance and atomic netCDF writing."""
+
+from __future__ import annotations
+
+import datetime as _dt
+import os
+import platform
+import subprocess
+import tempfile
+from functools import lru_cache
+from importlib import metadata
+from pathlib import Path
+
+import xarray as xr
+
+_PACKAGES = ("sleighsim", "numpy", "scipy", "sympy", "heyoka", "xarray", "netCDF4", "matplotlib")
+
+
+@lru_cache(maxsize=None)
+def _git_commit() -> str:
+    here = Path(__file__).resolve().parent
+    try:
+        commit = subprocess.run(
+            ["git", "rev-parse", "HEAD"], cwd=here, capture_output=True, text=True, timeout=10, check=True
+        ).stdout.strip()
+        dirty = subprocess.run(
+            ["git", "status", "--porcelain", "--untracked-files=no"],
+            cwd=here, capture_output=True, text=True, timeout=10, check=True,
+        ).stdout.strip()
+    except (OSError, subprocess.SubprocessError):
+        return "unknown"
+    return commit + ("-dirty" if dirty else "")
+
+
+def provenance_attrs() -> dict:
+    """Package versions, Python version, git commit and creation time (UTC)."""
+    out = {"python_version": platform.python_version(), "git_commit": _git_commit()}
+    for pkg in _PACKAGES:
+        try:
+            out[f"version_{pkg}"] = metadata.version(pkg)
+        except metadata.PackageNotFoundError:
+            out[f"version_{pkg}"] = "not installed"
+    out["created_utc"] = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
+    return out
+
+
+def write_dataset(ds: xr.Dataset, path) -> Path:
+    """Write ``ds`` to netCDF at ``path`` atomically: a temporary file in the same
+    directory is written, then renamed, so an interrupted write leaves nothing."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    os.close(fd)
+    try:
+        ds.to_netcdf(tmp, engine="netcdf4")
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    return path
+
+
+def read_dataset(path) -> xr.Dataset:
+    """Load a dataset fully into memory and close the file."""
+    with xr.open_dataset(path, engine="netcdf4") as ds:
+        return ds.load()

@@ -1,0 +1,170 @@
+"""Symbolic derivation of the reduced sleigh-rotor equations (SymPy).
+
+Configuration (x, y, theta, beta): sleigh centre C at (x, y), heading theta,
+rotor angle beta. The rotor's centre sits at C + a (cos beta, sin beta). The
+runner at P, a distance b behind C, cannot slip sideways:
+
+    -xdot sin(theta) + ydot cos(theta) - b thetadot = 0.
+
+Admissible velocities are qdot = S(theta) v with body velocities
+v = (u, Omega, omega): u the runner's longitudinal speed, Omega = thetadot,
+omega = betadot. Projecting the Euler-Lagrange equations onto the admissible
+directions (Lagrange-d'Alembert) eliminates the multiplier and gives
+
+    M(delta) vdot = f(u, Omega, omega, delta),   deltadot = Omega - omega,
+
+with delta = theta - beta. The projected equations are invariant under
+rotations of the plane, so they are evaluated at theta = 0 (beta = -delta);
+a test checks that invariance at random headings.
+
+Everything is cached: the derivation runs once per process (about a second,
+no blanket ``simplify``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import lru_cache
+
+import sympy as sp
+
+# Physical parameters, state and accelerations (all public: other modules build on them).
+m_c, m_r, I_c, I_r, a, b = sp.symbols("m_c m_r I_c I_r a b", positive=True)
+PHYSICAL = (m_c, m_r, I_c, I_r, a, b)
+u, Omega, omega, delta = sp.symbols("u Omega omega delta", real=True)
+STATE = (u, Omega, omega, delta)
+theta = sp.Symbol("theta", real=True)
+eps, K2 = sp.symbols("epsilon K2", positive=True)
+_udot, _Omegadot, _omegadot = sp.symbols("udot Omegadot omegadot")
+
+
+@dataclass(frozen=True)
+class Derivation:
+    """The reduced equations in physical parameters.
+
+    M: 3x3 locked inertia, f: right-hand side of M vdot = f,
+    rhs: explicit (udot, Omegadot, omegadot, deltadot) = (adj(M) f / det M, Omega - omega),
+    energy: 1/2 v^T M v.
+    """
+
+    M: sp.Matrix
+    f: sp.Matrix
+    rhs: tuple
+    energy: sp.Expr
+    lagrangian: sp.Expr
+
+
+def _lagrangian():
+    t = sp.Symbol("t")
+    x, y, th, be = (sp.Function(n)(t) for n in ("x", "y", "theta", "beta"))
+    xr, yr = x + a * sp.cos(be), y + a * sp.sin(be)
+    L = (
+        m_c * (x.diff(t) ** 2 + y.diff(t) ** 2)
+        + m_r * (xr.diff(t) ** 2 + yr.diff(t) ** 2)
+        + I_c * th.diff(t) ** 2
+        + I_r * be.diff(t) ** 2
+    ) / 2
+    return t, (x, y, th, be), L
+
+
+@lru_cache(maxsize=None)
+def projected_equations(theta_value=0):
+    """S^T (d/dt dL/dqdot - dL/dq) with qdot = S v, at heading ``theta_value``.
+
+    Returns a 3-vector linear in (udot, Omegadot, omegadot). ``theta_value``
+    may be a symbol, to check rotation invariance.
+    """
+    t, q, L = _lagrangian()
+    Q = sp.symbols("X Y TH BE")
+    Qd = sp.symbols("Xd Yd THd BEd")
+    Qdd = sp.symbols("Xdd Ydd THdd BEdd")
+    to_plain = {}
+    for fq, s, sd, sdd in zip(q, Q, Qd, Qdd):
+        to_plain[fq.diff(t, 2)] = sdd
+        to_plain[fq.diff(t)] = sd
+        to_plain[fq] = s
+    el = [sp.expand((L.diff(fq.diff(t)).diff(t) - L.diff(fq)).subs(to_plain)) for fq in q]
+    TH = Q[2]
+    S = sp.Matrix(
+        [[sp.cos(TH), -b * sp.sin(TH), 0], [sp.sin(TH), b * sp.cos(TH), 0], [0, 1, 0], [0, 0, 1]]
+    )
+    v = sp.Matrix([u, Omega, omega])
+    vd = sp.Matrix([_udot, _Omegadot, _omegadot])
+    qd = S * v
+    qdd = S * vd + S.diff(TH) * Omega * v
+    sub = {Qd[i]: qd[i] for i in range(4)} | {Qdd[i]: qdd[i] for i in range(4)}
+    projected = S.T * sp.Matrix([e.subs(sub) for e in el])
+    projected = projected.subs({TH: theta_value, Q[3]: theta_value - delta})
+    return sp.expand(projected)
+
+
+@lru_cache(maxsize=None)
+def derive() -> Derivation:
+    """Derive M(delta), f and the explicit reduced vector field."""
+    red = projected_equations(0)
+    acc = sp.Matrix([_udot, _Omegadot, _omegadot])
+    M = red.jacobian(acc)
+    f = sp.expand(-(red - M * acc))
+    det = M.det(method="berkowitz")
+    vdot = M.adjugate() * f / det
+    v = sp.Matrix([u, Omega, omega])
+    energy = (v.T * M * v)[0, 0] / 2
+    _, _, L = _lagrangian()
+    return Derivation(M=M, f=f, rhs=(*vdot, Omega - omega), energy=energy, lagrangian=L)
+
+
+def paper_substitution():
+    """Physical parameters in terms of the paper's (epsilon, b, K2), SCIENCE.md.
+
+    m = 1, m_r = eps, a = eps b, I_c = (K2 - 1) b^2, I_r = eps^3 b^2 (K2 - 1 + eps).
+    Under this map the printed Omegadot and omegadot equal the derived ones.
+    """
+    return {
+        m_c: 1 - eps,
+        m_r: eps,
+        a: eps * b,
+        I_c: (K2 - 1) * b**2,
+        I_r: eps**3 * b**2 * (K2 - 1 + eps),
+    }
+
+
+@lru_cache(maxsize=None)
+def paper_printed():
+    """The paper's equations (eq:u)-(eq:delta_dot) exactly as printed, K^2 -> K2.
+
+    For the audit only: the printed udot does not follow from the mechanics.
+    """
+    D = eps * (K2 - 1) * sp.cos(delta) ** 2 + K2**2
+    common = eps**2 * b * omega**2 * sp.sin(delta) + u * Omega
+    udot = (
+        K2**2 * b * Omega**2
+        + eps * (K2 - 1) * (b * Omega**2 * sp.cos(delta) ** 2 + u * Omega * sp.sin(delta) * sp.cos(delta))
+    ) / D + b * omega**2 * eps * (eps * (K2 - 1) + K2) * sp.cos(delta) / D
+    Omegadot = -K2 * common / (b * D)
+    omegadot = -(K2 - 1) * sp.cos(delta) * common / (eps * b * D)
+    return (udot, Omegadot, omegadot, Omega - omega)
+
+
+def paper_printed_locked_inertia():
+    """The printed locked inertia tensor and right-hand side (audit, D3)."""
+    m = m_c + m_r
+    M = sp.Matrix(
+        [
+            [m_c, 0, m_r * a * sp.sin(delta)],
+            [0, I_c + m * b**2, m_r * a * b * sp.cos(delta)],
+            [m_r * a * sp.sin(delta), m_r * a * b * sp.cos(delta), I_r + m_r * a**2],
+        ]
+    )
+    f = sp.Matrix(
+        [
+            m_c * b * Omega**2 + m_r * a * omega**2 * sp.cos(delta),
+            -m_c * b * u * Omega - m_r * a * b * omega**2 * sp.sin(delta),
+            -m_r * a * u * omega * sp.cos(delta),
+        ]
+    )
+    return M, f
+
+
+def sleigh0_rhs():
+    """The epsilon = 0 sleigh: udot = b Omega^2, Omegadot = -u Omega / (b K2)."""
+    return (b * Omega**2, -u * Omega / (b * K2))
