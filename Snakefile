@@ -12,6 +12,9 @@ configfile: "config/config.yaml"
 
 # Stop before any job on a bad value; the message names the offending key.
 validate(config, schema="workflow/schemas/config.schema.yaml", set_default=True)
+from sleighsim.configcheck import check as check_config
+
+check_config(config)
 
 R = config["results"]
 

@@ -76,7 +76,8 @@ def _initial_state(y0, kinematics: bool) -> np.ndarray:
     if y0.size == 4 and kinematics:
         y0 = np.concatenate([y0, np.zeros(3)])
     if y0.size != want:
-        raise ValueError(f"initial state has {y0.size} components; expected 4 (u, Omega, omega, delta) or {want}")
+        extra = " or 7 with (theta, x, y)" if kinematics else ""
+        raise ValueError(f"initial state has {y0.size} components; expected 4 (u, Omega, omega, delta){extra}")
     if not np.all(np.isfinite(y0)):
         raise ValueError(f"initial state {y0.tolist()} is not finite")
     return y0
@@ -92,7 +93,7 @@ def _fail(scene, t, state, why):
     raise IntegrationError(f"scene {scene or '?'}: integration failed at t = {t:.6g}, state = {np.asarray(state).tolist()}: {why}")
 
 
-def _run_heyoka(params, y0, t0, times, kinematics, tol, scene, progress):
+def _run_heyoka(params, y0, t0, times, kinematics, tol, scene, progress, max_steps):
     import heyoka as hy
 
     ta, compile_s = heyoka_integrator(kinematics, tol)
@@ -101,24 +102,27 @@ def _run_heyoka(params, y0, t0, times, kinematics, tol, scene, progress):
     ta.pars[:] = params.values
     nsteps, min_h, max_h = 0, math.inf, 0.0
 
-    def account(res):
+    def advance(call, *args):
+        """Run one propagation; on failure report the last finite state before it."""
         nonlocal nsteps, min_h, max_h
+        t_before, y_before = ta.time, ta.state.copy()
+        res = call(*args, max_steps=max(1, max_steps - nsteps))
         outcome, lo, hi, n = res[0], res[1], res[2], res[3]
         nsteps += n
         if n:
             min_h, max_h = min(min_h, lo), max(max_h, hi)
         if outcome != hy.taylor_outcome.time_limit or not np.all(np.isfinite(ta.state)):
-            _fail(scene, ta.time, ta.state, f"heyoka outcome {outcome}")
+            _fail(scene, t_before, y_before, f"heyoka outcome {outcome.name} (last finite state shown)")
+        return res
 
     pieces = _chunks(times, progress)
     if times[0] > t0:
         for target in np.linspace(t0, times[0], len(pieces) + 1)[1:]:
-            account(ta.propagate_until(float(target)))
+            advance(ta.propagate_until, float(target))
             log.info("%s: pre-run t = %.6g / %.6g", scene, ta.time, times[0])
     out = []
     for k, piece in enumerate(pieces):
-        res = ta.propagate_grid(piece)
-        account(res)
+        res = advance(ta.propagate_grid, piece)
         out.append(res[5] if k == 0 else res[5][1:])
         log.info("%s: t = %.6g / %.6g (%d steps)", scene, ta.time, times[-1], nsteps)
     info = dict(backend="heyoka", method="taylor_adaptive", tol=tol, order=int(ta.order),
@@ -127,7 +131,7 @@ def _run_heyoka(params, y0, t0, times, kinematics, tol, scene, progress):
     return np.concatenate(out, axis=0), info
 
 
-def _run_scipy(params, y0, t0, times, method, rtol, atol, scene, progress):
+def _run_scipy(params, y0, t0, times, method, rtol, atol, scene, progress, max_steps):
     from scipy.integrate import _ivp
 
     solvers = {"DOP853": _ivp.DOP853, "RK45": _ivp.RK45, "RK23": _ivp.RK23, "Radau": _ivp.Radau,
@@ -148,6 +152,8 @@ def _run_scipy(params, y0, t0, times, method, rtol, atol, scene, progress):
         if solver.status == "failed" or not np.all(np.isfinite(solver.y)):
             _fail(scene, solver.t, solver.y, f"SciPy {method}: {msg}")
         nsteps += 1
+        if nsteps >= max_steps and solver.t < times[-1]:
+            _fail(scene, solver.t, solver.y, f"SciPy {method}: step limit {max_steps} reached")
         j = i
         while j < len(times) and times[j] <= solver.t:
             j += 1
@@ -176,13 +182,15 @@ def integrate(
     atol: float = 1e-14,
     scene: str = "",
     progress: int = 20,
+    max_steps: int = 10**9,
 ) -> xr.Dataset:
     """Integrate from ``y0`` at ``t0`` (default ``times[0]``) and sample at ``times``.
 
     ``y0``: (u, Omega, omega, delta), or with (theta, x, y) appended when
     ``kinematics`` (zeros if omitted). ``tol`` is heyoka's tolerance; ``method``,
     ``rtol``, ``atol`` apply to the SciPy backend. Progress is logged ``progress``
-    times. Raises :class:`IntegrationError` naming scene, time and state on failure.
+    times. Raises :class:`IntegrationError` naming scene, time and state on failure,
+    including when ``max_steps`` steps do not reach the end.
     """
     times = np.asarray(times, dtype=float).ravel()
     if times.size == 0 or not np.all(np.isfinite(times)) or np.any(np.diff(times) <= 0):
@@ -198,9 +206,9 @@ def integrate(
 
     start = time.perf_counter()
     if backend == "heyoka":
-        states, info = _run_heyoka(params, y0, t0, times, kinematics, tol, scene, progress)
+        states, info = _run_heyoka(params, y0, t0, times, kinematics, tol, scene, progress, max_steps)
     elif backend == "scipy":
-        states, info = _run_scipy(params, y0, t0, times, method, rtol, atol, scene, progress)
+        states, info = _run_scipy(params, y0, t0, times, method, rtol, atol, scene, progress, max_steps)
     else:
         raise ValueError(f"unknown backend {backend!r}; choose 'heyoka' or 'scipy'")
     wall = time.perf_counter() - start

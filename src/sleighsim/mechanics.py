@@ -101,7 +101,8 @@ def projected_equations(theta_value=0):
 @lru_cache(maxsize=None)
 def derive() -> Derivation:
     """Derive M(delta), f and the explicit reduced vector field."""
-    red = projected_equations(0)
+    # sin^2 + cos^2 = 1 is the only identity needed; no blanket simplify.
+    red = sp.expand(projected_equations(0).subs(sp.sin(delta) ** 2, 1 - sp.cos(delta) ** 2))
     acc = sp.Matrix([_udot, _Omegadot, _omegadot])
     M = red.jacobian(acc)
     f = sp.expand(-(red - M * acc))

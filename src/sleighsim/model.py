@@ -241,6 +241,16 @@ def _printed_lambdified():
     return sp.lambdify(args, list(mech.paper_printed()), modules="numpy", cse=True)
 
 
+def printed_heyoka_system():
+    """The printed (eps, b, K2) system for heyoka, par[0..2] = (eps, b, K2). Audit only."""
+    import heyoka as hy
+
+    hv = hy.make_vars(*STATE_NAMES)
+    smap = {s: v for s, v in zip(mech.STATE, hv)}
+    smap.update({mech.eps: hy.par[0], mech.b: hy.par[1], mech.K2: hy.par[2]})
+    return [(v, hy.from_sympy(e, smap)) for v, e in zip(hv, mech.paper_printed())]
+
+
 def paper_printed_rhs(y, eps, b, K2) -> np.ndarray:
     """The paper's printed right-hand side (audit only; its udot is wrong)."""
     y = np.asarray(y, dtype=float)

@@ -77,7 +77,7 @@ def fig1(cfg: dict, png, pdf) -> None:
     ax.text(1.62 * b, 0, r"$X$", color="0.4")
     ax.text(*(C + np.array([0.05, -0.12]) * b), r"$C$", fontsize=12)
     ax.text(*(P + np.array([-0.05, -0.2]) * b), r"$P$ (runner)", fontsize=11, color="tab:blue")
-    ax.text(*(R + np.array([0.05, 0.05]) * b), r"rotor $m_r, I_r$", fontsize=10, color="tab:red")
+    ax.text(*(R + np.array([-0.75, 0.12]) * b), r"rotor $m_r, I_r$", fontsize=10, color="tab:red")
     ax.text(*((C + R) / 2 + np.array([-0.12, 0.02]) * b), r"$a$", color="tab:red", fontsize=12)
     ax.text(*((C + P) / 2 + 0.08 * b * ey), r"$b$", fontsize=12)
     ax.add_patch(patches.Arc(C, 0.5 * b, 0.5 * b, theta1=0, theta2=np.degrees(th), color="0.3"))

@@ -52,13 +52,21 @@ def fig2(cfg: dict, scene: str = "fig2") -> xr.Dataset:
     u_num = np.empty_like(u_cf)
     Om_num = np.empty_like(u_cf)
     drift, steps = 0.0, 0
+    # Both halves run from t = 0 in their stable direction: forward for t >= 0; for t <= 0
+    # the reversal symmetry y(-s) = -y~(s), y~ the solution from -y(0), gives the past.
+    # (Integrating forward from t = -t_half would start beside the unstable branch u = -V.)
+    past, future = t <= 0, t >= 0
     for k, (u0, Om0) in enumerate(starts):
         u_cf[k], Om_cf[k], _ = model.sleigh0_closed_form(t, u0, Om0, b, K2)
-        y_start = [u_cf[k, 0], Om_cf[k, 0], 0.0, 0.0]
-        ds = integrate(params, y_start, t, tol=tol, scene=f"{scene}[{k}]", progress=1)
-        u_num[k], Om_num[k] = ds.u.values, ds.Omega.values
-        drift = max(drift, ds.attrs["energy_max_rel_drift"])
-        steps += ds.attrs["steps"]
+        for mask, sign in ((future, 1.0), (past, -1.0)):
+            ts = sign * t[mask]
+            order = np.argsort(ts)
+            ds = integrate(params, [sign * u0, sign * Om0, 0.0, 0.0], ts[order], tol=tol,
+                           scene=f"{scene}[{k}]", progress=1)
+            idx = np.flatnonzero(mask)[order]
+            u_num[k, idx], Om_num[k, idx] = sign * ds.u.values, sign * ds.Omega.values
+            drift = max(drift, ds.attrs["energy_max_rel_drift"])
+            steps += ds.attrs["steps"]
     err = float(max(np.max(np.abs(u_num - u_cf)), np.max(np.abs(Om_num - Om_cf))))
 
     ug = np.linspace(*pc["u_range"], pc["n_field"])

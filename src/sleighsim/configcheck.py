@@ -1,0 +1,33 @@
+"""Checks the JSON schema cannot express, run at workflow start (before any job).
+
+Each error names the config key and the admissible range."""
+
+from __future__ import annotations
+
+from . import model
+from .scenes import SCENES
+
+
+class ConfigError(ValueError):
+    """A config value is out of its admissible range."""
+
+
+def check(config: dict) -> None:
+    """Raise :class:`ConfigError` naming the first offending key."""
+    for name, cfg in config["scenes"].items():
+        if "params" in cfg:
+            try:
+                model.Params.from_config(cfg["params"])
+            except ValueError as err:
+                raise ConfigError(f"scenes.{name}.params: {err}") from None
+        if SCENES.get(name) is SCENES["fig3"]:  # trajectory scenes
+            start, end = cfg.get("t_sample_start", 0.0), cfg["t_end"]
+            if start > end:
+                raise ConfigError(f"scenes.{name}.t_sample_start = {start} must lie in [0, t_end = {end}]")
+            if cfg["dt"] > end - start and end > start:
+                raise ConfigError(f"scenes.{name}.dt = {cfg['dt']} must lie in (0, t_end - t_sample_start = {end - start}]")
+    portrait = config["scenes"]["fig2"]["portrait"]
+    for key in ("u_range", "Omega_range"):
+        lo, hi = portrait[key]
+        if not lo < hi:
+            raise ConfigError(f"scenes.fig2.portrait.{key} = [{lo}, {hi}] must be increasing")

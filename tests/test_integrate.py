@@ -1,0 +1,84 @@
+"""The integration engine: backends, datasets, failures, atomic writes."""
+
+import numpy as np
+import pytest
+
+from sleighsim import io, model
+from sleighsim.integrate import IntegrationError, integrate, sample_grid
+
+REF = model.REFERENCE_STATE
+P = model.Params.paper(eps=0.1)
+
+
+def test_heyoka_and_scipy_agree_over_100_time_units():
+    t = sample_grid(0.0, 100.0, 0.5)
+    hy = integrate(P, REF, t, kinematics=True)
+    sp = integrate(P, REF, t, kinematics=True, backend="scipy", method="DOP853", rtol=1e-13, atol=1e-15)
+    diff = max(float(np.max(np.abs(hy[n] - sp[n]))) for n in hy.data_vars)
+    assert diff < 1e-8, diff
+    assert sp.attrs["backend"] == "scipy" and sp.attrs["steps"] > 0
+
+
+def test_dataset_records_how_it_was_computed():
+    ds = integrate(P, REF, sample_grid(0.0, 10.0, 1.0), t0=0.0, scene="unit")
+    for key in ("param_m_c", "param_m_r", "param_I_c", "param_I_r", "param_a", "param_b", "param_eps", "param_K2",
+                "y0_u", "y0_Omega", "y0_omega", "y0_delta", "energy_label", "energy_physical", "backend", "method",
+                "tol", "steps", "wall_time_s", "energy_max_rel_drift", "git_commit", "version_heyoka",
+                "version_numpy", "version_scipy", "compile_time_s"):
+        assert key in ds.attrs, key
+    assert ds.attrs["energy_label"] == pytest.approx(0.1127)
+    assert ds.u.attrs["units"] and ds.Omega.attrs["long_name"]
+    assert list(ds.data_vars) == ["u", "Omega", "omega", "delta"]
+
+
+def test_sampling_after_a_silent_pre_run_matches_a_full_run():
+    full = integrate(P, REF, sample_grid(0.0, 200.0, 1.0))
+    late = integrate(P, REF, sample_grid(150.0, 200.0, 1.0), t0=0.0)
+    assert np.max(np.abs(full.u.sel(time=late.time) - late.u)) < 1e-12
+
+
+def test_bad_inputs_raise_clear_errors():
+    with pytest.raises(ValueError, match="strictly increasing"):
+        integrate(P, REF, [0.0, 2.0, 1.0])
+    with pytest.raises(ValueError, match="has 2 components; expected 4"):
+        integrate(P, [1.0, 2.0], [0.0, 1.0])
+    with pytest.raises(ValueError, match="not finite"):
+        integrate(P, [np.nan, 0, 0, 0], [0.0, 1.0])
+    with pytest.raises(ValueError, match="tol"):
+        integrate(P, REF, [0.0, 1.0], tol=0.0)
+    with pytest.raises(ValueError, match="backend"):
+        integrate(P, REF, [0.0, 1.0], backend="euler")
+    with pytest.raises(ValueError, match="dt"):
+        sample_grid(0.0, 1.0, -0.1)
+
+
+@pytest.mark.parametrize("backend", ["heyoka", "scipy"])
+def test_integrator_failure_names_scene_time_and_state(backend):
+    with pytest.raises(IntegrationError, match=r"scene blowup: integration failed at t = .*state = \["):
+        integrate(P, [1e150, 1e150, 1e150, 0.0], [0.0, 1.0], scene="blowup", backend=backend, max_steps=2000)
+
+
+def test_step_limit_stops_a_run_cleanly():
+    with pytest.raises(IntegrationError, match="scene slow: .*outcome step_limit"):
+        integrate(P, REF, [0.0, 1e4], scene="slow", max_steps=50)
+
+
+def test_write_dataset_is_atomic(tmp_path, monkeypatch):
+    ds = integrate(P, REF, [0.0, 1.0])
+    target = tmp_path / "out.nc"
+    io.write_dataset(ds, target)
+    before = target.read_bytes()
+
+    def explode(self, path, *a, **k):
+        open(path, "wb").write(b"partial")
+        raise KeyboardInterrupt("interrupted while writing")
+
+    monkeypatch.setattr(type(ds), "to_netcdf", explode)
+    with pytest.raises(KeyboardInterrupt):
+        io.write_dataset(ds, target)
+    assert target.read_bytes() == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out.nc"]  # no temporary left behind
+    monkeypatch.undo()
+    back = io.read_dataset(target)
+    assert np.array_equal(back.u.values, ds.u.values)
+    assert back.attrs["energy_max_rel_drift"] == ds.attrs["energy_max_rel_drift"]

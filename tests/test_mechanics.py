@@ -1,0 +1,94 @@
+"""The derivation against SCIENCE.md's matrix form and the paper's printed equations."""
+
+import numpy as np
+import pytest
+import sympy as sp
+
+from sleighsim import mechanics as mech
+from sleighsim import model
+
+
+def test_derived_matrix_form_matches_lagrange_multiplier_form():
+    d = mech.derive()
+    m = mech.m_c + mech.m_r
+    s, c = sp.sin(mech.delta), sp.cos(mech.delta)
+    ma = mech.m_r * mech.a
+    M = sp.Matrix([[m, 0, ma * s], [0, mech.I_c + m * mech.b**2, ma * mech.b * c],
+                   [ma * s, ma * mech.b * c, mech.I_r + mech.m_r * mech.a**2]])
+    u, Om, om = mech.u, mech.Omega, mech.omega
+    f = sp.Matrix([m * mech.b * Om**2 + ma * om**2 * c,
+                   -m * mech.b * u * Om - ma * mech.b * om**2 * s,
+                   ma * Om * (mech.b * Om * s - u * c)])
+    assert sp.expand(d.M - M) == sp.zeros(3, 3)
+    assert sp.expand(d.f - f) == sp.zeros(3, 1)
+
+
+def test_projected_equations_do_not_depend_on_heading(rng):
+    """The theta = 0 evaluation is justified: the projection is rotation invariant."""
+    th = sp.Symbol("th")
+    general = mech.projected_equations(th)
+    at_zero = mech.projected_equations(0)
+    syms = sorted(general.free_symbols - {th}, key=str)
+    f_gen = sp.lambdify([th, *syms], list(general))
+    f_zero = sp.lambdify(syms, list(at_zero))
+    for _ in range(20):
+        vals = rng.uniform(0.1, 2.0, len(syms))
+        assert np.allclose(f_gen(rng.uniform(-7, 7), *vals), f_zero(*vals), rtol=1e-12, atol=1e-12)
+
+
+def test_printed_Omegadot_and_omegadot_equal_derived_udot_differs(rng):
+    worst = {0: 0.0, 1: 0.0, 2: 0.0}
+    for _ in range(200):
+        eps = rng.uniform(0.01, 0.9)
+        b = rng.uniform(0.2, 5.0)
+        K2 = 1.0 + rng.uniform(0.01, 2.0)
+        y = rng.uniform(-2, 2, 4)
+        p = model.Params.paper(eps=eps, b=b, K2=K2)
+        derived = model.rhs(y, p)
+        printed = model.paper_printed_rhs(y, eps, b, K2)
+        scale = np.abs(derived) + 1e-300
+        for i in range(3):
+            worst[i] = max(worst[i], abs(derived[i] - printed[i]) / max(scale[i], 1e-3))
+        assert derived[3] == printed[3]
+    assert worst[1] < 1e-12 and worst[2] < 1e-12, worst
+    assert worst[0] > 1e-2, "the printed udot should differ from the mechanics"
+
+
+def test_printed_udot_differs_by_the_omega_squared_term():
+    """SCIENCE.md: printed b w^2 eps (eps (K2-1) + K2) cos / D vs derived b w^2 eps^2 (K2^2 + eps (K2-1)) cos / D."""
+    sub = mech.paper_substitution()
+    derived = sp.together(mech.derive().rhs[0].subs(sub))
+    printed = mech.paper_printed()[0]
+    D = mech.eps * (mech.K2 - 1) * sp.cos(mech.delta) ** 2 + mech.K2**2
+    bw2c = mech.b * mech.omega**2 * sp.cos(mech.delta) / D
+    expected_gap = bw2c * (mech.eps * (mech.eps * (mech.K2 - 1) + mech.K2)
+                           - mech.eps**2 * (mech.K2**2 + mech.eps * (mech.K2 - 1)))
+    gap = sp.lambdify((*mech.STATE, mech.eps, mech.b, mech.K2), printed - derived - expected_gap)
+    rng = np.random.default_rng(1)
+    for _ in range(50):
+        args = (*rng.uniform(-2, 2, 4), rng.uniform(0.01, 0.9), rng.uniform(0.2, 3), 1 + rng.uniform(0.01, 2))
+        assert abs(gap(*args)) < 1e-12
+
+
+def test_printed_udot_does_not_conserve_energy():
+    from sleighsim.audit import printed_energy_drift
+
+    ds = printed_energy_drift(model.Params.paper(eps=0.1), model.REFERENCE_STATE, np.linspace(0, 1000, 101))
+    assert ds.attrs["derived_max_abs_rel_change"] < 1e-11
+    assert ds.attrs["printed_max_abs_rel_change"] > 0.5  # measured: about 1.37 within 1000 time units
+
+
+def test_paper_energy_formula_matches_mechanics(rng):
+    eps, b, K2 = mech.eps, mech.b, mech.K2
+    u, Om, om, de = mech.STATE
+    science = (u**2 / 2 + K2 * b**2 * Om**2 / 2 + eps**2 * b * om * (u * sp.sin(de) + b * Om * sp.cos(de))
+               + eps**3 * b**2 * (K2 + eps) * om**2 / 2)
+    derived = mech.derive().energy.subs(mech.paper_substitution())
+    f = sp.lambdify((*mech.STATE, eps, b, K2), derived - science)
+    for _ in range(30):
+        assert abs(f(*rng.uniform(-2, 2, 4), rng.uniform(0.01, 0.9), rng.uniform(0.2, 3), 1.5)) < 1e-12
+
+
+def test_reference_state_energy_is_not_the_printed_label():
+    E = float(model.energy(model.REFERENCE_STATE, model.Params.paper(eps=0.1)))
+    assert E == pytest.approx(0.0071, rel=1e-12)  # 0.0055 + 0.001 + 0.0006, not 0.1127

@@ -1,0 +1,106 @@
+"""The Snakemake workflow: the smoke run end to end, config validation, clean failure."""
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+import yaml
+
+from sleighsim.io import read_dataset
+
+ROOT = Path(__file__).resolve().parents[1]
+SMOKE = ROOT / "config" / "smoke.yaml"
+FIGURES = ["fig1", "fig2", "fig3", "fig7", "fig8"]
+
+
+def snakemake(workdir, configfile, *args, timeout=600):
+    cmd = [sys.executable, "-m", "snakemake", "-s", str(ROOT / "Snakefile"), "-d", str(workdir),
+           "--configfile", str(configfile), "-c2", *args]
+    return subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
+
+
+def key_paths(d, prefix=""):
+    out = set()
+    for k, v in d.items():
+        out.add(prefix + k)
+        if isinstance(v, dict):
+            out |= key_paths(v, prefix + k + ".")
+    return out
+
+
+def test_smoke_config_has_the_same_keys_as_the_paper_config():
+    """Snakemake merges --configfile into config/config.yaml, so smoke must set every key."""
+    full = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
+    smoke = yaml.safe_load(SMOKE.read_text())
+    assert key_paths(full) == key_paths(smoke)
+
+
+@pytest.mark.workflow
+def test_smoke_workflow_builds_every_figure(tmp_path):
+    res = snakemake(tmp_path, SMOKE)
+    assert res.returncode == 0, res.stderr[-3000:]
+    for fig in FIGURES:
+        for ext in ("png", "pdf"):
+            f = tmp_path / "results" / "figures" / f"{fig}.{ext}"
+            assert f.stat().st_size > 1000, f
+        assert (tmp_path / "results" / "benchmarks" / "figure" / f"{fig}.tsv").exists()
+    for scene in ("fig2", "fig3", "fig7", "fig8"):
+        ds = read_dataset(tmp_path / "results" / "data" / f"{scene}.nc")
+        assert ds.attrs["energy_max_rel_drift"] < 1e-8, scene
+        assert ds.attrs["git_commit"] and ds.attrs["version_heyoka"]
+        log = (tmp_path / "results" / "logs" / "scene" / f"{scene}.log").read_text()
+        assert "done in" in log and "energy drift" in log
+    fig3 = read_dataset(tmp_path / "results" / "data" / "fig3.nc")
+    assert set(fig3.data_vars) == {"u", "Omega", "omega", "theta"}
+    assert fig3.attrs["energy_label"] == pytest.approx(0.1127)
+    assert read_dataset(tmp_path / "results" / "data" / "fig2.nc").attrs["closed_form_max_abs_error"] < 1e-10
+    # Nothing left to do on a second run: outputs are complete and up to date.
+    dry = snakemake(tmp_path, SMOKE, "-n")
+    assert "Nothing to be done" in dry.stdout + dry.stderr
+
+
+def _mutate(cfg, path, value):
+    node = cfg
+    for k in path[:-1]:
+        node = node[k]
+    if value is KeyError:
+        node.pop(path[-1])
+    else:
+        node[path[-1]] = value
+
+
+BAD = [
+    (("scenes", "fig3", "params", "eps"), 1.5, r"eps"),
+    (("scenes", "fig3", "params", "b"), -1.0, r"\['b'\]"),
+    (("scenes", "fig7", "params", "K2"), 0.9, r"K2"),
+    (("scenes", "fig3", "tol"), 0.0, r"\['tol'\]"),
+    (("scenes", "fig8", "t_end"), -5.0, r"\['t_end'\]"),
+    (("scenes", "fig3", "dt"), "fast", r"'fast' is not of type 'number'"),
+    (("scenes", "fig3", "colour"), "red", r"colour"),
+    (("scenes", "fig9"), {"y0": [0, 0, 0, 0]}, r"fig9"),
+    (("scenes", "fig7", "t_sample_start"), 20000.0, r"scenes.fig7.t_sample_start = 20000.0 must lie in"),
+    (("scenes", "fig3", "params", "eps"), KeyError, r"params"),
+]
+
+
+@pytest.mark.parametrize("path, value, message", BAD, ids=[".".join(b[0][1:]) + f"={b[1]}" for b in BAD])
+def test_invalid_config_stops_before_any_job_naming_the_key(tmp_path, path, value, message):
+    import re
+
+    cfg = yaml.safe_load(SMOKE.read_text())
+    _mutate(cfg, path, value)
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(yaml.safe_dump(cfg))
+    sentinel = tmp_path / "results" / "data" / "fig3.nc"
+    sentinel.parent.mkdir(parents=True)
+    sentinel.write_bytes(b"earlier result")
+    stamp = sentinel.stat().st_mtime_ns
+    res = snakemake(tmp_path, bad, timeout=120)
+    out = res.stdout + res.stderr
+    assert res.returncode != 0
+    assert re.search(message, out), out[-2000:]
+    assert "Select jobs to execute" not in out and "rule scene" not in out
+    assert sentinel.read_bytes() == b"earlier result" and sentinel.stat().st_mtime_ns == stamp
+    assert sorted(os.listdir(sentinel.parent)) == ["fig3.nc"]
