@@ -12,7 +12,8 @@ from sleighsim.io import read_dataset
 
 ROOT = Path(__file__).resolve().parents[1]
 SMOKE = ROOT / "config" / "smoke.yaml"
-FIGURES = ["fig1", "fig2", "fig3", "fig7", "fig8"]
+FIGURES = ["fig1", "fig2", "fig3", "fig7", "fig8", "fig9", "fig12", "fig13", "fig14"]
+DATASETS = ["fig2", "fig3", "fig7", "fig8", "fig9_ref", "fig9_highE", "fig9_eps001", "psd_eps01", "psd_eps001"]
 
 
 def snakemake(workdir, configfile, *args, timeout=600):
@@ -46,12 +47,21 @@ def test_smoke_workflow_builds_every_figure(tmp_path):
             f = tmp_path / "results" / "figures" / f"{fig}.{ext}"
             assert f.stat().st_size > 1000, f
         assert (tmp_path / "results" / "benchmarks" / "figure" / f"{fig}.tsv").exists()
-    for scene in ("fig2", "fig3", "fig7", "fig8"):
+    for scene in DATASETS:
         ds = read_dataset(tmp_path / "results" / "data" / f"{scene}.nc")
         assert ds.attrs["energy_max_rel_drift"] < 1e-8, scene
         assert ds.attrs["git_commit"] and ds.attrs["version_heyoka"]
         log = (tmp_path / "results" / "logs" / "scene" / f"{scene}.log").read_text()
         assert "done in" in log and "energy drift" in log
+    for scene in ("fig9_ref", "fig9_highE", "fig9_eps001"):
+        ds = read_dataset(tmp_path / "results" / "data" / f"{scene}.nc")
+        assert ds.attrs["max_crossing_residual"] < 1e-12
+        assert ds.attrs["n_p2pi"] >= 10 and set(ds.ppi2_class.values) == {0, 1, 2, 3}
+        assert ds.sizes["nret"] == ds.attrs["n_p2pi"] - 1
+    scaling = read_dataset(tmp_path / "results" / "data" / "fig9_scaling.nc")
+    assert scaling.attrs["distance_scaled_median"] < scaling.attrs["distance_unscaled_median"]
+    psd = read_dataset(tmp_path / "results" / "data" / "psd_eps01.nc")
+    assert psd.attrs["Omega_band_low"] <= psd.attrs["Omega_band_peak"] <= psd.attrs["Omega_band_high"]
     fig3 = read_dataset(tmp_path / "results" / "data" / "fig3.nc")
     assert set(fig3.data_vars) == {"u", "Omega", "omega", "theta"}
     assert fig3.attrs["energy_label"] == pytest.approx(0.1127)
@@ -82,6 +92,9 @@ BAD = [
     (("scenes", "fig9"), {"y0": [0, 0, 0, 0]}, r"fig9"),
     (("scenes", "fig7", "t_sample_start"), 20000.0, r"scenes.fig7.t_sample_start = 20000.0 must lie in"),
     (("scenes", "fig3", "params", "eps"), KeyError, r"params"),
+    (("scenes", "psd_eps01", "dt"), 0.05, r"\['dt'\]"),
+    (("scenes", "psd_eps01", "check_duration"), 1e6, r"scenes.psd_eps01.check_duration = 1000000.0 must lie in"),
+    (("scenes", "fig9_ref", "params", "eps"), 20.0, r"eps"),
 ]
 
 

@@ -26,6 +26,13 @@ def check(config: dict) -> None:
                 raise ConfigError(f"scenes.{name}.t_sample_start = {start} must lie in [0, t_end = {end}]")
             if cfg["dt"] > end - start and end > start:
                 raise ConfigError(f"scenes.{name}.dt = {cfg['dt']} must lie in (0, t_end - t_sample_start = {end - start}]")
+        if "spectrum" in cfg:
+            if cfg["check_duration"] > cfg["duration"]:
+                raise ConfigError(f"scenes.{name}.check_duration = {cfg['check_duration']} must lie in "
+                                  f"(0, duration = {cfg['duration']}]")
+            for key, span in (("segment", cfg["duration"]), ("check_segment", cfg["check_duration"])):
+                if cfg["spectrum"][key] > span:
+                    raise ConfigError(f"scenes.{name}.spectrum.{key} = {cfg['spectrum'][key]} must lie in (0, {span}]")
     portrait = config["scenes"]["fig2"]["portrait"]
     for key in ("u_range", "Omega_range"):
         lo, hi = portrait[key]

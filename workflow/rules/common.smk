@@ -1,9 +1,25 @@
-# Shared names: which scenes compute a dataset, which figures exist.
+# Shared names: which scenes compute a dataset, which datasets each figure reads.
 
-# Scenes whose dataset comes from sleighsim.scenes.SCENES (fig1 is a schematic).
-SCENES = [s for s in ("fig2", "fig3", "fig7", "fig8") if s in config["scenes"]]
-FIGURES = ["fig1"] + SCENES
+# Every scene key except the schematic computes one dataset (sleighsim.scenes.SCENES).
+SCENES = [s for s in config["scenes"] if s != "fig1"]
+
+# Figure -> the datasets it reads (fig1 is a schematic drawn from its config block).
+FIGURE_INPUTS = {
+    "fig2": ["fig2"],
+    "fig3": ["fig3"],
+    "fig7": ["fig7"],
+    "fig8": ["fig8"],
+    "fig9": ["fig9_ref", "fig9_highE", "fig9_eps001", "fig9_scaling"],
+    "fig12": ["fig9_ref", "fig9_eps001"],
+    "fig13": ["psd_eps01"],
+    "fig14": ["psd_eps001"],
+}
+FIGURES = ["fig1"] + list(FIGURE_INPUTS)
 
 
 def figure_files(figs):
     return expand(f"{R}/figures/{{fig}}.{{ext}}", fig=figs, ext=("png", "pdf"))
+
+
+def figure_inputs(wildcards):
+    return [f"{R}/data/{s}.nc" for s in FIGURE_INPUTS[wildcards.fig]]

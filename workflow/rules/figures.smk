@@ -3,7 +3,7 @@
 
 rule figure:
     input:
-        nc=f"{R}/data/{{fig}}.nc",
+        nc=figure_inputs,
     output:
         png=f"{R}/figures/{{fig}}.png",
         pdf=f"{R}/figures/{{fig}}.pdf",
@@ -14,7 +14,7 @@ rule figure:
     benchmark:
         f"{R}/benchmarks/figure/{{fig}}.tsv"
     wildcard_constraints:
-        fig="|".join(SCENES),
+        fig="|".join(FIGURE_INPUTS),
     script:
         "../scripts/figure.py"
 

@@ -14,3 +14,17 @@ rule scene:
         scene="|".join(SCENES),
     script:
         "../scripts/scene.py"
+
+
+rule attractor_scaling:
+    input:
+        ref=f"{R}/data/fig9_ref.nc",
+        high=f"{R}/data/fig9_highE.nc",
+    output:
+        nc=f"{R}/data/fig9_scaling.nc",
+    log:
+        f"{R}/logs/analysis/fig9_scaling.log",
+    benchmark:
+        f"{R}/benchmarks/analysis/fig9_scaling.tsv"
+    script:
+        "../scripts/analysis.py"

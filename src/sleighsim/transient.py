@@ -1,0 +1,77 @@
+"""Detecting the end of transients from sampled data.
+
+Definitions (stated in every dataset that uses them):
+- spike: a local maximum of |Omega| above ``factor`` times the typical steady
+  oscillation amplitude, taken as the median of the per-block maxima of |Omega|
+  over the second half of the record (blocks of ``block`` time units); spikes
+  closer than ``min_separation`` are merged; spikes before ``t_min`` (the
+  sleigh-like first phase, where Omega starts large) are ignored.
+- settling time of omega: blocks of ``window`` time units; the reference is the
+  mean of omega over the second half of the record; the settling time is the
+  start of the first block after which every block mean lies within
+  ``rtol`` * |reference| of it.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def _blocks(t, x, length):
+    t, x = np.asarray(t, float), np.asarray(x, float)
+    dt = t[1] - t[0]
+    n = max(1, int(round(length / dt)))
+    m = len(x) // n
+    if m < 2:
+        raise ValueError(f"record of {t[-1] - t[0]:g} time units is too short for blocks of {length:g}")
+    return t[: m * n].reshape(m, n), x[: m * n].reshape(m, n)
+
+
+RULE = ("spike: |Omega| block maximum (50 time units) above spike_factor x median block maximum of the "
+        "second half, after t_min; settling: block means of omega (window) within rtol of the second-half mean "
+        "from the settling time on")
+
+
+def spike_times(t, Omega, *, factor=1.8, block=50.0, min_separation=300.0, t_min=0.0) -> np.ndarray:
+    """Times of the Omega spikes (see module docstring)."""
+    tb, xb = _blocks(t, np.abs(Omega), block)
+    peaks = xb.max(axis=1)
+    typical = np.median(peaks[len(peaks) // 2:])
+    idx = np.flatnonzero((peaks > factor * typical) & (tb[:, -1] >= t_min))
+    times = tb[idx, np.argmax(xb[idx], axis=1)]
+    heights = peaks[idx]
+    keep: list[int] = []
+    for k in range(len(times)):
+        if keep and times[k] - times[keep[-1]] < min_separation:
+            if heights[k] > heights[keep[-1]]:
+                keep[-1] = k
+        else:
+            keep.append(k)
+    return times[keep]
+
+
+def settling_time(t, omega, *, window=2500.0, rtol=0.02) -> float:
+    """Settling time of the block means of omega (see module docstring); NaN if never settled."""
+    tb, xb = _blocks(t, omega, window)
+    means = xb.mean(axis=1)
+    ref = means[len(means) // 2:].mean()
+    bad = np.flatnonzero(np.abs(means - ref) > rtol * abs(ref))
+    if bad.size == 0:
+        return float(tb[0, 0])
+    if bad[-1] == len(means) - 1:
+        return float("nan")
+    return float(tb[bad[-1] + 1, 0])
+
+
+def steady_state_report(t, Omega, omega, *, spike_factor=1.8, window=2500.0, rtol=0.02, t_min=0.0) -> dict:
+    """Settling time, spikes and spike intervals over each half of the record."""
+    spikes = spike_times(t, Omega, factor=spike_factor, t_min=t_min)
+    settle = settling_time(t, omega, window=window, rtol=rtol)
+    mid = 0.5 * (t[0] + t[-1])
+    out = {"settling_time": settle, "n_spikes": int(spikes.size),
+           "first_spike": float(spikes[0]) if spikes.size else float("nan")}
+    for half, sel in (("first", spikes < mid), ("second", spikes >= mid)):
+        d = np.diff(spikes[sel])
+        out[f"spike_interval_mean_{half}_half"] = float(d.mean()) if d.size else float("nan")
+        out[f"spike_interval_std_{half}_half"] = float(d.std(ddof=1)) if d.size > 1 else float("nan")
+    return out
