@@ -21,6 +21,7 @@ R = config["results"]
 
 include: "workflow/rules/common.smk"
 include: "workflow/rules/scenes.smk"
+include: "workflow/rules/lyapunov.smk"
 include: "workflow/rules/figures.smk"
 
 

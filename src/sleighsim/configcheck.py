@@ -33,6 +33,14 @@ def check(config: dict) -> None:
             for key, span in (("segment", cfg["duration"]), ("check_segment", cfg["check_duration"])):
                 if cfg["spectrum"][key] > span:
                     raise ConfigError(f"scenes.{name}.spectrum.{key} = {cfg['spectrum'][key]} must lie in (0, {span}]")
+    grid = config["lyap_grid"]
+    for key in ("eps_range", "b_range"):
+        lo, hi = grid[key]
+        if not lo <= hi:
+            raise ConfigError(f"lyap_grid.{key} = [{lo}, {hi}] must be increasing")
+    if grid["n_chunks"] > grid["n_eps"] * grid["n_b"]:
+        raise ConfigError(f"lyap_grid.n_chunks = {grid['n_chunks']} must lie in [1, n_eps * n_b = "
+                          f"{grid['n_eps'] * grid['n_b']}]")
     portrait = config["scenes"]["fig2"]["portrait"]
     for key in ("u_range", "Omega_range"):
         lo, hi = portrait[key]

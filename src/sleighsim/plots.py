@@ -42,7 +42,8 @@ def footer(fig, attrs: dict) -> None:
     if "param_eps" in attrs:
         parts.append(f"eps={attrs['param_eps']:.4g}, b={attrs['param_b']:.4g}, K2={attrs['param_K2']:.4g}")
     if "energy_label" in attrs:
-        parts.append(f"E label={attrs['energy_label']:.4g} (physical {attrs['energy_physical']:.4g})")
+        physical = f" (physical {attrs['energy_physical']:.4g})" if "energy_physical" in attrs else ""
+        parts.append(f"E label={attrs['energy_label']:.4g}{physical}")
     if attrs.get("backend") == "heyoka":
         parts.append(f"heyoka tol={attrs['tol']:.2g}")
     elif "backend" in attrs:
@@ -270,6 +271,88 @@ def _psd_figure(sources, png, pdf) -> None:
 
 fig13 = fig14 = _psd_figure
 
+
+def fig10(sources, png, pdf) -> None:
+    """Max Lyapunov exponent against energy label, with the time-scaling law."""
+    ds = read_dataset(sources[0])
+    fig, ax = plt.subplots(figsize=(7, 5))
+    lam, err, E = ds.lambda_1.values, ds.stderr.values, ds.label.values
+    pos = lam > 0
+    ax.errorbar(E[pos], lam[pos], yerr=err[pos], fmt="o", capsize=3, label="direct (Benettin, k = 1)")
+    if (~pos).any():
+        ax.plot(E[~pos], np.abs(lam[~pos]), "x", color="tab:red", label="|lambda_1| where lambda_1 <= 0")
+    ax.loglog(E, np.abs(ds.law.values), "-", color="0.4",
+              label=f"law $\\lambda \\propto E^{{1/2}}$ from E = {ds.attrs['reference_label']:g}")
+    ax.set_xlabel("energy label $E$")
+    ax.set_ylabel(r"max Lyapunov exponent $\lambda_1$")
+    ax.set_title(f"$\\epsilon$ = {ds.attrs['param_eps']:.3g}, b = {ds.attrs['param_b']:.3g}: fitted exponent "
+                 f"{ds.attrs['fitted_exponent']:.4f} +- {ds.attrs['fitted_exponent_stderr']:.2g} (law: 0.5)\n"
+                 f"T = {ds.attrs['T_reference']:g} time units at E = {ds.attrs['reference_label']:g}, scaled by the law",
+                 fontsize=8)
+    ax.legend(fontsize=7)
+    footer(fig, ds.attrs)
+    fig.tight_layout(rect=(0, 0.03, 1, 1))
+    save_figure(fig, png, pdf)
+
+
+def fig11(sources, png, pdf) -> None:
+    """Max Lyapunov exponent on the (eps, b) grid; flagged points marked."""
+    ds = read_dataset(sources[0])
+    fig, ax = plt.subplots(figsize=(7.5, 6))
+    lam = ds.lambda_1.values
+    vmax = np.nanmax(np.abs(lam))
+    mesh = ax.pcolormesh(ds.b.values, ds.eps.values, lam, shading="nearest", cmap="RdBu_r", vmin=-vmax, vmax=vmax)
+    fig.colorbar(mesh, ax=ax, label=r"$\lambda_1$ (1/time)")
+    B, Eps = np.meshgrid(ds.b.values, ds.eps.values)
+    flagged = ds.flagged.values.astype(bool)
+    ax.plot(B[flagged], Eps[flagged], "kx", ms=5, label="flagged: transient not over or not converged")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("$b$")
+    ax.set_ylabel(r"$\epsilon$")
+    ax.legend(fontsize=7, loc="lower left")
+    ax.set_title(f"E label {ds.attrs['energy_label']:g}: {ds.attrs['n_points']} points, "
+                 f"{100 * ds.attrs['fraction_flagged']:.0f}% flagged; lambda_1 in "
+                 f"[{ds.attrs['min_lambda_1']:.2g}, {ds.attrs['max_lambda_1']:.2g}]", fontsize=8)
+    footer(fig, ds.attrs)
+    fig.tight_layout(rect=(0, 0.03, 1, 1))
+    save_figure(fig, png, pdf)
+
+
+def lyapunov(sources, png, pdf) -> None:
+    """lambda_i(T) on log-log axes, the paper-protocol spread, and the verdict."""
+    spec, prot, verdict = (read_dataset(s) for s in sources)
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(12, 5), gridspec_kw={"width_ratios": [1.6, 1]})
+    T = spec["T"].values
+    for i in range(4):
+        lam = spec.running.values[:, i]
+        line, = ax.loglog(T, np.where(lam > 0, lam, np.nan), "-", label=f"$\\lambda_{i + 1}(T) > 0$")
+        ax.loglog(T, np.where(lam < 0, -lam, np.nan), "--", color=line.get_color(), label=f"$-\\lambda_{i + 1}(T)$")
+    ax.loglog(T, 1.0 / T, ":", color="k", label="$1/T$")
+    ax.axhline(abs(spec.attrs["mean_divergence"]), color="0.5", lw=0.8,
+               label=f"|mean divergence| = {abs(spec.attrs['mean_divergence']):.2g}")
+    ax.set_xlabel("accumulation time $T$")
+    ax.set_ylabel(r"$|\lambda_i(T)|$")
+    ax.legend(fontsize=6, ncol=2)
+    lam = spec.exponent.values
+    err = spec.stderr.values
+    ax.set_title("exponents at T = %g: %s\n+- %s; verdict: %s (0-1 test K = %.2f)" % (
+        spec.attrs["T"], np.array2string(lam, precision=2), np.array2string(err, precision=1),
+        verdict.attrs["verdict"], verdict.attrs["zero_one_K"]), fontsize=8)
+    for j in range(prot.sizes["state"]):
+        bx.plot(np.arange(1, 5), prot.exponent.values[j], "o-", ms=4, label=f"state {j}")
+    bx.axhline(0, color="k", lw=0.6)
+    bx.set_xticks(range(1, 5))
+    bx.set_xlabel("index $i$")
+    bx.set_ylabel(r"$\lambda_i$ (paper protocol)")
+    bx.set_title(f"paper protocol: T = {prot.attrs['T']:g} after {prot.attrs['t_transient']:g}, tau = "
+                 f"{prot.attrs['tau']:g}\nspread of lambda_1 over states: {prot.attrs['spread_lambda_1']:.2g}",
+                 fontsize=8)
+    bx.legend(fontsize=6)
+    footer(fig, spec.attrs)
+    fig.tight_layout(rect=(0, 0.03, 1, 1))
+    save_figure(fig, png, pdf)
+
 #: Figure name -> plotting function (fig1 takes its config block instead of a dataset).
 FIGURES = {"fig1": fig1, "fig2": fig2, "fig3": fig3, "fig7": fig7, "fig8": fig8, "fig9": fig9, "fig12": fig12,
-           "fig13": fig13, "fig14": fig14}
+           "fig13": fig13, "fig14": fig14, "fig10": fig10, "fig11": fig11, "lyapunov": lyapunov}

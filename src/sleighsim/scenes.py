@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from . import model, poincare, spectra, transient
+from . import chaos, model, poincare, spectra, transient
 from .integrate import UNITS, integrate, sample_grid
 from .io import provenance_attrs
 
@@ -245,7 +245,8 @@ def spectrum_scene(cfg: dict, scene: str = "") -> xr.Dataset:
 #: Scene name -> function computing its dataset.
 SCENES = {"fig2": fig2, "fig3": trajectory, "fig7": trajectory, "fig8": trajectory,
           "fig9_ref": poincare_scene, "fig9_highE": poincare_scene, "fig9_eps001": poincare_scene,
-          "psd_eps01": spectrum_scene, "psd_eps001": spectrum_scene}
+          "psd_eps01": spectrum_scene, "psd_eps001": spectrum_scene,
+          "lyap_spectrum": chaos.spectrum, "lyap_protocol": chaos.protocol, "lyap_energy": chaos.energy_sweep}
 
 
 def attractor_scaling(ref_nc, high_nc) -> xr.Dataset:

@@ -13,6 +13,9 @@ FIGURE_INPUTS = {
     "fig12": ["fig9_ref", "fig9_eps001"],
     "fig13": ["psd_eps01"],
     "fig14": ["psd_eps001"],
+    "fig10": ["lyap_energy"],
+    "fig11": ["fig11_grid"],
+    "lyapunov": ["lyap_spectrum", "lyap_protocol", "chaos_verdict"],
 }
 FIGURES = ["fig1"] + list(FIGURE_INPUTS)
 

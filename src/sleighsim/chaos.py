@@ -1,0 +1,318 @@
+"""Lyapunov scenes and the chaos verdict (F10, F11, C18-C21, C25-C27).
+
+Each function takes its config block and returns one Dataset; the Benettin and
+0-1 engines live in :mod:`sleighsim.lyapunov`.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+from functools import lru_cache
+
+import numpy as np
+import sympy as sp
+import xarray as xr
+
+from . import lyapunov, mechanics as mech, model, transient
+from .integrate import integrate, sample_grid
+from .io import provenance_attrs, read_dataset
+
+log = logging.getLogger("sleighsim")
+
+
+@lru_cache(maxsize=None)
+def _tangent(k, tol, compact):
+    """Sleigh plus k tangent vectors (cached per process). compact_mode compiles in
+    0.1 s but steps about 2.5x slower; full mode compiles in 11 s (k = 1) to 60 s (k = 4)."""
+    ta, _, compile_s = lyapunov.tangent_integrator(model.heyoka_system(), k, tol,
+                                                   model.Params.paper(eps=0.1).values, compact_mode=compact)
+    return ta, compile_s
+
+
+@lru_cache(maxsize=None)
+def _divergence_integrator(tol):
+    """The flow plus a quadrature D' = trace J(y): D(T)/T is the mean phase-space
+    contraction, computed without tangent vectors."""
+    import heyoka as hy
+
+    d = mech.derive()
+    trace = sum(sp.diff(d.rhs[i], s) for i, s in enumerate(mech.STATE))
+    sys = model.heyoka_system()
+    hv = [v for v, _ in sys]
+    smap = {s: v for s, v in zip(mech.STATE, hv)}
+    smap.update({s: hy.par[i] for i, s in enumerate(mech.PHYSICAL)})
+    D = hy.make_vars("D")
+    return hy.taylor_adaptive(sys + [(D, hy.from_sympy(trace, smap))], [0.0, 0.1, 1.0, 0.0, 0.0], tol=tol,
+                              pars=list(model.Params.paper(eps=0.1).values))
+
+
+def mean_divergence(params, y0, T, tol) -> float:
+    """(1/T) integral of trace J along the orbit from y0 over [0, T]."""
+    ta = _divergence_integrator(tol)
+    ta.time = 0.0
+    ta.state[:] = [*np.asarray(y0, float), 0.0]
+    ta.pars[:] = params.values
+    ta.propagate_until(float(T))
+    return float(ta.state[4] / T)
+
+
+def _settle(params, y0, t_pre, tol, label, tc):
+    """Plain pre-run with the transient rule of sleighsim.transient; returns (end state, over?, settling time)."""
+    dt = tc["dt_fraction"] * t_pre
+    pre = integrate(params, y0, sample_grid(0.0, t_pre, dt), tol=tol, scene=f"{label}.pre", progress=1)
+    settle = transient.settling_time(pre.time.values, pre.omega.values, window=tc["window_fraction"] * t_pre,
+                                     rtol=tc["rtol"])
+    over = bool(np.isfinite(settle) and settle <= (1 - 2 * tc["window_fraction"]) * t_pre)
+    return np.array([pre[v].values[-1] for v in model.STATE_NAMES]), over, settle
+
+
+def _run(params, y, *, k, cfg, compact, label, T=None, seed=0):
+    ta, compile_s = _tangent(k, cfg["tol"], compact)
+    ta.pars[:] = params.values
+    out = lyapunov.benettin(ta, 4, k, y, t_align=cfg["t_align"], T=cfg["T"] if T is None else T, tau=cfg["tau"],
+                            n_blocks=cfg["n_blocks"], seed=seed, label=label)
+    out["compile_time_s"] = compile_s
+    return out
+
+
+def _common_attrs(params, y0, cfg, scene):
+    out = dict(params.attrs())
+    out.update({f"y0_{n}": float(v) for n, v in zip(model.STATE_NAMES, y0)})
+    out.update(scene=scene, backend="heyoka", method="Benettin QR on var_ode_sys", tol=cfg["tol"],
+               tau=cfg["tau"], t_align=cfg["t_align"], n_blocks=cfg["n_blocks"],
+               energy_physical=float(model.energy(y0, params)), energy_label=float(model.energy_label(y0, params)))
+    return out
+
+
+def spectrum(cfg: dict, scene: str = "") -> xr.Dataset:
+    """All four exponents at one state after a transient, lambda_i(T) on a log grid, the
+    independent mean divergence over the same window (C18), and the alignment effect."""
+    start = time.perf_counter()
+    params = model.Params.from_config(cfg["params"])
+    y0 = model.state_at_label(cfg["y0"], params, cfg["energy_label"])
+    y, over, settle = _settle(params, y0, cfg["t_transient"], cfg["tol"], scene, cfg["transient"])
+    res = _run(params, y, k=4, cfg=cfg, compact=False, label=scene)
+    # The same window without alignment shows the bias of the initial directions.
+    no_align = _run(params, y, k=4, cfg=dict(cfg, t_align=0.0), compact=False, label=f"{scene}.noalign",
+                    T=cfg["T_bias_check"])
+    aligned_short = res["running"][np.searchsorted(res["T_grid"], cfg["T_bias_check"]) - 1]
+    div = mean_divergence(params, _advance(params, y, cfg["t_align"], cfg["tol"]), cfg["T"], cfg["tol"])
+    ds = xr.Dataset(
+        {
+            "exponent": ("i", res["exponents"], {"long_name": "Lyapunov exponent", "units": "1/time"}),
+            "stderr": ("i", res["stderr"], {"long_name": "standard error from block estimates", "units": "1/time"}),
+            "block_estimate": (("block", "i"), res["block_estimates"], {"units": "1/time"}),
+            "running": (("T", "i"), res["running"], {"long_name": "finite-time estimate lambda_i(T)", "units": "1/time"}),
+        },
+        coords={"i": np.arange(1, 5), "T": ("T", res["T_grid"], {"units": "time"}),
+                "block": np.arange(cfg["n_blocks"])},
+    )
+    ds.attrs.update(_common_attrs(params, y0, cfg, scene))
+    lam = res["exponents"]
+    ds.attrs.update(
+        t_transient=cfg["t_transient"], T=cfg["T"], transient_over=int(over), transient_settling_time=settle,
+        mean_divergence=div, sum_lambda_1_4=float(lam[0] + lam[3]), sum_all=float(lam.sum()),
+        T_bias_check=cfg["T_bias_check"],
+        lambda_1_no_alignment=float(no_align["exponents"][0]), lambda_1_aligned_at_T_bias_check=float(aligned_short[0]),
+        lambda_1_decay_slope_last_decade=_decay_slope(res["T_grid"], res["running"][:, 0]),
+        compile_time_s=res["compile_time_s"], wall_time_s=time.perf_counter() - start,
+        energy_max_rel_drift=float(abs(model.energy(res["final_state"], params) / model.energy(y0, params) - 1)),
+    )
+    ds.attrs.update(provenance_attrs())
+    log.info("%s: exponents %s +- %s; lambda1+lambda4 %.3g vs mean divergence %.3g", scene, lam, res["stderr"],
+             lam[0] + lam[3], div)
+    return ds
+
+
+def _advance(params, y, t, tol):
+    if t <= 0:
+        return y
+    out = integrate(params, y, [0.0, t], tol=tol, progress=1)
+    return np.array([out[v].values[-1] for v in model.STATE_NAMES])
+
+
+def _decay_slope(T, lam):
+    """Slope of log|lambda_1(T)| against log T over the last decade of T: about -1 for
+    a zero exponent (bounded tangent growth), about 0 for a converged nonzero one."""
+    sel = T >= T[-1] / 10
+    a = np.abs(lam[sel])
+    if np.any(a == 0) or sel.sum() < 3:
+        return float("nan")
+    return float(np.polyfit(np.log(T[sel]), np.log(a), 1)[0])
+
+
+def protocol(cfg: dict, scene: str = "") -> xr.Dataset:
+    """The paper's protocol (pre-run, T, renormalisation interval tau) from several initial
+    states on one energy level, to show the spread of its finite-time exponents (C19)."""
+    start = time.perf_counter()
+    params = model.Params.from_config(cfg["params"])
+    states = [model.state_at_label(s, params, cfg["energy_label"]) for s in cfg["states"]]
+    exps, errs = [], []
+    for j, y0 in enumerate(states):
+        y = _advance(params, y0, cfg["t_transient"], cfg["tol"])
+        r = _run(params, y, k=4, cfg=cfg, compact=True, label=f"{scene}[{j}]", seed=j)
+        exps.append(r["exponents"])
+        errs.append(r["stderr"])
+        log.info("%s[%d]: %s", scene, j, r["exponents"])
+    ds = xr.Dataset(
+        {"exponent": (("state", "i"), np.array(exps), {"units": "1/time"}),
+         "stderr": (("state", "i"), np.array(errs), {"units": "1/time"}),
+         "y0": (("state", "component"), np.array(states))},
+        coords={"i": np.arange(1, 5), "component": list(model.STATE_NAMES)},
+    )
+    ds.attrs.update(_common_attrs(params, states[0], cfg, scene))
+    ds.attrs.update(t_transient=cfg["t_transient"], T=cfg["T"], wall_time_s=time.perf_counter() - start,
+                    spread_lambda_1=float(np.ptp(np.array(exps)[:, 0])))
+    ds.attrs.update(provenance_attrs())
+    return ds
+
+
+def energy_sweep(cfg: dict, scene: str = "") -> xr.Dataset:
+    """Max LE at several energy labels, horizons scaled by the time-scaling law so every
+    label costs the same; the law's prediction from the reference label; a fitted exponent."""
+    start = time.perf_counter()
+    params = model.Params.from_config(cfg["params"])
+    labels = np.asarray(cfg["labels"], float)
+    lam, err = np.empty(labels.size), np.empty(labels.size)
+    for j, lab in enumerate(labels):
+        s = math.sqrt(cfg["reference_label"] / lab)  # time unit at this label relative to the reference
+        y0 = model.state_at_label(cfg["y0"], params, lab)
+        y = _advance(params, y0, cfg["t_transient"] * s, cfg["tol"])
+        r = _run(params, y, k=1, cfg=dict(cfg, t_align=cfg["t_align"] * s, tau=cfg["tau"] * s), compact=False,
+                 label=f"{scene}[E={lab:g}]", T=cfg["T"] * s)
+        lam[j], err[j] = r["exponents"][0], r["stderr"][0]
+        log.info("%s: E label %g: lambda_1 = %.4g +- %.2g", scene, lab, lam[j], err[j])
+    ref = int(np.argmin(np.abs(np.log(labels / cfg["reference_label"]))))
+    law = lam[ref] * np.sqrt(labels / labels[ref])
+    ok = lam > 0
+    slope, slope_err = _fit_loglog(labels[ok], lam[ok], err[ok])
+    ds = xr.Dataset(
+        {"lambda_1": ("label", lam, {"units": "1/time"}), "stderr": ("label", err, {"units": "1/time"}),
+         "law": ("label", law, {"long_name": "time-scaling law from the reference label", "units": "1/time"})},
+        coords={"label": ("label", labels, {"long_name": "paper energy label"})},
+    )
+    ds.attrs.update(_common_attrs(params, model.state_at_label(cfg["y0"], params, cfg["reference_label"]), cfg, scene))
+    ds.attrs.update(
+        reference_label=cfg["reference_label"], T_reference=cfg["T"], t_transient_reference=cfg["t_transient"],
+        horizon_rule="T, t_transient, t_align and tau scaled by sqrt(reference_label / label)",
+        fitted_exponent=slope, fitted_exponent_stderr=slope_err, n_positive=int(ok.sum()),
+        max_rel_deviation_from_law=float(np.max(np.abs(lam / law - 1))), wall_time_s=time.perf_counter() - start,
+    )
+    ds.attrs.update(provenance_attrs())
+    return ds
+
+
+def _fit_loglog(x, y, yerr):
+    """Weighted least-squares slope of log y against log x, with its standard error."""
+    if len(x) < 3:
+        return float("nan"), float("nan")
+    w = 1.0 / np.maximum(yerr / y, 1e-12) ** 2
+    X = np.c_[np.log(x), np.ones(len(x))]
+    cov = np.linalg.inv(X.T @ (w[:, None] * X))
+    beta = cov @ X.T @ (w * np.log(y))
+    resid = np.log(y) - X @ beta
+    scale = max(1.0, float(np.sum(w * resid**2) / max(1, len(x) - 2)))
+    return float(beta[0]), float(math.sqrt(cov[0, 0] * scale))
+
+
+def grid_points(cfg: dict) -> list[tuple[float, float]]:
+    """(eps, b) points of the grid, log-spaced, in row-major order (eps outer)."""
+    eps = np.geomspace(*cfg["eps_range"], cfg["n_eps"])
+    bs = np.geomspace(*cfg["b_range"], cfg["n_b"])
+    return [(float(e), float(b)) for e in eps for b in bs]
+
+
+def grid_chunk(cfg: dict, chunk: int, n_chunks: int, scene: str = "") -> xr.Dataset:
+    """Max LE at the grid points of one chunk (every n_chunks-th point from ``chunk``).
+
+    Each point starts with the rotor carrying the energy (near the attractor), runs a
+    pre-run and T scaled by its rotor period relative to the reference point (a fixed
+    number of fast cycles, so every point costs about the same), checks its transient
+    and flags points whose transient is not over or whose estimate is not converged
+    (lambda_1 below flag_sigma standard errors, or standard error above flag_rel_err of lambda_1)."""
+    start = time.perf_counter()
+    pts = grid_points(cfg)[chunk::n_chunks]
+    ref = model.Params.paper(eps=cfg["reference_eps"], b=1.0)
+    omega_ref = model.state_at_label(cfg["y0"], ref, cfg["energy_label"])[2]
+    rows = []
+    for eps, b in pts:
+        p = model.Params.paper(eps=eps, b=b)
+        y0 = model.state_at_label(cfg["y0"], p, cfg["energy_label"])
+        s = omega_ref / y0[2]
+        label = f"{scene}[eps={eps:.4g}, b={b:.4g}]"
+        t0 = time.perf_counter()
+        y, over, settle = _settle(p, y0, cfg["t_pre"] * s, cfg["tol"], label, cfg["transient"])
+        r = _run(p, y, k=1, cfg=dict(cfg, t_align=cfg["t_align"] * s, tau=cfg["tau"] * s), compact=False,
+                 label=label, T=cfg["T"] * s)
+        lam, err = float(r["exponents"][0]), float(r["stderr"][0])
+        converged = lam > cfg["flag_sigma"] * err and err < cfg["flag_rel_err"] * abs(lam)
+        rows.append((eps, b, lam, err, s, cfg["T"] * s, int(over), int(converged), time.perf_counter() - t0))
+        log.info("%s: lambda_1 = %.4g +- %.2g, transient %s, %s (%.1f s)", label, lam, err,
+                 "over" if over else "NOT over", "converged" if converged else "NOT converged", rows[-1][-1])
+    a = np.array(rows, dtype=float).reshape(-1, 9)
+    names = ["eps", "b", "lambda_1", "stderr", "time_scale", "T", "transient_over", "converged", "wall_time_s"]
+    ds = xr.Dataset({n: ("point", a[:, i]) for i, n in enumerate(names)})
+    ds.attrs.update(chunk=chunk, n_chunks=n_chunks, wall_time_s=time.perf_counter() - start, tol=cfg["tol"],
+                    energy_label=cfg["energy_label"])
+    ds.attrs.update(provenance_attrs())
+    return ds
+
+
+def grid_gather(paths, cfg: dict) -> xr.Dataset:
+    """Assemble chunk datasets into the (eps, b) grid."""
+    parts = xr.concat([read_dataset(p) for p in paths], dim="point")
+    eps = np.geomspace(*cfg["eps_range"], cfg["n_eps"])
+    bs = np.geomspace(*cfg["b_range"], cfg["n_b"])
+    out = {}
+    for name in ("lambda_1", "stderr", "transient_over", "converged", "wall_time_s", "T"):
+        grid = np.full((eps.size, bs.size), np.nan)
+        for e, b, v in zip(parts.eps.values, parts.b.values, parts[name].values):
+            grid[np.argmin(np.abs(eps - e)), np.argmin(np.abs(bs - b))] = v
+        out[name] = (("eps", "b"), grid)
+    ds = xr.Dataset(out, coords={"eps": eps, "b": bs})
+    flagged = (ds.transient_over.values == 0) | (ds.converged.values == 0)
+    ds["flagged"] = (("eps", "b"), flagged.astype(np.int8))
+    ds.attrs.update(
+        energy_label=cfg["energy_label"], n_points=int(eps.size * bs.size), fraction_flagged=float(flagged.mean()),
+        min_lambda_1=float(np.nanmin(ds.lambda_1.values)), max_lambda_1=float(np.nanmax(ds.lambda_1.values)),
+        min_lambda_1_unflagged=float(np.nanmin(np.where(flagged, np.nan, ds.lambda_1.values))) if (~flagged).any()
+        else float("nan"),
+        cost_per_point_s=float(np.nanmean(ds.wall_time_s.values)), cost_total_s=float(np.nansum(ds.wall_time_s.values)),
+        flag_rule=f"transient not over, or lambda_1 <= {cfg['flag_sigma']} stderr, or stderr >= "
+        f"{cfg['flag_rel_err']} |lambda_1|", tol=cfg["tol"], T_reference=cfg["T"],
+    )
+    ds.attrs.update(provenance_attrs())
+    return ds
+
+
+def verdict(spectrum_nc, poincare_nc, cfg: dict) -> xr.Dataset:
+    """Chaos verdict from the exponents and the 0-1 test on the P_2pi iterates (C19-C21, C27).
+
+    chaotic: lambda_1 > sigma stderr, lambda_1(T) not decaying (slope of log lambda_1(T) over the
+    last decade above -slope_limit) and K > K_threshold; quasi-periodic: lambda_1 within sigma
+    stderr of 0 or decaying like 1/T, and K < K_threshold; otherwise undecided."""
+    spec, pc = read_dataset(spectrum_nc), read_dataset(poincare_nc)
+    z = lyapunov.zero_one_test(pc[cfg["observable"]].values[: cfg["max_samples"]], n_c=cfg["n_c"])
+    lam, err = float(spec.exponent.values[0]), float(spec.stderr.values[0])
+    slope = spec.attrs["lambda_1_decay_slope_last_decade"]
+    positive = lam > cfg["sigma"] * err and slope > -cfg["slope_limit"]
+    zero = abs(lam) <= cfg["sigma"] * err or slope <= -cfg["slope_limit"]
+    chaotic_01 = z["K"] > cfg["K_threshold"]
+    if positive and chaotic_01:
+        v = "chaotic"
+    elif zero and not chaotic_01:
+        v = "quasi-periodic"
+    else:
+        v = "undecided"
+    ds = xr.Dataset()
+    ds.attrs.update({f"zero_one_{k}": val for k, val in z.items()})
+    ds.attrs.update(
+        verdict=v, lambda_1=lam, lambda_1_stderr=err, lambda_1_decay_slope=slope, T=spec.attrs["T"],
+        exponents_agree_with_indicator=int(positive == chaotic_01),
+        observable=f"{cfg['observable']} at the P_2pi crossings", rule=verdict.__doc__.split("\n\n")[1].strip(),
+        sources=f"{spectrum_nc}, {poincare_nc}",
+    )
+    ds.attrs.update(provenance_attrs())
+    return ds

@@ -1,0 +1,98 @@
+"""Lyapunov engine on textbook systems, the 0-1 test, and the sleigh's spectrum structure."""
+
+import math
+
+import numpy as np
+import pytest
+
+from sleighsim import chaos, lyapunov, model
+
+
+@pytest.fixture(scope="module")
+def hy():
+    return pytest.importorskip("heyoka")
+
+
+def test_lorenz_spectrum_matches_published_values(hy):
+    x, y, z = hy.make_vars("x", "y", "z")
+    sys = [(x, 10.0 * (y - x)), (y, x * (28.0 - z) - y), (z, x * y - 8.0 / 3.0 * z)]
+    ta, n, _ = lyapunov.tangent_integrator(sys, 3)
+    r = lyapunov.benettin(ta, n, 3, [1.0, 1.0, 20.0], t_align=100.0, T=10000.0, tau=0.5)
+    lam = r["exponents"]
+    assert lam[0] == pytest.approx(0.906, rel=0.01)
+    assert lam[2] == pytest.approx(-14.572, rel=0.01)
+    assert abs(lam[1]) < 0.01
+    assert lam.sum() == pytest.approx(-(10.0 + 1.0 + 8.0 / 3.0), rel=1e-6)  # constant divergence
+    assert np.all(r["stderr"] > 0) and r["stderr"][0] < 0.02
+
+
+def test_torus_flow_exponents_decay_like_one_over_T(hy):
+    """theta_i' = w_i + a_i cos(theta_i): the tangent map is f(theta(T)) / f(theta(0)), so
+    |lambda(T)| T is at most log(max f / min f) summed over both circles."""
+    a, b = hy.make_vars("a", "b")
+    sys = [(a, 1.0 + 0.5 * hy.cos(a)), (b, math.sqrt(2) + 0.3 * hy.cos(b))]
+    ta, n, _ = lyapunov.tangent_integrator(sys, 2)
+    r = lyapunov.benettin(ta, n, 2, [0.1, 0.2], t_align=0.0, T=1e5, tau=1.0)
+    bound = math.log(1.5 / 0.5) + math.log((math.sqrt(2) + 0.3) / (math.sqrt(2) - 0.3))
+    assert np.all(np.abs(r["running"]) * r["T_grid"][:, None] <= bound + 1e-9)
+    assert np.all(np.abs(r["exponents"]) <= bound / 1e5)
+    slope = np.polyfit(np.log(r["T_grid"][-20:]), np.log(np.abs(r["running"][-20:, 0]) + 1e-300), 1)[0]
+    assert slope < -0.5
+
+
+def test_alignment_and_renormalisation_interval_do_not_change_lorenz_lambda1(hy):
+    x, y, z = hy.make_vars("x", "y", "z")
+    sys = [(x, 10.0 * (y - x)), (y, x * (28.0 - z) - y), (z, x * y - 8.0 / 3.0 * z)]
+    ta, n, _ = lyapunov.tangent_integrator(sys, 1)
+    a = lyapunov.benettin(ta, n, 1, [1.0, 1.0, 20.0], t_align=50.0, T=5000.0, tau=0.1)["exponents"][0]
+    b = lyapunov.benettin(ta, n, 1, [1.0, 1.0, 20.0], t_align=50.0, T=5000.0, tau=2.0)["exponents"][0]
+    assert a == pytest.approx(0.906, rel=0.03) and b == pytest.approx(a, rel=0.03)
+
+
+def test_benettin_rejects_bad_settings(hy):
+    x, = hy.make_vars("x")
+    ta, n, _ = lyapunov.tangent_integrator([(x, -x)], 1)
+    with pytest.raises(ValueError, match="tau"):
+        lyapunov.benettin(ta, n, 1, [1.0], t_align=0.0, T=10.0, tau=0.0)
+    with pytest.raises(ValueError, match="k = 2"):
+        lyapunov.tangent_integrator([(x, -x)], 2)
+
+
+def test_zero_one_test_separates_regular_from_chaotic():
+    n = np.arange(3000)
+    periodic = np.sin(0.7 * n)
+    quasi = np.sin(0.7 * n) + 0.5 * np.sin(0.7 * math.sqrt(2) * n)
+    x = np.empty(3000)
+    x[0] = 0.3
+    for i in range(2999):
+        x[i + 1] = 3.97 * x[i] * (1 - x[i])  # chaotic logistic map
+    assert lyapunov.zero_one_test(periodic)["K"] < 0.1
+    assert lyapunov.zero_one_test(quasi)["K"] < 0.1
+    assert lyapunov.zero_one_test(x)["K"] > 0.9
+
+
+def test_sleigh_spectrum_structure_short_run():
+    """Two exponents near zero and lambda_1 + lambda_4 = mean divergence, on a short run."""
+    p = model.Params.paper(eps=0.1)
+    y = model.REFERENCE_STATE
+    ta, _ = chaos._tangent(4, 1e-13, True)
+    ta.pars[:] = p.values
+    r = lyapunov.benettin(ta, 4, 4, y, t_align=0.0, T=2000.0, tau=5.0)
+    lam = r["exponents"]
+    div = chaos.mean_divergence(p, y, 2000.0, 1e-13)
+    assert lam.sum() == pytest.approx(div, abs=1e-6)  # sum of all exponents = mean phase-space contraction
+    assert abs(lam[1]) < 0.02 * abs(lam[0]) + 1e-3 and abs(lam[2]) < 0.02 * abs(lam[0]) + 1e-3
+
+
+def test_grid_points_are_log_spaced_and_cover_the_range():
+    cfg = {"eps_range": [0.02, 0.5], "n_eps": 12, "b_range": [0.25, 4.0], "n_b": 12}
+    pts = chaos.grid_points(cfg)
+    assert len(pts) == 144 and pts[0] == (0.02, 0.25) and pts[-1] == pytest.approx((0.5, 4.0))
+    e = sorted({p[0] for p in pts})
+    assert np.allclose(np.diff(np.log(e)), np.log(25) / 11)
+
+
+def test_loglog_fit_recovers_a_power_law():
+    x = np.geomspace(1e-3, 1e3, 7)
+    slope, err = chaos._fit_loglog(x, 2e-4 * x**0.5, 1e-6 * x**0.5)
+    assert slope == pytest.approx(0.5, abs=1e-9) and err < 1e-6
