@@ -2,6 +2,8 @@
 #   snakemake -c2                                  paper fidelity (config/config.yaml)
 #   snakemake -c2 --configfile config/smoke.yaml   tiny, for CI
 #   snakemake -c2 fig3                             one figure and what it needs
+from pathlib import Path
+
 from snakemake.utils import min_version, validate
 
 min_version("8.0")
@@ -23,9 +25,11 @@ include: "workflow/rules/common.smk"
 include: "workflow/rules/scenes.smk"
 include: "workflow/rules/lyapunov.smk"
 include: "workflow/rules/figures.smk"
+include: "workflow/rules/report.smk"
 
 
 rule all:
     input:
         figure_files(FIGURES),
+        f"{R}/report/index.html",
     default_target: True

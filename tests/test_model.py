@@ -149,3 +149,12 @@ def test_energy_label_and_rescaling():
 
 def test_default_tolerance_is_double_epsilon():
     assert DEFAULT_TOL == np.finfo(float).eps
+
+
+def test_eps_above_one_is_refused_unless_formal():
+    with pytest.raises(ValueError, match=r"^eps = 25.0 .*admissible range \(0, 1\).*formal=True"):
+        model.Params.paper(eps=25.0)
+    p = model.Params.paper(eps=25.0, formal=True)
+    assert p.m_c < 0 and p.eps == pytest.approx(25.0)
+    y = np.array([0.1, 0.2, 0.3, 0.4])
+    assert float(model.energy(y, p)) > 0  # the inertia stays positive definite

@@ -5,6 +5,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 import yaml
 
@@ -12,8 +13,10 @@ from sleighsim.io import read_dataset
 
 ROOT = Path(__file__).resolve().parents[1]
 SMOKE = ROOT / "config" / "smoke.yaml"
-FIGURES = ["fig1", "fig2", "fig3", "fig7", "fig8", "fig9", "fig12", "fig13", "fig14"]
-DATASETS = ["fig2", "fig3", "fig7", "fig8", "fig9_ref", "fig9_highE", "fig9_eps001", "psd_eps01", "psd_eps001"]
+FIGURES = ["fig1", "fig2", "fig3", "fig7", "fig8", "fig9", "fig10", "fig11", "fig12", "fig13", "fig14", "lyapunov",
+           "audit"]
+DATASETS = ["fig2", "fig3", "fig7", "fig8", "fig9_ref", "fig9_highE", "fig9_eps001", "psd_eps01", "psd_eps001",
+            "lyap_spectrum", "lyap_protocol", "lyap_energy", "lyap_feasibility", "audit"]
 
 
 def snakemake(workdir, configfile, *args, timeout=600):
@@ -49,10 +52,11 @@ def test_smoke_workflow_builds_every_figure(tmp_path):
         assert (tmp_path / "results" / "benchmarks" / "figure" / f"{fig}.tsv").exists()
     for scene in DATASETS:
         ds = read_dataset(tmp_path / "results" / "data" / f"{scene}.nc")
-        assert ds.attrs["energy_max_rel_drift"] < 1e-8, scene
-        assert ds.attrs["git_commit"] and ds.attrs["version_heyoka"]
+        assert ds.attrs["git_commit"] and ds.attrs["version_heyoka"], scene
+        if "energy_max_rel_drift" in ds.attrs:
+            assert ds.attrs["energy_max_rel_drift"] < 1e-8, scene
         log = (tmp_path / "results" / "logs" / "scene" / f"{scene}.log").read_text()
-        assert "done in" in log and "energy drift" in log
+        assert "done in" in log, scene
     for scene in ("fig9_ref", "fig9_highE", "fig9_eps001"):
         ds = read_dataset(tmp_path / "results" / "data" / f"{scene}.nc")
         assert ds.attrs["max_crossing_residual"] < 1e-12
@@ -66,6 +70,14 @@ def test_smoke_workflow_builds_every_figure(tmp_path):
     assert set(fig3.data_vars) == {"u", "Omega", "omega", "theta"}
     assert fig3.attrs["energy_label"] == pytest.approx(0.1127)
     assert read_dataset(tmp_path / "results" / "data" / "fig2.nc").attrs["closed_form_max_abs_error"] < 1e-10
+    from sleighsim.claims import VERDICTS, parse_claims
+
+    n_ids = len(parse_claims(ROOT / "paper" / "CLAIMS.md"))
+    ledger = read_dataset(tmp_path / "results" / "claims.nc")
+    assert ledger.sizes["id"] == n_ids and set(ledger.verdict.values) <= set(VERDICTS)
+    assert (tmp_path / "results" / "claims.csv").read_text().count("\n") == n_ids + 1
+    html = (tmp_path / "results" / "report" / "index.html").read_text()
+    assert all(f"id='{i}'" in html for i in ledger.id.values)
     # Nothing left to do on a second run: outputs are complete and up to date.
     dry = snakemake(tmp_path, SMOKE, "-n")
     assert "Nothing to be done" in dry.stdout + dry.stderr
@@ -117,3 +129,34 @@ def test_invalid_config_stops_before_any_job_naming_the_key(tmp_path, path, valu
     assert "Select jobs to execute" not in out and "rule scene" not in out
     assert sentinel.read_bytes() == b"earlier result" and sentinel.stat().st_mtime_ns == stamp
     assert sorted(os.listdir(sentinel.parent)) == ["fig3.nc"]
+
+
+def test_dry_run_of_the_paper_config_fans_the_grid_out(tmp_path):
+    """One job per chunk plus one gather: the grid scales out to a cluster."""
+    import re
+
+    cfg = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
+    res = snakemake(tmp_path, ROOT / "config" / "config.yaml", "-n", "results/data/fig11_grid.nc", timeout=120)
+    assert res.returncode == 0, res.stderr[-2000:]
+    out = res.stdout + res.stderr
+    counts = dict(re.findall(r"^(lyap_grid\w*)\s+(\d+)\s*$", out, flags=re.M))
+    assert int(counts["lyap_grid_chunk"]) == cfg["lyap_grid"]["n_chunks"]
+    assert int(counts["lyap_grid"]) == 1
+    total = int(re.search(r"^total\s+(\d+)", out, flags=re.M).group(1))
+    assert total == cfg["lyap_grid"]["n_chunks"] + 1
+
+
+@pytest.mark.workflow
+def test_smoke_grid_through_a_cluster_executor_equals_the_local_run(tmp_path):
+    pytest.importorskip("snakemake_executor_plugin_cluster_generic")
+    target = "results/data/fig11_grid.nc"
+    local, remote = tmp_path / "local", tmp_path / "cluster"
+    res = snakemake(local, SMOKE, target)
+    assert res.returncode == 0, res.stderr[-2000:]
+    res = snakemake(remote, SMOKE, target, "--executor", "cluster-generic",
+                    "--cluster-generic-submit-cmd", str(ROOT / "tests" / "local_submit.sh"), "--jobs", "2",
+                    "--latency-wait", "10")
+    assert res.returncode == 0, res.stderr[-3000:]
+    a, b = read_dataset(local / target), read_dataset(remote / target)
+    for name in ("lambda_1", "stderr", "flagged"):
+        assert np.array_equal(a[name].values, b[name].values, equal_nan=True), name

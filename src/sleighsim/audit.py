@@ -50,3 +50,51 @@ def printed_energy_drift(params: model.Params, y0, times, tol: float = 2.0**-52)
     )
     ds.attrs.update(provenance_attrs())
     return ds
+
+
+def model_as_printed(params: "model.Params", y0, times, tol: float = 2.0**-52) -> xr.Dataset:
+    """D1-D6: the printed model against the derivation.
+
+    D1 energy drift of the printed udot (integrated beside the derived equations);
+    D2 which inertia makes the printed Omegadot hold (I_c as SCIENCE.md says, or I_r as
+    printed); D3 entries of the printed locked inertia and right-hand side that differ;
+    D4 the term missing from the printed beta equation (dL/dbeta); D5 the physical energy
+    of the reference state; D6 whether eps > 1 is admissible."""
+    import sympy as sp
+
+    from . import mechanics as mech
+
+    ds = printed_energy_drift(params, y0, times, tol)
+    # D2: printed Omegadot against the derivation under two readings of K^2.
+    rng = np.random.default_rng(0)
+    Y = rng.uniform(-1, 1, (200, 4))
+    eps, b, K2 = params.eps, params.b, params.K2
+    printed = model.paper_printed_rhs(Y, eps, b, K2)[:, 1]
+    as_science = model.rhs(Y, params)[:, 1]
+    swapped = model.Params.physical(m_c=params.m_c, m_r=params.m_r, I_c=params.I_r, I_r=params.I_c, a=params.a, b=b)
+    as_printed = model.rhs(Y, swapped)[:, 1]
+    scale = np.max(np.abs(printed))
+    # D3: printed locked inertia and right-hand side against the derivation.
+    d = mech.derive()
+    M_p, f_p = mech.paper_printed_locked_inertia()
+    diffs = [f"M[{i},{j}]: printed {M_p[i, j]}, derived {d.M[i, j]}"
+             for i in range(3) for j in range(3) if sp.expand(M_p[i, j] - d.M[i, j]) != 0]
+    diffs += [f"f[{i}]: printed {f_p[i]}, derived {sp.factor(d.f[i])}"
+              for i in range(3) if sp.expand(f_p[i] - d.f[i]) != 0]
+    # D4: dL/dbeta, which the printed beta equation drops.
+    dL_dbeta = sp.simplify(d.lagrangian.diff(sp.Function("beta")(sp.Symbol("t"))))
+    try:
+        model.Params.paper(eps=25.0)
+        d6 = "admitted"
+    except ValueError as err:
+        d6 = str(err)
+    ds.attrs.update(
+        d2_Omegadot_residual_with_Ic=float(np.max(np.abs(printed - as_science)) / scale),
+        d2_Omegadot_residual_with_Ir=float(np.max(np.abs(printed - as_printed)) / scale),
+        d3_differences=" | ".join(diffs), d3_n_differences=len(diffs),
+        d4_dL_dbeta=str(dL_dbeta),
+        d5_reference_energy_physical=float(model.energy(model.REFERENCE_STATE, params)),
+        d5_reference_label=model.REFERENCE_LABEL,
+        d6_eps_25=d6,
+    )
+    return ds

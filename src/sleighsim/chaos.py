@@ -316,3 +316,42 @@ def verdict(spectrum_nc, poincare_nc, cfg: dict) -> xr.Dataset:
     )
     ds.attrs.update(provenance_attrs())
     return ds
+
+
+def feasibility(cfg: dict, scene: str = "") -> xr.Dataset:
+    """C25: what small eps costs. Measures, from the reference state at a few eps, the
+    length of the transient (first Omega spike, sleighsim.transient) and the steps per time
+    unit on the attractor; fits power laws in eps and extrapolates both, with the measured
+    time per step, to the target eps values."""
+    start = time.perf_counter()
+    rows = []
+    for eps, horizon in zip(cfg["eps"], cfg["horizons"]):
+        p = model.Params.paper(eps=eps)
+        y0 = model.state_at_label(cfg["y0"], p, cfg["energy_label"])
+        ds = integrate(p, y0, sample_grid(0.0, horizon, cfg["dt"]), tol=cfg["tol"], scene=f"{scene}[eps={eps:g}]")
+        spikes = transient.spike_times(ds.time.values, ds.Omega.values, t_min=cfg["t_min"])
+        rows.append((eps, float(spikes[0]) if spikes.size else np.nan, ds.attrs["steps"] / horizon,
+                     ds.attrs["wall_time_s"] / ds.attrs["steps"]))
+        log.info("%s: eps %g: first spike %.6g, %.3g steps per time unit", scene, *rows[-1][:3])
+    a = np.array(rows)
+    ok = np.isfinite(a[:, 1])
+    k_t, c_t = np.polyfit(np.log(a[ok, 0]), np.log(a[ok, 1]), 1) if ok.sum() >= 2 else (np.nan, np.nan)
+    k_s, c_s = np.polyfit(np.log(a[:, 0]), np.log(a[:, 2]), 1)
+    us = float(np.median(a[:, 3]))
+    targets = np.asarray(cfg["targets"], float)
+    t_tr = np.exp(c_t) * targets**k_t
+    steps = t_tr * np.exp(c_s) * targets**k_s
+    ds = xr.Dataset(
+        {"first_spike": ("eps", a[:, 1], {"units": "time"}), "steps_per_time": ("eps", a[:, 2]),
+         "transient_estimate": ("target", t_tr, {"units": "time"}), "steps_estimate": ("target", steps),
+         "wall_estimate_s": ("target", steps * us, {"units": "s"})},
+        coords={"eps": a[:, 0], "target": targets},
+    )
+    ds.attrs.update(
+        transient_exponent=float(k_t), steps_per_time_exponent=float(k_s), seconds_per_step=us,
+        energy_label=cfg["energy_label"], tol=cfg["tol"], wall_time_s=time.perf_counter() - start,
+        method="first Omega spike from the reference state; log-log least squares in eps; cost = transient x "
+        "steps per time unit x measured seconds per step (one core)",
+    )
+    ds.attrs.update(provenance_attrs())
+    return ds

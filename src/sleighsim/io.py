@@ -64,3 +64,18 @@ def read_dataset(path) -> xr.Dataset:
     """Load a dataset fully into memory and close the file."""
     with xr.open_dataset(path, engine="netcdf4") as ds:
         return ds.load()
+
+
+def write_text(path, text: str) -> Path:
+    """Write text atomically (temporary file in the same directory, then rename)."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "w") as fh:
+            fh.write(text)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    return path

@@ -62,19 +62,28 @@ class Params:
         return p
 
     @classmethod
-    def paper(cls, *, eps, b=1.0, K2=None) -> "Params":
-        """The paper's form: m_r/m = a/b = eps, m = 1, K2 = 1 + I_c/(m b^2) (default 1 + eps)."""
+    def paper(cls, *, eps, b=1.0, K2=None, formal: bool = False) -> "Params":
+        """The paper's form: m_r/m = a/b = eps, m = 1, K2 = 1 + I_c/(m b^2) (default 1 + eps).
+
+        ``formal=True`` admits eps >= 1, the formal system with a negative sleigh
+        mass m_c = 1 - eps (not a mechanical system; the inertia stays positive definite)."""
         eps = _finite("eps", eps)
         b = _finite("b", b)
         K2 = 1.0 + eps if K2 is None else _finite("K2", K2)
-        if not 0.0 < eps < 1.0:
+        if not (0.0 < eps < 1.0 or (formal and eps >= 1.0)):
             raise ValueError(
                 f"eps = {eps} is outside the admissible range (0, 1): eps = m_r/m, and eps >= 1 makes m_c <= 0"
+                + ("" if eps <= 0 else "; pass formal=True for the formal system")
             )
         if b <= 0:
             raise ValueError(f"b = {b} is outside the admissible range (0, inf)")
         if K2 <= 1:
             raise ValueError(f"K2 = {K2} is outside the admissible range (1, inf): K2 = 1 + I_c/(m b^2)")
+        if eps >= 1.0:
+            p = cls(m_c=1.0 - eps, m_r=eps, I_c=(K2 - 1.0) * b**2, I_r=eps**3 * b**2 * (K2 - 1.0 + eps),
+                    a=eps * b, b=b)
+            p._check_positive_definite()
+            return p
         return cls.physical(
             m_c=1.0 - eps,
             m_r=eps,

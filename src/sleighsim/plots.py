@@ -353,6 +353,25 @@ def lyapunov(sources, png, pdf) -> None:
     fig.tight_layout(rect=(0, 0.03, 1, 1))
     save_figure(fig, png, pdf)
 
+def audit(sources, png, pdf) -> None:
+    """Energy drift of the printed udot against the derived equations (D1)."""
+    ds = read_dataset(sources[0])
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    for name, style in (("printed", "-"), ("derived", "-")):
+        v = np.abs(ds[f"energy_rel_change_{name}"].values[1:])
+        ax.semilogy(ds.time.values[1:], np.maximum(v, 1e-17), style, label=f"{name} equations")
+    ax.set_xlabel("$t$")
+    ax.set_ylabel(r"$|E(t)/E(0) - 1|$")
+    ax.set_title(f"The paper's printed udot does not conserve the energy: max change "
+                 f"{ds.attrs['printed_max_abs_rel_change']:.3g} (derived: {ds.attrs['derived_max_abs_rel_change']:.2g})",
+                 fontsize=9)
+    ax.legend()
+    footer(fig, ds.attrs)
+    fig.tight_layout(rect=(0, 0.03, 1, 1))
+    save_figure(fig, png, pdf)
+
+
 #: Figure name -> plotting function (fig1 takes its config block instead of a dataset).
 FIGURES = {"fig1": fig1, "fig2": fig2, "fig3": fig3, "fig7": fig7, "fig8": fig8, "fig9": fig9, "fig12": fig12,
-           "fig13": fig13, "fig14": fig14, "fig10": fig10, "fig11": fig11, "lyapunov": lyapunov}
+           "fig13": fig13, "fig14": fig14, "fig10": fig10, "fig11": fig11, "lyapunov": lyapunov,
+           "audit": audit}

@@ -246,7 +246,8 @@ def spectrum_scene(cfg: dict, scene: str = "") -> xr.Dataset:
 SCENES = {"fig2": fig2, "fig3": trajectory, "fig7": trajectory, "fig8": trajectory,
           "fig9_ref": poincare_scene, "fig9_highE": poincare_scene, "fig9_eps001": poincare_scene,
           "psd_eps01": spectrum_scene, "psd_eps001": spectrum_scene,
-          "lyap_spectrum": chaos.spectrum, "lyap_protocol": chaos.protocol, "lyap_energy": chaos.energy_sweep}
+          "lyap_spectrum": chaos.spectrum, "lyap_protocol": chaos.protocol, "lyap_energy": chaos.energy_sweep,
+          "lyap_feasibility": chaos.feasibility}
 
 
 def attractor_scaling(ref_nc, high_nc) -> xr.Dataset:
@@ -272,3 +273,16 @@ def attractor_scaling(ref_nc, high_nc) -> xr.Dataset:
     log.info("attractor scaling: median distance %.3g scaled, %.3g unscaled (c = %.4g)",
              d["scaled_median"], d["unscaled_median"], c)
     return ds
+
+
+def audit_scene(cfg: dict, scene: str = "audit") -> xr.Dataset:
+    """D1-D6: the printed model against the derivation (sleighsim.audit.model_as_printed)."""
+    from .audit import model_as_printed
+
+    params = model.Params.from_config(cfg["params"])
+    ds = model_as_printed(params, cfg["y0"], sample_grid(0.0, cfg["t_end"], cfg["dt"]), cfg["tol"])
+    ds.attrs.update(scene=scene, energy_label=float(model.energy_label(cfg["y0"], params)))
+    return ds
+
+
+SCENES["audit"] = audit_scene

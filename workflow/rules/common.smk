@@ -2,6 +2,9 @@
 
 # Every scene key except the schematic computes one dataset (sleighsim.scenes.SCENES).
 SCENES = [s for s in config["scenes"] if s != "fig1"]
+# Datasets made from other datasets, and every dataset the claims ledger may read.
+DERIVED = ["fig9_scaling", "fig11_grid", "chaos_verdict"]
+ALL_DATA = SCENES + DERIVED
 
 # Figure -> the datasets it reads (fig1 is a schematic drawn from its config block).
 FIGURE_INPUTS = {
@@ -16,6 +19,7 @@ FIGURE_INPUTS = {
     "fig10": ["lyap_energy"],
     "fig11": ["fig11_grid"],
     "lyapunov": ["lyap_spectrum", "lyap_protocol", "chaos_verdict"],
+    "audit": ["audit"],
 }
 FIGURES = ["fig1"] + list(FIGURE_INPUTS)
 

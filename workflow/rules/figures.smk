@@ -5,7 +5,7 @@ rule figure:
     input:
         nc=figure_inputs,
     output:
-        png=f"{R}/figures/{{fig}}.png",
+        png=report(f"{R}/figures/{{fig}}.png", caption="../report/figure.rst", category="Figures"),
         pdf=f"{R}/figures/{{fig}}.pdf",
     params:
         fig=lambda w: w.fig,
@@ -21,7 +21,7 @@ rule figure:
 
 rule figure_schematic:
     output:
-        png=f"{R}/figures/fig1.png",
+        png=report(f"{R}/figures/fig1.png", caption="../report/figure.rst", category="Figures"),
         pdf=f"{R}/figures/fig1.pdf",
     params:
         fig="fig1",

@@ -1,0 +1,130 @@
+"""The reproduction report: results/report/index.html and README.md.
+
+Per scene: our figure (copied beside the page), the paper's caption (parsed from
+the LaTeX source), parameters and numerical settings, accuracy and run time, all
+read from the datasets and Snakemake benchmark files; then the claims ledger,
+the model as printed, and speed against error where it exists.
+"""
+
+from __future__ import annotations
+
+import csv
+import html
+import re
+import shutil
+from pathlib import Path
+
+from .claims import Row
+from .io import read_dataset
+
+COLOURS = {"reproduced": "#d4edda", "differs": "#fff3cd", "cannot be reproduced": "#f8d7da",
+           "not yet computed": "#e2e3e5"}
+SETTINGS = ("param_eps", "param_b", "param_K2", "energy_label", "energy_physical", "backend", "method", "tol",
+            "steps", "t_end", "T", "transient_over")
+
+
+def captions(tex_path) -> dict[str, str]:
+    """{label: caption text} for every figure of the LaTeX source (balanced braces)."""
+    text = Path(tex_path).read_text()
+    out = {}
+    for m in re.finditer(r"\\caption\{", text):
+        depth, i = 1, m.end()
+        while depth and i < len(text):
+            depth += {"{": 1, "}": -1}.get(text[i], 0)
+            i += 1
+        body = text[m.end(): i - 1]
+        label = re.search(r"\\label\{([^}]*)\}", body) or re.search(r"\\label\{([^}]*)\}", text[i: i + 200])
+        if label:
+            out[label.group(1)] = " ".join(re.sub(r"\\label\{[^}]*\}", "", body).split())
+    return out
+
+
+def _runtime(bench_dir: Path, names) -> float:
+    total = 0.0
+    for name in names:
+        for tsv in bench_dir.glob(f"*/{name}.tsv"):
+            with tsv.open() as fh:
+                total += float(next(csv.DictReader(fh, delimiter="\t"))["s"])
+    return total
+
+
+def _scene_facts(data_dir: Path, names) -> list[str]:
+    facts = []
+    for name in names:
+        path = data_dir / f"{name}.nc"
+        if not path.exists():
+            facts.append(f"{name}: not yet computed")
+            continue
+        a = read_dataset(path).attrs
+        settings = ", ".join(f"{k.replace('param_', '')} = {a[k]:.4g}" if isinstance(a[k], float) else f"{k} = {a[k]}"
+                             for k in SETTINGS if k in a)
+        acc = f"max |dE/E| = {a['energy_max_rel_drift']:.2g}" if "energy_max_rel_drift" in a else ""
+        facts.append(f"{name}: {settings}; {acc}; wall {a.get('wall_time_s', float('nan')):.3g} s; "
+                     f"commit {str(a.get('git_commit', '?'))[:12]}")
+    return facts
+
+
+def build(rows: list[Row], *, out_dir, figures_dir, data_dir, bench_dir, tex_path, figure_inputs: dict,
+          labels: dict, extra_figures: dict) -> None:
+    """Write index.html and README.md into ``out_dir`` with the figures copied beside them.
+
+    figure_inputs: {figure: [dataset names]}; labels: {figure: paper LaTeX label};
+    extra_figures: {section title: figure name} (audit, bench, ...)."""
+    out_dir, figures_dir, data_dir, bench_dir = map(Path, (out_dir, figures_dir, data_dir, bench_dir))
+    out_dir.mkdir(parents=True, exist_ok=True)
+    caps = captions(tex_path)
+    counts = {v: sum(r.verdict == v for r in rows) for v in COLOURS}
+    h = ["<!doctype html><html><head><meta charset='utf-8'><title>sleighsim reproduction report</title>",
+         "<style>body{font-family:sans-serif;max-width:1100px;margin:auto;padding:1em}img{max-width:100%;"
+         "border:1px solid #ccc}table{border-collapse:collapse;font-size:12px}td,th{border:1px solid #bbb;"
+         "padding:3px;vertical-align:top}.cap{font-style:italic;color:#444}.facts{font-size:12px;color:#333}</style>",
+         "</head><body><h1>sleighsim: reproduction of Fedonyuk &amp; Tallapragada</h1>",
+         "<p>Verdicts: " + ", ".join(f"{v}: {n}" for v, n in counts.items()) + "</p>"]
+    md = ["# sleighsim reproduction report", "", "Verdicts: " + ", ".join(f"{v}: {n}" for v, n in counts.items()), ""]
+    h.append("<h2>Figures</h2>")
+    md.append("## Figures\n")
+    for fig, names in figure_inputs.items():
+        png = figures_dir / f"{fig}.png"
+        cap = caps.get(labels.get(fig, ""), "(no counterpart in the paper)")
+        h.append(f"<h3 id='{fig}'>{fig}</h3><p class='cap'>Paper: {html.escape(cap)}</p>")
+        md += [f"### {fig}", "", f"*Paper:* {cap}", ""]
+        if png.exists():
+            shutil.copy2(png, out_dir / png.name)
+            h.append(f"<img src='{png.name}' alt='{fig}'>")
+            md.append(f"![{fig}]({png.name})")
+        else:
+            h.append("<p><b>not yet computed</b></p>")
+            md.append("**not yet computed**")
+        facts = _scene_facts(data_dir, names)
+        run = _runtime(bench_dir, names + [fig])
+        h.append("<ul class='facts'>" + "".join(f"<li>{html.escape(f)}</li>" for f in facts)
+                 + f"<li>run time (Snakemake benchmarks): {run:.1f} s</li></ul>")
+        md += [""] + [f"- {f}" for f in facts] + [f"- run time (Snakemake benchmarks): {run:.1f} s", ""]
+    h.append("<h2>Claims ledger</h2><table><tr><th>id</th><th>claim</th><th>paper</th><th>ours</th>"
+             "<th>uncertainty</th><th>units</th><th>verdict</th><th>evidence</th><th>reason</th><th>rule</th></tr>")
+    md += ["## Claims ledger", "", "| id | paper | ours | verdict | reason |", "|---|---|---|---|---|"]
+    for r in rows:
+        cells = [r.id, r.statement, r.paper_value, r.measured, r.uncertainty, r.units, r.verdict, r.evidence,
+                 r.reason, r.rule]
+        h.append(f"<tr id='{r.id}' style='background:{COLOURS[r.verdict]}'>"
+                 + "".join(f"<td>{html.escape(str(c))}</td>" for c in cells) + "</tr>")
+        md.append("| " + " | ".join(str(c).replace("|", "/") for c in (r.id, r.paper_value, r.measured, r.verdict,
+                                                                          r.reason)) + " |")
+    h.append("</table>")
+    for title, fig in extra_figures.items():
+        png = figures_dir / f"{fig}.png"
+        h.append(f"<h2>{html.escape(title)}</h2>")
+        md += ["", f"## {title}", ""]
+        if png.exists():
+            shutil.copy2(png, out_dir / png.name)
+            h.append(f"<img src='{png.name}' alt='{fig}'>")
+            md.append(f"![{fig}]({png.name})")
+        else:
+            h.append("<p><b>not yet computed</b></p>")
+            md.append("**not yet computed**")
+    h.append("<div id='image-check'></div><script>window.addEventListener('load',function(){var im=document.images,"
+             "bad=0;for(var i=0;i<im.length;i++){if(!(im[i].complete&&im[i].naturalWidth>0))bad++;}"
+             "document.getElementById('image-check').textContent='images: '+im.length+' broken: '+bad;});</script>")
+    h.append("</body></html>")
+    (out_dir / "index.html").write_text("\n".join(h))
+    (out_dir / "README.md").write_text("\n".join(md) + "\n")

@@ -1,0 +1,39 @@
+# The claims ledger and the self-contained reproduction report: the final rules.
+
+
+rule claims:
+    input:
+        data=expand(f"{R}/data/{{name}}.nc", name=ALL_DATA),
+        figures=figure_files(FIGURES),
+        claims_md=str(Path(workflow.basedir) / "paper" / "CLAIMS.md"),
+    output:
+        csv=report(f"{R}/claims.csv", caption="../report/claims.rst", category="Claims"),
+        nc=f"{R}/claims.nc",
+    log:
+        f"{R}/logs/report/claims.log",
+    benchmark:
+        f"{R}/benchmarks/report/claims.tsv"
+    script:
+        "../scripts/claims.py"
+
+
+rule report:
+    input:
+        claims=f"{R}/claims.nc",
+        figures=figure_files(FIGURES),
+        tex=str(Path(workflow.basedir) / "paper" / "fedonyuk-tallapragada-sleigh-rotor.tex"),
+        claims_md=str(Path(workflow.basedir) / "paper" / "CLAIMS.md"),
+    output:
+        html=f"{R}/report/index.html",
+        md=f"{R}/report/README.md",
+    params:
+        figure_inputs={f: FIGURE_INPUTS.get(f, []) for f in FIGURES if f not in ("lyapunov", "audit")},
+        extra={"Lyapunov spectrum and chaos verdict": "lyapunov",
+               "The model as printed: energy drift of the printed udot": "audit",
+               "Speed against error": "bench"},
+    log:
+        f"{R}/logs/report/report.log",
+    benchmark:
+        f"{R}/benchmarks/report/report.tsv"
+    script:
+        "../scripts/report.py"
