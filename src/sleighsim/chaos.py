@@ -78,11 +78,9 @@ def _run(params, y, *, k, cfg, compact, label, T=None, seed=0):
 
 
 def _common_attrs(params, y0, cfg, scene):
-    out = dict(params.attrs())
-    out.update({f"y0_{n}": float(v) for n, v in zip(model.STATE_NAMES, y0)})
+    out = model.state_attrs(params, y0)
     out.update(scene=scene, backend="heyoka", method="Benettin QR on var_ode_sys", tol=cfg["tol"],
-               tau=cfg["tau"], t_align=cfg["t_align"], n_blocks=cfg["n_blocks"],
-               energy_physical=float(model.energy(y0, params)), energy_label=float(model.energy_label(y0, params)))
+               tau=cfg["tau"], t_align=cfg["t_align"], n_blocks=cfg["n_blocks"])
     return out
 
 
@@ -97,7 +95,7 @@ def spectrum(cfg: dict, scene: str = "") -> xr.Dataset:
     # The same window without alignment shows the bias of the initial directions.
     no_align = _run(params, y, k=4, cfg=dict(cfg, t_align=0.0), compact=False, label=f"{scene}.noalign",
                     T=cfg["T_bias_check"])
-    aligned_short = res["running"][np.searchsorted(res["T_grid"], cfg["T_bias_check"]) - 1]
+    aligned_short = res["running"][max(0, np.searchsorted(res["T_grid"], cfg["T_bias_check"], side="right") - 1)]
     div = mean_divergence(params, _advance(params, y, cfg["t_align"], cfg["tol"]), cfg["T"], cfg["tol"])
     ds = xr.Dataset(
         {

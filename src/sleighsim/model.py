@@ -71,10 +71,9 @@ class Params:
         b = _finite("b", b)
         K2 = 1.0 + eps if K2 is None else _finite("K2", K2)
         if not (0.0 < eps < 1.0 or (formal and eps >= 1.0)):
-            raise ValueError(
-                f"eps = {eps} is outside the admissible range (0, 1): eps = m_r/m, and eps >= 1 makes m_c <= 0"
-                + ("" if eps <= 0 else "; pass formal=True for the formal system")
-            )
+            why = ("eps = m_r/m must be positive" if eps <= 0 else
+                   "eps = m_r/m, and eps >= 1 makes m_c <= 0; pass formal=True for the formal system")
+            raise ValueError(f"eps = {eps} is outside the admissible range (0, 1): {why}")
         if b <= 0:
             raise ValueError(f"b = {b} is outside the admissible range (0, inf)")
         if K2 <= 1:
@@ -319,3 +318,12 @@ def sleigh0_closed_form(t, u0, Omega0, b, K2):
         return 2.0 * np.arctan(np.tanh(z / 2.0))
 
     return V * np.tanh(s), sgn * V / (K * b * np.cosh(s)), sgn * K * (gd(s) - gd(s0))
+
+
+def state_attrs(params: Params, y0) -> dict:
+    """Dataset attributes for a run from y0: parameters, initial state, physical energy and label."""
+    y0 = np.asarray(y0, dtype=float)
+    out = params.attrs()
+    out.update({f"y0_{n}": float(v) for n, v in zip(STATE_NAMES, y0)})
+    out.update(energy_physical=float(energy(y0[:4], params)), energy_label=float(energy_label(y0[:4], params)))
+    return out

@@ -371,7 +371,45 @@ def audit(sources, png, pdf) -> None:
     save_figure(fig, png, pdf)
 
 
+def bench(sources, png, pdf) -> None:
+    """Work-precision: wall time against error (short horizon) and energy drift (long), and
+    the scene observables against heyoka's tolerance."""
+    ds = read_dataset(sources[0])
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4.8))
+    keys = sorted({(b, m) for b, m in zip(ds.backend.values, ds.method.values)})
+    for b, m in keys:
+        sel = (ds.backend.values == b) & (ds.method.values == m)
+        name = "heyoka (Taylor)" if b == "heyoka" else f"SciPy {m}"
+        axes[0].loglog(ds.error_short.values[sel], ds.wall_short.values[sel], "o-", label=name)
+        axes[1].loglog(np.maximum(ds.drift_long.values[sel], 1e-17), ds.wall_long.values[sel], "o-", label=name)
+    axes[0].set_xlabel(f"end-state error at t = {ds.attrs['t_short']:g} (vs long-double reference)")
+    axes[0].set_ylabel(f"wall time (s), median of {ds.attrs['repeats_heyoka']} (heyoka) / "
+                       f"{ds.attrs['repeats_scipy']} (SciPy)")
+    axes[1].set_xlabel(f"max |E/E0 - 1| over t <= {ds.attrs['t_long']:g}")
+    axes[1].set_ylabel("wall time (s)")
+    axes[0].legend(fontsize=7)
+    axes[0].set_title(f"reference self-difference {ds.attrs['reference_self_difference']:.1e}", fontsize=8)
+    hy = ds.backend.values == "heyoka"
+    ax = axes[2]
+    tol = ds.tol.values[hy]
+    for name, vals in (("spike interval", ds.spike_interval.values[hy]), ("first spike", ds.first_spike.values[hy])):
+        ax.semilogx(tol, vals / vals[np.argmin(tol)], "o-", label=name)
+    to = ds.tol_observable.values
+    for name in ("lambda_1", "rotation_number"):
+        v = ds[name].values
+        ax.semilogx(to, v / v[np.argmin(to)], "s--", label=name)
+    ax.set_xlabel("heyoka tolerance")
+    ax.set_ylabel("observable / value at the tightest tolerance")
+    ax.legend(fontsize=7)
+    ax.set_title("loosest converged tol: " + ", ".join(
+        f"{k.replace('loosest_converged_tol_', '')} {v:.0e}" for k, v in ds.attrs.items()
+        if k.startswith("loosest_converged_tol_")), fontsize=7)
+    footer(fig, ds.attrs)
+    fig.tight_layout(rect=(0, 0.03, 1, 1))
+    save_figure(fig, png, pdf)
+
+
 #: Figure name -> plotting function (fig1 takes its config block instead of a dataset).
 FIGURES = {"fig1": fig1, "fig2": fig2, "fig3": fig3, "fig7": fig7, "fig8": fig8, "fig9": fig9, "fig12": fig12,
            "fig13": fig13, "fig14": fig14, "fig10": fig10, "fig11": fig11, "lyapunov": lyapunov,
-           "audit": audit}
+           "audit": audit, "bench": bench}

@@ -64,6 +64,33 @@ def _scene_facts(data_dir: Path, names) -> list[str]:
     return facts
 
 
+def _embed(png: Path, out_dir: Path, name: str, h: list, md: list) -> None:
+    """Copy the figure beside the page and reference it, or say it is not yet computed."""
+    if png.exists():
+        shutil.copy2(png, out_dir / png.name)
+        h.append(f"<img src='{png.name}' alt='{name}'>")
+        md.append(f"![{name}]({png.name})")
+    else:
+        h.append("<p><b>not yet computed</b></p>")
+        md.append("**not yet computed**")
+
+
+def _case_table(ds) -> tuple[list[str], list[str]]:
+    """HTML and Markdown tables of the hard cases."""
+    cols = ("outcome", "error", "drift", "disagreement", "steps", "wall_s", "detail")
+    h = ["<table><tr><th>case</th>" + "".join(f"<th>{c}</th>" for c in cols) + "</tr>"]
+    md = ["| case | " + " | ".join(cols) + " |", "|" + "---|" * (len(cols) + 1)]
+    colour = {"reliable": COLOURS["reproduced"], "degraded": COLOURS["differs"], "refused": COLOURS["not yet computed"]}
+    for i, case in enumerate(ds.case.values):
+        vals = [ds[c].values[i] for c in cols]
+        txt = [f"{v:.3g}" if isinstance(v, float) else str(v) for v in vals]
+        h.append(f"<tr style='background:{colour.get(str(vals[0]), '#fff')}'><td>{html.escape(str(case))}</td>"
+                 + "".join(f"<td>{html.escape(t)}</td>" for t in txt) + "</tr>")
+        md.append(f"| {case} | " + " | ".join(t.replace("|", "/") for t in txt) + " |")
+    h.append("</table>")
+    return h, md
+
+
 def build(rows: list[Row], *, out_dir, figures_dir, data_dir, bench_dir, tex_path, figure_inputs: dict,
           labels: dict, extra_figures: dict) -> None:
     """Write index.html and README.md into ``out_dir`` with the figures copied beside them.
@@ -88,13 +115,7 @@ def build(rows: list[Row], *, out_dir, figures_dir, data_dir, bench_dir, tex_pat
         cap = caps.get(labels.get(fig, ""), "(no counterpart in the paper)")
         h.append(f"<h3 id='{fig}'>{fig}</h3><p class='cap'>Paper: {html.escape(cap)}</p>")
         md += [f"### {fig}", "", f"*Paper:* {cap}", ""]
-        if png.exists():
-            shutil.copy2(png, out_dir / png.name)
-            h.append(f"<img src='{png.name}' alt='{fig}'>")
-            md.append(f"![{fig}]({png.name})")
-        else:
-            h.append("<p><b>not yet computed</b></p>")
-            md.append("**not yet computed**")
+        _embed(png, out_dir, fig, h, md)
         facts = _scene_facts(data_dir, names)
         run = _runtime(bench_dir, names + [fig])
         h.append("<ul class='facts'>" + "".join(f"<li>{html.escape(f)}</li>" for f in facts)
@@ -115,13 +136,17 @@ def build(rows: list[Row], *, out_dir, figures_dir, data_dir, bench_dir, tex_pat
         png = figures_dir / f"{fig}.png"
         h.append(f"<h2>{html.escape(title)}</h2>")
         md += ["", f"## {title}", ""]
-        if png.exists():
-            shutil.copy2(png, out_dir / png.name)
-            h.append(f"<img src='{png.name}' alt='{fig}'>")
-            md.append(f"![{fig}]({png.name})")
-        else:
-            h.append("<p><b>not yet computed</b></p>")
-            md.append("**not yet computed**")
+        _embed(png, out_dir, fig, h, md)
+    h.append("<h2>Hard cases</h2>")
+    md += ["", "## Hard cases", ""]
+    cases = data_dir / "hardcases.nc"
+    if cases.exists():
+        th, tm = _case_table(read_dataset(cases))
+        h += th
+        md += tm
+    else:
+        h.append("<p><b>not yet computed</b> (<code>snakemake -c2 hardcases</code>)</p>")
+        md.append("**not yet computed** (`snakemake -c2 hardcases`)")
     h.append("<div id='image-check'></div><script>window.addEventListener('load',function(){var im=document.images,"
              "bad=0;for(var i=0;i<im.length;i++){if(!(im[i].complete&&im[i].naturalWidth>0))bad++;}"
              "document.getElementById('image-check').textContent='images: '+im.length+' broken: '+bad;});</script>")

@@ -161,13 +161,11 @@ def poincare_scene(cfg: dict, scene: str = "") -> xr.Dataset:
                             {"long_name": "k-NN graph component in the (u, Omega, omega) projection"})
     data.update({f"attractor_{v}": ("natt", att[v].values, {"units": units[v]}) for v in ("u", "Omega", "omega")})
     ds = xr.Dataset(data)
-    ds.attrs.update(params.attrs())
-    ds.attrs.update({f"y0_{n}": float(v) for n, v in zip(model.STATE_NAMES, y0)})
+    ds.attrs.update(model.state_attrs(params, y0))
     ds.attrs.update(attrs)
     ds.attrs.update(rot)
     ds.attrs.update(
         scene=scene, backend="heyoka", method="taylor_adaptive + nt_event sin(2 delta)", tol=cfg["tol"],
-        energy_physical=E0, energy_label=float(model.energy_label(y0, params)),
         energy_max_rel_drift=float(np.max(np.abs(E / E0 - 1))) if E.size else float("nan"),
         t_map_start=t0, t_map_end=t1, n_p2pi=int(is2pi.sum()), n_ppi2=int(len(pts)), ppi2_stride=stride,
         max_crossing_residual=float(c["residual"].max()) if len(pts) else float("nan"),
@@ -219,13 +217,11 @@ def spectrum_scene(cfg: dict, scene: str = "") -> xr.Dataset:
             out_attrs.update({f"{v}_check_{tag}_band_low": lo_c, f"{v}_check_{tag}_band_high": hi_c})
     ds = xr.Dataset(data, coords={"frequency": ("frequency", f, {"units": "cycles/time"}),
                                   "angular_frequency": ("frequency", 2 * np.pi * f, {"units": "rad/time"})})
-    ds.attrs.update(params.attrs())
-    ds.attrs.update({f"y0_{n}": float(v) for n, v in zip(model.STATE_NAMES, y0)})
+    ds.attrs.update(model.state_attrs(params, y0))
     ds.attrs.update(attrs)
     ds.attrs.update(out_attrs)
     ds.attrs.update(
         scene=scene, backend="heyoka", method="taylor_adaptive", tol=cfg["tol"],
-        energy_physical=run.attrs["energy_physical"], energy_label=float(model.energy_label(y0, params)),
         energy_max_rel_drift=max(run.attrs["energy_max_rel_drift"], attrs["pre_run_energy_max_rel_drift"]),
         record_start=t0, record_duration=cfg["duration"], sample_dt=cfg["dt"], check_dt=cfg["check_dt"],
         check_duration=cfg["check_duration"], psd_method="scipy.signal.welch", psd_window="hann",
@@ -286,3 +282,15 @@ def audit_scene(cfg: dict, scene: str = "audit") -> xr.Dataset:
 
 
 SCENES["audit"] = audit_scene
+
+
+def hardcases_scene(cfg: dict, scene: str = "hardcases") -> xr.Dataset:
+    """Where the numerics get difficult (sleighsim.hardcases.run)."""
+    from . import hardcases
+
+    ds = hardcases.run(cfg)
+    ds.attrs["scene"] = scene
+    return ds
+
+
+SCENES["hardcases"] = hardcases_scene

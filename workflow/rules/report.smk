@@ -37,3 +37,29 @@ rule report:
         f"{R}/benchmarks/report/report.tsv"
     script:
         "../scripts/report.py"
+
+
+rule bench_data:
+    output:
+        nc=f"{R}/data/bench.nc",
+    params:
+        cfg=config["bench"],
+    threads: 1
+    log:
+        f"{R}/logs/bench/bench.log",
+    benchmark:
+        f"{R}/benchmarks/bench/bench.tsv"
+    script:
+        "../scripts/bench.py"
+
+
+rule bench:
+    input:
+        figure_files(["bench"]),
+    localrule: True
+
+
+rule hardcases:
+    input:
+        f"{R}/data/hardcases.nc",
+    localrule: True

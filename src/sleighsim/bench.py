@@ -1,0 +1,232 @@
+"""Speed against error: heyoka at several tolerances against SciPy's solvers.
+
+Error is measured against a heyoka reference in extended precision (long double),
+shown converged by comparing two of its tolerances: the end-state error on a short
+horizon (before sensitivity amplifies it) and the maximum relative energy drift on a
+long one. Wall times are medians of ``repeats`` runs; heyoka's JIT compile time is
+reported apart. The scene observables (spike interval, end of the second transient,
+lambda_1 over a fixed horizon, P_2pi rotation number) are measured against tolerance.
+
+Run: ``python -m sleighsim.bench [--quick] OUT.nc`` or ``snakemake -c2 bench``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import time
+
+import numpy as np
+import xarray as xr
+
+from . import model, poincare, transient
+from .integrate import heyoka_integrator, integrate, sample_grid
+from .io import provenance_attrs, write_dataset
+
+log = logging.getLogger("sleighsim")
+
+
+def reference(params, y0, t_end, tol):
+    """End state at t_end with heyoka in long double precision; returns (state, wall)."""
+    import heyoka as hy
+
+    start = time.perf_counter()
+    ta = hy.taylor_adaptive(model.heyoka_system(), np.asarray(y0, np.longdouble),
+                            pars=np.asarray(params.values, np.longdouble), fp_type=np.longdouble,
+                            tol=np.longdouble(tol))
+    ta.propagate_until(np.longdouble(t_end))
+    return np.asarray(ta.state, float), time.perf_counter() - start
+
+
+def _median_run(fn, repeats):
+    walls, out = [], None
+    for _ in range(repeats):
+        out = fn()
+        walls.append(out.attrs["wall_time_s"])
+    return out, float(np.median(walls))
+
+
+def work_precision(cfg: dict) -> xr.Dataset:
+    """One row per (method, tolerance): short-horizon error, long-horizon drift, wall times,
+    and the scene observables measured on the long run."""
+    params = model.Params.from_config(cfg["params"])
+    y0 = np.asarray(cfg["y0"], float)
+    ref, ref_wall = reference(params, y0, cfg["t_short"], cfg["reference_tols"][0])
+    ref2, _ = reference(params, y0, cfg["t_short"], cfg["reference_tols"][1])
+    rows = []
+    runs = [("heyoka", "taylor", tol) for tol in cfg["heyoka_tols"]]
+    runs += [("scipy", m, r) for m, rtols in cfg["scipy"].items() for r in rtols]
+    for backend, method, tol in runs:
+        kw = dict(backend=backend, tol=tol, progress=1) if backend == "heyoka" else dict(
+            backend="scipy", method=method, rtol=tol, atol=tol * cfg["atol_factor"], progress=1)
+        if backend == "heyoka":
+            heyoka_integrator(False, tol)  # compile outside the timed runs
+        reps = cfg["repeats"] if backend == "heyoka" else cfg["scipy_repeats"]
+        short, wall_short = _median_run(lambda: integrate(params, y0, [0.0, cfg["t_short"]], **kw), reps)
+        err = float(np.max(np.abs(np.array([short[v].values[-1] for v in model.STATE_NAMES]) - ref)))
+        long_ = integrate(params, y0, sample_grid(0.0, cfg["t_long"], cfg["dt_long"]), **kw)
+        spikes = transient.spike_times(long_.time.values, long_.Omega.values, t_min=cfg["t_min"])
+        d = np.diff(spikes)
+        rows.append(dict(
+            backend=backend, method=method, tol=tol, error_short=err, wall_short=wall_short,
+            drift_long=long_.attrs["energy_max_rel_drift"], wall_long=long_.attrs["wall_time_s"],
+            steps_long=long_.attrs["steps"],
+            compile_s=heyoka_integrator(False, tol)[1] if backend == "heyoka" else 0.0,
+            first_spike=float(spikes[0]) if spikes.size else np.nan,
+            spike_interval=float(d.mean()) if d.size else np.nan,
+            n_spikes=int(spikes.size)))
+        log.info("bench %s %s %.0e: error %.2g in %.3g s; drift %.2g in %.3g s; spike interval %.5g", backend,
+                 method, tol, err, wall_short, rows[-1]["drift_long"], rows[-1]["wall_long"], rows[-1]["spike_interval"])
+    ds = xr.Dataset({k: ("run", np.array([r[k] for r in rows])) for k in rows[0]})
+    ds.attrs.update(params.attrs())
+    ds.attrs.update(
+        t_short=cfg["t_short"], t_long=cfg["t_long"], repeats_heyoka=cfg["repeats"],
+        repeats_scipy=cfg["scipy_repeats"], reference="heyoka long double",
+        reference_tols=np.array(cfg["reference_tols"]), reference_self_difference=float(np.max(np.abs(ref - ref2))),
+        reference_wall_s=ref_wall, atol_factor=cfg["atol_factor"],
+    )
+    return ds
+
+
+def observables_vs_tol(cfg: dict) -> xr.Dataset:
+    """lambda_1 over a fixed horizon and the P_2pi rotation number, against heyoka's tolerance."""
+    from . import chaos, lyapunov
+
+    params = model.Params.from_config(cfg["params"])
+    y = integrate(params, cfg["y0"], [0.0, cfg["t_settle"]], progress=1)
+    y = np.array([y[v].values[-1] for v in model.STATE_NAMES])
+    lam, rot = [], []
+    for tol in cfg["heyoka_tols"]:
+        ta, _ = chaos._tangent(1, tol, True)
+        ta.pars[:] = params.values
+        lam.append(lyapunov.benettin(ta, 4, 1, y, t_align=0.0, T=cfg["T_lyapunov"], tau=10.0)["exponents"][0])
+        c = poincare.crossings(params, y, 0.0, cfg["t_rotation"], tol=tol)
+        rot.append(poincare.rotation_number(np.c_[c["u"], c["Omega"], c["omega"]][c["k"] % 4 == 0])["rotation_number"])
+        log.info("bench tol %.0e: lambda_1 %.5g, rotation number %.6g", tol, lam[-1], rot[-1])
+    return xr.Dataset({"lambda_1": ("tol", lam), "rotation_number": ("tol", rot)},
+                      coords={"tol": np.array(cfg["heyoka_tols"], float)},
+                      attrs=dict(T_lyapunov=cfg["T_lyapunov"], t_rotation=cfg["t_rotation"], t_settle=cfg["t_settle"]))
+
+
+def loosest_converged(tols, values, rel: float) -> float:
+    """The loosest tolerance from which on (to the tightest) the observable stays within
+    ``rel`` of its value at the tightest tolerance."""
+    order = np.argsort(tols)
+    tols, values = np.asarray(tols)[order], np.asarray(values)[order]
+    best = values[0]
+    ok = np.abs(values - best) <= rel * abs(best)
+    k = 0
+    while k + 1 < len(ok) and ok[k + 1]:
+        k += 1
+    return float(tols[k])
+
+
+def fastest_table(ds: xr.Dataset, targets) -> list[dict]:
+    """For each error target: the fastest run reaching it and its speed ratio to the fastest SciPy run."""
+    out = []
+    for target in targets:
+        ok = ds.error_short.values <= target
+        if not ok.any():
+            continue
+        best = int(np.argmin(np.where(ok, ds.wall_short.values, np.inf)))
+        sp = ok & (ds.backend.values == "scipy")
+        ratio = float(np.min(ds.wall_short.values[sp]) / ds.wall_short.values[best]) if sp.any() else float("nan")
+        out.append(dict(target=target, fastest=f"{ds.backend.values[best]} {ds.method.values[best]} "
+                        f"tol {ds.tol.values[best]:.0e}", wall=float(ds.wall_short.values[best]),
+                        speedup_vs_fastest_scipy=ratio))
+    return out
+
+
+def overhead(cfg: dict) -> dict:
+    """Wall time of integrate() (sampling, energy check, Dataset) over a bare propagation, F3 scene."""
+    params = model.Params.from_config(cfg["params"])
+    ta, _ = heyoka_integrator(False, 2.0**-52)
+    bare = []
+    for _ in range(cfg["repeats"]):
+        ta.time = 0.0
+        ta.state[:] = cfg["y0"]
+        ta.pars[:] = params.values
+        t0 = time.perf_counter()
+        ta.propagate_until(float(cfg["t_long"]))
+        bare.append(time.perf_counter() - t0)
+    full = []
+    for _ in range(cfg["repeats"]):
+        t0 = time.perf_counter()
+        integrate(params, cfg["y0"], sample_grid(0.0, cfg["t_long"], cfg["dt_long"]), progress=20)
+        full.append(time.perf_counter() - t0)
+    return {"bare_s": float(np.median(bare)), "workflow_s": float(np.median(full)),
+            "overhead_ratio": float(np.median(full) / np.median(bare))}
+
+
+def run(cfg: dict) -> xr.Dataset:
+    """Everything above in one dataset."""
+    start = time.perf_counter()
+    wp = work_precision(cfg)
+    obs = observables_vs_tol(cfg)
+    ds = xr.merge([wp, obs.rename({"tol": "tol_observable"})], compat="override")
+    hy = wp.backend.values == "heyoka"
+    conv = {
+        "spike_interval": loosest_converged(wp.tol.values[hy], wp.spike_interval.values[hy], cfg["rel_converged"]),
+        "first_spike": loosest_converged(wp.tol.values[hy], wp.first_spike.values[hy], cfg["rel_converged"]),
+        "lambda_1": loosest_converged(obs.tol.values, obs.lambda_1.values, cfg["rel_converged_lyapunov"]),
+        "rotation_number": loosest_converged(obs.tol.values, obs.rotation_number.values, cfg["rel_converged"]),
+    }
+    table = fastest_table(wp, cfg["error_targets"])
+    ds.attrs.update(wp.attrs)
+    ds.attrs.update(obs.attrs)
+    ds.attrs.update({f"loosest_converged_tol_{k}": v for k, v in conv.items()})
+    ds.attrs.update(rel_converged=cfg["rel_converged"], rel_converged_lyapunov=cfg["rel_converged_lyapunov"])
+    for row in table:
+        key = f"{row['target']:.0e}"
+        ds.attrs[f"fastest_at_{key}"] = row["fastest"]
+        ds.attrs[f"speedup_vs_scipy_at_{key}"] = row["speedup_vs_fastest_scipy"]
+    ds.attrs.update({f"overhead_{k}": v for k, v in overhead(cfg).items()})
+    ds.attrs["wall_time_s"] = time.perf_counter() - start
+    ds.attrs.update(provenance_attrs())
+    return ds
+
+
+QUICK = dict(
+    params={"eps": 0.1, "b": 1.0, "K2": 1.1}, y0=[0.0, 0.1, 1.0, 0.0], t_short=100.0, t_long=600.0, dt_long=0.5,
+    t_min=50.0, heyoka_tols=[1e-8, 1e-12, 2.220446049250313e-16], reference_tols=[1e-19, 1e-17],
+    scipy={"DOP853": [1e-8], "RK45": [1e-6]}, atol_factor=1e-3, repeats=3, scipy_repeats=1, t_settle=100.0,
+    T_lyapunov=200.0, t_rotation=100.0, rel_converged=0.01, rel_converged_lyapunov=0.05, error_targets=[1e-6, 1e-8],
+)
+
+
+def summary(ds: xr.Dataset) -> dict:
+    """The numbers worth keeping under version control: loosest converged tolerances,
+    speed ratios, overhead, and where they came from."""
+    keep = {k: (float(v) if isinstance(v, (float, np.floating)) else str(v)) for k, v in ds.attrs.items()
+            if k.startswith(("loosest_converged_tol_", "fastest_at_", "speedup_vs_scipy_at_", "overhead_"))
+            or k in ("reference_self_difference", "t_short", "t_long", "git_commit", "created_utc")}
+    return dict(sorted(keep.items()))
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("out", help="netCDF file to write")
+    parser.add_argument("--config", help="YAML file with a bench block (default: config/config.yaml)")
+    parser.add_argument("--quick", action="store_true", help="a tiny run (seconds), for a first look")
+    parser.add_argument("--summarize", metavar="YAML", help="read OUT (an existing bench dataset) and write "
+                        "its summary (loosest converged tolerances, speed ratios) to YAML instead of running")
+    args = parser.parse_args(argv)
+    if args.summarize:
+        import yaml
+
+        from .io import read_dataset, write_text
+
+        write_text(args.summarize, yaml.safe_dump(summary(read_dataset(args.out))))
+        return
+    logging.basicConfig(level=logging.INFO, format="%(asctime)s %(message)s")
+    if args.quick:
+        cfg = QUICK
+    else:
+        import yaml
+
+        cfg = yaml.safe_load(open(args.config or "config/config.yaml"))["bench"]
+    write_dataset(run(cfg), args.out)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,58 @@
+"""The benchmark's analysis helpers, and the configured tolerances against its measurements."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+import yaml
+
+from sleighsim import bench
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def test_loosest_converged_tolerance():
+    tols = [1e-6, 1e-8, 1e-10, 1e-12, 2.2e-16]
+    values = [0.7, 0.95, 0.999, 1.0001, 1.0]
+    assert bench.loosest_converged(tols, values, rel=0.01) == 1e-10
+    assert bench.loosest_converged(tols, values, rel=0.5) == 1e-6
+    assert bench.loosest_converged(tols, [2.0, 1.0, 1.0, 1.0, 1.0], rel=0.01) == 1e-8
+
+
+def test_fastest_table_picks_the_fastest_run_reaching_each_error():
+    ds = xr.Dataset({"backend": ("run", np.array(["heyoka", "heyoka", "scipy", "scipy"])),
+                     "method": ("run", np.array(["taylor", "taylor", "DOP853", "RK45"])),
+                     "tol": ("run", [1e-8, 1e-12, 1e-10, 1e-6]),
+                     "error_short": ("run", [1e-7, 1e-11, 1e-9, 1e-5]),
+                     "wall_short": ("run", [0.01, 0.02, 5.0, 1.0])})
+    rows = {r["target"]: r for r in bench.fastest_table(ds, [1e-4, 1e-8, 1e-10, 1e-13])}
+    assert rows[1e-4]["fastest"].startswith("heyoka") and rows[1e-4]["speedup_vs_fastest_scipy"] == pytest.approx(100)
+    assert rows[1e-8]["speedup_vs_fastest_scipy"] == pytest.approx(250)  # 5.0 s against 0.02 s
+    assert np.isnan(rows[1e-10]["speedup_vs_fastest_scipy"])
+    assert 1e-13 not in rows
+
+
+def _tolerances(node, path=""):
+    if isinstance(node, dict):
+        for k, v in node.items():
+            if k == "tol":
+                yield path + k, v
+            elif k not in ("bench", "hardcases"):
+                yield from _tolerances(v, f"{path}{k}.")
+
+
+def test_configured_tolerances_are_at_least_as_tight_as_the_converged_ones():
+    summary_file = ROOT / "benchmarks" / "bench_summary.yaml"
+    if not summary_file.exists():
+        pytest.skip("no benchmark summary yet: run `snakemake -c2 bench` and "
+                    "`python -m sleighsim.bench results/data/bench.nc --summarize benchmarks/bench_summary.yaml`")
+    summary = yaml.safe_load(summary_file.read_text())
+    converged = {k: v for k, v in summary.items() if k.startswith("loosest_converged_tol_")}
+    assert converged, "the summary holds no converged tolerances"
+    config = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
+    tols = dict(_tolerances(config))
+    assert len(tols) >= 10
+    for key, tol in tols.items():
+        for name, limit in converged.items():
+            assert tol <= limit, f"{key} = {tol} is looser than {name} = {limit}"
