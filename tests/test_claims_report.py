@@ -52,6 +52,10 @@ def test_ledger_on_synthetic_datasets(tmp_path):
     assert rows["C03"].verdict == "not yet computed" and rows["C03"].measured == ""
     assert rows["F3"].verdict == "not yet computed"
     assert rows["C02"].verdict == "reproduced"  # needs only the model
+    # A built figure is no better than the claims it illustrates.
+    row = claims.Row(id="F12", statement="", paper_value="", verdict="reproduced")
+    claims._figure_from_claims(row, {"C22": rows["C22"]})
+    assert row.verdict == "differs" and "C22" in row.reason
     _fig9(data / "fig9_ref.nc", n_loops=3, pairs=0)
     rows = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures")}
     assert rows["C16"].verdict == "differs" and rows["C22"].verdict == "reproduced"

@@ -91,9 +91,9 @@ def spectrum(cfg: dict, scene: str = "") -> xr.Dataset:
     params = model.Params.from_config(cfg["params"])
     y0 = model.state_at_label(cfg["y0"], params, cfg["energy_label"])
     y, over, settle = _settle(params, y0, cfg["t_transient"], cfg["tol"], scene, cfg["transient"])
-    res = _run(params, y, k=4, cfg=cfg, compact=False, label=scene)
+    res = _run(params, y, k=4, cfg=cfg, compact=cfg["compact_mode"], label=scene)
     # The same window without alignment shows the bias of the initial directions.
-    no_align = _run(params, y, k=4, cfg=dict(cfg, t_align=0.0), compact=False, label=f"{scene}.noalign",
+    no_align = _run(params, y, k=4, cfg=dict(cfg, t_align=0.0), compact=cfg["compact_mode"], label=f"{scene}.noalign",
                     T=cfg["T_bias_check"])
     aligned_short = res["running"][max(0, np.searchsorted(res["T_grid"], cfg["T_bias_check"], side="right") - 1)]
     div = mean_divergence(params, _advance(params, y, cfg["t_align"], cfg["tol"]), cfg["T"], cfg["tol"])
@@ -178,8 +178,8 @@ def energy_sweep(cfg: dict, scene: str = "") -> xr.Dataset:
         s = math.sqrt(cfg["reference_label"] / lab)  # time unit at this label relative to the reference
         y0 = model.state_at_label(cfg["y0"], params, lab)
         y = _advance(params, y0, cfg["t_transient"] * s, cfg["tol"])
-        r = _run(params, y, k=1, cfg=dict(cfg, t_align=cfg["t_align"] * s, tau=cfg["tau"] * s), compact=False,
-                 label=f"{scene}[E={lab:g}]", T=cfg["T"] * s)
+        r = _run(params, y, k=1, cfg=dict(cfg, t_align=cfg["t_align"] * s, tau=cfg["tau"] * s),
+                 compact=cfg["compact_mode"], label=f"{scene}[E={lab:g}]", T=cfg["T"] * s)
         lam[j], err[j] = r["exponents"][0], r["stderr"][0]
         log.info("%s: E label %g: lambda_1 = %.4g +- %.2g", scene, lab, lam[j], err[j])
     ref = int(np.argmin(np.abs(np.log(labels / cfg["reference_label"]))))
@@ -242,8 +242,8 @@ def grid_chunk(cfg: dict, chunk: int, n_chunks: int, scene: str = "") -> xr.Data
         label = f"{scene}[eps={eps:.4g}, b={b:.4g}]"
         t0 = time.perf_counter()
         y, over, settle = _settle(p, y0, cfg["t_pre"] * s, cfg["tol"], label, cfg["transient"])
-        r = _run(p, y, k=1, cfg=dict(cfg, t_align=cfg["t_align"] * s, tau=cfg["tau"] * s), compact=False,
-                 label=label, T=cfg["T"] * s)
+        r = _run(p, y, k=1, cfg=dict(cfg, t_align=cfg["t_align"] * s, tau=cfg["tau"] * s),
+                 compact=cfg["compact_mode"], label=label, T=cfg["T"] * s)
         lam, err = float(r["exponents"][0]), float(r["stderr"][0])
         converged = lam > cfg["flag_sigma"] * err and err < cfg["flag_rel_err"] * abs(lam)
         rows.append((eps, b, lam, err, s, cfg["T"] * s, int(over), int(converged), time.perf_counter() - t0))

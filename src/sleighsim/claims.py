@@ -91,6 +91,23 @@ FIGURE_DATA = {"F1": [], "F2": ["fig2"], "F3": ["fig3"], "F4": ["fig4"], "F5": [
                "F13": ["psd_eps01"], "F14": ["psd_eps001"]}
 
 
+#: The claims each figure illustrates: a figure row is no better than its claims.
+FIGURE_CLAIMS = {"F2": ["C01"], "F3": ["C03", "C04", "C05"], "F4": ["C06"], "F5": ["C11"], "F6": ["C07", "C08", "C09", "C10"],
+                 "F7": ["C13"], "F8": ["C14"], "F9": ["C15", "C16", "C17"], "F10": ["C20"], "F11": ["C21"],
+                 "F12": ["C22"], "F13": ["C23"], "F14": ["C24"]}
+
+
+def _figure_from_claims(row: Row, judged: dict) -> None:
+    """Downgrade a built figure to "differs" when a claim it illustrates differs."""
+    if row.verdict != "reproduced":
+        return
+    differing = [c for c in FIGURE_CLAIMS.get(row.id, []) if judged.get(c) and judged[c].verdict == "differs"]
+    if differing:
+        row.verdict = "differs"
+        row.reason = "its claims differ: " + ", ".join(differing)
+    row.rule += "; then no better than the claims it illustrates (" + ", ".join(FIGURE_CLAIMS.get(row.id, [])) + ")"
+
+
 def _figure_row(row: Row, ctx: Context, figures_dir: Path):
     fig = "fig" + row.id[1:]
     png = figures_dir / f"{fig}.png"
@@ -203,7 +220,7 @@ def evaluate(ctx: Context) -> dict:
 
     def c16(r):
         a = ctx("fig9_ref").attrs
-        _c(r, measured=f"{a['n_loops']} loops (per class {list(a['loops_per_class'])}; "
+        _c(r, measured=f"{a['n_loops']} loops (per class {[int(n) for n in a['loops_per_class']]}; "
                        f"{a['n_components_projected']} components in the 3-D projection)", evidence="fig9_ref.nc",
            verdict=judge_number(4, a["n_loops"], 0, 0), rule="exact count; loop rule in fig9_ref.nc attrs")
     ev["C16"] = c16
@@ -369,6 +386,10 @@ def ledger(claims_md, data_dir, figures_dir) -> list[Row]:
             row.verdict, row.reason = "not yet computed", f"dataset or figure {missing} not built"
             row.measured = row.uncertainty = ""
         rows.append(row)
+    judged = {r.id: r for r in rows}
+    for row in rows:
+        if row.id.startswith("F"):
+            _figure_from_claims(row, judged)
     return rows
 
 

@@ -4,6 +4,8 @@
 # the hard cases run on request (`snakemake -c2 hardcases`), not as part of `all`.
 SCENES = [s for s in config["scenes"] if s != "fig1"]
 ON_REQUEST = ["hardcases"]
+# Scenes that take minutes at paper fidelity: scheduled first (rule scene_long).
+LONG_SCENES = ["lyap_spectrum"]
 # Datasets made from other datasets, and every dataset the claims ledger may read.
 DERIVED = ["fig9_scaling", "fig11_grid", "chaos_verdict"]
 ALL_DATA = [s for s in SCENES if s not in ON_REQUEST] + DERIVED
