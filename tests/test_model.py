@@ -158,3 +158,10 @@ def test_eps_above_one_is_refused_unless_formal():
     assert p.m_c < 0 and p.eps == pytest.approx(25.0)
     y = np.array([0.1, 0.2, 0.3, 0.4])
     assert float(model.energy(y, p)) > 0  # the inertia stays positive definite
+
+
+def test_sleigh0_field_is_the_derived_model_with_a_decoupled_rotor(rng):
+    b, K2 = 1.3, 1.2
+    p = model.Params.sleigh0(b=b, K2=K2)
+    Y = np.c_[rng.uniform(-2, 2, (50, 2)), rng.uniform(-2, 2, 50), rng.uniform(-7, 7, 50)]
+    assert np.allclose(model.sleigh0_rhs(Y[:, :2], b, K2), model.rhs(Y, p)[:, :2], rtol=1e-13, atol=1e-14)

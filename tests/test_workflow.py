@@ -78,6 +78,10 @@ def test_smoke_workflow_builds_every_figure(tmp_path):
     assert (tmp_path / "results" / "claims.csv").read_text().count("\n") == n_ids + 1
     html = (tmp_path / "results" / "report" / "index.html").read_text()
     assert all(f"id='{i}'" in html for i in ledger.id.values)
+    # Snakemake's own report from the run's metadata.
+    sm_report = tmp_path / "results" / "snakemake_report.html"
+    res = snakemake(tmp_path, SMOKE, "--report", str(sm_report))
+    assert res.returncode == 0 and sm_report.stat().st_size > 100000, res.stderr[-2000:]
     # Nothing left to do on a second run: outputs are complete and up to date.
     dry = snakemake(tmp_path, SMOKE, "-n")
     assert "Nothing to be done" in dry.stdout + dry.stderr

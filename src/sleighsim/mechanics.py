@@ -164,8 +164,3 @@ def paper_printed_locked_inertia():
         ]
     )
     return M, f
-
-
-def sleigh0_rhs():
-    """The epsilon = 0 sleigh: udot = b Omega^2, Omegadot = -u Omega / (b K2)."""
-    return (b * Omega**2, -u * Omega / (b * K2))
