@@ -36,3 +36,13 @@ def figure_files(figs):
 
 def figure_inputs(wildcards):
     return [f"{R}/data/{s}.nc" for s in FIGURE_INPUTS[wildcards.fig]]
+
+
+def canonical(value):
+    """Config values with mapping keys sorted, so reordering a YAML file does not count
+    as a parameter change (Snakemake compares params in order)."""
+    if isinstance(value, dict):
+        return {k: canonical(value[k]) for k in sorted(value)}
+    if isinstance(value, list):
+        return [canonical(v) for v in value]
+    return value

@@ -25,7 +25,7 @@ rule figure_schematic:
         pdf=f"{R}/figures/fig1.pdf",
     params:
         fig="fig1",
-        cfg=config["scenes"]["fig1"],
+        cfg=canonical(config["scenes"]["fig1"]),
     log:
         f"{R}/logs/figure/fig1.log",
     benchmark:

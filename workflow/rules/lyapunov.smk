@@ -9,7 +9,7 @@ rule lyap_grid_chunk:
     output:
         nc=f"{R}/lyapunov/grid_chunk{{chunk}}.nc",
     params:
-        cfg=config["lyap_grid"],
+        cfg=canonical(config["lyap_grid"]),
     threads: 1
     resources:
         runtime=120,
@@ -30,7 +30,7 @@ rule lyap_grid:
     output:
         nc=f"{R}/data/fig11_grid.nc",
     params:
-        cfg=config["lyap_grid"],
+        cfg=canonical(config["lyap_grid"]),
     log:
         f"{R}/logs/analysis/fig11_grid.log",
     benchmark:
@@ -46,7 +46,7 @@ rule chaos_verdict:
     output:
         nc=f"{R}/data/chaos_verdict.nc",
     params:
-        cfg=config["chaos_verdict"],
+        cfg=canonical(config["chaos_verdict"]),
     log:
         f"{R}/logs/analysis/chaos_verdict.log",
     benchmark:

@@ -43,7 +43,7 @@ rule bench_data:
     output:
         nc=f"{R}/data/bench.nc",
     params:
-        cfg=config["bench"],
+        cfg=canonical(config["bench"]),
     threads: 1
     log:
         f"{R}/logs/bench/bench.log",

@@ -5,7 +5,7 @@ rule scene:
     output:
         nc=f"{R}/data/{{scene}}.nc",
     params:
-        cfg=lambda w: config["scenes"][w.scene],
+        cfg=lambda w: canonical(config["scenes"][w.scene]),
     log:
         f"{R}/logs/scene/{{scene}}.log",
     benchmark:
