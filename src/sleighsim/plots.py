@@ -55,6 +55,13 @@ def footer(fig, attrs: dict) -> None:
     fig.text(0.01, 0.005, "; ".join(parts), fontsize=6, color="0.4", ha="left", va="bottom")
 
 
+def finish(fig, attrs: dict, png, pdf) -> None:
+    """Provenance footer, layout, and both files."""
+    footer(fig, attrs)
+    fig.tight_layout(rect=(0, 0.03, 1, 1))
+    save_figure(fig, png, pdf)
+
+
 def fig1(cfg: dict, png, pdf) -> None:
     """Schematic: sleigh body, centre C, runner P at distance b, rotor at distance a."""
     b, a, th, be = cfg["b"], cfg["a"], cfg["theta"], cfg["beta"]
@@ -117,9 +124,7 @@ def fig2(sources, png, pdf) -> None:
     bx.set_xlabel("$x$")
     bx.set_ylabel("$y$")
     bx.set_title(f"(b) path from $u=0$, $\\Omega=1$, $t\\leq{float(ds.path_time[-1]):g}$", fontsize=9)
-    footer(fig, ds.attrs)
-    fig.tight_layout(rect=(0, 0.03, 1, 1))
-    save_figure(fig, png, pdf)
+    finish(fig, ds.attrs, png, pdf)
 
 
 def _time_panels(axes, ds, names, lw=0.3):
@@ -136,9 +141,7 @@ def fig3(sources, png, pdf) -> None:
     _time_panels(axes.ravel(), ds, ["u", "Omega", "omega", "theta"])
     for axk, tag in zip(axes.ravel(), "abcd"):
         axk.set_title(f"({tag})", fontsize=9, loc="left")
-    footer(fig, ds.attrs)
-    fig.tight_layout(rect=(0, 0.03, 1, 1))
-    save_figure(fig, png, pdf)
+    finish(fig, ds.attrs, png, pdf)
 
 
 def fig7(sources, png, pdf) -> None:
@@ -161,9 +164,7 @@ def fig7(sources, png, pdf) -> None:
     px.legend(fontsize=7)
     px.set_title("(c) path over the window (colour: time)", fontsize=9, loc="left")
     fig.colorbar(sc, ax=px, label="$t$")
-    footer(fig, ds.attrs)
-    fig.tight_layout(rect=(0, 0.03, 1, 1))
-    save_figure(fig, png, pdf)
+    finish(fig, ds.attrs, png, pdf)
 
 
 def fig8(sources, png, pdf) -> None:
@@ -178,9 +179,7 @@ def fig8(sources, png, pdf) -> None:
     ax.set_ylabel("$y$")
     ax.legend(fontsize=8)
     ax.set_title(f"Path over {float(ds.time[-1] - ds.time[0]):g} time units after the transient", fontsize=10)
-    footer(fig, ds.attrs)
-    fig.tight_layout(rect=(0, 0.03, 1, 1))
-    save_figure(fig, png, pdf)
+    finish(fig, ds.attrs, png, pdf)
 
 
 def _attractor_panel(ax, ds, title, iterates="ppi2"):
@@ -221,9 +220,7 @@ def fig9(sources, png, pdf) -> None:
         _attractor_panel(ax, ds, title, kind)
         if i == 1:
             ax.legend(fontsize=6, markerscale=3, loc="upper left")
-    footer(fig, ref.attrs)
-    fig.tight_layout(rect=(0, 0.03, 1, 1))
-    save_figure(fig, png, pdf)
+    finish(fig, ref.attrs, png, pdf)
 
 
 def fig12(sources, png, pdf) -> None:
@@ -238,9 +235,7 @@ def fig12(sources, png, pdf) -> None:
                      f"range [{ds.attrs['return_time_min']:.5g}, {ds.attrs['return_time_max']:.5g}],\n"
                      f"min pairwise difference {ds.attrs['return_time_min_pairwise_difference']:.2g}"
                      + ("" if ds.attrs["transient_over"] else "; TRANSIENT NOT SHOWN OVER"), fontsize=8)
-    footer(fig, ds.attrs)
-    fig.tight_layout(rect=(0, 0.03, 1, 1))
-    save_figure(fig, png, pdf)
+    finish(fig, ds.attrs, png, pdf)
 
 
 def _psd_figure(sources, png, pdf) -> None:
@@ -264,9 +259,7 @@ def _psd_figure(sources, png, pdf) -> None:
     axes[0].set_title(f"$\\epsilon$ = {ds.attrs['param_eps']:.3g}, E label {ds.attrs['energy_label']:.4g}, "
                       f"record {ds.attrs['record_duration']:g} time units at dt = {ds.attrs['sample_dt']:g} after "
                       f"t = {ds.attrs['record_start']:g}{status}", fontsize=8)
-    footer(fig, ds.attrs)
-    fig.tight_layout(rect=(0, 0.03, 1, 1))
-    save_figure(fig, png, pdf)
+    finish(fig, ds.attrs, png, pdf)
 
 
 fig13 = fig14 = _psd_figure
@@ -290,9 +283,7 @@ def fig10(sources, png, pdf) -> None:
                  f"T = {ds.attrs['T_reference']:g} time units at E = {ds.attrs['reference_label']:g}, scaled by the law",
                  fontsize=8)
     ax.legend(fontsize=7)
-    footer(fig, ds.attrs)
-    fig.tight_layout(rect=(0, 0.03, 1, 1))
-    save_figure(fig, png, pdf)
+    finish(fig, ds.attrs, png, pdf)
 
 
 def fig11(sources, png, pdf) -> None:
@@ -314,9 +305,7 @@ def fig11(sources, png, pdf) -> None:
     ax.set_title(f"E label {ds.attrs['energy_label']:g}: {ds.attrs['n_points']} points, "
                  f"{100 * ds.attrs['fraction_flagged']:.0f}% flagged; lambda_1 in "
                  f"[{ds.attrs['min_lambda_1']:.2g}, {ds.attrs['max_lambda_1']:.2g}]", fontsize=8)
-    footer(fig, ds.attrs)
-    fig.tight_layout(rect=(0, 0.03, 1, 1))
-    save_figure(fig, png, pdf)
+    finish(fig, ds.attrs, png, pdf)
 
 
 def lyapunov(sources, png, pdf) -> None:
@@ -349,9 +338,8 @@ def lyapunov(sources, png, pdf) -> None:
                  f"{prot.attrs['tau']:g}\nspread of lambda_1 over states: {prot.attrs['spread_lambda_1']:.2g}",
                  fontsize=8)
     bx.legend(fontsize=6)
-    footer(fig, spec.attrs)
-    fig.tight_layout(rect=(0, 0.03, 1, 1))
-    save_figure(fig, png, pdf)
+    finish(fig, spec.attrs, png, pdf)
+
 
 def audit(sources, png, pdf) -> None:
     """Energy drift of the printed udot against the derived equations (D1)."""
@@ -366,9 +354,7 @@ def audit(sources, png, pdf) -> None:
                  f"{ds.attrs['printed_max_abs_rel_change']:.3g} (derived: {ds.attrs['derived_max_abs_rel_change']:.2g})",
                  fontsize=9)
     ax.legend()
-    footer(fig, ds.attrs)
-    fig.tight_layout(rect=(0, 0.03, 1, 1))
-    save_figure(fig, png, pdf)
+    finish(fig, ds.attrs, png, pdf)
 
 
 def bench(sources, png, pdf) -> None:
@@ -404,9 +390,7 @@ def bench(sources, png, pdf) -> None:
     ax.set_title("loosest converged tol: " + ", ".join(
         f"{k.replace('loosest_converged_tol_', '')} {v:.0e}" for k, v in ds.attrs.items()
         if k.startswith("loosest_converged_tol_")), fontsize=7)
-    footer(fig, ds.attrs)
-    fig.tight_layout(rect=(0, 0.03, 1, 1))
-    save_figure(fig, png, pdf)
+    finish(fig, ds.attrs, png, pdf)
 
 
 #: Figure name -> plotting function (fig1 takes its config block instead of a dataset).
