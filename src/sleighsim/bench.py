@@ -20,7 +20,7 @@ import numpy as np
 import xarray as xr
 
 from . import model, poincare, transient
-from .integrate import heyoka_integrator, integrate, sample_grid
+from .integrate import final_state, heyoka_integrator, integrate, sample_grid
 from .io import provenance_attrs, write_dataset
 
 log = logging.getLogger("sleighsim")
@@ -66,7 +66,7 @@ def work_precision(cfg: dict) -> xr.Dataset:
             heyoka_integrator(False, tol)  # compile outside the timed runs
         reps = cfg["repeats"] if backend == "heyoka" else cfg["scipy_repeats"]
         short, wall_short = _median_run(lambda: integrate(params, y0, [0.0, cfg["t_short"]], **kw), reps)
-        err = float(np.max(np.abs(np.array([short[v].values[-1] for v in model.STATE_NAMES]) - ref)))
+        err = float(np.max(np.abs(final_state(short) - ref)))
         row = dict(backend=backend, method=method, tol=tol, error_short=err, wall_short=wall_short,
                    drift_long=np.nan, wall_long=np.nan, steps_long=-1,
                    compile_s=heyoka_integrator(False, tol)[1] if backend == "heyoka" else 0.0,
@@ -98,7 +98,7 @@ def observables_vs_tol(cfg: dict) -> xr.Dataset:
 
     params = model.Params.from_config(cfg["params"])
     y = integrate(params, cfg["y0"], [0.0, cfg["t_settle"]], progress=1)
-    y = np.array([y[v].values[-1] for v in model.STATE_NAMES])
+    y = final_state(y)
     lam, rot = [], []
     for tol in cfg["heyoka_tols"]:
         ta, _ = chaos._tangent(1, tol, True)

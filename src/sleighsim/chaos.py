@@ -16,7 +16,7 @@ import sympy as sp
 import xarray as xr
 
 from . import lyapunov, mechanics as mech, model, transient
-from .integrate import integrate, sample_grid
+from .integrate import final_state, integrate, sample_grid
 from .io import provenance_attrs, read_dataset
 
 log = logging.getLogger("sleighsim")
@@ -65,7 +65,7 @@ def _settle(params, y0, t_pre, tol, label, tc):
     settle = transient.settling_time(pre.time.values, pre.omega.values, window=tc["window_fraction"] * t_pre,
                                      rtol=tc["rtol"])
     over = bool(np.isfinite(settle) and settle <= (1 - 2 * tc["window_fraction"]) * t_pre)
-    return np.array([pre[v].values[-1] for v in model.STATE_NAMES]), over, settle
+    return final_state(pre), over, settle
 
 
 def _run(params, y, *, k, cfg, compact, label, T=None, seed=0):
@@ -128,7 +128,7 @@ def _advance(params, y, t, tol):
     if t <= 0:
         return y
     out = integrate(params, y, [0.0, t], tol=tol, progress=1)
-    return np.array([out[v].values[-1] for v in model.STATE_NAMES])
+    return final_state(out)
 
 
 def _decay_slope(T, lam):

@@ -15,15 +15,11 @@ import numpy as np
 import xarray as xr
 
 from . import model, poincare
-from .integrate import integrate, sample_grid
+from .integrate import final_state, integrate, sample_grid
 from .io import provenance_attrs
 
 log = logging.getLogger("sleighsim")
 REF = np.array(model.REFERENCE_STATE)
-
-
-def _state(ds):
-    return np.array([ds[v].values[-1] for v in model.STATE_NAMES])
 
 
 def _agreement(params, y0, T, tol, rtol):
@@ -31,7 +27,7 @@ def _agreement(params, y0, T, tol, rtol):
     a = integrate(params, y0, [0.0, T], tol=tol, progress=1)
     b = integrate(params, y0, [0.0, T], backend="scipy", rtol=rtol, atol=rtol * 1e-3, progress=1)
     scale = max(np.max(np.abs(y0[:3])), 1e-300)
-    return a, float(np.max(np.abs(_state(a) - _state(b))) / scale)
+    return a, float(np.max(np.abs(final_state(a) - final_state(b))) / scale)
 
 
 def case_params(name, params, y0, T, cfg):
@@ -54,8 +50,8 @@ def case_scaling(name, label, cfg):
     base = integrate(p, REF, [0.0, T], tol=cfg["tol"], progress=1)
     y = model.state_at_label(REF, p, label)
     scaled = integrate(p, y, [0.0, T / c], tol=cfg["tol"], progress=1)
-    pred = np.r_[c * _state(base)[:3], _state(base)[3]]
-    err = float(np.max(np.abs(np.r_[_state(scaled)[:3] / c, _state(scaled)[3]] - np.r_[pred[:3] / c, pred[3]])))
+    pred = np.r_[c * final_state(base)[:3], final_state(base)[3]]
+    err = float(np.max(np.abs(np.r_[final_state(scaled)[:3] / c, final_state(scaled)[3]] - np.r_[pred[:3] / c, pred[3]])))
     ok = err < cfg["max_scaling_error"]
     return dict(case=name, outcome="reliable" if ok else "degraded", error=err,
                 drift=scaled.attrs["energy_max_rel_drift"], disagreement=np.nan, steps=scaled.attrs["steps"],
@@ -81,7 +77,7 @@ def case_at_rest(name, cfg):
     p = model.Params.paper(eps=0.1)
     y0 = np.array([0.0, 0.0, 0.0, 0.7])
     a = integrate(p, y0, [0.0, 100.0], tol=cfg["tol"], progress=1)
-    err = float(np.max(np.abs(_state(a) - y0)))
+    err = float(np.max(np.abs(final_state(a) - y0)))
     return dict(case=name, outcome="reliable" if err == 0 else "degraded", error=err, drift=np.nan,
                 disagreement=np.nan, steps=a.attrs["steps"], min_step=a.attrs["min_step"], max_step=a.attrs["max_step"],
                 wall_s=a.attrs["wall_time_s"], detail="state unchanged after 100 time units")

@@ -42,6 +42,11 @@ class IntegrationError(RuntimeError):
     """The integrator stopped early (step-size underflow, non-finite state, ...)."""
 
 
+def final_state(ds: xr.Dataset) -> np.ndarray:
+    """(u, Omega, omega, delta) at the last sample of a trajectory dataset."""
+    return np.array([ds[v].values[-1] for v in model.STATE_NAMES])
+
+
 def sample_grid(t_start: float, t_end: float, dt: float) -> np.ndarray:
     """Uniform grid t_start, t_start + dt, ... up to t_end (inclusive within dt/1000)."""
     if not (math.isfinite(t_start) and math.isfinite(t_end) and math.isfinite(dt)):
@@ -222,11 +227,10 @@ def integrate(
         {n: ("time", states[:, i], {"long_name": UNITS[n][0], "units": UNITS[n][1]}) for i, n in enumerate(names)},
         coords={"time": ("time", times, {"long_name": "time", "units": "time"})},
     )
-    ds.attrs.update(params.attrs())
-    ds.attrs.update({f"y0_{n}": float(v) for n, v in zip(names, y0)})
+    ds.attrs.update(model.state_attrs(params, y0[:4]))
+    ds.attrs.update({f"y0_{n}": float(v) for n, v in zip(names[4:], y0[4:])})
     ds.attrs.update(
         scene=scene, t0=t0, t_end=float(times[-1]), n_samples=int(times.size),
-        energy_physical=E0, energy_label=float(model.energy_label(y0[:4], params)),
         energy_max_rel_drift=drift, wall_time_s=wall, **info,
     )
     ds.attrs.update(provenance_attrs())

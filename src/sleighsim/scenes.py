@@ -13,7 +13,7 @@ import numpy as np
 import xarray as xr
 
 from . import chaos, model, poincare, spectra, transient
-from .integrate import UNITS, integrate, sample_grid
+from .integrate import UNITS, final_state, integrate, sample_grid
 from .io import provenance_attrs
 
 log = logging.getLogger("sleighsim")
@@ -127,8 +127,7 @@ def _settle(params, y0, cfg, scene):
                  pre_run_energy_max_rel_drift=pre.attrs["energy_max_rel_drift"], pre_run_steps=pre.attrs["steps"])
     log.info("%s: transient %s (settling time %.6g, pre-run to %.6g)", scene, "over" if over else "NOT over",
              settle, cfg["t_settle"])
-    y_end = np.array([pre[n].values[-1] for n in model.STATE_NAMES])
-    return y_end, attrs
+    return final_state(pre), attrs
 
 
 def poincare_scene(cfg: dict, scene: str = "") -> xr.Dataset:
