@@ -13,9 +13,9 @@ from sleighsim.io import read_dataset
 
 ROOT = Path(__file__).resolve().parents[1]
 SMOKE = ROOT / "config" / "smoke.yaml"
-FIGURES = ["fig1", "fig2", "fig3", "fig7", "fig8", "fig9", "fig10", "fig11", "fig12", "fig13", "fig14", "lyapunov",
+FIGURES = ["fig1", "fig2", "fig3", "fig4", "fig5", "fig6", "transients", "perturbation", "fig7", "fig8", "fig9", "fig10", "fig11", "fig12", "fig13", "fig14", "lyapunov",
            "audit"]
-DATASETS = ["fig2", "fig3", "fig7", "fig8", "fig9_ref", "fig9_highE", "fig9_eps001", "psd_eps01", "psd_eps001",
+DATASETS = ["fig2", "fig3", "fig4", "fig5", "fig6", "pert_audit", "transients", "fig7", "fig8", "fig9_ref", "fig9_highE", "fig9_eps001", "psd_eps01", "psd_eps001",
             "lyap_spectrum", "lyap_protocol", "lyap_energy", "lyap_feasibility", "audit"]
 
 
@@ -62,6 +62,10 @@ def test_smoke_workflow_builds_every_figure(tmp_path):
         assert ds.attrs["max_crossing_residual"] < 1e-12
         assert ds.attrs["n_p2pi"] >= 10 and set(ds.ppi2_class.values) == {0, 1, 2, 3}
         assert ds.sizes["nret"] == ds.attrs["n_p2pi"] - 1
+    fig6 = read_dataset(tmp_path / "results" / "data" / "fig6.nc")
+    assert fig6.attrs["order1_max_abs"] == 0.0 and np.isfinite(fig6.attrs["T1_Omega2"])
+    fig4 = read_dataset(tmp_path / "results" / "data" / "fig4.nc")
+    assert fig4.attrs["n_reached"] >= 1 and fig4.sizes["run"] == 3
     scaling = read_dataset(tmp_path / "results" / "data" / "fig9_scaling.nc")
     assert scaling.attrs["distance_scaled_median"] < scaling.attrs["distance_unscaled_median"]
     psd = read_dataset(tmp_path / "results" / "data" / "psd_eps01.nc")
@@ -108,6 +112,10 @@ BAD = [
     (("scenes", "fig9"), {"y0": [0, 0, 0, 0]}, r"fig9"),
     (("scenes", "fig7", "t_sample_start"), 20000.0, r"scenes.fig7.t_sample_start = 20000.0 must lie in"),
     (("scenes", "fig3", "params", "eps"), KeyError, r"params"),
+    (("scenes", "fig6", "fit_window"), [50.0, 500.0], r"scenes.fig6.fit_window = \[50.0, 500.0\] must be increasing"),
+    (("scenes", "fig4", "compare_window"), 1e9, r"scenes.fig4.compare_window = 1000000000.0 must lie in"),
+    (("scenes", "fig5", "order"), 7, r"\['order'\]"),
+    (("scenes", "transients", "eps"), [0.1, 1.5], r"eps"),
     (("scenes", "psd_eps01", "dt"), 0.05, r"\['dt'\]"),
     (("scenes", "psd_eps01", "check_duration"), 1e6, r"scenes.psd_eps01.check_duration = 1000000.0 must lie in"),
     (("scenes", "fig9_ref", "params", "eps"), 20.0, r"eps"),

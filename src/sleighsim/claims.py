@@ -63,6 +63,14 @@ def judge_interval(paper: tuple[float, float], ours: tuple[float, float], rel_to
     return "reproduced" if all(abs(a - b) <= tol for a, b in zip(paper, ours)) else "differs"
 
 
+def judge_digits(paper: str, ours: float, uncertainty: float = 0.0) -> str:
+    """reproduced if |ours - paper| <= max(K_SIGMA * uncertainty, one unit of the paper's last printed digit)."""
+    decimals = len(paper.split(".")[1]) if "." in paper else 0
+    if not np.isfinite(ours):
+        return "not yet computed"
+    return "reproduced" if abs(ours - float(paper)) <= max(K_SIGMA * abs(uncertainty), 10.0**-decimals) else "differs"
+
+
 def _fmt(x, digits=4):
     if isinstance(x, (list, tuple, np.ndarray)):
         return "[" + ", ".join(_fmt(v, digits) for v in x) + "]"
@@ -155,36 +163,139 @@ def evaluate(ctx: Context) -> dict:
                 "deltadot = 0 forces Omega = omega, so no other equilibria")
     ev["C02"] = c02
 
-    def c03(r):
+    def phases():
+        from . import transient
         ds = ctx("fig3")
-        t, u = ds.time.values, ds.u.values
-        early = t <= 1000
-        t95 = float(t[early][np.argmax(u[early] >= 0.95 * u[early].max())])
-        _c(r, measured=f"u reaches 95% of its early maximum at t = {t95:g}", units="time", evidence="fig3.nc",
-           verdict="reproduced" if t95 <= 100 * (1 + REL_TOL) else "differs",
-           rule="end of the sleigh-like phase: first time u reaches 95% of its maximum over t <= 1000; <= 110")
+        return transient.phases(ds.time.values, ds.u.values, ds.Omega.values, ds.omega.values)
+
+    def c03(r):
+        t1 = phases()["sleigh_phase_end"]
+        _c(r, measured=f"sleigh-like phase ends at t = {t1:g}", units="time", evidence="fig3.nc (sleighsim.transient.phases)",
+           verdict="reproduced" if t1 <= 100 * (1 + REL_TOL) else "differs",
+           rule="end of the sleigh-like phase: the running mean of u (window 25) first reaches 99% of its maximum "
+                "before the first spike; reproduced when <= 110")
     ev["C03"] = c03
 
     def c04(r):
-        from . import transient
-        ds = ctx("fig3")
-        sp = transient.spike_times(ds.time.values, ds.Omega.values, t_min=200.0)
-        first = float(sp[0]) if sp.size else float("nan")
-        _c(r, measured=_fmt(first), units="time", evidence="fig3.nc (first Omega spike, sleighsim.transient)",
+        first = phases()["first_spike"]
+        scaling = ""
+        try:
+            a = ctx("transients").attrs
+            scaling = f"; across eps first spike ~ eps^{a['first_spike_slope']:.2f} (transients.nc)"
+        except KeyError:
+            pass
+        _c(r, measured=_fmt(first) + scaling, units="time", evidence="fig3.nc, transients.nc (first Omega spike)",
            verdict=judge_number(8700.0, first), rule=f"number, rel_tol {REL_TOL}",
            reason="earlier transient; K is never stated in the paper (our K2 = 1 + eps) and the printed udot is wrong")
     ev["C04"] = c04
 
     def c05(r):
-        from . import transient
-        ds = ctx("fig3")
-        sp = transient.spike_times(ds.time.values, ds.Omega.values, t_min=200.0)
-        d = np.diff(sp)
-        _c(r, measured=_fmt(float(d.mean())), uncertainty=_fmt(float(d.std(ddof=1) / math.sqrt(d.size))), units="time",
-           evidence="fig3.nc (spike intervals)", verdict=judge_number(2200.0, float(d.mean()), float(d.std(ddof=1))),
+        ph = phases()
+        mean, std, n = ph["spike_interval_mean"], ph["spike_interval_std"], ph["n_spikes"]
+        _c(r, measured=_fmt(mean), uncertainty=_fmt(std / math.sqrt(max(n - 1, 1))), units="time",
+           evidence="fig3.nc (spike intervals, sleighsim.transient.phases)", verdict=judge_number(2200.0, mean, std),
            rule=f"number, rel_tol {REL_TOL} or {K_SIGMA} std of the intervals",
-           reason="the interval drifts slowly (2100 -> 1880 by t = 1.5e5); a rotor-start state on the same level shows 1316")
+           reason="the interval drifts slowly (2100 -> 1880 by t = 1.5e5); a rotor-start state on the same level "
+                  "keeps 1296 (fig4.nc)")
     ev["C05"] = c05
+
+    def c06(r):
+        ds = ctx("fig4")
+        a = ds.attrs
+        lv = sorted(set(ds.level.values.tolist()))
+        groups = []
+        for g in sorted(set(ds.group.values[ds.reached.values == 1].tolist())):
+            sel = (ds.group.values == g) & (ds.reached.values == 1)
+            groups.append(f"group {g}: {sel.sum()} runs, interval {np.mean(ds.spike_interval_level0_units.values[sel]):.0f}")
+        long = []
+        for k, g in enumerate(ds.group_id.values):
+            sp = ds.long_spike_time.values[k]
+            d = np.diff(sp[np.isfinite(sp)])
+            if d.size:
+                long.append(f"group {int(g)} at t <= {a['long_check_t_end']:g}: last intervals {d[-3:].mean():.0f}")
+        one = all(a[f"level{li}_n_groups"] == 1 for li in lv)
+        across = a.get("across_levels_distance_main_group_scaled", float("nan"))
+        within = max(a[f"level{li}_distance_main_group"] for li in lv)
+        _c(r, measured=f"interval groups per level {[int(a[f'level{li}_n_groups']) for li in lv]} ({'; '.join(groups)}); "
+                       f"omega distance within the main group {within:.3g}, across levels scaled {across:.3g}, "
+                       f"unscaled {a.get('across_levels_distance_main_group_unscaled', float('nan')):.3g}; "
+                       + "; ".join(long),
+           evidence="fig4.nc; fig4.png", units="fraction of mean |omega|",
+           verdict="reproduced" if one else "differs",
+           rule=f"same attractor: every run on a level falls in one steady spike-interval group (within "
+                f"{a['group_rel_tol']:g}); distances: smoothed omega aligned at the first spike (fig4.nc attrs)",
+           reason="" if one else "coexisting steady states on one level: the rotor-start state keeps a shorter "
+                                 "spike interval over the whole long run; the others agree with each other and, "
+                                 "after the time-scaling law, across levels (different energy: a scaled copy)")
+    ev["C06"] = c06
+
+    def c07(r):
+        a = ctx("fig6").attrs
+        _c(r, measured=f"max |u1, Omega1, omega1, delta1| = {a['order1_max_abs']:.1g}", evidence="fig6.nc",
+           verdict="reproduced" if a["order1_max_abs"] == 0 else "differs",
+           rule="exactly zero along the integration (the order-1 equations are linear and homogeneous)")
+    ev["C07"] = c07
+
+    def c08(r):
+        a = ctx("fig6").attrs
+        T1, unc, tw = a["T1_Omega2"], a["T1_Omega2_uncertainty"], a["two_pi_over_omega0"]
+        ok = [judge_digits("6.276", T1, unc), judge_digits("6.277", tw, a["two_pi_over_omega0_uncertainty"])]
+        _c(r, measured=f"T1 = {T1:.5f} (u2: {a['T1_u2']:.5f}); 2 pi / omega0 = {tw:.5f}", uncertainty=f"{unc:.1g}",
+           units="time", evidence="fig6.nc", verdict="reproduced" if all(v == "reproduced" for v in ok) else "differs",
+           rule="each within one unit of the paper's last printed digit (or 2 uncertainties); " + a["fit_method"])
+    ev["C08"] = c08
+
+    def c09(r):
+        a = ctx("fig6").attrs
+        vs = [judge_number(0.892, a["Omega2_amplitude"], a["Omega2_amplitude_uncertainty"]),
+              judge_number(0.4705, a["phi1_over_pi"], a["phi1_uncertainty"] / math.pi)]
+        _c(r, measured=f"amplitude {a['Omega2_amplitude']:.4f}, phi1 = {a['phi1_over_pi']:.4f} pi (theory with our "
+                       f"u0, omega0: {a['theory_Omega2_amplitude']:.4f}, |phi1| = {a['theory_phi1_abs'] / math.pi:.4f} pi)",
+           evidence="fig6.nc", verdict="reproduced" if all(v == "reproduced" for v in vs) else "differs",
+           rule=f"numbers, rel_tol {REL_TOL}; phase from the fit Omega2 ~ -A sin(delta0 + phi1)",
+           reason=f"the printed phi1 = arctan(-omega0 b K^2 / u0) is {a['theory_phi1'] / math.pi:.4f} pi: the sign is "
+                  "a slip (the steady solution of the printed equation has phi1 = arctan(+omega0 b K^2 / u0)); "
+                  "amplitude depends on the unstated K")
+    ev["C09"] = c09
+
+    def c10(r):
+        a = ctx("fig6").attrs
+        pairs = [("T2", 3.138, a["T2"], a["T2_uncertainty"]), ("T2 theory", 3.135, a["theory_T2"], 0.0),
+                 ("B", 0.241, a["B"], a["B_uncertainty"]), ("B theory", 0.238, a["theory_B"], 0.0),
+                 ("growth", 0.0445, a["omega2_growth"], a["omega2_growth_uncertainty"]),
+                 ("growth theory", 0.0415, a["theory_omega2_growth"], 0.0)]
+        vs = {name: judge_number(p, o, u) for name, p, o, u in pairs}
+        _c(r, measured="; ".join(f"{name} {o:.4g} ({vs[name]})" for name, _, o, _ in pairs), evidence="fig6.nc",
+           verdict="reproduced" if all(v == "reproduced" for v in vs.values()) else "differs",
+           rule=f"each number within rel_tol {REL_TOL} or {K_SIGMA} uncertainties; simulation: fit of a line plus a "
+                f"sinusoid to omega2 on [{a['fit_window_start']:g}, {a['fit_window_end']:g}]; theory: the paper's "
+                "closed forms with our u0, omega0",
+           reason="the derived omega2 equation carries kappa / K^4 (printed: 1/K^4, but the paper's approximation "
+                  "uses 1/K^2); the printed B formula gives about twice the paper's B")
+    ev["C10"] = c10
+
+    def c11(r):
+        a = ctx("fig5").attrs
+        e = a["omega_rel_error_at_t_end"]
+        _c(r, measured=f"{100 * e:.3g}% at t = {a['t_end']:g} (u {100 * a['u_rel_error_at_t_end']:.3g}%, "
+                       f"Omega {100 * a['Omega_rel_error_at_t_end']:.3g}%)", units="relative", evidence="fig5.nc",
+           verdict=judge_number(0.02, e), rule=f"number, rel_tol {REL_TOL}",
+           reason="the derived hierarchy tracks omega far more closely than the paper reports; the printed udot or "
+                  "the unstated K may explain the paper's 2%")
+    ev["C11"] = c11
+
+    def c12(r):
+        a = ctx("pert_audit").attrs
+        ok = a["order3_forcing_vanishes"] == 1 and a["order3_max_abs_along_solution"] == 0 and a["order4_n_secular"] > 0
+        _c(r, measured=f"order-3 forcing with order 1 = 0: {a['order3_forcing_with_order1_zero']}; max |x3| = "
+                       f"{a['order3_max_abs_along_solution']:.1g}; {a['order4_n_secular']} of {a['order4_n_terms']} "
+                       f"order-4 forcing terms secular; |omega4| grows like t^{a['growth_exponent_omega4']:.2f} "
+                       f"(|omega2| like t^{a['growth_exponent_omega2']:.2f})", evidence="pert_audit.nc",
+           verdict="reproduced" if ok else "differs",
+           rule="order 3 vanishes symbolically and along the solution; at least one secular order-4 term ("
+                + a["order4_secular_rule"] + ")",
+           reason="odd orders vanish for any zero odd-order initial data: the expansion is even in its explicit eps")
+    ev["C12"] = c12
 
     def c13(r):
         ds = ctx("fig7")

@@ -33,6 +33,17 @@ def check(config: dict) -> None:
             for key, span in (("segment", cfg["duration"]), ("check_segment", cfg["check_duration"])):
                 if cfg["spectrum"][key] > span:
                     raise ConfigError(f"scenes.{name}.spectrum.{key} = {cfg['spectrum'][key]} must lie in (0, {span}]")
+    scenes = config["scenes"]
+    lo, hi = scenes["fig6"]["fit_window"]
+    if not 0 <= lo < hi <= scenes["fig6"]["t_end"]:
+        raise ConfigError(f"scenes.fig6.fit_window = [{lo}, {hi}] must be increasing within [0, t_end = "
+                          f"{scenes['fig6']['t_end']}]")
+    f4 = scenes["fig4"]
+    for key in ("chunk", "compare_window"):
+        if f4[key] >= f4["t_max"]:
+            raise ConfigError(f"scenes.fig4.{key} = {f4[key]} must lie in (0, t_max = {f4['t_max']})")
+    if f4["smooth"] >= f4["compare_window"]:
+        raise ConfigError(f"scenes.fig4.smooth = {f4['smooth']} must lie in (0, compare_window = {f4['compare_window']})")
     grid = config["lyap_grid"]
     for key in ("eps_range", "b_range"):
         lo, hi = grid[key]

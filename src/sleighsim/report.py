@@ -75,20 +75,31 @@ def _embed(png: Path, out_dir: Path, name: str, h: list, md: list) -> None:
         md.append("**not yet computed**")
 
 
-def _case_table(ds) -> tuple[list[str], list[str]]:
-    """HTML and Markdown tables of the hard cases."""
-    cols = ("outcome", "error", "drift", "disagreement", "steps", "wall_s", "detail")
-    h = ["<table><tr><th>case</th>" + "".join(f"<th>{c}</th>" for c in cols) + "</tr>"]
-    md = ["| case | " + " | ".join(cols) + " |", "|" + "---|" * (len(cols) + 1)]
-    colour = {"reliable": COLOURS["reproduced"], "degraded": COLOURS["differs"], "refused": COLOURS["not yet computed"]}
-    for i, case in enumerate(ds.case.values):
+def _table(ds, key, cols, colour_of=None) -> tuple[list[str], list[str]]:
+    """HTML and Markdown tables of a dataset's variables ``cols`` along ``key`` (first column)."""
+    h = [f"<table><tr><th>{key}</th>" + "".join(f"<th>{c}</th>" for c in cols) + "</tr>"]
+    md = [f"| {key} | " + " | ".join(cols) + " |", "|" + "---|" * (len(cols) + 1)]
+    for i, first in enumerate(ds[key].values):
         vals = [ds[c].values[i] for c in cols]
         txt = [f"{v:.3g}" if isinstance(v, float) else str(v) for v in vals]
-        h.append(f"<tr style='background:{colour.get(str(vals[0]), '#fff')}'><td>{html.escape(str(case))}</td>"
+        style = f" style='background:{colour_of(vals)}'" if colour_of else ""
+        h.append(f"<tr{style}><td>{html.escape(str(first))}</td>"
                  + "".join(f"<td>{html.escape(t)}</td>" for t in txt) + "</tr>")
-        md.append(f"| {case} | " + " | ".join(t.replace("|", "/") for t in txt) + " |")
+        md.append(f"| {first} | " + " | ".join(t.replace("|", "/") for t in txt) + " |")
     h.append("</table>")
     return h, md
+
+
+def _case_table(ds) -> tuple[list[str], list[str]]:
+    """The hard cases, coloured by outcome."""
+    colour = {"reliable": COLOURS["reproduced"], "degraded": COLOURS["differs"], "refused": COLOURS["not yet computed"]}
+    return _table(ds, "case", ("outcome", "error", "drift", "disagreement", "steps", "wall_s", "detail"),
+                  lambda vals: colour.get(str(vals[0]), "#fff"))
+
+
+def _hierarchy_table(ds) -> tuple[list[str], list[str]]:
+    """Terms where the printed perturbation hierarchy differs from the derived one."""
+    return _table(ds, "equation", ("term", "derived", "printed", "derived_with_kappa"))
 
 
 def build(rows: list[Row], *, out_dir, figures_dir, data_dir, bench_dir, tex_path, figure_inputs: dict,
@@ -137,6 +148,14 @@ def build(rows: list[Row], *, out_dir, figures_dir, data_dir, bench_dir, tex_pat
         h.append(f"<h2>{html.escape(title)}</h2>")
         md += ["", f"## {title}", ""]
         _embed(png, out_dir, fig, h, md)
+    audit = data_dir / "pert_audit.nc"
+    if audit.exists():
+        title = "Perturbation hierarchy: terms where the printed equations differ from the derived ones"
+        h.append(f"<h2>{title}</h2>")
+        md += ["", f"## {title}", ""]
+        th, tm = _hierarchy_table(read_dataset(audit))
+        h += th
+        md += tm
     h.append("<h2>Hard cases</h2>")
     md += ["", "## Hard cases", ""]
     cases = data_dir / "hardcases.nc"

@@ -13,6 +13,7 @@ import numpy as np
 import xarray as xr
 
 from . import chaos, model, poincare, spectra, transient
+from . import transient_scenes as ts
 from .integrate import UNITS, final_state, integrate, sample_grid
 from .io import provenance_attrs
 
@@ -295,3 +296,4 @@ def hardcases_scene(cfg: dict, scene: str = "hardcases") -> xr.Dataset:
 
 
 SCENES["hardcases"] = hardcases_scene
+SCENES.update(fig4=ts.fig4, fig5=ts.fig5, fig6=ts.fig6, pert_audit=ts.pert_audit, transients=ts.transients)

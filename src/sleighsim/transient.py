@@ -37,9 +37,11 @@ def spike_times(t, Omega, *, factor=1.8, block=50.0, min_separation=300.0, t_min
     tb, xb = _blocks(t, np.abs(Omega), block)
     peaks = xb.max(axis=1)
     typical = np.median(peaks[len(peaks) // 2:])
-    idx = np.flatnonzero((peaks > factor * typical) & (tb[:, -1] >= t_min))
+    idx = np.flatnonzero(peaks > factor * typical)
     times = tb[idx, np.argmax(xb[idx], axis=1)]
     heights = peaks[idx]
+    late = times >= t_min
+    times, heights = times[late], heights[late]
     keep: list[int] = []
     for k in range(len(times)):
         if keep and times[k] - times[keep[-1]] < min_separation:
@@ -75,3 +77,39 @@ def steady_state_report(t, Omega, omega, *, spike_factor=1.8, window=2500.0, rto
         out[f"spike_interval_mean_{half}_half"] = float(d.mean()) if d.size else float("nan")
         out[f"spike_interval_std_{half}_half"] = float(d.std(ddof=1)) if d.size > 1 else float("nan")
     return out
+
+
+PHASES_RULE = ("sleigh-like phase ends when the running mean of u (window mean_window) first reaches sleigh_frac "
+               "(0.99) of its maximum before the first spike; the second transient ends at the first Omega spike "
+               "after four times that time (spike rule above); steady spike interval: mean and standard deviation "
+               "of the intervals between later spikes")
+
+
+def running_mean(x, n: int) -> np.ndarray:
+    """Centred running mean over n samples (valid part, length len(x) - n + 1)."""
+    c = np.cumsum(np.insert(np.asarray(x, float), 0, 0.0))
+    return (c[n:] - c[:-n]) / n
+
+
+def phases(t, u, Omega, omega, *, mean_window=25.0, sleigh_frac=0.99, spike_factor=1.8, settle_window=2500.0,
+           settle_rtol=0.02) -> dict:
+    """The transient phases of one record (see PHASES_RULE); times in the record's units, NaN when absent."""
+    t = np.asarray(t, float)
+    dt = t[1] - t[0]
+    n = max(1, int(round(mean_window / dt)))
+    um = running_mean(u, n)
+    tm = t[(n - 1) // 2: (n - 1) // 2 + um.size]
+    first_guess = spike_times(t, Omega, factor=spike_factor, t_min=t[0] + 10 * mean_window)
+    stop = np.searchsorted(tm, first_guess[0]) if first_guess.size else um.size
+    early = um[: max(1, stop)]
+    t_sleigh = float(tm[int(np.argmax(early >= sleigh_frac * early.max()))])
+    spikes = spike_times(t, Omega, factor=spike_factor, t_min=4.0 * t_sleigh)
+    d = np.diff(spikes)
+    try:
+        settle = settling_time(t, omega, window=settle_window, rtol=settle_rtol)
+    except ValueError:
+        settle = float("nan")
+    return {"sleigh_phase_end": t_sleigh, "first_spike": float(spikes[0]) if spikes.size else float("nan"),
+            "n_spikes": int(spikes.size), "spike_interval_mean": float(d.mean()) if d.size else float("nan"),
+            "spike_interval_std": float(d.std(ddof=1)) if d.size > 1 else float("nan"),
+            "omega_settling_time": settle, "spikes": spikes}

@@ -14,6 +14,11 @@ ALL_DATA = [s for s in SCENES if s not in ON_REQUEST] + DERIVED
 FIGURE_INPUTS = {
     "fig2": ["fig2"],
     "fig3": ["fig3"],
+    "fig4": ["fig4"],
+    "fig5": ["fig5"],
+    "fig6": ["fig6"],
+    "transients": ["transients", "fig3"],
+    "perturbation": ["fig5", "pert_audit"],
     "fig7": ["fig7"],
     "fig8": ["fig8"],
     "fig9": ["fig9_ref", "fig9_highE", "fig9_eps001", "fig9_scaling"],

@@ -27,8 +27,11 @@ rule report:
         html=f"{R}/report/index.html",
         md=f"{R}/report/README.md",
     params:
-        figure_inputs={f: FIGURE_INPUTS.get(f, []) for f in FIGURES if f not in ("lyapunov", "audit")},
-        extra={"Lyapunov spectrum and chaos verdict": "lyapunov",
+        figure_inputs={f: FIGURE_INPUTS.get(f, []) for f in FIGURES
+                       if f not in ("lyapunov", "audit", "transients", "perturbation")},
+        extra={"Transient length against eps (C03-C05)": "transients",
+               "Perturbation hierarchy: convergence as eps -> 0 and secular growth (C12)": "perturbation",
+               "Lyapunov spectrum and chaos verdict": "lyapunov",
                "The model as printed: energy drift of the printed udot": "audit",
                "Speed against error": "bench"},
     log:

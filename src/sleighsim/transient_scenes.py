@@ -1,0 +1,491 @@
+"""Scenes of the transient section: the perturbation hierarchy against the exact flow
+(F5, F6, the printed-vs-derived audit, C12), the transient-length scaling with eps
+(C03-C05) and convergence of many initial states onto one attractor per level (F4, C06).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+
+import numpy as np
+import sympy as sp
+import xarray as xr
+
+from . import fits, model, transient
+from . import perturbation as pert
+from .integrate import final_state, integrate, sample_grid
+from .io import provenance_attrs
+
+log = logging.getLogger("sleighsim")
+
+
+def _hierarchy_params(cfg):
+    """(eps, b, K2, kappa) of a perturbation scene: K2 - 1 = kappa eps."""
+    p = model.Params.from_config(cfg["params"])
+    return p, p.eps, p.b, p.K2, (p.K2 - 1.0) / p.eps
+
+
+def _series_error(order, eps, K2, y0, times, tol):
+    """Max abs error over ``times`` of the order-``order`` partial sum against the exact flow."""
+    ds = pert.integrate_hierarchy(order, y0, times, K2=K2, kappa_value=(K2 - 1.0) / eps, tol=tol)
+    ex = integrate(model.Params.paper(eps=eps, K2=K2), y0, times, tol=tol, progress=1)
+    return max(float(np.max(np.abs(pert.partial_sum(ds, v, eps, order) - ex[v].values))) for v in pert.VARS)
+
+
+def convergence_study(cfg: dict) -> dict:
+    """Error of the truncated series against eps on a short window, per truncation order,
+    with the log-log slope and the order the hierarchy predicts (next non-vanishing order)."""
+    eps_list = np.asarray(cfg["eps"], float)
+    times = sample_grid(0.0, cfg["t_end"], cfg["dt"])
+    out = {}
+    for order in cfg["orders"]:
+        errs = np.array([_series_error(order, e, 1.0 + cfg["kappa"] * e, cfg["y0"], times, cfg["tol"])
+                         for e in eps_list])
+        slope, _ = np.polyfit(np.log(eps_list), np.log(errs), 1)
+        # Odd orders vanish for zero odd-order initial data, so the first omitted term is eps^(order + 2)
+        # after an even truncation order.
+        predicted = order + 2 if order % 2 == 0 else order + 1
+        out[order] = (errs, float(slope), predicted)
+    return out
+
+
+def fig5(cfg: dict, scene: str = "fig5") -> xr.Dataset:
+    """Exact flow against u0 + eps u1 + eps^2 u2 (and Omega, omega) on [0, t_end], the relative
+    error of each over time (C11), and the convergence of the series as eps -> 0."""
+    start = time.perf_counter()
+    params, eps, b, K2, kap = _hierarchy_params(cfg)
+    y0 = np.asarray(cfg["y0"], float)
+    times = sample_grid(0.0, cfg["t_end"], cfg["dt"])
+    order = cfg["order"]
+    exact = integrate(params, y0, times, tol=cfg["tol"], scene=scene, progress=1)
+    h = pert.integrate_hierarchy(order, y0, times, b=b, K2=K2, kappa_value=kap, tol=cfg["tol"])
+    data = {}
+    for v in ("u", "Omega", "omega"):
+        s = pert.partial_sum(h, v, eps, order)
+        data[f"{v}_exact"] = ("time", exact[v].values, {"long_name": f"{v}, exact flow"})
+        data[f"{v}_series"] = ("time", s, {"long_name": f"{v}, sum of orders 0..{order}"})
+        err = np.abs(s - exact[v].values)
+        data[f"{v}_abs_error"] = ("time", err)
+        # Relative to the largest |exact| so far: Omega passes through zero, omega does not (there the
+        # two definitions agree to the size of its oscillation).
+        data[f"{v}_rel_error"] = ("time", err / np.maximum(np.maximum.accumulate(np.abs(exact[v].values)), 1e-300),
+                                  {"long_name": f"|series - exact| / max |exact| up to t, {v}"})
+    conv = convergence_study(cfg["convergence"])
+    cc = cfg["convergence"]
+    for o, (errs, slope, predicted) in conv.items():
+        data[f"convergence_error_order{o}"] = (("eps_study",), errs,
+                                               {"long_name": f"max error of the order-{o} partial sum on "
+                                                f"[0, {cc['t_end']:g}] (u, Omega, omega, delta)"})
+    ds = xr.Dataset(data, coords={"time": times, "eps_study": np.asarray(cc["eps"], float)})
+    ds.attrs.update(model.state_attrs(params, y0))
+    t_end = float(times[-1])
+    ds.attrs.update(
+        scene=scene, order=order, kappa=kap, convention=pert.__doc__.split("\n\n")[1].replace("\n", " "),
+        energy_max_rel_drift=exact.attrs["energy_max_rel_drift"], tol=cfg["tol"], backend="heyoka",
+        steps=exact.attrs["steps"], hierarchy_steps=h.attrs["steps"],
+        **{f"{v}_rel_error_at_t_end": float(ds[f"{v}_rel_error"].values[-1]) for v in ("u", "Omega", "omega")},
+        **{f"{v}_max_abs_error": float(ds[f"{v}_abs_error"].max()) for v in ("u", "Omega", "omega")},
+        t_end=t_end, convergence_window=cc["t_end"], convergence_kappa=cc["kappa"],
+        convergence_rule="exact flow at (eps, K2 = 1 + kappa eps) against the hierarchy at the same K2; "
+                         "slope of log(max error) against log(eps), least squares",
+        **{f"convergence_slope_order{o}": s for o, (_, s, _) in conv.items()},
+        **{f"convergence_predicted_order{o}": p for o, (_, _, p) in conv.items()},
+        wall_time_s=time.perf_counter() - start,
+    )
+    ds.attrs.update(provenance_attrs())
+    log.info("%s: done in %.3g s; relative error at t = %g: u %.3g, Omega %.3g, omega %.3g; slopes %s", scene,
+             ds.attrs["wall_time_s"], t_end,
+             ds.attrs["u_rel_error_at_t_end"], ds.attrs["Omega_rel_error_at_t_end"],
+             ds.attrs["omega_rel_error_at_t_end"], {o: round(s, 3) for o, (_, s, _) in conv.items()})
+    return ds
+
+
+def _paper_closed_forms(u0, omega0, b, K2) -> dict:
+    """The paper's approximations (eq:Omega2_sol, eq:w2_approx) as printed, with our u0, omega0."""
+    A = omega0**2 / K2 / math.sqrt(omega0**2 + u0**2 / (b**2 * K2**2))
+    growth = u0 * A / (2 * b * K2)
+    return {"Omega2_amplitude": A, "phi1": math.atan(-omega0 * b * K2 / u0), "phi1_abs": math.atan(omega0 * b * K2 / u0),
+            "T1": 2 * math.pi / omega0, "T2": math.pi / omega0, "B": math.hypot(growth, omega0**2 / (2 * K2)),
+            "omega2_growth": growth}
+
+
+def fig6(cfg: dict, scene: str = "fig6") -> xr.Dataset:
+    """Orders 0 and 2 of u, Omega, omega from the paper's data (order 1 checked to stay zero)
+    and the numbers of C08-C10 measured on a late window, beside the paper's closed forms."""
+    start = time.perf_counter()
+    params, eps, b, K2, kap = _hierarchy_params(cfg)
+    y0 = np.asarray(cfg["y0"], float)
+    times = sample_grid(0.0, cfg["t_end"], cfg["dt"])
+    h = pert.integrate_hierarchy(2, y0, times, b=b, K2=K2, kappa_value=kap, tol=cfg["tol"])
+    w0, w1 = cfg["fit_window"]
+    win = (times >= w0) & (times <= w1)
+    tw = times[win]
+    u0_end, omega0_end = float(h.u0.values[-1]), float(h.omega0.values[-1])
+    meas = {}
+    for v, harmonic in (("u2", 1), ("Omega2", 1), ("omega2", 2)):
+        f = fits.line_plus_sinusoid(tw, h[v].values[win], harmonic * omega0_end)
+        meas.update({f"{v}_{k}": val for k, val in f.items()})
+    ph = fits.phase_against(h.Omega2.values[win], h.delta0.values[win])
+    half = tw.size // 2
+    ph_halves = [fits.phase_against(h.Omega2.values[win][s], h.delta0.values[win][s]) for s in
+                 (slice(0, half), slice(half, None))]
+    omega0_w = h.omega0.values[win]
+    theory = _paper_closed_forms(u0_end, omega0_end, b, K2)
+    keep = ["u0", "u2", "Omega0", "Omega2", "omega0", "omega2", "delta0"]
+    ds = xr.Dataset({v: ("time", h[v].values) for v in keep}, coords={"time": times})
+    order1 = max(float(np.max(np.abs(h[f"{v}1"].values))) for v in pert.VARS)
+    ds.attrs.update(model.state_attrs(params, y0))
+    ds.attrs.update(
+        scene=scene, kappa=kap, tol=cfg["tol"], backend="heyoka", steps=h.attrs["steps"],
+        order1_max_abs=order1, u0_end=u0_end, omega0_end=omega0_end, two_pi_over_omega0=2 * math.pi / omega0_end,
+        two_pi_over_omega0_uncertainty=float(2 * math.pi * np.ptp(omega0_w) / omega0_end**2),
+        two_pi_over_omega0_method="omega0 at t_end; uncertainty from the range of omega0 over the fit window",
+        fit_window_start=w0, fit_window_end=w1, fit_method=fits.METHOD,
+        T1_u2=meas["u2_period"], T1_u2_uncertainty=meas["u2_period_uncertainty"],
+        T1_Omega2=meas["Omega2_period"], T1_Omega2_uncertainty=meas["Omega2_period_uncertainty"],
+        Omega2_amplitude=meas["Omega2_amplitude"], Omega2_amplitude_uncertainty=meas["Omega2_amplitude_uncertainty"],
+        phi1=ph["phase"], phi1_over_pi=ph["phase"] / math.pi, phi1_rms_residual=ph["rms_residual"],
+        phi1_uncertainty=0.5 * abs(ph_halves[0]["phase"] - ph_halves[1]["phase"]),
+        phi1_method="least squares Omega2 ~ -A sin(delta0 + phi1) on the fit window, delta0 from the integration; "
+                    "uncertainty: half-difference of the fits on the two halves of the window",
+        T2=meas["omega2_period"], T2_uncertainty=meas["omega2_period_uncertainty"],
+        B=meas["omega2_amplitude"], B_uncertainty=meas["omega2_amplitude_uncertainty"],
+        omega2_growth=meas["omega2_slope"], omega2_growth_uncertainty=meas["omega2_slope_uncertainty"],
+        **{f"theory_{k}": v for k, v in theory.items()},
+        theory_method="the paper's closed forms (eq:Omega2_sol, eq:w2_approx) as printed, evaluated with our "
+                      "u0 and omega0 at t_end and K^2 = K2",
+        wall_time_s=time.perf_counter() - start,
+    )
+    ds.attrs.update(provenance_attrs())
+    log.info("%s: done in %.3g s; T1 %.5g, 2pi/omega0 %.5g, A %.4g, phi1 %.4f pi, T2 %.5g, B %.4g, growth %.4g",
+             scene, ds.attrs["wall_time_s"],
+             meas["u2_period"], 2 * math.pi / omega0_end, meas["Omega2_amplitude"], ph["phase"] / math.pi,
+             meas["omega2_period"], meas["omega2_amplitude"], meas["omega2_slope"])
+    return ds
+
+
+def _classify_terms(terms, values, t, late_start, decay_rel=1e-6, mean_rel=0.05, growth_ratio=1.2):
+    """Each forcing term on [late_start, end]: 'decays' (RMS below decay_rel of the largest),
+    'secular' (|mean| > mean_rel RMS, or RMS growing by growth_ratio from the first half to the
+    second) or 'bounded'."""
+    late = t >= late_start
+    vals = [np.broadcast_to(np.asarray(v, float), t.shape)[late] for v in values]
+    rms = np.array([np.sqrt(np.mean(v**2)) for v in vals])
+    top = rms.max() if rms.size else 0.0
+    rows = []
+    for term, v, r in zip(terms, vals, rms):
+        h = v.size // 2
+        grow = float(np.sqrt(np.mean(v[h:] ** 2)) / max(np.sqrt(np.mean(v[:h] ** 2)), 1e-300))
+        mean = float(v.mean() / r) if r > 0 else 0.0
+        kind = ("decays" if r <= decay_rel * top else
+                "secular" if abs(mean) > mean_rel or grow > growth_ratio else "bounded")
+        rows.append((str(term), kind, mean, grow, float(r)))
+    return rows
+
+
+def _growth_exponent(t, x, block, t_from):
+    """Log-log slope of the block maxima of |x| against time for t >= t_from."""
+    n = max(1, int(round(block / (t[1] - t[0]))))
+    m = len(x) // n
+    bm = np.abs(x[: m * n]).reshape(m, n).max(axis=1)
+    tb = t[: m * n].reshape(m, n).mean(axis=1)
+    sel = (tb >= t_from) & (bm > 0)
+    return float(np.polyfit(np.log(tb[sel]), np.log(bm[sel]), 1)[0]) if sel.sum() > 2 else float("nan")
+
+
+def pert_audit(cfg: dict, scene: str = "pert_audit") -> xr.Dataset:
+    """The derived hierarchy against the printed one (every differing term), and C12: order 3
+    along the paper's data, and the secular forcing terms of order 4."""
+    start = time.perf_counter()
+    params, eps, b, K2, kap = _hierarchy_params(cfg)
+    rows = pert.compare_printed(kappa_value=1)
+    order = 4
+    times = sample_grid(0.0, cfg["t_end"], cfg["dt"])
+    h = pert.integrate_hierarchy(order, cfg["y0"], times, b=b, K2=K2, kappa_value=kap, tol=cfg["tol"])
+    cols = [h[n].values for n in pert.state_names(order)]
+    # Order 3: symbolic forcing with the order-1 unknowns set to zero, and along the solution.
+    x = pert.symbols(order)
+    zero1 = {x[v][1]: 0 for v in pert.VARS}
+    forcing3 = [sp.sympify(sum(pert.forcing_terms(3, v))).subs(zero1) for v in pert.VARS]
+    order3_max = max(float(np.max(np.abs(h[f"{v}3"].values))) for v in pert.VARS)
+    classified = []
+    for v in pert.VARS:
+        terms = pert.forcing_terms(order, v)
+        if not terms:
+            continue
+        vals = pert.lambdify_terms(terms, order)(*cols, b, K2, kap)
+        classified += [(f"d{v}4/dt", *r) for r in _classify_terms(terms, vals, times, cfg["late_start"])]
+    ds = xr.Dataset(
+        {
+            "equation": ("difference", [r["equation"] for r in rows]),
+            "term": ("difference", [r["term"] for r in rows]),
+            "derived": ("difference", [r["derived"] for r in rows]),
+            "derived_with_kappa": ("difference", [r["derived_with_kappa"] for r in rows]),
+            "printed": ("difference", [r["printed"] for r in rows]),
+            "order4_equation": ("term4", [c[0] for c in classified]),
+            "order4_term": ("term4", [c[1] for c in classified]),
+            "order4_kind": ("term4", [c[2] for c in classified]),
+            "order4_mean_over_rms": ("term4", [c[3] for c in classified]),
+            "order4_rms_growth": ("term4", [c[4] for c in classified]),
+            "order4_late_rms": ("term4", [c[5] for c in classified]),
+            **{f"{v}{k}": ("time", h[f"{v}{k}"].values) for v in ("u", "Omega", "omega") for k in (2, 4)},
+        },
+        coords={"time": times},
+    )
+    n_sec = sum(c[2] == "secular" for c in classified)
+    ds.attrs.update(params.attrs())
+    ds.attrs.update(
+        scene=scene, kappa=kap, comparison_kappa=1, n_differences=len(rows),
+        comparison_rule="orders 0-2, coefficients of every monomial in the hierarchy variables and "
+                        "sin/cos(delta0) (sin^2 reduced), derived at kappa = 1 against printed with K^2 = K2",
+        order3_forcing_with_order1_zero=" ; ".join(str(f) for f in forcing3),
+        order3_forcing_vanishes=int(all(f == 0 for f in forcing3)), order3_max_abs_along_solution=order3_max,
+        order4_n_terms=len(classified), order4_n_secular=n_sec,
+        order4_secular_rule=f"on t >= {cfg['late_start']:g}: secular when |mean| > 0.05 RMS or RMS grows by 1.2x "
+                            "from the first to the second half; 'decays' when RMS < 1e-6 of the largest term",
+        tol=cfg["tol"], t_end=float(times[-1]), backend="heyoka", steps=h.attrs["steps"],
+        wall_time_s=time.perf_counter() - start, growth_block=cfg["growth_block"], late_start=cfg["late_start"],
+        growth_rule="log-log least-squares slope of the block maxima of |x| (blocks of growth_block) for t >= late_start",
+        **{f"growth_exponent_{v}{k}": _growth_exponent(times, h[f"{v}{k}"].values, cfg["growth_block"],
+                                                       cfg["late_start"])
+           for v in pert.VARS for k in (2, 4)},
+    )
+    ds.attrs.update(provenance_attrs())
+    log.info("%s: done in %.3g s; %d printed terms differ; order 3 forcing vanishes: %s; %d of %d order-4 terms "
+             "secular", scene, ds.attrs["wall_time_s"], len(rows), ds.attrs["order3_forcing_vanishes"], n_sec, len(classified))
+    return ds
+
+
+def _phases_of(params, y0, t_end, cfg, scene):
+    tc = cfg["transient"]
+    run = integrate(params, y0, sample_grid(0.0, t_end, cfg["dt"]), tol=cfg["tol"], scene=scene, progress=4)
+    ph = transient.phases(run.time.values, run.u.values, run.Omega.values, run.omega.values,
+                          mean_window=tc["mean_window"], spike_factor=tc["spike_factor"],
+                          settle_window=tc["settle_window"], settle_rtol=tc["settle_rtol"])
+    return run, ph
+
+
+def transients(cfg: dict, scene: str = "transients") -> xr.Dataset:
+    """The transient phases (sleighsim.transient.phases) for each eps from the reference state
+    (label 0.1127 at every eps), over t_end = t_scale / eps^2, and the log-log slope against eps."""
+    start = time.perf_counter()
+    eps_list = np.asarray(cfg["eps"], float)
+    keys = ("sleigh_phase_end", "first_spike", "n_spikes", "spike_interval_mean", "spike_interval_std",
+            "omega_settling_time")
+    table = {k: [] for k in keys}
+    drift, steps, t_end = [], [], []
+    for e in eps_list:
+        params = model.Params.paper(eps=e, b=cfg["b"], K2=1.0 + cfg["kappa"] * e)
+        te = cfg["t_scale"] / e**2
+        run, ph = _phases_of(params, cfg["y0"], te, cfg, f"{scene}[eps={e:g}]")
+        for k in keys:
+            table[k].append(ph[k])
+        drift.append(run.attrs["energy_max_rel_drift"])
+        steps.append(run.attrs["steps"])
+        t_end.append(te)
+    ds = xr.Dataset({k: ("eps", np.asarray(v, float)) for k, v in table.items()}, coords={"eps": eps_list})
+    ds["t_end"] = ("eps", np.asarray(t_end))
+    ds["energy_max_rel_drift"] = ("eps", np.asarray(drift))
+    ds["steps"] = ("eps", np.asarray(steps))
+    ok = np.isfinite(ds.first_spike.values)
+    slope, icpt = np.polyfit(np.log(eps_list[ok]), np.log(ds.first_spike.values[ok]), 1) if ok.sum() >= 2 else (np.nan,) * 2
+    ok_i = np.isfinite(ds.spike_interval_mean.values)
+    slope_i = np.polyfit(np.log(eps_list[ok_i]), np.log(ds.spike_interval_mean.values[ok_i]), 1)[0] if ok_i.sum() >= 2 else np.nan
+    ds.attrs.update(
+        scene=scene, b=cfg["b"], kappa=cfg["kappa"], K2_rule="K2 = 1 + kappa eps",
+        **{f"y0_{n}": float(v) for n, v in zip(model.STATE_NAMES, cfg["y0"])}, energy_label=model.REFERENCE_LABEL,
+        t_scale=cfg["t_scale"], dt=cfg["dt"], tol=cfg["tol"], backend="heyoka", rule=transient.PHASES_RULE,
+        spike_rule=transient.RULE, first_spike_slope=float(slope), first_spike_prefactor=float(np.exp(icpt)),
+        spike_interval_slope=float(slope_i), predicted_slope=-2.0,
+        fit_method="least squares of log(time) against log(eps) over the eps with a detected spike",
+        wall_time_s=time.perf_counter() - start,
+    )
+    ds.attrs.update(provenance_attrs())
+    log.info("%s: done in %.3g s; first spikes %s; slope %.3f", scene, ds.attrs["wall_time_s"],
+             ds.first_spike.values.round(1).tolist(), slope)
+    return ds
+
+
+# ------------------------------------------------------------ F4: one attractor per level
+
+
+def _until_steady(params, y0, cfg, scene):
+    """Integrate in chunks until the phase detector finds the first spike and ``spikes_after``
+    more (the steady state, sampled), or t_max. Returns (record, phases, reached)."""
+    tc, dt = cfg["transient"], cfg["dt"]
+    pieces, y, t = [], np.asarray(y0, float), 0.0
+    while True:
+        chunk = integrate(params, y, sample_grid(t, t + cfg["chunk"], dt), tol=cfg["tol"], scene=scene, progress=1)
+        pieces.append(chunk if not pieces else chunk.isel(time=slice(1, None)))
+        y, t = final_state(chunk), float(chunk.time.values[-1])
+        rec = xr.concat(pieces, dim="time", data_vars="minimal", coords="minimal", compat="override",
+                        combine_attrs="override")
+        ph = transient.phases(rec.time.values, rec.u.values, rec.Omega.values, rec.omega.values,
+                              mean_window=tc["mean_window"], spike_factor=tc["spike_factor"],
+                              settle_window=tc["settle_window"], settle_rtol=tc["settle_rtol"])
+        window_end = ph["first_spike"] + cfg["compare_window"] * cfg["time_unit"]
+        reached = ph["n_spikes"] > cfg["spikes_after"] and t >= window_end
+        if reached or t >= cfg["t_max"] * cfg["time_unit"]:
+            E = model.energy(np.stack([rec[v].values for v in model.STATE_NAMES], axis=-1), params)
+            E0 = float(model.energy(y0, params))
+            return rec, ph, reached, float(np.max(np.abs(E / E0 - 1.0)))
+
+
+def _aligned(rec, t_first, window, dt_cmp, smooth, c=1.0):
+    """omega on tau in [0, window] after the first spike, time-scaled by c: c_ref-units
+    omega(t_first + tau / c) / c, raw and smoothed (running mean over ``smooth``)."""
+    tau = np.arange(0.0, window + 0.5 * dt_cmp, dt_cmp)
+    om = np.interp(t_first + tau / c, rec.time.values, rec.omega.values) / c
+    n = max(1, int(round(smooth / dt_cmp)))
+    sm = np.convolve(om, np.ones(n) / n, mode="same")
+    return tau, om, sm
+
+
+def _max_distance(curves, others=None, edge=0):
+    """Max over pairs (within ``curves``, or between curves and others) of max |a - b| (edges trimmed)."""
+    sl = slice(edge, -edge or None)
+    pairs = ([(a, b) for i, a in enumerate(curves) for b in curves[i + 1:]] if others is None
+             else [(a, b) for a in curves for b in others])
+    return float(max(np.nanmax(np.abs(a[sl] - b[sl])) for a, b in pairs)) if pairs else float("nan")
+
+
+def _groups(intervals, rel_tol):
+    """Label runs by steady spike interval: a run joins the first group whose first member's
+    interval is within rel_tol; NaN intervals get -1."""
+    labels, heads = np.full(len(intervals), -1), []
+    for i, x in enumerate(intervals):
+        if not np.isfinite(x):
+            continue
+        for g, h in enumerate(heads):
+            if abs(x - h) <= rel_tol * h:
+                labels[i] = g
+                break
+        else:
+            heads.append(x)
+            labels[i] = len(heads) - 1
+    return labels
+
+
+def _long_check(params, y0, cfg, scene):
+    """Spike times and intervals of one state over a long horizon (is a group a slow transient?)."""
+    lc = cfg["long_check"]
+    run = integrate(params, y0, sample_grid(0.0, lc["t_end"], lc["dt"]), tol=cfg["tol"], scene=scene, progress=4)
+    sp = transient.spike_times(run.time.values, run.Omega.values, factor=cfg["transient"]["spike_factor"],
+                               t_min=lc["t_min"])
+    return sp, run.attrs["energy_max_rel_drift"]
+
+
+def fig4(cfg: dict, scene: str = "fig4") -> xr.Dataset:
+    """Several initial states on each of two energy levels, each run until its steady state;
+    omega aligned at the first spike after the transient and compared within and across levels
+    (every level mapped onto the first by the time-scaling law; runs with omega < 0 by the
+    mirror symmetry (u, Omega, omega, delta) -> (u, -Omega, -omega, -delta))."""
+    start = time.perf_counter()
+    params = model.Params.from_config(cfg["params"])
+    levels = cfg["levels"]
+    labels = [lv["label"] for lv in levels]
+    c_of = [math.sqrt(L / labels[0]) for L in labels]
+    window, dt_cmp, smooth = cfg["compare_window"], cfg["compare_dt"], cfg["smooth"]
+    edge = 0  # the smoothed curves are NaN where the running mean is undefined
+    tau = np.arange(0.0, window + 0.5 * dt_cmp, dt_cmp)
+    keys = ("first_spike", "sleigh_phase_end", "n_spikes", "spike_interval_mean", "spike_interval_std")
+    per = {k: [] for k in (*keys, "omega_mean", "mirrored", "reached", "t_run", "energy_max_rel_drift")}
+    raw, smoothed, y0s, run_label, run_level, run_state, run_c = [], [], [], [], [], [], []
+    for li, lv in enumerate(levels):
+        for si, s in enumerate(lv["states"]):
+            y0 = model.state_at_label(s, params, lv["label"])
+            rec, ph, reached, drift = _until_steady(params, y0, dict(cfg, time_unit=1.0 / c_of[li]),
+                                                    f"{scene}[E={lv['label']:g}, state {si}]")
+            if reached:
+                _, om, _ = _aligned(rec, ph["first_spike"], window, dt_cmp, smooth, c_of[li])
+            else:
+                om = np.full(tau.size, np.nan)
+            mirrored = bool(np.nanmean(om) < 0)
+            om = -om if mirrored else om
+            n = max(1, int(round(smooth / dt_cmp)))
+            sm = np.convolve(om, np.ones(n) / n, mode="same")
+            sm[: n // 2], sm[sm.size - n // 2:] = np.nan, np.nan  # the running mean is defined inside only
+            raw.append(om)
+            smoothed.append(sm)
+            for k in keys:
+                per[k].append(ph[k])
+            per["omega_mean"].append(float(np.nanmean(om)))
+            per["mirrored"].append(int(mirrored))
+            per["reached"].append(int(reached))
+            per["t_run"].append(float(rec.time.values[-1]))
+            per["energy_max_rel_drift"].append(drift)
+            y0s.append(y0)
+            run_label.append(lv["label"])
+            run_level.append(li)
+            run_state.append(si)
+            run_c.append(c_of[li])
+    raw, smoothed = np.array(raw), np.array(smoothed)
+    level, ok = np.array(run_level), np.array(per["reached"], bool)
+    interval = np.array(per["spike_interval_mean"], float) * np.array(run_c)  # in level-0 time units
+    group = _groups(np.where(ok, interval, np.nan), cfg["group_rel_tol"])
+    scale = float(np.nanmean(np.abs(smoothed[level == 0])))
+
+    def dist(sel_a, sel_b=None, curves=smoothed, trim=edge):
+        a = [curves[i] for i in np.flatnonzero(sel_a & ok)]
+        b = None if sel_b is None else [curves[i] for i in np.flatnonzero(sel_b & ok)]
+        return _max_distance(a, b, edge=trim) / scale
+
+    n_groups = [len(set(group[(level == li) & ok])) for li in range(len(levels))]
+    main = np.bincount(group[ok]).argmax() if ok.any() else -1
+    attrs = {}
+    for li in range(len(levels)):
+        attrs[f"level{li}_n_groups"] = n_groups[li]
+        attrs[f"level{li}_distance_all"] = dist(level == li)
+        attrs[f"level{li}_distance_all_raw"] = dist(level == li, curves=raw, trim=0)
+        attrs[f"level{li}_distance_main_group"] = dist((level == li) & (group == main))
+    if len(levels) > 1:
+        attrs["across_levels_distance_main_group_scaled"] = dist((level == 0) & (group == main),
+                                                                  (level == 1) & (group == main))
+        unscaled = [np.nanmean(smoothed[(level == li) & (group == main) & ok], axis=0) * (c_of[li] if li else 1.0)
+                    for li in (0, 1)]
+        attrs["across_levels_distance_main_group_unscaled"] = float(np.nanmax(np.abs(unscaled[1] - unscaled[0]))) / scale
+    # Long horizon: one representative per group, to see whether a group is a slow transient.
+    reps = [int(np.flatnonzero((group == g) & ok)[0]) for g in sorted(set(group[ok]))]
+    long_sp = [_long_check(params, y0s[r] if run_level[r] == 0 else model.state_at_label(y0s[r], params, labels[0]),
+                           cfg, f"{scene}.long[group {group[r]}]") for r in reps]
+    width = max((sp.size for sp, _ in long_sp), default=0)
+    pad = lambda x: np.r_[x, np.full(width - x.size, np.nan)]  # noqa: E731
+    ds = xr.Dataset(
+        {
+            "omega_aligned": (("run", "tau"), raw, {"long_name": "omega(t_first + tau / c) / c (sign: mirrored)"}),
+            "omega_aligned_smooth": (("run", "tau"), smoothed,
+                                     {"long_name": f"running mean over {smooth:g} of omega_aligned"}),
+            "y0": (("run", "component"), np.array(y0s)),
+            **{k: ("run", np.asarray(v, float)) for k, v in per.items()},
+            "spike_interval_level0_units": ("run", interval),
+            "group": ("run", group, {"long_name": "steady spike interval group (group_rel_tol)"}),
+            "long_spike_time": (("group", "spike"), np.array([pad(sp) for sp, _ in long_sp])),
+            "long_representative_run": ("group", np.array(reps)),
+        },
+        coords={"tau": tau, "component": list(model.STATE_NAMES), "label": ("run", run_label),
+                "level": ("run", run_level), "state_index": ("run", run_state), "scale_c": ("run", run_c),
+                "group_id": ("group", np.array([group[r] for r in reps]))},
+    )
+    ds.attrs.update(params.attrs())
+    ds.attrs.update(attrs)
+    ds.attrs.update(
+        scene=scene, tol=cfg["tol"], backend="heyoka", labels=np.asarray(labels, float), n_runs=len(raw),
+        n_reached=int(ok.sum()), main_group=int(main), group_rel_tol=cfg["group_rel_tol"],
+        alignment="first Omega spike after the sleigh-like phase (sleighsim.transient.phases); level k is mapped "
+                  "onto level 0 by the time-scaling law (tau -> tau / c, omega -> omega / c); omega < 0 runs "
+                  "are mirrored",
+        phase_rule=transient.PHASES_RULE, compare_window=window, compare_dt=dt_cmp, smooth=smooth,
+        distance_rule="max over pairs of max over tau of |omega_i - omega_j| of the smoothed aligned curves "
+                      f"(defined {smooth:g} / 2 inside the window), over the mean |omega| of level 0 ({scale:.4g}); "
+                      "raw = unsmoothed",
+        group_rule="runs whose steady spike interval (level-0 units) is within group_rel_tol of a group's first member",
+        long_check_t_end=cfg["long_check"]["t_end"],
+        long_check_energy_max_rel_drift=float(max((d for _, d in long_sp), default=np.nan)),
+        energy_max_rel_drift=float(np.max(per["energy_max_rel_drift"])), wall_time_s=time.perf_counter() - start,
+    )
+    ds.attrs.update(provenance_attrs())
+    log.info("%s: done in %.3g s; groups per level %s; distances %s", scene, ds.attrs["wall_time_s"], n_groups,
+             {k: round(v, 4) for k, v in attrs.items() if "distance" in k})
+    return ds
