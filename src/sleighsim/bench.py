@@ -13,6 +13,7 @@ Run: ``python -m sleighsim.bench [--quick] OUT.nc`` or ``snakemake -c2 bench``.
 from __future__ import annotations
 
 import argparse
+import math
 import logging
 import time
 
@@ -92,24 +93,74 @@ def work_precision(cfg: dict) -> xr.Dataset:
     return ds
 
 
+LYAPUNOV_TAU = 10.0  # renormalisation interval of the Lyapunov kernel
+
+
+def _settled(cfg):
+    params = model.Params.from_config(cfg["params"])
+    return params, final_state(integrate(params, cfg["y0"], [0.0, cfg["t_settle"]], progress=1))
+
+
 def observables_vs_tol(cfg: dict) -> xr.Dataset:
-    """lambda_1 over a fixed horizon and the P_2pi rotation number, against heyoka's tolerance."""
+    """lambda_1 over a fixed horizon (with its wall time) and the P_2pi rotation number,
+    against heyoka's tolerance."""
     from . import chaos, lyapunov
 
-    params = model.Params.from_config(cfg["params"])
-    y = integrate(params, cfg["y0"], [0.0, cfg["t_settle"]], progress=1)
-    y = final_state(y)
-    lam, rot = [], []
+    params, y = _settled(cfg)
+    lam, wall, rot = [], [], []
     for tol in cfg["heyoka_tols"]:
         ta, _ = chaos._tangent(1, tol, True)
         ta.pars[:] = params.values
-        lam.append(lyapunov.benettin(ta, 4, 1, y, t_align=0.0, T=cfg["T_lyapunov"], tau=10.0)["exponents"][0])
+        r = lyapunov.benettin(ta, 4, 1, y, t_align=0.0, T=cfg["T_lyapunov"], tau=LYAPUNOV_TAU)
+        lam.append(r["exponents"][0])
+        wall.append(r["wall_time_s"])
         c = poincare.crossings(params, y, 0.0, cfg["t_rotation"], tol=tol)
         rot.append(poincare.rotation_number(np.c_[c["u"], c["Omega"], c["omega"]][c["k"] % 4 == 0])["rotation_number"])
-        log.info("bench tol %.0e: lambda_1 %.5g, rotation number %.6g", tol, lam[-1], rot[-1])
-    return xr.Dataset({"lambda_1": ("tol", lam), "rotation_number": ("tol", rot)},
+        log.info("bench tol %.0e: lambda_1 %.5g in %.3g s, rotation number %.6g", tol, lam[-1], wall[-1], rot[-1])
+    return xr.Dataset({"lambda_1": ("tol", lam), "lambda_1_wall": ("tol", wall), "rotation_number": ("tol", rot)},
                       coords={"tol": np.array(cfg["heyoka_tols"], float)},
-                      attrs=dict(T_lyapunov=cfg["T_lyapunov"], t_rotation=cfg["t_rotation"], t_settle=cfg["t_settle"]))
+                      attrs=dict(T_lyapunov=cfg["T_lyapunov"], t_rotation=cfg["t_rotation"], t_settle=cfg["t_settle"],
+                                 lyapunov_tau=LYAPUNOV_TAU))
+
+
+def scipy_max_le(params, y, T, tau, method, rtol, atol, seed=0) -> tuple[float, float]:
+    """Benettin's largest exponent with SciPy: the flow and one tangent vector (J(y) v, with
+    the derived Jacobian) integrated over T in segments of tau, renormalised after each.
+    The same initial tangent vector as sleighsim.lyapunov. Returns (lambda_1, wall seconds)."""
+    from scipy.integrate import solve_ivp
+
+    from .lyapunov import _orthonormal
+
+    def f(t, z):
+        return np.concatenate([model.rhs(z[:4], params), model.jacobian(z[:4], params) @ z[4:]])
+
+    z = np.r_[np.asarray(y, float), _orthonormal(4, 1, seed)[:, 0]]
+    n, total = int(round(T / tau)), 0.0
+    start = time.perf_counter()
+    for _ in range(n):
+        sol = solve_ivp(f, (0.0, tau), z, method=method, rtol=rtol, atol=atol)
+        if not sol.success:
+            raise RuntimeError(f"SciPy {method} Lyapunov run failed: {sol.message}")
+        z = sol.y[:, -1]
+        norm = np.linalg.norm(z[4:])
+        total += math.log(norm)
+        z[4:] /= norm
+    return total / (n * tau), time.perf_counter() - start
+
+
+def lyapunov_kernel_scipy(cfg: dict) -> xr.Dataset:
+    """The Lyapunov kernel (lambda_1 over T_lyapunov from the settled state) with SciPy's methods."""
+    params, y = _settled(cfg)
+    rows = []
+    for method, rtols in cfg["scipy_lyapunov"].items():
+        for rtol in rtols:
+            lam, wall = scipy_max_le(params, y, cfg["T_lyapunov"], LYAPUNOV_TAU, method, rtol, rtol * cfg["atol_factor"])
+            rows.append((method, rtol, lam, wall))
+            log.info("bench Lyapunov SciPy %s %.0e: lambda_1 %.5g in %.3g s", method, rtol, lam, wall)
+    return xr.Dataset({"lyap_scipy_method": ("lyap_scipy", [r[0] for r in rows]),
+                       "lyap_scipy_rtol": ("lyap_scipy", [r[1] for r in rows]),
+                       "lyap_scipy_lambda_1": ("lyap_scipy", [r[2] for r in rows]),
+                       "lyap_scipy_wall": ("lyap_scipy", [r[3] for r in rows])})
 
 
 def loosest_converged(tols, values, rel: float) -> float:
@@ -167,7 +218,8 @@ def run(cfg: dict) -> xr.Dataset:
     start = time.perf_counter()
     wp = work_precision(cfg)
     obs = observables_vs_tol(cfg)
-    ds = xr.merge([wp, obs.rename({"tol": "tol_observable"})], compat="override")
+    lyap = lyapunov_kernel_scipy(cfg)
+    ds = xr.merge([wp, obs.rename({"tol": "tol_observable"}), lyap], compat="override")
     hy = wp.backend.values == "heyoka"
     conv = {
         "spike_interval": loosest_converged(wp.tol.values[hy], wp.spike_interval.values[hy], cfg["rel_converged"]),
@@ -194,7 +246,7 @@ QUICK = dict(
     params={"eps": 0.1, "b": 1.0, "K2": 1.1}, y0=[0.0, 0.1, 1.0, 0.0], t_short=100.0, t_long=600.0, dt_long=0.5,
     t_min=50.0, heyoka_tols=[1e-8, 1e-12, 2.220446049250313e-16], reference_tols=[1e-19, 1e-17],
     scipy={"DOP853": [1e-8], "RK45": [1e-6]}, atol_factor=1e-3, repeats=3, scipy_repeats=1, t_settle=100.0,
-    T_lyapunov=200.0, t_rotation=100.0, rel_converged=0.01, rel_converged_lyapunov=0.05, error_targets=[1e-6, 1e-8],
+    T_lyapunov=200.0, scipy_lyapunov={"DOP853": [1e-8]}, t_rotation=100.0, rel_converged=0.01, rel_converged_lyapunov=0.05, error_targets=[1e-6, 1e-8],
 )
 
 

@@ -361,7 +361,7 @@ def bench(sources, png, pdf) -> None:
     """Work-precision: wall time against error (short horizon) and energy drift (long), and
     the scene observables against heyoka's tolerance."""
     ds = read_dataset(sources[0])
-    fig, axes = plt.subplots(1, 3, figsize=(15, 4.8))
+    fig, axes = plt.subplots(1, 4, figsize=(20, 4.8))
     keys = sorted({(b, m) for b, m in zip(ds.backend.values, ds.method.values)})
     for b, m in keys:
         sel = (ds.backend.values == b) & (ds.method.values == m)
@@ -390,6 +390,19 @@ def bench(sources, png, pdf) -> None:
     ax.set_title("loosest converged tol: " + ", ".join(
         f"{k.replace('loosest_converged_tol_', '')} {v:.0e}" for k, v in ds.attrs.items()
         if k.startswith("loosest_converged_tol_")), fontsize=7)
+    ax = axes[3]
+    best = float(ds.lambda_1.values[np.argmin(to)])
+    ax.loglog(np.maximum(np.abs(ds.lambda_1.values - best), 1e-12), ds.lambda_1_wall.values, "o-",
+              label="heyoka (Taylor)")
+    if "lyap_scipy" in ds.dims:
+        for m in sorted(set(ds.lyap_scipy_method.values.tolist())):
+            sel = ds.lyap_scipy_method.values == m
+            ax.loglog(np.abs(ds.lyap_scipy_lambda_1.values[sel] - best), ds.lyap_scipy_wall.values[sel], "s--",
+                      label=f"SciPy {m}")
+    ax.set_xlabel(f"|lambda_1 - heyoka tightest| over T = {ds.attrs['T_lyapunov']:g} (floor 1e-12)")
+    ax.set_ylabel("wall time (s)")
+    ax.set_title(f"Lyapunov kernel (heyoka tightest: lambda_1 = {best:.4g})", fontsize=8)
+    ax.legend(fontsize=7)
     finish(fig, ds.attrs, png, pdf)
 
 
