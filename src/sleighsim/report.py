@@ -14,6 +14,8 @@ import re
 import shutil
 from pathlib import Path
 
+import numpy as np
+
 from .claims import Row
 from .io import read_dataset
 
@@ -148,6 +150,20 @@ def build(rows: list[Row], *, out_dir, figures_dir, data_dir, bench_dir, tex_pat
         h.append(f"<h2>{html.escape(title)}</h2>")
         md += ["", f"## {title}", ""]
         _embed(png, out_dir, fig, h, md)
+    bench = data_dir / "bench.nc"
+    if bench.exists():
+        a = read_dataset(bench).attrs
+        title = "Speed against error: fastest method per error target"
+        rows_b = [(k.removeprefix("fastest_at_"), a[k], a.get("speedup_vs_scipy_at_" + k.removeprefix("fastest_at_")))
+                  for k in sorted(a) if k.startswith("fastest_at_")]
+        rows_b = [(t, f, f"{r:.0f}x" if np.isfinite(r) else "no SciPy run reaches it") for t, f, r in rows_b]
+        h.append(f"<h2>{title}</h2><table><tr><th>error target (t = {a['t_short']:g})</th><th>fastest</th>"
+                 "<th>speed ratio to the fastest SciPy method</th></tr>"
+                 + "".join(f"<tr><td>{t}</td><td>{html.escape(str(f))}</td><td>{r}</td></tr>" for t, f, r in rows_b)
+                 + f"</table><p>engine overhead over a bare propagation: {a['overhead_overhead_ratio']:.2f}</p>")
+        md += ["", f"## {title}", "", "| error target | fastest | ratio to fastest SciPy |", "|---|---|---|"]
+        md += [f"| {t} | {f} | {r} |" for t, f, r in rows_b]
+        md += ["", f"Engine overhead over a bare propagation: {a['overhead_overhead_ratio']:.2f}"]
     audit = data_dir / "pert_audit.nc"
     if audit.exists():
         title = "Perturbation hierarchy: terms where the printed equations differ from the derived ones"
