@@ -333,22 +333,23 @@ def _until_steady(params, y0, cfg, scene):
             return rec, ph, reached, float(np.max(np.abs(E / E0 - 1.0)))
 
 
-def _aligned(rec, t_first, window, dt_cmp, smooth, c=1.0):
-    """omega on tau in [0, window] after the first spike, time-scaled by c: c_ref-units
-    omega(t_first + tau / c) / c, raw and smoothed (running mean over ``smooth``)."""
-    tau = np.arange(0.0, window + 0.5 * dt_cmp, dt_cmp)
-    om = np.interp(t_first + tau / c, rec.time.values, rec.omega.values) / c
-    n = max(1, int(round(smooth / dt_cmp)))
-    sm = np.convolve(om, np.ones(n) / n, mode="same")
-    return tau, om, sm
+def _aligned(rec, t_first, tau, c=1.0):
+    """omega(t_first + tau / c) / c: the record after its first spike, in level-0 units (time scaling by c)."""
+    return np.interp(t_first + tau / c, rec.time.values, rec.omega.values) / c
 
 
-def _max_distance(curves, others=None, edge=0):
-    """Max over pairs (within ``curves``, or between curves and others) of max |a - b| (edges trimmed)."""
-    sl = slice(edge, -edge or None)
+def _running_mean_same(x, n):
+    """Centred running mean over n samples on x's grid; NaN where the window does not fit."""
+    out = np.convolve(x, np.ones(n) / n, mode="same")
+    out[: n // 2], out[out.size - n // 2:] = np.nan, np.nan
+    return out
+
+
+def _max_distance(curves, others=None):
+    """Max over pairs (within ``curves``, or between curves and others) of max |a - b|, NaN samples ignored."""
     pairs = ([(a, b) for i, a in enumerate(curves) for b in curves[i + 1:]] if others is None
              else [(a, b) for a in curves for b in others])
-    return float(max(np.nanmax(np.abs(a[sl] - b[sl])) for a, b in pairs)) if pairs else float("nan")
+    return float(max(np.nanmax(np.abs(a - b)) for a, b in pairs)) if pairs else float("nan")
 
 
 def _groups(intervals, rel_tol):
@@ -388,7 +389,6 @@ def fig4(cfg: dict, scene: str = "fig4") -> xr.Dataset:
     labels = [lv["label"] for lv in levels]
     c_of = [math.sqrt(L / labels[0]) for L in labels]
     window, dt_cmp, smooth = cfg["compare_window"], cfg["compare_dt"], cfg["smooth"]
-    edge = 0  # the smoothed curves are NaN where the running mean is undefined
     tau = np.arange(0.0, window + 0.5 * dt_cmp, dt_cmp)
     keys = ("first_spike", "sleigh_phase_end", "n_spikes", "spike_interval_mean", "spike_interval_std")
     per = {k: [] for k in (*keys, "omega_mean", "mirrored", "reached", "t_run", "energy_max_rel_drift")}
@@ -398,17 +398,11 @@ def fig4(cfg: dict, scene: str = "fig4") -> xr.Dataset:
             y0 = model.state_at_label(s, params, lv["label"])
             rec, ph, reached, drift = _until_steady(params, y0, dict(cfg, time_unit=1.0 / c_of[li]),
                                                     f"{scene}[E={lv['label']:g}, state {si}]")
-            if reached:
-                _, om, _ = _aligned(rec, ph["first_spike"], window, dt_cmp, smooth, c_of[li])
-            else:
-                om = np.full(tau.size, np.nan)
+            om = _aligned(rec, ph["first_spike"], tau, c_of[li]) if reached else np.full(tau.size, np.nan)
             mirrored = bool(np.nanmean(om) < 0)
             om = -om if mirrored else om
-            n = max(1, int(round(smooth / dt_cmp)))
-            sm = np.convolve(om, np.ones(n) / n, mode="same")
-            sm[: n // 2], sm[sm.size - n // 2:] = np.nan, np.nan  # the running mean is defined inside only
             raw.append(om)
-            smoothed.append(sm)
+            smoothed.append(_running_mean_same(om, max(1, int(round(smooth / dt_cmp)))))
             for k in keys:
                 per[k].append(ph[k])
             per["omega_mean"].append(float(np.nanmean(om)))
@@ -427,10 +421,10 @@ def fig4(cfg: dict, scene: str = "fig4") -> xr.Dataset:
     group = _groups(np.where(ok, interval, np.nan), cfg["group_rel_tol"])
     scale = float(np.nanmean(np.abs(smoothed[level == 0])))
 
-    def dist(sel_a, sel_b=None, curves=smoothed, trim=edge):
+    def dist(sel_a, sel_b=None, curves=smoothed):
         a = [curves[i] for i in np.flatnonzero(sel_a & ok)]
         b = None if sel_b is None else [curves[i] for i in np.flatnonzero(sel_b & ok)]
-        return _max_distance(a, b, edge=trim) / scale
+        return _max_distance(a, b) / scale
 
     n_groups = [len(set(group[(level == li) & ok])) for li in range(len(levels))]
     main = np.bincount(group[ok]).argmax() if ok.any() else -1
@@ -438,7 +432,7 @@ def fig4(cfg: dict, scene: str = "fig4") -> xr.Dataset:
     for li in range(len(levels)):
         attrs[f"level{li}_n_groups"] = n_groups[li]
         attrs[f"level{li}_distance_all"] = dist(level == li)
-        attrs[f"level{li}_distance_all_raw"] = dist(level == li, curves=raw, trim=0)
+        attrs[f"level{li}_distance_all_raw"] = dist(level == li, curves=raw)
         attrs[f"level{li}_distance_main_group"] = dist((level == li) & (group == main))
     if len(levels) > 1:
         attrs["across_levels_distance_main_group_scaled"] = dist((level == 0) & (group == main),
