@@ -71,6 +71,11 @@ def judge_digits(paper: str, ours: float, uncertainty: float = 0.0) -> str:
     return "reproduced" if abs(ours - float(paper)) <= max(K_SIGMA * abs(uncertainty), 10.0**-decimals) else "differs"
 
 
+def _all_reproduced(verdicts) -> str:
+    """A claim made of several numbers is reproduced only when each of them is."""
+    return "reproduced" if all(v == "reproduced" for v in verdicts) else "differs"
+
+
 def _fmt(x, digits=4):
     if isinstance(x, (list, tuple, np.ndarray)):
         return "[" + ", ".join(_fmt(v, digits) for v in x) + "]"
@@ -241,7 +246,7 @@ def evaluate(ctx: Context) -> dict:
         T1, unc, tw = a["T1_Omega2"], a["T1_Omega2_uncertainty"], a["two_pi_over_omega0"]
         ok = [judge_digits("6.276", T1, unc), judge_digits("6.277", tw, a["two_pi_over_omega0_uncertainty"])]
         _c(r, measured=f"T1 = {T1:.5f} (u2: {a['T1_u2']:.5f}); 2 pi / omega0 = {tw:.5f}", uncertainty=f"{unc:.1g}",
-           units="time", evidence="fig6.nc", verdict="reproduced" if all(v == "reproduced" for v in ok) else "differs",
+           units="time", evidence="fig6.nc", verdict=_all_reproduced(ok),
            rule="each within one unit of the paper's last printed digit (or 2 uncertainties); " + a["fit_method"])
     ev["C08"] = c08
 
@@ -251,7 +256,7 @@ def evaluate(ctx: Context) -> dict:
               judge_number(0.4705, a["phi1_over_pi"], a["phi1_uncertainty"] / math.pi)]
         _c(r, measured=f"amplitude {a['Omega2_amplitude']:.4f}, phi1 = {a['phi1_over_pi']:.4f} pi (theory with our "
                        f"u0, omega0: {a['theory_Omega2_amplitude']:.4f}, |phi1| = {a['theory_phi1_abs'] / math.pi:.4f} pi)",
-           evidence="fig6.nc", verdict="reproduced" if all(v == "reproduced" for v in vs) else "differs",
+           evidence="fig6.nc", verdict=_all_reproduced(vs),
            rule=f"numbers, rel_tol {REL_TOL}; phase from the fit Omega2 ~ -A sin(delta0 + phi1)",
            reason=f"the printed phi1 = arctan(-omega0 b K^2 / u0) is {a['theory_phi1'] / math.pi:.4f} pi: the sign is "
                   "a slip (the steady solution of the printed equation has phi1 = arctan(+omega0 b K^2 / u0)); "
@@ -266,7 +271,7 @@ def evaluate(ctx: Context) -> dict:
                  ("growth theory", 0.0415, a["theory_omega2_growth"], 0.0)]
         vs = {name: judge_number(p, o, u) for name, p, o, u in pairs}
         _c(r, measured="; ".join(f"{name} {o:.4g} ({vs[name]})" for name, _, o, _ in pairs), evidence="fig6.nc",
-           verdict="reproduced" if all(v == "reproduced" for v in vs.values()) else "differs",
+           verdict=_all_reproduced(vs.values()),
            rule=f"each number within rel_tol {REL_TOL} or {K_SIGMA} uncertainties; simulation: fit of a line plus a "
                 f"sinusoid to omega2 on [{a['fit_window_start']:g}, {a['fit_window_end']:g}]; theory: the paper's "
                 "closed forms with our u0, omega0",

@@ -258,13 +258,16 @@ def pert_audit(cfg: dict, scene: str = "pert_audit") -> xr.Dataset:
     return ds
 
 
+def _record_phases(rec, tc):
+    """sleighsim.transient.phases of a trajectory dataset with a scene's ``transient`` block."""
+    return transient.phases(rec.time.values, rec.u.values, rec.Omega.values, rec.omega.values,
+                            mean_window=tc["mean_window"], spike_factor=tc["spike_factor"],
+                            settle_window=tc["settle_window"], settle_rtol=tc["settle_rtol"])
+
+
 def _phases_of(params, y0, t_end, cfg, scene):
-    tc = cfg["transient"]
     run = integrate(params, y0, sample_grid(0.0, t_end, cfg["dt"]), tol=cfg["tol"], scene=scene, progress=4)
-    ph = transient.phases(run.time.values, run.u.values, run.Omega.values, run.omega.values,
-                          mean_window=tc["mean_window"], spike_factor=tc["spike_factor"],
-                          settle_window=tc["settle_window"], settle_rtol=tc["settle_rtol"])
-    return run, ph
+    return run, _record_phases(run, cfg["transient"])
 
 
 def transients(cfg: dict, scene: str = "transients") -> xr.Dataset:
@@ -313,8 +316,9 @@ def transients(cfg: dict, scene: str = "transients") -> xr.Dataset:
 
 def _until_steady(params, y0, cfg, scene):
     """Integrate in chunks until the phase detector finds the first spike and ``spikes_after``
-    more (the steady state, sampled), or t_max. Returns (record, phases, reached)."""
-    tc, dt = cfg["transient"], cfg["dt"]
+    more (the steady state, sampled), or t_max. Returns (record, phases, reached, max relative
+    energy drift of the whole record)."""
+    dt = cfg["dt"]
     pieces, y, t = [], np.asarray(y0, float), 0.0
     while True:
         chunk = integrate(params, y, sample_grid(t, t + cfg["chunk"], dt), tol=cfg["tol"], scene=scene, progress=1)
@@ -322,9 +326,7 @@ def _until_steady(params, y0, cfg, scene):
         y, t = final_state(chunk), float(chunk.time.values[-1])
         rec = xr.concat(pieces, dim="time", data_vars="minimal", coords="minimal", compat="override",
                         combine_attrs="override")
-        ph = transient.phases(rec.time.values, rec.u.values, rec.Omega.values, rec.omega.values,
-                              mean_window=tc["mean_window"], spike_factor=tc["spike_factor"],
-                              settle_window=tc["settle_window"], settle_rtol=tc["settle_rtol"])
+        ph = _record_phases(rec, cfg["transient"])
         window_end = ph["first_spike"] + cfg["compare_window"] * cfg["time_unit"]
         reached = ph["n_spikes"] > cfg["spikes_after"] and t >= window_end
         if reached or t >= cfg["t_max"] * cfg["time_unit"]:
