@@ -26,7 +26,7 @@ def _cmd(workdir, configfile, *args):
 @pytest.mark.workflow
 def test_sigterm_during_the_grid_keeps_finished_shards_and_reruns_the_rest(tmp_path):
     cfg = yaml.safe_load(SMOKE.read_text())
-    cfg["lyap_grid"]["n_chunks"] = 4  # one point per chunk
+    cfg["lyap_grid"]["n_chunks"] = cfg["lyap_grid"]["n_eps"]  # one eps row per chunk
     config = tmp_path / "grid.yaml"
     config.write_text(yaml.safe_dump(cfg))
     reference = tmp_path / "reference"

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from sleighsim import chaos, lyapunov, model
+from sleighsim.integrate import final_state, integrate
 
 
 @pytest.fixture(scope="module")
@@ -114,3 +115,23 @@ def test_batch_lanes_match_the_scalar_benettin_run():
         assert batch["stderr"][j] == pytest.approx(one["stderr"][0], rel=1e-6)
     with pytest.raises(ValueError):
         lyapunov.max_le_batch(ta, n, ys[:1], taus[:1], t_align_steps=0, n_steps=10)
+
+
+def test_b_image_maps_a_trajectory_at_one_b_onto_the_trajectory_at_another():
+    """The grid starts every b of a row from one settled state: exact only if the symmetry holds."""
+    y0 = model.state_at_label([0.03, 0.1, 1.0, 0.4], model.Params.paper(eps=0.2, b=1.0), 0.1127)
+    ends = {}
+    for b in (1.0, 2.5):
+        p = model.Params.paper(eps=0.2, b=b)
+        ends[b] = final_state(integrate(p, chaos.b_image(y0, 1.0, b), [0.0, 60.0], tol=1e-15))
+    assert np.allclose(chaos.b_image(ends[1.0], 1.0, 2.5), ends[2.5], rtol=1e-9, atol=1e-11)
+    assert not np.allclose(ends[1.0], ends[2.5], rtol=1e-3)  # u itself differs: the map is not the identity
+
+
+def test_grid_horizons_scale_with_the_fast_time_unit_and_pre_runs_with_one_over_eps_squared():
+    cfg = {"energy_label": 0.1127, "reference_eps": 0.1, "t_pre": 2e4, "t_pre_min": 5e3}
+    assert chaos.grid_time_scale(cfg, 0.1) == pytest.approx(1.0)
+    s = [chaos.grid_time_scale(cfg, e) for e in (0.02, 0.05, 0.2, 0.5)]
+    assert np.all(np.diff(s) > 0) and s[0] < 0.2 < 2 < s[-1]  # the rotor spins faster at small eps
+    assert chaos.grid_pre_run(cfg, 0.02) == pytest.approx(5e5)
+    assert chaos.grid_pre_run(cfg, 0.5) == 5e3

@@ -92,3 +92,10 @@ def test_paper_energy_formula_matches_mechanics(rng):
 def test_reference_state_energy_is_not_the_printed_label():
     E = float(model.energy(model.REFERENCE_STATE, model.Params.paper(eps=0.1)))
     assert E == pytest.approx(0.0071, rel=1e-12)  # 0.0055 + 0.001 + 0.0006, not 0.1127
+
+
+def test_b_is_a_length_scale_at_fixed_K2():
+    """(u / b, Omega, omega, delta) obeys b-free equations: the grid's b axis is one system."""
+    rhs, v = mech.b_free_form()
+    assert all(mech.b not in e.free_symbols for e in rhs)
+    assert any(mech.eps in e.free_symbols for e in rhs) and v in rhs[1].free_symbols

@@ -119,6 +119,8 @@ BAD = [
     (("scenes", "psd_eps01", "dt"), 0.05, r"\['dt'\]"),
     (("scenes", "psd_eps01", "check_duration"), 1e6, r"scenes.psd_eps01.check_duration = 1000000.0 must lie in"),
     (("scenes", "fig9_ref", "params", "eps"), 20.0, r"eps"),
+    (("lyap_grid", "n_chunks"), 9, r"lyap_grid.n_chunks = 9 must lie in \[1, n_eps = 3\]"),
+    (("lyap_grid", "reference_eps"), 0.1, r"lyap_grid.reference_eps = 0.1 must lie in eps_range"),
 ]
 
 

@@ -223,73 +223,110 @@ def _fit_loglog(x, y, yerr):
     return float(beta[0]), float(math.sqrt(cov[0, 0] * scale))
 
 
+def grid_axes(cfg: dict) -> tuple[np.ndarray, np.ndarray]:
+    """The log-spaced eps and b values of the grid."""
+    return np.geomspace(*cfg["eps_range"], cfg["n_eps"]), np.geomspace(*cfg["b_range"], cfg["n_b"])
+
+
 def grid_points(cfg: dict) -> list[tuple[float, float]]:
-    """(eps, b) points of the grid, log-spaced, in row-major order (eps outer)."""
-    eps = np.geomspace(*cfg["eps_range"], cfg["n_eps"])
-    bs = np.geomspace(*cfg["b_range"], cfg["n_b"])
+    """(eps, b) points of the grid in row-major order (eps outer)."""
+    eps, bs = grid_axes(cfg)
     return [(float(e), float(b)) for e in eps for b in bs]
 
 
-def grid_chunk(cfg: dict, chunk: int, n_chunks: int, scene: str = "") -> xr.Dataset:
-    """Max LE at the grid points of one chunk (every n_chunks-th point from ``chunk``).
+def b_image(y, b_from: float, b_to: float) -> np.ndarray:
+    """The state at b_to that the length-scale symmetry maps y (at b_from) to: u scales with b.
 
-    Each point starts with the rotor carrying the energy (near an attractor), runs a
-    pre-run and T scaled by its rotor period relative to the reference point (a fixed
-    number of fast cycles, so every point costs about the same), checks its transient
-    and flags points whose transient is not over or whose estimate is not converged
-    (lambda_1 below flag_sigma standard errors, or standard error above flag_rel_err of lambda_1).
-    The Benettin phase runs ``batch_size`` points at once in heyoka's SIMD batch mode (the
-    time scaling gives every point the same number of renormalisations); a point's wall
-    time is its pre-run plus its share of the batch."""
+    With K2 fixed, (u / b, Omega, omega, delta) obeys b-free equations (mechanics.b_free_form),
+    so the image of a point on the attractor at b_from lies on the attractor at b_to."""
+    y = np.array(y, dtype=float)
+    y[0] *= b_to / b_from
+    return y
+
+
+def grid_time_scale(cfg: dict, eps: float) -> float:
+    """Fast time unit at eps relative to reference_eps: the ratio of rotor speeds when the rotor
+    carries the whole energy at the label (the mean rotor speed on the attractor, within 4%).
+    Horizons scaled by it cost the same number of integrator steps at every eps."""
+    def omega_rot(e):
+        return model.state_at_label([0.0, 0.0, 1.0, 0.0], model.Params.paper(eps=e), cfg["energy_label"])[2]
+    return float(omega_rot(cfg["reference_eps"]) / omega_rot(eps))
+
+
+def grid_pre_run(cfg: dict, eps: float) -> float:
+    """Pre-run length at eps: t_pre (eps_ref / eps)^2 (transients grow like 1/eps^2), at least t_pre_min."""
+    return max(cfg["t_pre_min"], cfg["t_pre"] * (cfg["reference_eps"] / eps) ** 2)
+
+
+def grid_chunk(cfg: dict, chunk: int, n_chunks: int, scene: str = "") -> xr.Dataset:
+    """Max LE at the grid points of one chunk: the eps rows chunk, chunk + n_chunks, ...
+
+    Per row: one pre-run from y0 (the reference state at the label) at the first b, of
+    grid_pre_run(eps), checked with the transient rule of sleighsim.transient. Every b of the
+    row then starts from that settled state mapped by the length-scale symmetry (b_image), so
+    no point pays the transient again. The Benettin phase (one tangent vector) runs ``batch_size``
+    b values at once in heyoka's SIMD batch mode over T, t_align and tau scaled by
+    grid_time_scale(eps). Each lane's transient is verified in the run itself: the block means of
+    omega at the renormalisation times must lie within transient.rtol of their mean. A point is
+    flagged when its row's pre-run or its own run is not steady, or when lambda_1 <= flag_sigma
+    stderr or stderr >= flag_rel_err lambda_1. A point's wall time is its share of the pre-run
+    and of its batch."""
     start = time.perf_counter()
-    pts = grid_points(cfg)[chunk::n_chunks]
-    ref = model.Params.paper(eps=cfg["reference_eps"], b=1.0)
-    omega_ref = model.state_at_label(cfg["y0"], ref, cfg["energy_label"])[2]
-    B = cfg["batch_size"]
-    prepared = []
-    for eps, b in pts:
-        p = model.Params.paper(eps=eps, b=b)
-        y0 = model.state_at_label(cfg["y0"], p, cfg["energy_label"])
-        s = omega_ref / y0[2]
-        label = f"{scene}[eps={eps:.4g}, b={b:.4g}]"
-        t0 = time.perf_counter()
-        y, over, settle = _settle(p, y0, cfg["t_pre"] * s, cfg["tol"], label, cfg["transient"])
-        prepared.append((eps, b, p, y, s, over, time.perf_counter() - t0))
+    eps_all, bs = grid_axes(cfg)
+    B, tc = cfg["batch_size"], cfg["transient"]
     n_steps = int(round(cfg["T"] / cfg["tau"]))
     n_align = int(math.ceil(cfg["t_align"] / cfg["tau"]))
-    rows, compile_s = [], 0.0
-    for first in range(0, len(prepared), B):
-        group = prepared[first:first + B]
-        lanes = group + [group[-1]] * (B - len(group))  # pad a short last batch
-        ta, compile_s = _tangent_batch(B, cfg["tol"], cfg["compact_mode"])
-        ta.pars[:] = np.array([g[2].values for g in lanes]).T
-        r = lyapunov.max_le_batch(ta, 4, np.array([g[3] for g in lanes]), np.array([cfg["tau"] * g[4] for g in lanes]),
-                                  t_align_steps=n_align, n_steps=n_steps, n_blocks=cfg["n_blocks"],
-                                  label=f"{scene}[batch {first // B}]")
-        share = r["wall_time_s"] / len(group)
-        for j, (eps, b, p, y, s, over, pre_s) in enumerate(group):
-            lam, err = float(r["exponents"][j]), float(r["stderr"][j])
-            converged = lam > cfg["flag_sigma"] * err and err < cfg["flag_rel_err"] * abs(lam)
-            rows.append((eps, b, lam, err, s, cfg["T"] * s, int(over), int(converged), pre_s + share))
-            log.info("%s[eps=%.4g, b=%.4g]: lambda_1 = %.4g +- %.2g, transient %s, %s (%.1f s)", scene, eps, b, lam,
-                     err, "over" if over else "NOT over", "converged" if converged else "NOT converged", rows[-1][-1])
-    a = np.array(rows, dtype=float).reshape(-1, 9)
-    names = ["eps", "b", "lambda_1", "stderr", "time_scale", "T", "transient_over", "converged", "wall_time_s"]
+    ta, compile_s = _tangent_batch(B, cfg["tol"], cfg["compact_mode"])
+    rows = []
+    for eps in eps_all[chunk::n_chunks]:
+        s, t_pre = grid_time_scale(cfg, eps), grid_pre_run(cfg, eps)
+        p0 = model.Params.paper(eps=eps, b=bs[0])
+        t0 = time.perf_counter()
+        y, pre_over, settle = _settle(p0, model.state_at_label(cfg["y0"], p0, cfg["energy_label"]), t_pre,
+                                      cfg["tol"], f"{scene}[eps={eps:.4g}]", tc)
+        pre_share = (time.perf_counter() - t0) / bs.size
+        log.info("%s[eps=%.4g]: pre-run %.4g, omega settled at %.4g (%s)", scene, eps, t_pre, settle,
+                 "over" if pre_over else "NOT over")
+        for first in range(0, bs.size, B):
+            group = list(bs[first:first + B])
+            lanes = group + [group[-1]] * (B - len(group))  # pad a short last batch
+            ta.pars[:] = np.array([model.Params.paper(eps=eps, b=b).values for b in lanes]).T
+            r = lyapunov.max_le_batch(ta, 4, np.array([b_image(y, bs[0], b) for b in lanes]), np.full(B, cfg["tau"] * s),
+                                      t_align_steps=n_align, n_steps=n_steps, n_blocks=cfg["n_blocks"],
+                                      label=f"{scene}[eps={eps:.4g}, batch {first // B}]")
+            om = r["state_block_means"][:, 2, :]
+            drift = np.max(np.abs(om / om.mean(axis=0) - 1.0), axis=0)
+            share = r["wall_time_s"] / len(group)
+            for j, b in enumerate(group):
+                lam, err = float(r["exponents"][j]), float(r["stderr"][j])
+                over = pre_over and drift[j] <= tc["rtol"]
+                converged = lam > cfg["flag_sigma"] * err and err < cfg["flag_rel_err"] * abs(lam)
+                rows.append((eps, b, lam, err, s, cfg["T"] * s, t_pre, settle, drift[j], int(over), int(converged),
+                             pre_share + share))
+                log.info("%s[eps=%.4g, b=%.4g]: lambda_1 = %.4g +- %.2g, omega block drift %.2g, transient %s, %s",
+                         scene, eps, b, lam, err, drift[j], "over" if over else "NOT over",
+                         "converged" if converged else "NOT converged")
+    names = ["eps", "b", "lambda_1", "stderr", "time_scale", "T", "t_pre", "settling_time", "omega_block_drift",
+             "transient_over", "converged", "wall_time_s"]
+    a = np.array(rows, dtype=float).reshape(-1, len(names))
     ds = xr.Dataset({n: ("point", a[:, i]) for i, n in enumerate(names)})
     ds.attrs.update(chunk=chunk, n_chunks=n_chunks, wall_time_s=time.perf_counter() - start, tol=cfg["tol"],
                     energy_label=cfg["energy_label"], batch_size=B, compile_time_s=compile_s,
-                    method=f"Benettin (one tangent vector) in heyoka batch mode, {B} lanes")
+                    method=f"Benettin (one tangent vector) in heyoka batch mode, {B} lanes",
+                    start_rule=grid_chunk.__doc__.split("\n\n")[1].replace("\n", " ").strip())
     ds.attrs.update(provenance_attrs())
     return ds
 
 
 def grid_gather(paths, cfg: dict) -> xr.Dataset:
-    """Assemble chunk datasets into the (eps, b) grid."""
-    parts = xr.concat([read_dataset(p) for p in paths], dim="point")
-    eps = np.geomspace(*cfg["eps_range"], cfg["n_eps"])
-    bs = np.geomspace(*cfg["b_range"], cfg["n_b"])
+    """Assemble chunk datasets into the (eps, b) grid, with per-row statistics: the spread of
+    lambda_1 across b (the b values of a row are one system under the length-scale symmetry, so
+    the spread measures the sampling error of one point) and the reference point's relative error."""
+    chunks = [read_dataset(p) for p in paths]
+    parts = xr.concat(chunks, dim="point")
+    eps, bs = grid_axes(cfg)
     out = {}
-    for name in ("lambda_1", "stderr", "transient_over", "converged", "wall_time_s", "T"):
+    for name in ("lambda_1", "stderr", "transient_over", "converged", "wall_time_s", "T", "omega_block_drift"):
         grid = np.full((eps.size, bs.size), np.nan)
         for e, b, v in zip(parts.eps.values, parts.b.values, parts[name].values):
             grid[np.argmin(np.abs(eps - e)), np.argmin(np.abs(bs - b))] = v
@@ -297,7 +334,21 @@ def grid_gather(paths, cfg: dict) -> xr.Dataset:
     ds = xr.Dataset(out, coords={"eps": eps, "b": bs})
     flagged = (ds.transient_over.values == 0) | (ds.converged.values == 0)
     ds["flagged"] = (("eps", "b"), flagged.astype(np.int8))
+    lam, err = ds.lambda_1.values, ds.stderr.values
+    ds["row_mean"] = ("eps", lam.mean(axis=1), {"long_name": "mean of lambda_1 over b", "units": "1/time"})
+    ds["row_spread"] = ("eps", lam.std(axis=1, ddof=1) if bs.size > 1 else np.full(eps.size, np.nan),
+                        {"long_name": "standard deviation of lambda_1 over b", "units": "1/time"})
+    ds["row_stderr"] = ("eps", err.mean(axis=1), {"long_name": "mean block standard error over b", "units": "1/time"})
+    ref = (int(np.argmin(np.abs(np.log(eps / cfg["reference_eps"])))), int(np.argmin(np.abs(np.log(bs)))))
     ds.attrs.update(
+        reference_point_eps=float(eps[ref[0]]), reference_point_b=float(bs[ref[1]]),
+        reference_point_rel_err=float(err[ref] / abs(lam[ref])),
+        median_row_spread_over_stderr=float(np.nanmedian(ds.row_spread.values / ds.row_stderr.values)),
+        chunk_wall_time_s=float(sum(c.attrs["wall_time_s"] for c in chunks)),
+        start_rule=chunks[0].attrs["start_rule"],
+        horizon_rule="T, t_align and tau scaled by grid_time_scale(eps) (same integrator steps at every eps); "
+        f"pre-run max(t_pre_min, t_pre (eps_ref / eps)^2) with t_pre = {cfg['t_pre']:g}, eps_ref = "
+        f"{cfg['reference_eps']:g}",
         energy_label=cfg["energy_label"], n_points=int(eps.size * bs.size), fraction_flagged=float(flagged.mean()),
         min_lambda_1=float(np.nanmin(ds.lambda_1.values)), max_lambda_1=float(np.nanmax(ds.lambda_1.values)),
         min_lambda_1_unflagged=float(np.nanmin(np.where(flagged, np.nan, ds.lambda_1.values))) if (~flagged).any()

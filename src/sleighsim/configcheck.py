@@ -49,9 +49,12 @@ def check(config: dict) -> None:
         lo, hi = grid[key]
         if not lo <= hi:
             raise ConfigError(f"lyap_grid.{key} = [{lo}, {hi}] must be increasing")
-    if grid["n_chunks"] > grid["n_eps"] * grid["n_b"]:
-        raise ConfigError(f"lyap_grid.n_chunks = {grid['n_chunks']} must lie in [1, n_eps * n_b = "
-                          f"{grid['n_eps'] * grid['n_b']}]")
+    if grid["n_chunks"] > grid["n_eps"]:
+        raise ConfigError(f"lyap_grid.n_chunks = {grid['n_chunks']} must lie in [1, n_eps = {grid['n_eps']}] "
+                          "(a chunk holds whole eps rows)")
+    lo, hi = grid["eps_range"]
+    if not lo <= grid["reference_eps"] <= hi:
+        raise ConfigError(f"lyap_grid.reference_eps = {grid['reference_eps']} must lie in eps_range [{lo}, {hi}]")
     portrait = config["scenes"]["fig2"]["portrait"]
     for key in ("u_range", "Omega_range"):
         lo, hi = portrait[key]

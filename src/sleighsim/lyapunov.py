@@ -121,7 +121,8 @@ def max_le_batch(ta, n: int, y0s, taus, *, t_align_steps: int, n_steps: int, n_b
     """Largest exponent for several systems in lock-step, one per SIMD lane (``ta`` from
     :func:`tangent_integrator_batch`, pars already set): lane j renormalises every taus[j];
     every lane runs t_align_steps alignment steps, then n_steps accumulated ones, so a lane's
-    horizon is n_steps * taus[j]. Returns per-lane exponents, block standard errors, wall time."""
+    horizon is n_steps * taus[j]. Returns per-lane exponents, block standard errors, the block
+    means of the state sampled at the renormalisation times (n_blocks, n, B), wall time."""
     import heyoka as hy
 
     y0s = np.atleast_2d(np.asarray(y0s, float))
@@ -137,6 +138,7 @@ def max_le_batch(ta, n: int, y0s, taus, *, t_align_steps: int, n_steps: int, n_b
     ta.state[n:] = _orthonormal(n, 1, seed)[:, :1] * np.ones((1, B))
     block_of = np.minimum((np.arange(n_steps) * n_blocks) // n_steps, n_blocks - 1)
     blocks = np.zeros((n_blocks, B))
+    state_sums = np.zeros((n_blocks, n, B))
     last_log = time.perf_counter()
     for i in range(-t_align_steps, n_steps):
         ta.propagate_for(taus)
@@ -147,13 +149,17 @@ def max_le_batch(ta, n: int, y0s, taus, *, t_align_steps: int, n_steps: int, n_b
         ta.state[n:] /= norm
         if i >= 0:
             blocks[block_of[i]] += np.log(norm)
+            state_sums[block_of[i]] += ta.state[:n]
         if time.perf_counter() - last_log > progress_every:
             last_log = time.perf_counter()
-            log.info("%s: batch Lyapunov step %d / %d", label, i + 1, n_steps)
-    block_len = np.bincount(block_of, minlength=n_blocks)[:, None] * taus[None, :]
+            log.info("%s: batch Lyapunov step %d / %d, running lambda_1 %s", label, i + 1, n_steps,
+                     np.array2string(blocks.sum(axis=0) / (max(i + 1, 1) * taus), precision=3))
+    counts = np.bincount(block_of, minlength=n_blocks)
+    block_len = counts[:, None] * taus[None, :]
     block_est = blocks / block_len
     return {"exponents": blocks.sum(axis=0) / (n_steps * taus),
             "stderr": block_est.std(axis=0, ddof=1) / math.sqrt(n_blocks),
+            "state_block_means": state_sums / counts[:, None, None],
             "final_state": ta.state[:n].T.copy(), "wall_time_s": time.perf_counter() - start}
 
 

@@ -130,6 +130,17 @@ def paper_substitution():
 
 
 @lru_cache(maxsize=None)
+def b_free_form():
+    """The derived equations in the paper's parameters for (v, Omega, omega, delta), v = u / b.
+
+    With K2 held fixed, b is a length scale: none of these right-hand sides contains b (tested),
+    so lambda(eps, b) = lambda(eps, 1) and a solution at one b maps to every other by u -> u b'/b."""
+    v = sp.Symbol("v", real=True)
+    rhs = [e.subs(paper_substitution()).subs(u, b * v) for e in derive().rhs]
+    return (sp.cancel(sp.together(rhs[0] / b)), *(sp.cancel(sp.together(e)) for e in rhs[1:])), v
+
+
+@lru_cache(maxsize=None)
 def paper_printed():
     """The paper's equations (eq:u)-(eq:delta_dot) exactly as printed, K^2 -> K2.
 

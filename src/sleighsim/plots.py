@@ -287,9 +287,10 @@ def fig10(sources, png, pdf) -> None:
 
 
 def fig11(sources, png, pdf) -> None:
-    """Max Lyapunov exponent on the (eps, b) grid; flagged points marked."""
+    """Max Lyapunov exponent on the (eps, b) grid, flagged points marked; and lambda_1 against eps
+    (b is a symmetry: every b of a row is the same system, so the row's spread is a sampling error)."""
     ds = read_dataset(sources[0])
-    fig, ax = plt.subplots(figsize=(7.5, 6))
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(13, 5.5), gridspec_kw={"width_ratios": [1.3, 1]})
     lam = ds.lambda_1.values
     vmax = np.nanmax(np.abs(lam))
     mesh = ax.pcolormesh(ds.b.values, ds.eps.values, lam, shading="nearest", cmap="RdBu_r", vmin=-vmax, vmax=vmax)
@@ -305,6 +306,22 @@ def fig11(sources, png, pdf) -> None:
     ax.set_title(f"E label {ds.attrs['energy_label']:g}: {ds.attrs['n_points']} points, "
                  f"{100 * ds.attrs['fraction_flagged']:.0f}% flagged; lambda_1 in "
                  f"[{ds.attrs['min_lambda_1']:.2g}, {ds.attrs['max_lambda_1']:.2g}]", fontsize=8)
+    eps = ds.eps.values
+    for j in range(ds.sizes["b"]):
+        ok = ~flagged[:, j]
+        bx.plot(eps[ok], lam[ok, j], ".", color="C0", ms=4, label="points" if j == 0 else None)
+        bx.plot(eps[~ok], lam[~ok, j], "x", color="C3", ms=4, label="flagged points" if j == 0 else None)
+    bx.errorbar(eps, ds.row_mean.values, yerr=ds.row_stderr.values, fmt="o-", color="k", ms=4, capsize=3,
+                label="mean over b, +- mean block stderr")
+    bx.axhline(1e-4, color="0.5", ls=":", label="paper: smallest value > 1e-4")
+    bx.axhline(0, color="k", lw=0.6)
+    bx.set_xscale("log")
+    bx.set_xlabel(r"$\epsilon$")
+    bx.set_ylabel(r"$\lambda_1$ (1/time)")
+    bx.legend(fontsize=7)
+    bx.set_title(f"reference point (eps {ds.attrs['reference_point_eps']:.3g}): stderr / lambda_1 = "
+                 f"{ds.attrs['reference_point_rel_err']:.2f}; spread over b / stderr: "
+                 f"{ds.attrs['median_row_spread_over_stderr']:.2f} (median)", fontsize=8)
     finish(fig, ds.attrs, png, pdf)
 
 

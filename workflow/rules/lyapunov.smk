@@ -12,7 +12,7 @@ rule lyap_grid_chunk:
         cfg=canonical(config["lyap_grid"]),
     threads: 1
     resources:
-        runtime=120,
+        runtime=config["lyap_grid"]["chunk_runtime_min"],
         mem_mb=1500,
     log:
         f"{R}/logs/lyap_grid_chunk/{{chunk}}.log",
