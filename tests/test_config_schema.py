@@ -90,3 +90,18 @@ def test_each_generated_invalid_value_is_refused_naming_the_key(path, bad, why):
     assert errors, f"{path} = {bad!r} ({why}) was accepted"
     where = " ".join(str(e.message) + " " + " ".join(map(str, e.absolute_path)) for e in errors)
     assert _key(path) in where, where[-500:]
+
+
+@pytest.mark.parametrize("name", ["config.yaml", "smoke.yaml", "cluster.yaml"])
+def test_shipped_configs_are_valid_and_pass_the_cross_field_checks(name):
+    """Each as Snakemake sees it: --configfile is merged onto config/config.yaml."""
+    from snakemake.common.configfile import load_configfile
+    from snakemake.utils import update_config
+
+    from sleighsim import configcheck
+
+    cfg = load_configfile(str(ROOT / "config" / "config.yaml"))
+    update_config(cfg, load_configfile(str(ROOT / "config" / name)))
+    errors = [e.message for e in VALIDATOR.iter_errors(cfg)]
+    assert not errors, errors
+    configcheck.check(cfg)

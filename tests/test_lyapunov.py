@@ -134,4 +134,27 @@ def test_grid_horizons_scale_with_the_fast_time_unit_and_pre_runs_with_one_over_
     s = [chaos.grid_time_scale(cfg, e) for e in (0.02, 0.05, 0.2, 0.5)]
     assert np.all(np.diff(s) > 0) and s[0] < 0.2 < 2 < s[-1]  # the rotor spins faster at small eps
     assert chaos.grid_pre_run(cfg, 0.02) == pytest.approx(5e5)
-    assert chaos.grid_pre_run(cfg, 0.5) == 5e3
+    assert chaos.grid_pre_run(cfg, 0.5) == 5e3  # the floor
+
+
+def _verdict_inputs(tmp_path, lam, err, slope, phi, dt):
+    import xarray as xr
+
+    spec = xr.Dataset({"exponent": ("i", [lam, 0.0, 0.0, -lam]), "stderr": ("i", [err] * 4)},
+                      attrs={"T": 1e6, "lambda_1_decay_slope_last_decade": slope})
+    pc = xr.Dataset({"p2pi_u": ("n", phi), "p2pi_time": ("n", dt * np.arange(len(phi)))})
+    spec.to_netcdf(tmp_path / "spec.nc")
+    pc.to_netcdf(tmp_path / "pc.nc")
+    return tmp_path / "spec.nc", tmp_path / "pc.nc"
+
+
+def test_a_short_smooth_record_is_not_evidence_of_regularity(tmp_path):
+    """K near 0 from a record shorter than min_lyapunov_times Lyapunov times leaves the verdict open."""
+    cfg = {"observable": "p2pi_u", "max_samples": 20000, "n_c": 20, "sigma": 3.0, "slope_limit": 0.5,
+           "K_threshold": 0.5, "min_lyapunov_times": 100.0}
+    smooth = np.sin(0.01 * np.arange(4000)) + 0.5 * np.sin(0.0131 * np.arange(4000))
+    # zero exponent with a tight bound: the record spans (3 * 1e-7) * 4000 * 1.8 << 100 Lyapunov times
+    ds = chaos.verdict(*_verdict_inputs(tmp_path, 1e-8, 1e-7, -1.0, smooth, 1.8), cfg)
+    assert ds.attrs["zero_one_K"] < 0.5 and ds.attrs["verdict"] == "undecided" and not ds.attrs["zero_one_informative"]
+    ds = chaos.verdict(*_verdict_inputs(tmp_path, 1e-8, 1e-7, -1.0, smooth, 1e5), cfg)  # the same samples, spread out
+    assert ds.attrs["verdict"] == "quasi-periodic" and ds.attrs["zero_one_informative"]
