@@ -321,7 +321,7 @@ def fig11(sources, png, pdf) -> None:
     bx.legend(fontsize=7)
     bx.set_title(f"reference point (eps {ds.attrs['reference_point_eps']:.3g}): stderr / lambda_1 = "
                  f"{ds.attrs['reference_point_rel_err']:.2f}; spread over b / stderr: "
-                 f"{ds.attrs['median_row_spread_over_stderr']:.2f} (median)", fontsize=8)
+                 f"{ds.attrs['median_row_spread_over_stderr']:.2f}\n(median over rows with lambda_1 T >= 100)", fontsize=8)
     finish(fig, ds.attrs, png, pdf)
 
 
