@@ -287,22 +287,30 @@ def fig10(sources, png, pdf) -> None:
 
 
 def fig11(sources, png, pdf) -> None:
-    """Max Lyapunov exponent on the (eps, b) grid, flagged points marked; and lambda_1 against eps
-    (b is a symmetry: every b of a row is the same system, so the row's spread is a sampling error)."""
+    """Max Lyapunov exponent on the (eps, b) grid (log colour scale), flagged points marked; and
+    lambda_1 against eps (b is a symmetry: every b of a row is the same system)."""
+    from matplotlib.colors import LogNorm
+    from matplotlib.ticker import NullFormatter
+
     ds = read_dataset(sources[0])
-    fig, (ax, bx) = plt.subplots(1, 2, figsize=(13, 5.5), gridspec_kw={"width_ratios": [1.3, 1]})
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(13, 5.8), gridspec_kw={"width_ratios": [1.3, 1]})
     lam = ds.lambda_1.values
-    vmax = np.nanmax(np.abs(lam))
-    mesh = ax.pcolormesh(ds.b.values, ds.eps.values, lam, shading="nearest", cmap="RdBu_r", vmin=-vmax, vmax=vmax)
-    fig.colorbar(mesh, ax=ax, label=r"$\lambda_1$ (1/time)")
+    positive = lam[lam > 0]
+    mesh = ax.pcolormesh(ds.b.values, ds.eps.values, np.where(lam > 0, lam, np.nan), shading="nearest",
+                         cmap="viridis", norm=LogNorm(vmin=positive.min(), vmax=positive.max()))
+    fig.colorbar(mesh, ax=ax, label=r"$\lambda_1$ (1/time; non-positive values blank)")
     B, Eps = np.meshgrid(ds.b.values, ds.eps.values)
     flagged = ds.flagged.values.astype(bool)
-    ax.plot(B[flagged], Eps[flagged], "kx", ms=5, label="flagged: transient not over or not converged")
+    ax.plot(B[flagged], Eps[flagged], "wx", ms=5, mew=1.5, label="flagged: transient not over or not converged")
     ax.set_xscale("log")
     ax.set_yscale("log")
+    for axis in (ax.xaxis, ax.yaxis):
+        axis.set_minor_formatter(NullFormatter())
+    ax.set_xticks(ds.b.values[::2], [f"{v:.2g}" for v in ds.b.values[::2]])
+    ax.set_yticks(ds.eps.values[::2], [f"{v:.2g}" for v in ds.eps.values[::2]])
     ax.set_xlabel("$b$")
     ax.set_ylabel(r"$\epsilon$")
-    ax.legend(fontsize=7, loc="lower left")
+    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.1), facecolor="0.6")
     ax.set_title(f"E label {ds.attrs['energy_label']:g}: {ds.attrs['n_points']} points, "
                  f"{100 * ds.attrs['fraction_flagged']:.0f}% flagged; lambda_1 in "
                  f"[{ds.attrs['min_lambda_1']:.2g}, {ds.attrs['max_lambda_1']:.2g}]", fontsize=8)
@@ -314,10 +322,12 @@ def fig11(sources, png, pdf) -> None:
     bx.errorbar(eps, ds.row_mean.values, yerr=ds.row_stderr.values, fmt="o-", color="k", ms=4, capsize=3,
                 label="mean over b, +- mean block stderr")
     bx.axhline(1e-4, color="0.5", ls=":", label="paper: smallest value > 1e-4")
-    bx.axhline(0, color="k", lw=0.6)
     bx.set_xscale("log")
+    bx.set_yscale("log")
+    bx.xaxis.set_minor_formatter(NullFormatter())
+    bx.set_xticks(eps[::2], [f"{v:.2g}" for v in eps[::2]])
     bx.set_xlabel(r"$\epsilon$")
-    bx.set_ylabel(r"$\lambda_1$ (1/time)")
+    bx.set_ylabel(r"$\lambda_1$ (1/time; log scale, positive values)")
     bx.legend(fontsize=7)
     bx.set_title(f"reference point (eps {ds.attrs['reference_point_eps']:.3g}): stderr / lambda_1 = "
                  f"{ds.attrs['reference_point_rel_err']:.2f}; spread over b / stderr: "
