@@ -60,6 +60,9 @@ def test_sigterm_during_the_grid_keeps_finished_shards_and_reruns_the_rest(tmp_p
     assert not (run / GRID).exists()
     if graceful:
         assert not list(chunks.glob(".*.tmp"))  # SIGTERM lets the job delete its temporary file
+    else:  # a hard kill leaves Snakemake's lock, which the user removes as Snakemake says
+        unlock = subprocess.run(_cmd(run, config, "--unlock"), capture_output=True, text=True, timeout=120)
+        assert unlock.returncode == 0, unlock.stderr[-2000:]
 
     again = subprocess.run(_cmd(run, config, "-c1", "--rerun-incomplete", GRID), capture_output=True, text=True,
                            timeout=600)

@@ -86,12 +86,12 @@ def test_sleigh_exponents_sum_to_the_mean_divergence():
     assert abs(div) > 1e-5  # the flow contracts phase-space volume (C18) although E is invariant
 
 
-def test_grid_points_are_log_spaced_and_cover_the_range():
-    cfg = {"eps_range": [0.02, 0.5], "n_eps": 12, "b_range": [0.25, 4.0], "n_b": 12}
-    pts = chaos.grid_points(cfg)
-    assert len(pts) == 144 and pts[0] == (0.02, 0.25) and pts[-1] == pytest.approx((0.5, 4.0))
-    e = sorted({p[0] for p in pts})
-    assert np.allclose(np.diff(np.log(e)), np.log(25) / 11)
+def test_grid_axes_are_log_spaced_and_cover_the_range():
+    cfg = {"eps_range": [0.02, 0.5], "n_eps": 13, "b_range": [0.25, 4.0], "n_b": 12}
+    eps, bs = chaos.grid_axes(cfg)
+    assert eps.size == 13 and bs.size == 12 and eps[0] == 0.02 and bs[-1] == pytest.approx(4.0)
+    assert np.allclose(np.diff(np.log(eps)), np.log(25) / 12)
+    assert eps[6] == pytest.approx(0.1)  # an odd n_eps puts the reference eps on the grid
 
 
 def test_loglog_fit_recovers_a_power_law():
