@@ -88,3 +88,20 @@ def test_changing_one_scene_reruns_only_what_depends_on_it(tmp_path):
     assert dry.returncode == 0, out[-2000:]
     assert "wildcards: scene=fig3" in out and "wildcards: fig=fig3" in out
     assert "scene=fig7" not in out and "scene=fig2" not in out and "fig=fig7" not in out
+
+
+@pytest.mark.workflow
+def test_changing_the_grid_runtime_resource_reruns_nothing(tmp_path):
+    """chunk_runtime_min schedules the chunk jobs; it is not part of what they compute."""
+    res = subprocess.run(_cmd(tmp_path, SMOKE, "-c2", GRID), capture_output=True, text=True, timeout=600)
+    assert res.returncode == 0, res.stderr[-2000:]
+    cfg = yaml.safe_load(SMOKE.read_text())
+    cfg["lyap_grid"]["chunk_runtime_min"] += 60
+    changed = tmp_path / "changed.yaml"
+    changed.write_text(yaml.safe_dump(cfg))
+    dry = subprocess.run(_cmd(tmp_path, changed, "-n", GRID), capture_output=True, text=True, timeout=120)
+    assert dry.returncode == 0 and "Nothing to be done" in dry.stdout + dry.stderr, (dry.stdout + dry.stderr)[-2000:]
+    cfg["lyap_grid"]["T"] *= 2  # what the grid computes does force a rerun
+    changed.write_text(yaml.safe_dump(cfg))
+    dry = subprocess.run(_cmd(tmp_path, changed, "-n", GRID), capture_output=True, text=True, timeout=120)
+    assert "lyap_grid_chunk" in dry.stdout + dry.stderr
