@@ -13,8 +13,8 @@ Run: ``python -m sleighsim.bench [--quick] OUT.nc`` or ``snakemake -c2 bench``.
 from __future__ import annotations
 
 import argparse
-import math
 import logging
+import math
 import time
 
 import numpy as np

@@ -339,12 +339,11 @@ def grid_gather(paths, cfg: dict) -> xr.Dataset:
                           {"long_name": "|mean lambda_1| x T: the b lanes start from one state (u scaled), so they "
                                         "sample independently only once this is well above ln(1e16) = 37"})
     ref = (int(np.argmin(np.abs(np.log(eps / cfg["reference_eps"])))), int(np.argmin(np.abs(np.log(bs)))))
+    ratio = (ds.row_spread.values / ds.row_stderr.values)[ds.row_lambda_T.values >= 100]
     ds.attrs.update(
         reference_point_eps=float(eps[ref[0]]), reference_point_b=float(bs[ref[1]]),
         reference_point_rel_err=float(err[ref] / abs(lam[ref])),
-        median_row_spread_over_stderr=float(np.nanmedian(np.where(ds.row_lambda_T.values >= 100, ds.row_spread.values
-                                                                  / ds.row_stderr.values, np.nan)))
-        if np.any(ds.row_lambda_T.values >= 100) else float("nan"),
+        median_row_spread_over_stderr=float(np.nanmedian(ratio)) if ratio.size else float("nan"),
         spread_rule="median over rows with lambda_1 T >= 100 of (standard deviation over b) / (mean block stderr)",
         chunk_wall_time_s=float(sum(c.attrs["wall_time_s"] for c in chunks)),
         start_rule=chunks[0].attrs["start_rule"],

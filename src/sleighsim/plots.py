@@ -286,11 +286,18 @@ def fig10(sources, png, pdf) -> None:
     finish(fig, ds.attrs, png, pdf)
 
 
+def _every_other_tick(axis, values) -> None:
+    """Label every other grid value on a log axis, without matplotlib's crowded minor labels."""
+    from matplotlib.ticker import NullFormatter
+
+    axis.set_minor_formatter(NullFormatter())
+    axis.set_ticks(values[::2], [f"{v:.2g}" for v in values[::2]])
+
+
 def fig11(sources, png, pdf) -> None:
     """Max Lyapunov exponent on the (eps, b) grid (log colour scale), flagged points marked; and
     lambda_1 against eps (b is a symmetry: every b of a row is the same system)."""
     from matplotlib.colors import LogNorm
-    from matplotlib.ticker import NullFormatter
 
     ds = read_dataset(sources[0])
     fig, (ax, bx) = plt.subplots(1, 2, figsize=(13, 5.8), gridspec_kw={"width_ratios": [1.3, 1]})
@@ -304,10 +311,8 @@ def fig11(sources, png, pdf) -> None:
     ax.plot(B[flagged], Eps[flagged], "wx", ms=5, mew=1.5, label="flagged: transient not over or not converged")
     ax.set_xscale("log")
     ax.set_yscale("log")
-    for axis in (ax.xaxis, ax.yaxis):
-        axis.set_minor_formatter(NullFormatter())
-    ax.set_xticks(ds.b.values[::2], [f"{v:.2g}" for v in ds.b.values[::2]])
-    ax.set_yticks(ds.eps.values[::2], [f"{v:.2g}" for v in ds.eps.values[::2]])
+    _every_other_tick(ax.xaxis, ds.b.values)
+    _every_other_tick(ax.yaxis, ds.eps.values)
     ax.set_xlabel("$b$")
     ax.set_ylabel(r"$\epsilon$")
     ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.1), facecolor="0.6")
@@ -324,8 +329,7 @@ def fig11(sources, png, pdf) -> None:
     bx.axhline(1e-4, color="0.5", ls=":", label="paper: smallest value > 1e-4")
     bx.set_xscale("log")
     bx.set_yscale("log")
-    bx.xaxis.set_minor_formatter(NullFormatter())
-    bx.set_xticks(eps[::2], [f"{v:.2g}" for v in eps[::2]])
+    _every_other_tick(bx.xaxis, eps)
     bx.set_xlabel(r"$\epsilon$")
     bx.set_ylabel(r"$\lambda_1$ (1/time; log scale, positive values)")
     bx.legend(fontsize=7)
