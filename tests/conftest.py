@@ -1,9 +1,20 @@
+import fcntl
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
+SMOKE = ROOT / "config" / "smoke.yaml"
+
+
+def snakemake(workdir, configfile, *args, timeout=900, cores=2):
+    """Run the workflow in ``workdir`` with ``configfile`` merged onto the paper config."""
+    cmd = [sys.executable, "-m", "snakemake", "-s", str(ROOT / "Snakefile"), "-d", str(workdir),
+           "--configfile", str(configfile), f"-c{cores}", *args]
+    return subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
 
 
 @pytest.fixture(scope="session")
@@ -14,3 +25,19 @@ def root():
 @pytest.fixture
 def rng():
     return np.random.default_rng(20261121)
+
+
+@pytest.fixture(scope="session")
+def smoke_run(tmp_path_factory, worker_id):
+    """The smoke workflow, run once per test session and shared, read-only, by every test that reads
+    it or dry-runs against it. Under pytest-xdist the first worker to need it runs it while the
+    others wait on a lock, then all reuse it."""
+    base = tmp_path_factory.getbasetemp()
+    base = base.parent if worker_id != "master" else base
+    workdir = base / "smoke_shared"
+    with open(base / "smoke_shared.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if not (workdir / "results" / "report" / "index.html").exists():
+            res = snakemake(workdir, SMOKE)
+            assert res.returncode == 0, res.stderr[-3000:]
+    return workdir

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from sleighsim import claims
+from sleighsim.outputs import claims
 from sleighsim.io import write_dataset
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -54,7 +54,7 @@ def test_ledger_on_synthetic_datasets(tmp_path):
     assert rows["C02"].verdict == "reproduced"  # needs only the model
     # A built figure is no better than the claims it illustrates.
     row = claims.Row(id="F12", statement="", paper_value="", verdict="reproduced")
-    claims._figure_from_claims(row, {"C22": rows["C22"]})
+    claims._figure_from_claims(row, {"C22": rows["C22"]}, ("C22",))
     assert row.verdict == "differs" and "C22" in row.reason
     _fig9(data / "fig9_ref.nc", n_loops=3, pairs=0)
     rows = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures")}
@@ -71,16 +71,12 @@ def _chromium():
 
 
 @pytest.mark.workflow
-def test_report_renders_in_headless_chromium(tmp_path):
+def test_report_renders_in_headless_chromium(smoke_run, tmp_path):
     """Render the smoke workflow's report: every image loads and every claim id appears."""
     browser = _chromium()
     if browser is None:
         pytest.skip("Chromium is not installed (apt-get install chromium); .ci/run installs it")
-    from test_workflow import SMOKE, snakemake
-
-    res = snakemake(tmp_path, SMOKE, "results/report/index.html")
-    assert res.returncode == 0, res.stderr[-3000:]
-    page = tmp_path / "results" / "report" / "index.html"
+    page = smoke_run / "results" / "report" / "index.html"
     flags = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
              "--disable-component-update", "--disable-sync", "--no-first-run", f"--user-data-dir={tmp_path / 'chrome'}",
              "--virtual-time-budget=10000"]
@@ -94,5 +90,5 @@ def test_report_renders_in_headless_chromium(tmp_path):
     subprocess.run([browser, *flags, f"--screenshot={shot}", "--window-size=1200,2000", page.as_uri()],
                    capture_output=True, timeout=120)
     assert shot.exists() and shot.stat().st_size > 10000
-    md = (tmp_path / "results" / "report" / "README.md").read_text()
+    md = (smoke_run / "results" / "report" / "README.md").read_text()
     assert "## Claims ledger" in md and "| C16 |" in md

@@ -1,20 +1,18 @@
-"""Failure behaviour of the workflow: interruption, partial reruns."""
+"""Failure behaviour of the workflow: interruption, partial reruns, what a change reruns."""
 
 import os
 import signal
 import subprocess
 import sys
 import time
-from pathlib import Path
 
 import numpy as np
 import pytest
 import yaml
+from conftest import ROOT, SMOKE, snakemake
 
 from sleighsim.io import read_dataset
 
-ROOT = Path(__file__).resolve().parents[1]
-SMOKE = ROOT / "config" / "smoke.yaml"
 GRID = "results/data/fig11_grid.nc"
 
 
@@ -24,31 +22,24 @@ def _cmd(workdir, configfile, *args):
 
 
 @pytest.mark.workflow
-def test_sigterm_during_the_grid_keeps_finished_shards_and_reruns_the_rest(tmp_path):
-    cfg = yaml.safe_load(SMOKE.read_text())
-    cfg["lyap_grid"]["n_chunks"] = cfg["lyap_grid"]["n_eps"]  # one eps row per chunk
-    config = tmp_path / "grid.yaml"
-    config.write_text(yaml.safe_dump(cfg))
-    reference = tmp_path / "reference"
-    done = subprocess.run(_cmd(reference, config, "-c1", GRID), capture_output=True, text=True, timeout=600)
-    assert done.returncode == 0, done.stderr[-2000:]
-
+def test_sigterm_during_the_grid_keeps_finished_chunks_and_reruns_the_rest(smoke_run, tmp_path):
+    """The smoke grid has one eps row per chunk; the reference is the shared smoke run."""
     run = tmp_path / "interrupted"
-    chunks = run / "results" / "lyapunov"
-    proc = subprocess.Popen(_cmd(run, config, "-c1", GRID), stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+    chunks = run / "results" / "chunks" / "fig11_grid"
+    proc = subprocess.Popen(_cmd(run, SMOKE, "-c1", GRID), stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                             start_new_session=True)
     deadline = time.time() + 300
 
-    def chunks_finished():  # Snakemake's own record that a shard job completed
+    def chunks_finished():  # Snakemake's own record that a chunk job completed
         logs = list((run / ".snakemake" / "log").glob("*.snakemake.log"))
-        return sum(line.startswith("Finished jobid") and "lyap_grid_chunk" in line
+        return sum(line.startswith("Finished jobid") and "Rule: chunk" in line
                    for f in logs for line in f.read_text().splitlines())
 
     while time.time() < deadline and chunks_finished() < 1:
         time.sleep(0.05)
-    finished = sorted(chunks.glob("grid_chunk*.nc"))
+    finished = sorted(chunks.glob("*.nc"))
     os.killpg(proc.pid, signal.SIGTERM)
-    assert finished, "no shard finished before the deadline"
+    assert finished, "no chunk finished before the deadline"
     stamps = {p.name: p.stat().st_mtime_ns for p in finished}
     try:
         proc.wait(timeout=60)
@@ -61,29 +52,27 @@ def test_sigterm_during_the_grid_keeps_finished_shards_and_reruns_the_rest(tmp_p
     if graceful:
         assert not list(chunks.glob(".*.tmp"))  # SIGTERM lets the job delete its temporary file
     else:  # a hard kill leaves Snakemake's lock, which the user removes as Snakemake says
-        unlock = subprocess.run(_cmd(run, config, "--unlock"), capture_output=True, text=True, timeout=120)
+        unlock = subprocess.run(_cmd(run, SMOKE, "--unlock"), capture_output=True, text=True, timeout=120)
         assert unlock.returncode == 0, unlock.stderr[-2000:]
 
-    again = subprocess.run(_cmd(run, config, "-c1", "--rerun-incomplete", GRID), capture_output=True, text=True,
+    again = subprocess.run(_cmd(run, SMOKE, "-c1", "--rerun-incomplete", GRID), capture_output=True, text=True,
                            timeout=600)
     assert again.returncode == 0, again.stderr[-2000:]
     for name, stamp in stamps.items():
         assert (chunks / name).stat().st_mtime_ns == stamp, f"{name} was recomputed"
-    a, b = read_dataset(reference / GRID), read_dataset(run / GRID)
+    a, b = read_dataset(smoke_run / GRID), read_dataset(run / GRID)
     for name in ("lambda_1", "stderr", "flagged"):
         assert np.array_equal(a[name].values, b[name].values, equal_nan=True), name
 
 
 @pytest.mark.workflow
-def test_changing_one_scene_reruns_only_what_depends_on_it(tmp_path):
+def test_changing_one_scene_reruns_only_what_depends_on_it(smoke_run, tmp_path):
     target = ["results/figures/fig3.png", "results/figures/fig7.png", "results/figures/fig2.png"]
-    res = subprocess.run(_cmd(tmp_path, SMOKE, "-c2", *target), capture_output=True, text=True, timeout=600)
-    assert res.returncode == 0, res.stderr[-2000:]
     cfg = yaml.safe_load(SMOKE.read_text())
     cfg["scenes"]["fig3"]["t_end"] = 250.0
     changed = tmp_path / "changed.yaml"
     changed.write_text(yaml.safe_dump(cfg, sort_keys=True))  # reordered keys must not count as a change
-    dry = subprocess.run(_cmd(tmp_path, changed, "-n", *target), capture_output=True, text=True, timeout=120)
+    dry = snakemake(smoke_run, changed, "-n", *target, timeout=120)
     out = dry.stdout + dry.stderr
     assert dry.returncode == 0, out[-2000:]
     assert "wildcards: scene=fig3" in out and "wildcards: fig=fig3" in out
@@ -91,17 +80,15 @@ def test_changing_one_scene_reruns_only_what_depends_on_it(tmp_path):
 
 
 @pytest.mark.workflow
-def test_changing_the_grid_runtime_resource_reruns_nothing(tmp_path):
+def test_changing_the_grid_runtime_resource_reruns_nothing(smoke_run, tmp_path):
     """chunk_runtime_min schedules the chunk jobs; it is not part of what they compute."""
-    res = subprocess.run(_cmd(tmp_path, SMOKE, "-c2", GRID), capture_output=True, text=True, timeout=600)
-    assert res.returncode == 0, res.stderr[-2000:]
     cfg = yaml.safe_load(SMOKE.read_text())
-    cfg["lyap_grid"]["chunk_runtime_min"] += 60
+    cfg["scenes"]["fig11_grid"]["chunk_runtime_min"] += 60
     changed = tmp_path / "changed.yaml"
     changed.write_text(yaml.safe_dump(cfg))
-    dry = subprocess.run(_cmd(tmp_path, changed, "-n", GRID), capture_output=True, text=True, timeout=120)
+    dry = snakemake(smoke_run, changed, "-n", GRID, timeout=120)
     assert dry.returncode == 0 and "Nothing to be done" in dry.stdout + dry.stderr, (dry.stdout + dry.stderr)[-2000:]
-    cfg["lyap_grid"]["T"] *= 2  # what the grid computes does force a rerun
+    cfg["scenes"]["fig11_grid"]["T"] *= 2  # what the grid computes does force a rerun
     changed.write_text(yaml.safe_dump(cfg))
-    dry = subprocess.run(_cmd(tmp_path, changed, "-n", GRID), capture_output=True, text=True, timeout=120)
-    assert "lyap_grid_chunk" in dry.stdout + dry.stderr
+    dry = snakemake(smoke_run, changed, "-n", GRID, timeout=120)
+    assert "rule chunk:" in dry.stdout + dry.stderr

@@ -3,7 +3,8 @@
 import numpy as np
 import pytest
 
-from sleighsim import hardcases, model
+from sleighsim.params import Params
+from sleighsim.scenes import hardcases
 
 CFG = dict(small_eps=[1e-3, 1e-5], large_eps=[0.99], labels=[1e-6, 1e6], T_eps=20.0, T_scaling=20.0, T_long=2000.0,
            tol=2.220446049250313e-16, scipy_rtol=1e-12, max_drift=1e-10, max_disagreement=1e-6,
@@ -12,7 +13,7 @@ CFG = dict(small_eps=[1e-3, 1e-5], large_eps=[0.99], labels=[1e-6, 1e6], T_eps=2
 
 @pytest.fixture(scope="module")
 def cases():
-    return hardcases.run(CFG)
+    return hardcases.hardcases(CFG)
 
 
 def test_every_case_has_an_outcome(cases):
@@ -41,4 +42,4 @@ def test_refused_cases_raise_the_documented_error(cases):
     assert "admissible range (0, 1)" in refused["eps = 1.5"] and "formal=True" in refused["eps = 1.5"]
     assert "must be positive" in refused["eps = 0"]
     with pytest.raises(ValueError, match="admissible range"):
-        model.Params.paper(eps=1.5)
+        Params.paper(eps=1.5)

@@ -5,7 +5,10 @@ import math
 import numpy as np
 import pytest
 
-from sleighsim import chaos, lyapunov, model
+from sleighsim import fits, lyapunov, model
+from sleighsim.params import Params
+from sleighsim.scenes import grid, verdict
+from sleighsim.symmetries import REFERENCE_STATE, b_image, state_at_label
 from sleighsim.integrate import final_state, integrate
 
 
@@ -75,20 +78,20 @@ def test_zero_one_test_separates_regular_from_chaotic():
 def test_sleigh_exponents_sum_to_the_mean_divergence():
     """Sum of all exponents = (1/T) integral of trace J, exactly (det of the tangent map),
     computed here without tangent vectors; the near-zero pair needs the long run."""
-    p = model.Params.paper(eps=0.1)
-    y = model.REFERENCE_STATE
-    ta, _ = chaos._tangent(4, 1e-13, True)
+    p = Params.paper(eps=0.1)
+    y = REFERENCE_STATE
+    ta, _ = lyapunov.sleigh_tangent(4, 1e-13, True)
     ta.pars[:] = p.values
     r = lyapunov.benettin(ta, 4, 4, y, t_align=0.0, T=2000.0, tau=5.0)
     lam = r["exponents"]
-    div = chaos.mean_divergence(p, y, 2000.0, 1e-13)
+    div = lyapunov.mean_divergence(p, y, 2000.0, 1e-13)
     assert lam.sum() == pytest.approx(div, abs=1e-9)
     assert abs(div) > 1e-5  # the flow contracts phase-space volume (C18) although E is invariant
 
 
 def test_grid_axes_are_log_spaced_and_cover_the_range():
     cfg = {"eps_range": [0.02, 0.5], "n_eps": 13, "b_range": [0.25, 4.0], "n_b": 12}
-    eps, bs = chaos.grid_axes(cfg)
+    eps, bs = grid.axes(cfg)
     assert eps.size == 13 and bs.size == 12 and eps[0] == 0.02 and bs[-1] == pytest.approx(4.0)
     assert np.allclose(np.diff(np.log(eps)), np.log(25) / 12)
     assert eps[6] == pytest.approx(0.1)  # an odd n_eps puts the reference eps on the grid
@@ -96,14 +99,14 @@ def test_grid_axes_are_log_spaced_and_cover_the_range():
 
 def test_loglog_fit_recovers_a_power_law():
     x = np.geomspace(1e-3, 1e3, 7)
-    slope, err = chaos._fit_loglog(x, 2e-4 * x**0.5, 1e-6 * x**0.5)
+    slope, _, err = fits.loglog(x, 2e-4 * x**0.5, 1e-6 * x**0.5, min_points=3)
     assert slope == pytest.approx(0.5, abs=1e-9) and 0 < err < 1e-3
 
 
 def test_batch_lanes_match_the_scalar_benettin_run():
     """Two grid-like points (different params and renormalisation intervals) in SIMD lanes."""
-    ps = [model.Params.paper(eps=0.1, b=1.0), model.Params.paper(eps=0.2, b=0.5)]
-    ys = np.array([model.state_at_label([0.0, 0.1, 1.0, 0.0], p, 0.1127) for p in ps])
+    ps = [Params.paper(eps=0.1, b=1.0), Params.paper(eps=0.2, b=0.5)]
+    ys = np.array([state_at_label([0.0, 0.1, 1.0, 0.0], p, 0.1127) for p in ps])
     taus = np.array([5.0, 3.0])
     ta, n, _ = lyapunov.tangent_integrator_batch(model.heyoka_system(), 2, npars=6, compact_mode=True)
     ta.pars[:] = np.array([p.values for p in ps]).T
@@ -119,22 +122,22 @@ def test_batch_lanes_match_the_scalar_benettin_run():
 
 def test_b_image_maps_a_trajectory_at_one_b_onto_the_trajectory_at_another():
     """The grid starts every b of a row from one settled state: exact only if the symmetry holds."""
-    y0 = model.state_at_label([0.03, 0.1, 1.0, 0.4], model.Params.paper(eps=0.2, b=1.0), 0.1127)
+    y0 = state_at_label([0.03, 0.1, 1.0, 0.4], Params.paper(eps=0.2, b=1.0), 0.1127)
     ends = {}
     for b in (1.0, 2.5):
-        p = model.Params.paper(eps=0.2, b=b)
-        ends[b] = final_state(integrate(p, chaos.b_image(y0, 1.0, b), [0.0, 60.0], tol=1e-15))
-    assert np.allclose(chaos.b_image(ends[1.0], 1.0, 2.5), ends[2.5], rtol=1e-9, atol=1e-11)
+        p = Params.paper(eps=0.2, b=b)
+        ends[b] = final_state(integrate(p, b_image(y0, 1.0, b), [0.0, 60.0], tol=1e-15))
+    assert np.allclose(b_image(ends[1.0], 1.0, 2.5), ends[2.5], rtol=1e-9, atol=1e-11)
     assert not np.allclose(ends[1.0], ends[2.5], rtol=1e-3)  # u itself differs: the map is not the identity
 
 
 def test_grid_horizons_scale_with_the_fast_time_unit_and_pre_runs_with_one_over_eps_squared():
     cfg = {"energy_label": 0.1127, "reference_eps": 0.1, "t_pre": 2e4, "t_pre_min": 5e3}
-    assert chaos.grid_time_scale(cfg, 0.1) == pytest.approx(1.0)
-    s = [chaos.grid_time_scale(cfg, e) for e in (0.02, 0.05, 0.2, 0.5)]
+    assert grid.time_scale(cfg, 0.1) == pytest.approx(1.0)
+    s = [grid.time_scale(cfg, e) for e in (0.02, 0.05, 0.2, 0.5)]
     assert np.all(np.diff(s) > 0) and s[0] < 0.2 < 2 < s[-1]  # the rotor spins faster at small eps
-    assert chaos.grid_pre_run(cfg, 0.02) == pytest.approx(5e5)
-    assert chaos.grid_pre_run(cfg, 0.5) == 5e3  # the floor
+    assert grid.pre_run(cfg, 0.02) == pytest.approx(5e5)
+    assert grid.pre_run(cfg, 0.5) == 5e3  # the floor
 
 
 def _verdict_inputs(tmp_path, lam, err, slope, phi, dt):
@@ -145,7 +148,7 @@ def _verdict_inputs(tmp_path, lam, err, slope, phi, dt):
     pc = xr.Dataset({"p2pi_u": ("n", phi), "p2pi_time": ("n", dt * np.arange(len(phi)))})
     spec.to_netcdf(tmp_path / "spec.nc")
     pc.to_netcdf(tmp_path / "pc.nc")
-    return tmp_path / "spec.nc", tmp_path / "pc.nc"
+    return {"spectrum": tmp_path / "spec.nc", "poincare": tmp_path / "pc.nc"}
 
 
 def test_a_short_smooth_record_is_not_evidence_of_regularity(tmp_path):
@@ -154,7 +157,7 @@ def test_a_short_smooth_record_is_not_evidence_of_regularity(tmp_path):
            "K_threshold": 0.5, "min_lyapunov_times": 100.0}
     smooth = np.sin(0.01 * np.arange(4000)) + 0.5 * np.sin(0.0131 * np.arange(4000))
     # zero exponent with a tight bound: the record spans (3 * 1e-7) * 4000 * 1.8 << 100 Lyapunov times
-    ds = chaos.verdict(*_verdict_inputs(tmp_path, 1e-8, 1e-7, -1.0, smooth, 1.8), cfg)
+    ds = verdict.verdict(cfg, _verdict_inputs(tmp_path, 1e-8, 1e-7, -1.0, smooth, 1.8))
     assert ds.attrs["zero_one_K"] < 0.5 and ds.attrs["verdict"] == "undecided" and not ds.attrs["zero_one_informative"]
-    ds = chaos.verdict(*_verdict_inputs(tmp_path, 1e-8, 1e-7, -1.0, smooth, 1e5), cfg)  # the same samples, spread out
+    ds = verdict.verdict(cfg, _verdict_inputs(tmp_path, 1e-8, 1e-7, -1.0, smooth, 1e5))  # the same samples, spread out
     assert ds.attrs["verdict"] == "quasi-periodic" and ds.attrs["zero_one_informative"]

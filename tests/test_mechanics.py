@@ -5,7 +5,9 @@ import pytest
 import sympy as sp
 
 from sleighsim import mechanics as mech
-from sleighsim import model
+from sleighsim import model, printed
+from sleighsim.params import Params
+from sleighsim.symmetries import REFERENCE_STATE
 
 
 def test_derived_matrix_form_matches_lagrange_multiplier_form():
@@ -43,13 +45,13 @@ def test_printed_Omegadot_and_omegadot_equal_derived_udot_differs(rng):
         b = rng.uniform(0.2, 5.0)
         K2 = 1.0 + rng.uniform(0.01, 2.0)
         y = rng.uniform(-2, 2, 4)
-        p = model.Params.paper(eps=eps, b=b, K2=K2)
+        p = Params.paper(eps=eps, b=b, K2=K2)
         derived = model.rhs(y, p)
-        printed = model.paper_printed_rhs(y, eps, b, K2)
+        as_printed = printed.rhs(y, eps, b, K2)
         scale = np.abs(derived) + 1e-300
         for i in range(3):
-            worst[i] = max(worst[i], abs(derived[i] - printed[i]) / max(scale[i], 1e-3))
-        assert derived[3] == printed[3]
+            worst[i] = max(worst[i], abs(derived[i] - as_printed[i]) / max(scale[i], 1e-3))
+        assert derived[3] == as_printed[3]
     assert worst[1] < 1e-12 and worst[2] < 1e-12, worst
     assert worst[0] > 1e-2, "the printed udot should differ from the mechanics"
 
@@ -58,12 +60,12 @@ def test_printed_udot_differs_by_the_omega_squared_term():
     """SCIENCE.md: printed b w^2 eps (eps (K2-1) + K2) cos / D vs derived b w^2 eps^2 (K2^2 + eps (K2-1)) cos / D."""
     sub = mech.paper_substitution()
     derived = sp.together(mech.derive().rhs[0].subs(sub))
-    printed = mech.paper_printed()[0]
+    udot_printed = printed.equations()[0]
     D = mech.eps * (mech.K2 - 1) * sp.cos(mech.delta) ** 2 + mech.K2**2
     bw2c = mech.b * mech.omega**2 * sp.cos(mech.delta) / D
     expected_gap = bw2c * (mech.eps * (mech.eps * (mech.K2 - 1) + mech.K2)
                            - mech.eps**2 * (mech.K2**2 + mech.eps * (mech.K2 - 1)))
-    gap = sp.lambdify((*mech.STATE, mech.eps, mech.b, mech.K2), printed - derived - expected_gap)
+    gap = sp.lambdify((*mech.STATE, mech.eps, mech.b, mech.K2), udot_printed - derived - expected_gap)
     rng = np.random.default_rng(1)
     for _ in range(50):
         args = (*rng.uniform(-2, 2, 4), rng.uniform(0.01, 0.9), rng.uniform(0.2, 3), 1 + rng.uniform(0.01, 2))
@@ -71,9 +73,7 @@ def test_printed_udot_differs_by_the_omega_squared_term():
 
 
 def test_printed_udot_does_not_conserve_energy():
-    from sleighsim.audit import printed_energy_drift
-
-    ds = printed_energy_drift(model.Params.paper(eps=0.1), model.REFERENCE_STATE, np.linspace(0, 1000, 101))
+    ds = printed.energy_drift(Params.paper(eps=0.1), REFERENCE_STATE, np.linspace(0, 1000, 101))
     assert ds.attrs["derived_max_abs_rel_change"] < 1e-11
     assert ds.attrs["printed_max_abs_rel_change"] > 0.5  # measured: about 1.37 within 1000 time units
 
@@ -90,7 +90,7 @@ def test_paper_energy_formula_matches_mechanics(rng):
 
 
 def test_reference_state_energy_is_not_the_printed_label():
-    E = float(model.energy(model.REFERENCE_STATE, model.Params.paper(eps=0.1)))
+    E = float(model.energy(REFERENCE_STATE, Params.paper(eps=0.1)))
     assert E == pytest.approx(0.0071, rel=1e-12)  # 0.0055 + 0.001 + 0.0006, not 0.1127
 
 

@@ -5,10 +5,12 @@ import math
 import numpy as np
 import pytest
 
-from sleighsim import model
+from sleighsim import model, sleigh0
 from sleighsim.integrate import DEFAULT_TOL, integrate, sample_grid
+from sleighsim.params import PARAM_NAMES, Params
+from sleighsim.symmetries import REFERENCE_LABEL, REFERENCE_STATE, energy_label, state_at_label
 
-REF = model.REFERENCE_STATE
+REF = REFERENCE_STATE
 
 
 @pytest.mark.parametrize(
@@ -21,30 +23,30 @@ REF = model.REFERENCE_STATE
 )
 def test_paper_params_reject_bad_values_naming_the_parameter(kwargs, name):
     with pytest.raises(ValueError, match=rf"^{name} = .*(admissible range|not a finite)"):
-        model.Params.paper(**kwargs)
+        Params.paper(**kwargs)
 
 
 def test_physical_params_reject_singular_inertia_and_negative_values():
     with pytest.raises(ValueError, match="not positive definite"):
-        model.Params.physical(m_c=1.0, m_r=0.1, I_c=0.1, I_r=0.0, a=0.0, b=1.0)
+        Params.physical(m_c=1.0, m_r=0.1, I_c=0.1, I_r=0.0, a=0.0, b=1.0)
     with pytest.raises(ValueError, match=r"^m_c = .*admissible range \(0, inf\)"):
-        model.Params.physical(m_c=0.0, m_r=0.1, I_c=0.1, I_r=0.1, a=0.1, b=1.0)
+        Params.physical(m_c=0.0, m_r=0.1, I_c=0.1, I_r=0.1, a=0.1, b=1.0)
     with pytest.raises(ValueError, match=r"^I_r = .*admissible range \[0, inf\)"):
-        model.Params.physical(m_c=1.0, m_r=0.1, I_c=0.1, I_r=-0.1, a=0.1, b=1.0)
+        Params.physical(m_c=1.0, m_r=0.1, I_c=0.1, I_r=-0.1, a=0.1, b=1.0)
 
 
 def test_paper_form_round_trips_through_physical_parameters():
-    p = model.Params.paper(eps=0.1, b=2.0, K2=1.3)
+    p = Params.paper(eps=0.1, b=2.0, K2=1.3)
     assert p.is_paper_form
     assert (p.eps, p.b, p.K2) == pytest.approx((0.1, 2.0, 1.3), rel=1e-14)
-    assert model.Params.paper(eps=0.1).K2 == pytest.approx(1.1)  # default K2 = 1 + eps
-    q = model.Params.physical(**{k: getattr(p, k) for k in model.PARAM_NAMES})
+    assert Params.paper(eps=0.1).K2 == pytest.approx(1.1)  # default K2 = 1 + eps
+    q = Params.physical(**{k: getattr(p, k) for k in PARAM_NAMES})
     assert q == p and q.is_paper_form
-    assert not model.Params.physical(m_c=2.0, m_r=0.1, I_c=0.3, I_r=0.01, a=0.2, b=1.0).is_paper_form
+    assert not Params.physical(m_c=2.0, m_r=0.1, I_c=0.3, I_r=0.01, a=0.2, b=1.0).is_paper_form
 
 
 def test_rhs_is_vectorised(rng):
-    p = model.Params.paper(eps=0.2)
+    p = Params.paper(eps=0.2)
     Y = rng.uniform(-1, 1, (5, 3, 4))
     out = model.rhs(Y, p)
     assert out.shape == Y.shape
@@ -54,7 +56,7 @@ def test_rhs_is_vectorised(rng):
 
 
 def test_jacobian_matches_finite_differences(rng):
-    p = model.Params.paper(eps=0.3, b=1.5)
+    p = Params.paper(eps=0.3, b=1.5)
     y = rng.uniform(-1, 1, 4)
     J = model.jacobian(y, p)
     h = 1e-6
@@ -67,7 +69,7 @@ def test_jacobian_matches_finite_differences(rng):
 
 def test_energy_is_a_first_integral_of_the_vector_field(rng):
     """dE/dt = grad E . f = 0 pointwise, independently of any integrator."""
-    p = model.Params.paper(eps=0.4, b=0.7, K2=1.8)
+    p = Params.paper(eps=0.4, b=0.7, K2=1.8)
     for y in rng.uniform(-2, 2, (20, 4)):
         h = 1e-6
         grad = np.array([(model.energy(y + h * e, p) - model.energy(y - h * e, p)) / (2 * h) for e in np.eye(4)])
@@ -75,25 +77,25 @@ def test_energy_is_a_first_integral_of_the_vector_field(rng):
 
 
 def test_only_equilibria_have_zero_angular_velocities(rng):
-    p = model.Params.paper(eps=0.1)
+    p = Params.paper(eps=0.1)
     for u, de in rng.uniform(-2, 2, (10, 2)):
         assert np.allclose(model.rhs([u, 0.0, 0.0, de], p), 0.0, atol=1e-15)
 
 
 @pytest.mark.parametrize("eps", [0.01, 0.1, 0.5])
 def test_energy_drift_below_1e10_over_1e4_time_units(eps):
-    p = model.Params.paper(eps=eps)
+    p = Params.paper(eps=eps)
     ds = integrate(p, REF, sample_grid(0.0, 1e4, 1.0))
     assert ds.attrs["energy_max_rel_drift"] < 1e-10, ds.attrs["energy_max_rel_drift"]
 
 
 def test_sleigh0_closed_form_matches_integration():
     b, K2 = 1.3, 1.2
-    p = model.Params.sleigh0(b=b, K2=K2)
+    p = Params.sleigh0(b=b, K2=K2)
     for u0, Om0 in [(0.0, 1.0), (0.3, -0.4), (-0.5, 0.2)]:
         t = np.linspace(0, 30, 301)
         ds = integrate(p, [u0, Om0, 0.7, 0.0], t, kinematics=True)
-        u_cf, Om_cf, th_cf = model.sleigh0_closed_form(t, u0, Om0, b, K2)
+        u_cf, Om_cf, th_cf = sleigh0.closed_form(t, u0, Om0, b, K2)
         assert np.max(np.abs(ds.u - u_cf)) < 1e-10
         assert np.max(np.abs(ds.Omega - Om_cf)) < 1e-10
         assert np.max(np.abs(ds.theta - th_cf)) < 1e-10
@@ -103,9 +105,9 @@ def test_sleigh0_closed_form_matches_integration():
 def test_sleigh0_closed_form_solves_its_ode():
     b, K2 = 0.8, 1.4
     t = np.linspace(-5, 5, 2001)
-    u, Om, _ = model.sleigh0_closed_form(t, 0.2, 0.6, b, K2)
+    u, Om, _ = sleigh0.closed_form(t, 0.2, 0.6, b, K2)
     du, dOm = np.gradient(u, t), np.gradient(Om, t)
-    rhs = model.sleigh0_rhs(np.stack([u, Om], axis=-1), b, K2)
+    rhs = sleigh0.rhs(np.stack([u, Om], axis=-1), b, K2)
     assert np.max(np.abs(du - rhs[:, 0])[1:-1]) < 1e-4
     assert np.max(np.abs(dOm - rhs[:, 1])[1:-1]) < 1e-4
     V2 = 0.2**2 + K2 * b**2 * 0.6**2  # the closed form stays on its energy ellipse
@@ -115,7 +117,7 @@ def test_sleigh0_closed_form_solves_its_ode():
 @pytest.mark.parametrize("c", [2.0, 0.5])
 def test_time_scaling_symmetry(c):
     """(c u, c Omega, c omega, delta)(c t) is a solution: compare on a short horizon."""
-    p = model.Params.paper(eps=0.1)
+    p = Params.paper(eps=0.1)
     y0 = np.array([0.05, 0.1, 1.0, 0.3])
     T = 50.0
     base = integrate(p, y0, np.linspace(0, T, 101))
@@ -127,7 +129,7 @@ def test_time_scaling_symmetry(c):
 
 def test_reversibility():
     """(-u, -Omega, -omega, delta)(-t) is a solution: run forward, flip, run forward again."""
-    p = model.Params.paper(eps=0.1)
+    p = Params.paper(eps=0.1)
     y0 = np.array([0.05, 0.1, 1.0, 0.3])
     T = 50.0
     fwd = integrate(p, y0, [0.0, T])
@@ -138,13 +140,13 @@ def test_reversibility():
 
 
 def test_energy_label_and_rescaling():
-    p = model.Params.paper(eps=0.1)
-    assert float(model.energy_label(REF, p)) == pytest.approx(model.REFERENCE_LABEL, rel=1e-14)
-    y = model.state_at_label(REF, p, 0.8313)
-    assert float(model.energy_label(y, p)) == pytest.approx(0.8313, rel=1e-12)
+    p = Params.paper(eps=0.1)
+    assert float(energy_label(REF, p)) == pytest.approx(REFERENCE_LABEL, rel=1e-14)
+    y = state_at_label(REF, p, 0.8313)
+    assert float(energy_label(y, p)) == pytest.approx(0.8313, rel=1e-12)
     assert y[3] == REF[3] and y[1] / REF[1] == pytest.approx(math.sqrt(0.8313 / 0.1127))
     with pytest.raises(ValueError, match="energy label"):
-        model.state_at_label(REF, p, -1.0)
+        state_at_label(REF, p, -1.0)
 
 
 def test_default_tolerance_is_double_epsilon():
@@ -153,8 +155,8 @@ def test_default_tolerance_is_double_epsilon():
 
 def test_eps_above_one_is_refused_unless_formal():
     with pytest.raises(ValueError, match=r"^eps = 25.0 .*admissible range \(0, 1\).*formal=True"):
-        model.Params.paper(eps=25.0)
-    p = model.Params.paper(eps=25.0, formal=True)
+        Params.paper(eps=25.0)
+    p = Params.paper(eps=25.0, formal=True)
     assert p.m_c < 0 and p.eps == pytest.approx(25.0)
     y = np.array([0.1, 0.2, 0.3, 0.4])
     assert float(model.energy(y, p)) > 0  # the inertia stays positive definite
@@ -162,6 +164,6 @@ def test_eps_above_one_is_refused_unless_formal():
 
 def test_sleigh0_field_is_the_derived_model_with_a_decoupled_rotor(rng):
     b, K2 = 1.3, 1.2
-    p = model.Params.sleigh0(b=b, K2=K2)
+    p = Params.sleigh0(b=b, K2=K2)
     Y = np.c_[rng.uniform(-2, 2, (50, 2)), rng.uniform(-2, 2, 50), rng.uniform(-7, 7, 50)]
-    assert np.allclose(model.sleigh0_rhs(Y[:, :2], b, K2), model.rhs(Y, p)[:, :2], rtol=1e-13, atol=1e-14)
+    assert np.allclose(sleigh0.rhs(Y[:, :2], b, K2), model.rhs(Y, p)[:, :2], rtol=1e-13, atol=1e-14)

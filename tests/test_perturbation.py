@@ -6,10 +6,12 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from sleighsim import fits, model, transient
+from sleighsim import fits, model, sleigh0, transient
 from sleighsim import mechanics as mech
 from sleighsim import perturbation as pert
-from sleighsim.transient_scenes import _groups, convergence_study
+from sleighsim.params import Params
+from sleighsim.scenes.hierarchy import convergence_study
+from sleighsim.scenes.transients import _groups
 
 REF = [0.0, 0.1, 1.0, 0.0]
 
@@ -35,7 +37,7 @@ def test_order_zero_is_the_eps_zero_sleigh():
     # and numerically against the closed form of the rotor-free sleigh
     t = np.linspace(0.0, 60.0, 301)
     ds = pert.integrate_hierarchy(0, REF, t, K2=1.1)
-    u_cf, Om_cf, _ = model.sleigh0_closed_form(t, 0.0, 0.1, 1.0, 1.1)
+    u_cf, Om_cf, _ = sleigh0.closed_form(t, 0.0, 0.1, 1.0, 1.1)
     assert np.max(np.abs(ds.u0.values - u_cf)) < 1e-13
     assert np.max(np.abs(ds.Omega0.values - Om_cf)) < 1e-13
 
@@ -78,7 +80,7 @@ def test_printed_hierarchy_differs_only_where_the_mechanics_says():
 
 
 def test_model_is_symmetric_under_the_mirror_map():
-    p = model.Params.paper(eps=0.1)
+    p = Params.paper(eps=0.1)
     y = np.random.default_rng(0).uniform(-1, 1, (50, 4))
     mirror = np.array([1.0, -1.0, -1.0, -1.0])
     assert np.allclose(model.rhs(y * mirror, p), model.rhs(y, p) * mirror, atol=1e-15)

@@ -6,11 +6,13 @@ import numpy as np
 import pytest
 
 from sleighsim import model, poincare, spectra, transient
+from sleighsim.params import Params
+from sleighsim.symmetries import REFERENCE_STATE
 
 
 def test_crossings_complete_and_on_the_section_for_uniform_rotation():
     """Rotor-free sleigh at rest in (u, Omega): delta(t) = delta0 - omega0 t exactly."""
-    p = model.Params.sleigh0(b=1.0, K2=1.1)
+    p = Params.sleigh0(b=1.0, K2=1.1)
     delta0, omega0, t0, t1 = 0.3, 1.7, 5.0, 400.0
     c = poincare.crossings(p, [0.2, 0.0, omega0, delta0], t0, t1)
     # delta at t is delta0 - omega0 (t - t0); crossings k pi/2 for k from floor(...) down
@@ -24,13 +26,13 @@ def test_crossings_complete_and_on_the_section_for_uniform_rotation():
 
 
 def test_crossing_residuals_on_the_sleigh_attractor_region():
-    p = model.Params.paper(eps=0.1)
-    c = poincare.crossings(p, model.REFERENCE_STATE, 0.0, 3000.0)
+    p = Params.paper(eps=0.1)
+    c = poincare.crossings(p, REFERENCE_STATE, 0.0, 3000.0)
     assert len(c["time"]) > 1000
     assert np.max(c["residual"]) < 1e-12
     assert np.all(np.diff(c["time"]) > 0)
     E = model.energy(np.c_[c["u"], c["Omega"], c["omega"], c["k"] * math.pi / 2], p)
-    assert np.max(np.abs(E / model.energy(model.REFERENCE_STATE, p) - 1)) < 1e-10
+    assert np.max(np.abs(E / model.energy(REFERENCE_STATE, p) - 1)) < 1e-10
 
 
 def _embedded_circle(theta):

@@ -1,6 +1,6 @@
-"""Least-squares fits of a line plus one sinusoid, with a stated uncertainty.
+"""Least-squares fits: power laws (log-log), a line plus one sinusoid, a phase.
 
-x(t) ~ c0 + r t + A sin(w t) + B cos(w t), w free (scipy.optimize.curve_fit
+Power laws: :func:`loglog`. Line plus sinusoid: x(t) ~ c0 + r t + A sin(w t) + B cos(w t), w free (scipy.optimize.curve_fit
 started from the periodogram peak near a guess; samples uniform in t). The
 record is deterministic, so the formal standard errors of the fit understate
 the error of the model; the uncertainty reported is the larger of the formal
@@ -71,3 +71,30 @@ def phase_against(x, angle) -> dict:
     # -A sin(angle + phi) = -A cos(phi) sin(angle) - A sin(phi) cos(angle)
     return {"amplitude": float(np.hypot(a, c)), "phase": float(math.atan2(-c, -a)),
             "rms_residual": float(np.sqrt(np.mean((x - M @ [a, c]) ** 2)))}
+
+
+def loglog(x, y, yerr=None, *, min_points: int = 2) -> tuple[float, float, float]:
+    """Power law y ~ exp(c) x^k by least squares of log y on log x. Returns (k, c, standard error of k).
+
+    Unweighted unless ``yerr`` is given; then each point is weighted by (y / yerr)^2 (its relative
+    error) and the slope's standard error is scaled by the reduced chi-square when that exceeds 1.
+    All NaN when there are fewer than ``min_points`` points; the standard error needs three."""
+    x, y = np.asarray(x, float), np.asarray(y, float)
+    nan = float("nan")
+    if x.size < min_points:
+        return nan, nan, nan
+    lx, ly = np.log(x), np.log(y)
+    if yerr is None:
+        k, c = np.polyfit(lx, ly, 1)
+        if x.size < 3:
+            return float(k), float(c), nan
+        resid = ly - (k * lx + c)
+        se = math.sqrt(float(np.sum(resid**2)) / (x.size - 2) / float(np.sum((lx - lx.mean()) ** 2)))
+        return float(k), float(c), se
+    w = 1.0 / np.maximum(np.asarray(yerr, float) / y, 1e-12) ** 2
+    X = np.c_[lx, np.ones(x.size)]
+    cov = np.linalg.inv(X.T @ (w[:, None] * X))
+    beta = cov @ X.T @ (w * ly)
+    resid = ly - X @ beta
+    scale = max(1.0, float(np.sum(w * resid**2) / max(1, x.size - 2)))
+    return float(beta[0]), float(beta[1]), float(math.sqrt(cov[0, 0] * scale))

@@ -8,7 +8,8 @@ Backends:
   independent reference, driven step by step so steps are counted.
 
 Every dataset carries its parameters, initial state, energy, numerical
-settings, step count, wall time, maximum relative energy drift and provenance.
+settings, step count, wall time and maximum relative energy drift (provenance is added
+when a dataset is written, :func:`sleighsim.io.write_dataset`).
 """
 
 from __future__ import annotations
@@ -16,26 +17,17 @@ from __future__ import annotations
 import logging
 import math
 import time
-from functools import lru_cache
 
 import numpy as np
 import xarray as xr
 
-from . import model
-from .io import provenance_attrs
+from . import integrators, model
+from .attrs import UNITS, state_attrs
+from .params import Params
 
 log = logging.getLogger("sleighsim")
 
 DEFAULT_TOL = 2.0**-52  # heyoka's default: double-precision epsilon
-UNITS = {
-    "u": ("runner longitudinal speed", "length/time"),
-    "Omega": ("sleigh angular velocity", "rad/time"),
-    "omega": ("rotor angular velocity", "rad/time"),
-    "delta": ("relative angle theta - beta", "rad"),
-    "theta": ("sleigh heading", "rad"),
-    "x": ("centre C, x", "length"),
-    "y": ("centre C, y", "length"),
-}
 
 
 class IntegrationError(RuntimeError):
@@ -57,22 +49,6 @@ def sample_grid(t_start: float, t_end: float, dt: float) -> np.ndarray:
         raise ValueError(f"t_end = {t_end} is before t_start = {t_start}")
     n = int(math.floor((t_end - t_start) / dt + 1e-3)) + 1
     return t_start + dt * np.arange(n)
-
-
-@lru_cache(maxsize=None)
-def heyoka_integrator(kinematics: bool, tol: float):
-    """A compiled heyoka integrator for the sleigh (cached per process).
-
-    Returns (integrator, compile_seconds)."""
-    import heyoka as hy
-
-    n = 7 if kinematics else 4
-    t0 = time.perf_counter()
-    ta = hy.taylor_adaptive(
-        model.heyoka_system(kinematics), [0.0, 0.1, 1.0, 0.0] + [0.0] * (n - 4),
-        pars=list(model.Params.paper(eps=0.1).values), tol=tol,
-    )
-    return ta, time.perf_counter() - t0
 
 
 def _initial_state(y0, kinematics: bool) -> np.ndarray:
@@ -101,7 +77,7 @@ def _fail(scene, t, state, why):
 def _run_heyoka(params, y0, t0, times, kinematics, tol, scene, progress, max_steps):
     import heyoka as hy
 
-    ta, compile_s = heyoka_integrator(kinematics, tol)
+    ta, compile_s = integrators.flow(kinematics, tol)
     ta.time = t0
     ta.state[:] = y0
     ta.pars[:] = params.values
@@ -174,7 +150,7 @@ def _run_scipy(params, y0, t0, times, method, rtol, atol, scene, progress, max_s
 
 
 def integrate(
-    params: model.Params,
+    params: Params,
     y0,
     times,
     *,
@@ -227,12 +203,11 @@ def integrate(
         {n: ("time", states[:, i], {"long_name": UNITS[n][0], "units": UNITS[n][1]}) for i, n in enumerate(names)},
         coords={"time": ("time", times, {"long_name": "time", "units": "time"})},
     )
-    ds.attrs.update(model.state_attrs(params, y0[:4]))
+    ds.attrs.update(state_attrs(params, y0[:4]))
     ds.attrs.update({f"y0_{n}": float(v) for n, v in zip(names[4:], y0[4:])})
     ds.attrs.update(
         scene=scene, t0=t0, t_end=float(times[-1]), n_samples=int(times.size),
         energy_max_rel_drift=drift, wall_time_s=wall, **info,
     )
-    ds.attrs.update(provenance_attrs())
     log.info("%s: done in %.3g s, %d steps, max relative energy drift %.3g", scene, wall, info["steps"], drift)
     return ds

@@ -1,7 +1,8 @@
-"""Dataset provenance and atomic netCDF writing."""
+"""Reading and writing results: atomic files with the umask's permissions, provenance on every dataset."""
 
 from __future__ import annotations
 
+import contextlib
 import datetime as _dt
 import os
 import platform
@@ -44,20 +45,38 @@ def provenance_attrs() -> dict:
     return out
 
 
-def write_dataset(ds: xr.Dataset, path) -> Path:
-    """Write ``ds`` to netCDF at ``path`` atomically: a temporary file in the same
-    directory is written, then renamed, so an interrupted write leaves nothing."""
+def _umask() -> int:
+    current = os.umask(0)
+    os.umask(current)
+    return current
+
+
+@contextlib.contextmanager
+def atomic_path(path):
+    """Yield a temporary path beside ``path``; on success rename it onto ``path`` with the
+    permissions a plain ``open`` would give (0666 minus the umask), on failure delete it.
+    An interrupted write therefore never leaves a partial file under the final name."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=f"{path.suffix}.tmp", dir=path.parent)
     os.close(fd)
     try:
-        ds.to_netcdf(tmp, engine="netcdf4")
+        yield Path(tmp)
+        os.chmod(tmp, 0o666 & ~_umask())
         os.replace(tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise
-    return path
+
+
+def write_dataset(ds: xr.Dataset, path) -> Path:
+    """Write ``ds`` to netCDF at ``path`` atomically, adding the provenance attributes
+    (package versions, git commit, creation time)."""
+    ds = ds.copy()
+    ds.attrs.update(provenance_attrs())
+    with atomic_path(path) as tmp:
+        ds.to_netcdf(tmp, engine="netcdf4")
+    return Path(path)
 
 
 def read_dataset(path) -> xr.Dataset:
@@ -67,15 +86,7 @@ def read_dataset(path) -> xr.Dataset:
 
 
 def write_text(path, text: str) -> Path:
-    """Write text atomically (temporary file in the same directory, then rename)."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w") as fh:
-            fh.write(text)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return path
+    """Write text atomically."""
+    with atomic_path(path) as tmp:
+        tmp.write_text(text)
+    return Path(path)

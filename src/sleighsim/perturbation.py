@@ -25,8 +25,8 @@ import numpy as np
 import sympy as sp
 import xarray as xr
 
+from . import integrators
 from . import mechanics as mech
-from .io import provenance_attrs
 
 kappa = sp.Symbol("kappa", positive=True)
 VARS = ("u", "Omega", "omega", "delta")
@@ -228,8 +228,12 @@ def state_names(order: int) -> list[str]:
     return [f"{v}{k}" for k in range(order + 1) for v in VARS]
 
 
-@lru_cache(maxsize=None)
 def _integrator(order: int, tol: float):
+    """The hierarchy to ``order`` (compiled once per process). Returns (ta, compile_s)."""
+    return integrators.compiled(("hierarchy", order, tol), lambda: _build_integrator(order, tol))
+
+
+def _build_integrator(order: int, tol: float):
     import heyoka as hy
 
     x = symbols(order)
@@ -258,9 +262,7 @@ def _integrator(order: int, tol: float):
         return hy.from_sympy(e, local)
 
     sys = [(hv[f"{v}{k}"], convert(h[v][k])) for k in range(order + 1) for v in VARS]
-    start = time.perf_counter()
-    ta = hy.taylor_adaptive(sys, [0.0] * len(names), pars=[1.0, 1.1, 1.0], tol=tol, compact_mode=order > 2)
-    return ta, time.perf_counter() - start
+    return hy.taylor_adaptive(sys, [0.0] * len(names), pars=[1.0, 1.1, 1.0], tol=tol, compact_mode=order > 2)
 
 
 def integrate_hierarchy(order: int, y0, times, *, b=1.0, K2=1.1, kappa_value=1.0, tol=2.0**-52) -> xr.Dataset:
@@ -283,7 +285,6 @@ def integrate_hierarchy(order: int, y0, times, *, b=1.0, K2=1.1, kappa_value=1.0
                     tol=tol, steps=int(res[3]), compile_time_s=compile_s, wall_time_s=time.perf_counter() - start,
                     initial_data="order 0 from y0, all higher orders zero")
     ds.attrs.update({f"y0_{v}": float(c) for v, c in zip(VARS, y0)})
-    ds.attrs.update(provenance_attrs())
     return ds
 
 

@@ -16,12 +16,12 @@ from __future__ import annotations
 import logging
 import math
 import time
-from functools import lru_cache
 
 import numpy as np
 
-from . import model
+from . import integrators, model
 from .integrate import IntegrationError
+from .params import Params
 
 log = logging.getLogger("sleighsim")
 TWO_PI = 2.0 * math.pi
@@ -40,20 +40,21 @@ class _Recorder:
         self.hits.append((t, *ta.d_output[:4], self.turns, self.offset))
 
 
-@lru_cache(maxsize=None)
 def event_integrator(tol: float):
-    """Compiled integrator with the sin(2 delta) = 0 event (cached). Returns (ta, compile_s)."""
-    import heyoka as hy
+    """The sleigh with the sin(2 delta) = 0 event (compiled once per process). Returns (ta, compile_s)."""
 
-    start = time.perf_counter()
-    sys = model.heyoka_system()
-    delta = sys[3][0]
-    ta = hy.taylor_adaptive(sys, [0.0, 0.1, 1.0, 0.0], pars=list(model.Params.paper(eps=0.1).values), tol=tol,
-                            nt_events=[hy.nt_event(hy.sin(2.0 * delta), _Recorder())])
-    return ta, time.perf_counter() - start
+    def build():
+        import heyoka as hy
+
+        sys = model.heyoka_system()
+        delta = sys[3][0]
+        return hy.taylor_adaptive(sys, [0.0, 0.1, 1.0, 0.0], pars=list(Params.paper(eps=0.1).values), tol=tol,
+                                  nt_events=[hy.nt_event(hy.sin(2.0 * delta), _Recorder())])
+
+    return integrators.compiled(("events", tol), build)
 
 
-def crossings(params: model.Params, y0, t0: float, t_end: float, *, tol: float = 2.0**-52,
+def crossings(params: Params, y0, t0: float, t_end: float, *, tol: float = 2.0**-52,
               scene: str = "", progress: int = 20) -> dict:
     """All crossings of delta = k pi/2 for t in (t0, t_end], starting from y0 at t0.
 

@@ -14,7 +14,13 @@ Definitions (stated in every dataset that uses them):
 
 from __future__ import annotations
 
+import logging
+
 import numpy as np
+
+from .integrate import final_state, integrate, sample_grid
+
+log = logging.getLogger("sleighsim")
 
 
 def _blocks(t, x, length):
@@ -79,6 +85,26 @@ def steady_state_report(t, Omega, omega, *, spike_factor=1.8, window=2500.0, rto
     return out
 
 
+def settle(params, y0, t_settle: float, *, dt: float, window: float, rtol: float, spike_factor: float,
+           t_min: float, tol: float, label: str = "", progress: int = 20):
+    """Integrate the pre-run [0, t_settle] from y0, sampled every dt, and judge it with the rules
+    above: the transient is over when omega's block means (``window``) have settled within ``rtol``
+    at least two windows before t_settle. Returns (end state, attributes): ``transient_over``, the
+    settling time, spikes and spike intervals of each half, the rule and the pre-run's energy drift."""
+    pre = integrate(params, y0, sample_grid(0.0, t_settle, dt), tol=tol, scene=f"{label}.pre", progress=progress)
+    report = steady_state_report(pre.time.values, pre.Omega.values, pre.omega.values, spike_factor=spike_factor,
+                                 window=window, rtol=rtol, t_min=t_min)
+    settled = report["settling_time"]
+    over = bool(np.isfinite(settled) and settled <= t_settle - 2 * window)
+    attrs = {f"transient_{k}": v for k, v in report.items()}
+    attrs.update(transient_over=int(over), transient_window=window, transient_rtol=rtol,
+                 transient_spike_factor=spike_factor, transient_rule=RULE,
+                 pre_run_energy_max_rel_drift=pre.attrs["energy_max_rel_drift"], pre_run_steps=pre.attrs["steps"])
+    log.info("%s: transient %s (settling time %.6g, pre-run to %.6g)", label, "over" if over else "NOT over",
+             settled, t_settle)
+    return final_state(pre), attrs
+
+
 PHASES_RULE = ("sleigh-like phase ends when the running mean of u (window mean_window) first reaches sleigh_frac "
                "(0.99) of its maximum before the first spike; the second transient ends at the first Omega spike "
                "after four times that time (spike rule above); steady spike interval: mean and standard deviation "
@@ -91,8 +117,8 @@ def running_mean(x, n: int) -> np.ndarray:
     return (c[n:] - c[:-n]) / n
 
 
-def phases(t, u, Omega, omega, *, mean_window=25.0, sleigh_frac=0.99, spike_factor=1.8, settle_window=2500.0,
-           settle_rtol=0.02) -> dict:
+def phases(t, u, Omega, omega, *, mean_window=25.0, sleigh_frac=0.99, spike_factor=1.8, window=2500.0,
+           rtol=0.02) -> dict:
     """The transient phases of one record (see PHASES_RULE); times in the record's units, NaN when absent."""
     t = np.asarray(t, float)
     dt = t[1] - t[0]
@@ -106,7 +132,7 @@ def phases(t, u, Omega, omega, *, mean_window=25.0, sleigh_frac=0.99, spike_fact
     spikes = spike_times(t, Omega, factor=spike_factor, t_min=4.0 * t_sleigh)
     d = np.diff(spikes)
     try:
-        settle = settling_time(t, omega, window=settle_window, rtol=settle_rtol)
+        settle = settling_time(t, omega, window=window, rtol=rtol)
     except ValueError:
         settle = float("nan")
     return {"sleigh_phase_end": t_sleigh, "first_spike": float(spikes[0]) if spikes.size else float("nan"),

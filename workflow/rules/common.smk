@@ -1,46 +1,22 @@
-# Shared names: which scenes compute a dataset, which datasets each figure reads.
+# Names the rules share, all derived from the config and sleighsim.registry (nothing listed here).
+from sleighsim import registry
 
-# Every scene key except the schematic computes one dataset (sleighsim.scenes.SCENES);
-# the hard cases run on request (`snakemake -c2 hardcases`), not as part of `all`.
-SCENES = [s for s in config["scenes"] if s != "fig1"]
-ON_REQUEST = ["hardcases"]
-# Scenes that take minutes at paper fidelity: scheduled first (rule scene_long).
-LONG_SCENES = ["lyap_spectrum"]
-# Datasets made from other datasets, and every dataset the claims ledger may read.
-DERIVED = ["fig9_scaling", "fig11_grid", "chaos_verdict"]
-ALL_DATA = [s for s in SCENES if s not in ON_REQUEST] + DERIVED
-
-# Figure -> the datasets it reads (fig1 is a schematic drawn from its config block).
-FIGURE_INPUTS = {
-    "fig2": ["fig2"],
-    "fig3": ["fig3"],
-    "fig4": ["fig4"],
-    "fig5": ["fig5"],
-    "fig6": ["fig6"],
-    "transients": ["transients", "fig3"],
-    "perturbation": ["fig5", "pert_audit"],
-    "fig7": ["fig7"],
-    "fig8": ["fig8"],
-    "fig9": ["fig9_ref", "fig9_highE", "fig9_eps001", "fig9_scaling"],
-    "fig12": ["fig9_ref", "fig9_eps001"],
-    "fig13": ["psd_eps01"],
-    "fig14": ["psd_eps001"],
-    "fig10": ["lyap_energy"],
-    "fig11": ["fig11_grid"],
-    "lyapunov": ["lyap_spectrum", "lyap_protocol", "chaos_verdict"],
-    "audit": ["audit"],
-    "bench": ["bench"],
-}
-# Figures of `rule all` (the benchmark runs on request: `snakemake -c2 bench`).
-FIGURES = ["fig1"] + [f for f in FIGURE_INPUTS if f != "bench"]
-
-
-def figure_files(figs):
-    return expand(f"{R}/figures/{{fig}}.{{ext}}", fig=figs, ext=("png", "pdf"))
-
-
-def figure_inputs(wildcards):
-    return [f"{R}/data/{s}.nc" for s in FIGURE_INPUTS[wildcards.fig]]
+R = config["results"]
+SCENES = config["scenes"]
+# Datasets and figures of the full run, and with the on-request ones (built when asked for).
+DATASETS = registry.datasets(config)
+ALL_DATASETS = registry.datasets(config, on_request=True)
+FIGURES_BUILT = registry.figures_built(config)
+ALL_FIGURES = registry.figures_built(config, on_request=True)
+SCHEMATICS = [f for f in ALL_FIGURES if registry.FIGURES[f].schematic]
+CHUNKED = [n for n in ALL_DATASETS if registry.KINDS[SCENES[n]["kind"]].chunked]
+FIRST = [n for n in ALL_DATASETS if n not in CHUNKED and SCENES[n].get("schedule_first", False)]
+PLAIN = [n for n in ALL_DATASETS if n not in CHUNKED and n not in FIRST]
+# What the report reads: the datasets of the figures shown and of the tables built.
+REPORT_DATA = sorted(
+    {d for f in FIGURES_BUILT for d in registry.FIGURES[f].data}
+    | {t.data for t in registry.TABLES.values() if t.data in DATASETS}
+)
 
 
 def canonical(value):
@@ -51,3 +27,42 @@ def canonical(value):
     if isinstance(value, list):
         return [canonical(v) for v in value]
     return value
+
+
+SCENE_CFG = {name: canonical(registry.scene_config(config, name)) for name in SCENES}
+
+
+def alternatives(names):
+    """A wildcard constraint matching exactly these names (nothing when there are none)."""
+    return "|".join(names) or "(?!)"
+
+
+def figure_files(figs):
+    return expand(f"{R}/figures/{{fig}}.{{ext}}", fig=figs, ext=("png", "pdf"))
+
+
+def figure_inputs(wildcards):
+    return [f"{R}/data/{s}.nc" for s in registry.FIGURES[wildcards.fig].data]
+
+
+def scene_inputs(wildcards):
+    return {role: f"{R}/data/{source}.nc" for role, source in SCENES[wildcards.scene].get("inputs", {}).items()}
+
+
+def chunk_files(wildcards):
+    n = SCENES[wildcards.scene]["n_chunks"]
+    return expand(f"{R}/chunks/{wildcards.scene}/{{k}}.nc", k=range(n))
+
+
+def benchmark_files(datasets, figures):
+    """{"data/<name>" or "figure/<name>": the Snakemake benchmark files of the jobs that made it}."""
+    out = {}
+    for name in datasets:
+        if name in CHUNKED:
+            chunks = expand(f"{R}/benchmarks/chunk/{name}/{{k}}.tsv", k=range(SCENES[name]["n_chunks"]))
+            out[f"data/{name}"] = [f"{R}/benchmarks/gather/{name}.tsv"] + chunks
+        else:
+            out[f"data/{name}"] = [f"{R}/benchmarks/scene/{name}.tsv"]
+    for name in figures:
+        out[f"figure/{name}"] = [f"{R}/benchmarks/figure/{name}.tsv"]
+    return out

@@ -1,4 +1,5 @@
-# Figures read datasets only; each figure is also a named target (snakemake -c2 fig3).
+# Figures read datasets only; each figure, and each dataset without a figure of its name, is
+# also a named target (snakemake -c2 fig3, snakemake -c2 hardcases).
 
 
 rule figure:
@@ -13,32 +14,48 @@ rule figure:
         f"{R}/logs/figure/{{fig}}.log",
     benchmark:
         f"{R}/benchmarks/figure/{{fig}}.tsv"
+    conda:
+        "../envs/sleighsim.yaml"
     wildcard_constraints:
-        fig="|".join(FIGURE_INPUTS),
+        fig=alternatives([f for f in ALL_FIGURES if f not in SCHEMATICS]),
     script:
         "../scripts/figure.py"
 
 
-rule figure_schematic:
+rule schematic:
     output:
-        png=report(f"{R}/figures/fig1.png", caption="../report/figure.rst", category="Figures"),
-        pdf=f"{R}/figures/fig1.pdf",
+        png=report(f"{R}/figures/{{fig}}.png", caption="../report/figure.rst", category="Figures"),
+        pdf=f"{R}/figures/{{fig}}.pdf",
     params:
-        fig="fig1",
-        cfg=canonical(config["scenes"]["fig1"]),
+        fig=lambda w: w.fig,
+        cfg=lambda w: SCENE_CFG[registry.FIGURES[w.fig].schematic],
     log:
-        f"{R}/logs/figure/fig1.log",
+        f"{R}/logs/figure/{{fig}}.log",
     benchmark:
-        f"{R}/benchmarks/figure/fig1.tsv"
+        f"{R}/benchmarks/figure/{{fig}}.tsv"
+    conda:
+        "../envs/sleighsim.yaml"
+    wildcard_constraints:
+        fig=alternatives(SCHEMATICS),
     script:
         "../scripts/figure.py"
 
 
-for _fig in FIGURES:
+for _target in ALL_FIGURES:
 
     rule:
         name:
-            _fig
+            _target
         input:
-            figure_files([_fig]),
+            figure_files([_target]),
+        localrule: True
+
+
+for _target in [d for d in ALL_DATASETS if d not in ALL_FIGURES]:
+
+    rule:
+        name:
+            _target
+        input:
+            f"{R}/data/{_target}.nc",
         localrule: True

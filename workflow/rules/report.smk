@@ -1,10 +1,11 @@
-# The claims ledger and the self-contained reproduction report: the final rules.
+# The claims ledger and the self-contained reproduction report: the final rules. Each names
+# every file it reads.
 
 
 rule claims:
     input:
-        data=expand(f"{R}/data/{{name}}.nc", name=ALL_DATA),
-        figures=figure_files(FIGURES),
+        data=expand(f"{R}/data/{{name}}.nc", name=DATASETS),
+        figures=expand(f"{R}/figures/{{fig}}.png", fig=FIGURES_BUILT),
         claims_md=str(Path(workflow.basedir) / "paper" / "CLAIMS.md"),
     output:
         csv=report(f"{R}/claims.csv", caption="../report/claims.rst", category="Claims"),
@@ -13,6 +14,8 @@ rule claims:
         f"{R}/logs/report/claims.log",
     benchmark:
         f"{R}/benchmarks/report/claims.tsv"
+    conda:
+        "../envs/sleighsim.yaml"
     script:
         "../scripts/claims.py"
 
@@ -20,49 +23,23 @@ rule claims:
 rule report:
     input:
         claims=f"{R}/claims.nc",
-        figures=figure_files(FIGURES),
+        figures=expand(f"{R}/figures/{{fig}}.png", fig=FIGURES_BUILT),
+        data=expand(f"{R}/data/{{name}}.nc", name=REPORT_DATA),
+        benchmarks=[t for ts in benchmark_files(REPORT_DATA, FIGURES_BUILT).values() for t in ts],
         tex=str(Path(workflow.basedir) / "paper" / "fedonyuk-tallapragada-sleigh-rotor.tex"),
         claims_md=str(Path(workflow.basedir) / "paper" / "CLAIMS.md"),
     output:
         html=f"{R}/report/index.html",
         md=f"{R}/report/README.md",
     params:
-        figure_inputs={f: FIGURE_INPUTS.get(f, []) for f in FIGURES
-                       if f not in ("lyapunov", "audit", "transients", "perturbation")},
-        extra={"Transient length against eps (C03-C05)": "transients",
-               "Perturbation hierarchy: convergence as eps -> 0 and secular growth (C12)": "perturbation",
-               "Lyapunov spectrum and chaos verdict": "lyapunov",
-               "The model as printed: energy drift of the printed udot": "audit",
-               "Speed against error": "bench"},
+        figures=FIGURES_BUILT,
+        data=REPORT_DATA,
+        benchmarks=benchmark_files(REPORT_DATA, FIGURES_BUILT),
     log:
         f"{R}/logs/report/report.log",
     benchmark:
         f"{R}/benchmarks/report/report.tsv"
+    conda:
+        "../envs/sleighsim.yaml"
     script:
         "../scripts/report.py"
-
-
-rule bench_data:
-    output:
-        nc=f"{R}/data/bench.nc",
-    params:
-        cfg=canonical(config["bench"]),
-    threads: 1
-    log:
-        f"{R}/logs/bench/bench.log",
-    benchmark:
-        f"{R}/benchmarks/bench/bench.tsv"
-    script:
-        "../scripts/bench.py"
-
-
-rule bench:
-    input:
-        figure_files(["bench"]),
-    localrule: True
-
-
-rule hardcases:
-    input:
-        f"{R}/data/hardcases.nc",
-    localrule: True

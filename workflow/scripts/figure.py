@@ -1,9 +1,9 @@
-"""Draw one figure from its dataset (or, for the schematic, its config block)."""
+"""Draw one figure from its datasets (or, for a schematic, its config block) (Snakemake script)."""
 
-from sleighsim import plots
+from sleighsim.outputs import figures
 from sleighsim.runlog import logging_to
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logging_to(sm.log[0]):
     source = list(sm.input.nc) if "nc" in sm.input.keys() else sm.params.cfg
-    plots.FIGURES[sm.params.fig](source, sm.output.png, sm.output.pdf)
+    figures.draw(sm.params.fig, source, sm.output.png, sm.output.pdf)

@@ -1,9 +1,9 @@
-"""Compute one scene's dataset: config block in, netCDF out (Snakemake script)."""
+"""Compute one scene's dataset: config block (and its input datasets) in, netCDF out (Snakemake script)."""
 
 from sleighsim import io, scenes
 from sleighsim.runlog import logging_to
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logging_to(sm.log[0]):
-    ds = scenes.SCENES[sm.wildcards.scene](sm.params.cfg, scene=sm.wildcards.scene)
+    ds = scenes.compute(sm.wildcards.scene, sm.params.cfg, dict(sm.input.items()))
     io.write_dataset(ds, sm.output.nc)

@@ -14,12 +14,13 @@ import time
 import numpy as np
 import xarray as xr
 
-from . import model, poincare
-from .integrate import final_state, integrate, sample_grid
-from .io import provenance_attrs
+from .. import poincare
+from ..integrate import final_state, integrate, sample_grid
+from ..params import Params
+from ..symmetries import REFERENCE_LABEL, REFERENCE_STATE, state_at_label
 
 log = logging.getLogger("sleighsim")
-REF = np.array(model.REFERENCE_STATE)
+REF = np.array(REFERENCE_STATE)
 
 
 def _agreement(params, y0, T, tol, rtol):
@@ -44,11 +45,11 @@ def case_params(name, params, y0, T, cfg):
 
 def case_scaling(name, label, cfg):
     """The time-scaling law at an extreme label: the run at `label` over T/c against c x the reference run."""
-    p = model.Params.paper(eps=0.1)
-    c = math.sqrt(label / model.REFERENCE_LABEL)
+    p = Params.paper(eps=0.1)
+    c = math.sqrt(label / REFERENCE_LABEL)
     T = cfg["T_scaling"]
     base = integrate(p, REF, [0.0, T], tol=cfg["tol"], progress=1)
-    y = model.state_at_label(REF, p, label)
+    y = state_at_label(REF, p, label)
     scaled = integrate(p, y, [0.0, T / c], tol=cfg["tol"], progress=1)
     pred = np.r_[c * final_state(base)[:3], final_state(base)[3]]
     err = float(np.max(np.abs(np.r_[final_state(scaled)[:3] / c, final_state(scaled)[3]] - np.r_[pred[:3] / c, pred[3]])))
@@ -61,7 +62,7 @@ def case_scaling(name, label, cfg):
 
 def case_long(name, cfg):
     """A long horizon at the default tolerance: energy drift over T_long."""
-    p = model.Params.paper(eps=0.1)
+    p = Params.paper(eps=0.1)
     T = cfg["T_long"]
     a = integrate(p, REF, sample_grid(0.0, T, T / 100), tol=cfg["tol"], progress=10, scene=name)
     ok = a.attrs["energy_max_rel_drift"] < cfg["max_drift_long"]
@@ -74,7 +75,7 @@ def case_long(name, cfg):
 
 def case_at_rest(name, cfg):
     """Zero velocity: an equilibrium; the state must not move."""
-    p = model.Params.paper(eps=0.1)
+    p = Params.paper(eps=0.1)
     y0 = np.array([0.0, 0.0, 0.0, 0.7])
     a = integrate(p, y0, [0.0, 100.0], tol=cfg["tol"], progress=1)
     err = float(np.max(np.abs(final_state(a) - y0)))
@@ -85,7 +86,7 @@ def case_at_rest(name, cfg):
 
 def case_on_section(name, cfg):
     """Starting exactly on a section (delta = pi/2): crossings are not double-counted and stay on it."""
-    p = model.Params.sleigh0(b=1.0, K2=1.1)
+    p = Params.sleigh0(b=1.0, K2=1.1)
     omega0 = 1.3
     c = poincare.crossings(p, [0.2, 0.0, omega0, math.pi / 2], 0.0, 50.0, tol=cfg["tol"])
     expected = int(math.floor(50.0 * omega0 / (math.pi / 2)))
@@ -106,23 +107,24 @@ def case_refused(name, build):
                 min_step=np.nan, max_step=np.nan, wall_s=0.0, detail="accepted although inadmissible")
 
 
-def run(cfg: dict) -> xr.Dataset:
+def hardcases(cfg: dict, scene: str = "") -> xr.Dataset:
+    """Every hard case of the config block, one row each."""
     start = time.perf_counter()
     rows = []
     for eps in cfg["small_eps"] + cfg["large_eps"]:
-        p = model.Params.paper(eps=eps)
+        p = Params.paper(eps=eps)
         rows.append(case_params(f"eps = {eps:g}", p, REF, cfg["T_eps"], cfg))
-    p = model.Params.paper(eps=0.1)
-    rows.append(case_params("rotor carries all the energy", p, model.state_at_label([0, 0, 1, 0], p, 0.1127),
+    p = Params.paper(eps=0.1)
+    rows.append(case_params("rotor carries all the energy", p, state_at_label([0, 0, 1, 0], p, 0.1127),
                             cfg["T_eps"], cfg))
     for label in cfg["labels"]:
         rows.append(case_scaling(f"energy label {label:g}", label, cfg))
     rows.append(case_long(f"horizon {cfg['T_long']:g}", cfg))
     rows.append(case_at_rest("velocity exactly zero", cfg))
     rows.append(case_on_section("delta exactly pi/2 (on a section)", cfg))
-    rows.append(case_refused("eps = 1.5", lambda: model.Params.paper(eps=1.5)))
-    rows.append(case_refused("eps = 0", lambda: model.Params.paper(eps=0.0)))
-    rows.append(case_refused("energy label 0", lambda: model.state_at_label(REF, p, 0.0)))
+    rows.append(case_refused("eps = 1.5", lambda: Params.paper(eps=1.5)))
+    rows.append(case_refused("eps = 0", lambda: Params.paper(eps=0.0)))
+    rows.append(case_refused("energy label 0", lambda: state_at_label(REF, p, 0.0)))
     for r in rows:
         log.info("hard case %-32s %-9s %s", r["case"], r["outcome"], r["detail"])
     ds = xr.Dataset({k: ("case", np.array([r[k] for r in rows])) for k in rows[0] if k != "case"},
@@ -131,5 +133,5 @@ def run(cfg: dict) -> xr.Dataset:
     ds.attrs.update(n_reliable=int(np.sum(ds.outcome.values == "reliable")),
                     n_degraded=int(np.sum(ds.outcome.values == "degraded")),
                     n_refused=int(np.sum(ds.outcome.values == "refused")), wall_time_s=time.perf_counter() - start)
-    ds.attrs.update(provenance_attrs())
+    ds.attrs["scene"] = scene
     return ds

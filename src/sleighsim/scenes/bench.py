@@ -7,7 +7,7 @@ long one. Wall times are medians of ``repeats`` runs; heyoka's JIT compile time 
 reported apart. The scene observables (spike interval, end of the second transient,
 lambda_1 over a fixed horizon, P_2pi rotation number) are measured against tolerance.
 
-Run: ``python -m sleighsim.bench [--quick] OUT.nc`` or ``snakemake -c2 bench``.
+Run: ``python -m sleighsim.scenes.bench [--quick] OUT.nc`` or ``snakemake -c2 bench``.
 """
 
 from __future__ import annotations
@@ -20,9 +20,10 @@ import time
 import numpy as np
 import xarray as xr
 
-from . import model, poincare, transient
-from .integrate import final_state, heyoka_integrator, integrate, sample_grid
-from .io import provenance_attrs, write_dataset
+from .. import integrators, lyapunov, model, poincare, transient
+from ..integrate import final_state, integrate, sample_grid
+from ..io import write_dataset
+from ..params import Params
 
 log = logging.getLogger("sleighsim")
 
@@ -50,7 +51,7 @@ def _median_run(fn, repeats):
 def work_precision(cfg: dict) -> xr.Dataset:
     """One row per (method, tolerance): short-horizon error, long-horizon drift, wall times,
     and the scene observables measured on the long run."""
-    params = model.Params.from_config(cfg["params"])
+    params = Params.from_config(cfg["params"])
     y0 = np.asarray(cfg["y0"], float)
     ref, ref_wall = reference(params, y0, cfg["t_short"], cfg["reference_tols"][0])
     ref2, _ = reference(params, y0, cfg["t_short"], cfg["reference_tols"][1])
@@ -64,13 +65,13 @@ def work_precision(cfg: dict) -> xr.Dataset:
         kw = dict(backend=backend, tol=tol, progress=1) if backend == "heyoka" else dict(
             backend="scipy", method=method, rtol=tol, atol=tol * cfg["atol_factor"], progress=1)
         if backend == "heyoka":
-            heyoka_integrator(False, tol)  # compile outside the timed runs
+            integrators.flow(False, tol)  # compile outside the timed runs
         reps = cfg["repeats"] if backend == "heyoka" else cfg["scipy_repeats"]
         short, wall_short = _median_run(lambda: integrate(params, y0, [0.0, cfg["t_short"]], **kw), reps)
         err = float(np.max(np.abs(final_state(short) - ref)))
         row = dict(backend=backend, method=method, tol=tol, error_short=err, wall_short=wall_short,
                    drift_long=np.nan, wall_long=np.nan, steps_long=-1,
-                   compile_s=heyoka_integrator(False, tol)[1] if backend == "heyoka" else 0.0,
+                   compile_s=integrators.flow(False, tol)[1] if backend == "heyoka" else 0.0,
                    first_spike=np.nan, spike_interval=np.nan, n_spikes=-1)
         if with_long:
             long_ = integrate(params, y0, sample_grid(0.0, cfg["t_long"], cfg["dt_long"]), **kw)
@@ -97,19 +98,17 @@ LYAPUNOV_TAU = 10.0  # renormalisation interval of the Lyapunov kernel
 
 
 def _settled(cfg):
-    params = model.Params.from_config(cfg["params"])
+    params = Params.from_config(cfg["params"])
     return params, final_state(integrate(params, cfg["y0"], [0.0, cfg["t_settle"]], progress=1))
 
 
 def observables_vs_tol(cfg: dict) -> xr.Dataset:
     """lambda_1 over a fixed horizon (with its wall time) and the P_2pi rotation number,
     against heyoka's tolerance."""
-    from . import chaos, lyapunov
-
     params, y = _settled(cfg)
     lam, wall, rot = [], [], []
     for tol in cfg["heyoka_tols"]:
-        ta, _ = chaos._tangent(1, tol, True)
+        ta, _ = lyapunov.sleigh_tangent(1, tol, True)
         ta.pars[:] = params.values
         r = lyapunov.benettin(ta, 4, 1, y, t_align=0.0, T=cfg["T_lyapunov"], tau=LYAPUNOV_TAU)
         lam.append(r["exponents"][0])
@@ -129,12 +128,10 @@ def scipy_max_le(params, y, T, tau, method, rtol, atol, seed=0) -> tuple[float, 
     The same initial tangent vector as sleighsim.lyapunov. Returns (lambda_1, wall seconds)."""
     from scipy.integrate import solve_ivp
 
-    from .lyapunov import _orthonormal
-
     def f(t, z):
         return np.concatenate([model.rhs(z[:4], params), model.jacobian(z[:4], params) @ z[4:]])
 
-    z = np.r_[np.asarray(y, float), _orthonormal(4, 1, seed)[:, 0]]
+    z = np.r_[np.asarray(y, float), lyapunov.initial_directions(4, 1, seed)[:, 0]]
     n, total = int(round(T / tau)), 0.0
     start = time.perf_counter()
     for _ in range(n):
@@ -194,8 +191,8 @@ def fastest_table(ds: xr.Dataset, targets) -> list[dict]:
 
 def overhead(cfg: dict) -> dict:
     """Wall time of integrate() (sampling, energy check, Dataset) over a bare propagation, F3 scene."""
-    params = model.Params.from_config(cfg["params"])
-    ta, _ = heyoka_integrator(False, 2.0**-52)
+    params = Params.from_config(cfg["params"])
+    ta, _ = integrators.flow(False, 2.0**-52)
     bare = []
     for _ in range(cfg["repeats"]):
         ta.time = 0.0
@@ -213,7 +210,7 @@ def overhead(cfg: dict) -> dict:
             "overhead_ratio": float(np.median(full) / np.median(bare))}
 
 
-def run(cfg: dict) -> xr.Dataset:
+def bench(cfg: dict, scene: str = "") -> xr.Dataset:
     """Everything above in one dataset."""
     start = time.perf_counter()
     wp = work_precision(cfg)
@@ -238,7 +235,6 @@ def run(cfg: dict) -> xr.Dataset:
         ds.attrs[f"speedup_vs_scipy_at_{key}"] = row["speedup_vs_fastest_scipy"]
     ds.attrs.update({f"overhead_{k}": v for k, v in overhead(cfg).items()})
     ds.attrs["wall_time_s"] = time.perf_counter() - start
-    ds.attrs.update(provenance_attrs())
     return ds
 
 
@@ -270,7 +266,7 @@ def main(argv=None):
     if args.summarize:
         import yaml
 
-        from .io import read_dataset, write_text
+        from ..io import read_dataset, write_text
 
         write_text(args.summarize, yaml.safe_dump(summary(read_dataset(args.out))))
         return
@@ -281,7 +277,7 @@ def main(argv=None):
         import yaml
 
         cfg = yaml.safe_load(open(args.config or "config/config.yaml"))["bench"]
-    write_dataset(run(cfg), args.out)
+    write_dataset(bench(cfg), args.out)
 
 
 if __name__ == "__main__":

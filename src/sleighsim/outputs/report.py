@@ -1,9 +1,10 @@
 """The reproduction report: results/report/index.html and README.md.
 
-Per scene: our figure (copied beside the page), the paper's caption (parsed from
-the LaTeX source), parameters and numerical settings, accuracy and run time, all
-read from the datasets and Snakemake benchmark files; then the claims ledger,
-the model as printed, and speed against error where it exists.
+Per figure of :data:`sleighsim.registry.FIGURES`: our figure (copied beside the page), the
+paper's caption (parsed from the LaTeX source), parameters and numerical settings, accuracy
+and run time, read from the datasets and Snakemake benchmark files; then the claims ledger,
+the figures with no counterpart in the paper, speed against error and the tables of
+:data:`sleighsim.registry.TABLES`. Every file it reads is passed in explicitly.
 """
 
 from __future__ import annotations
@@ -16,11 +17,14 @@ from pathlib import Path
 
 import numpy as np
 
+from ..io import read_dataset
+from ..registry import FIGURES, TABLES
 from .claims import Row
-from .io import read_dataset
 
 COLOURS = {"reproduced": "#d4edda", "differs": "#fff3cd", "cannot be reproduced": "#f8d7da",
            "not yet computed": "#e2e3e5"}
+OUTCOME_COLOURS = {"reliable": COLOURS["reproduced"], "degraded": COLOURS["differs"],
+                   "refused": COLOURS["not yet computed"]}
 SETTINGS = ("param_eps", "param_b", "param_K2", "energy_label", "energy_physical", "backend", "method", "tol",
             "steps", "t_end", "T", "transient_over")
 
@@ -41,23 +45,19 @@ def captions(tex_path) -> dict[str, str]:
     return out
 
 
-def _runtime(bench_dir: Path, names) -> float:
+def _runtime(tsvs) -> float:
+    """Total wall seconds of Snakemake benchmark files."""
     total = 0.0
-    for name in names:
-        for tsv in bench_dir.glob(f"*/{name}.tsv"):
-            with tsv.open() as fh:
-                total += float(next(csv.DictReader(fh, delimiter="\t"))["s"])
+    for tsv in tsvs:
+        with Path(tsv).open() as fh:
+            total += float(next(csv.DictReader(fh, delimiter="\t"))["s"])
     return total
 
 
-def _scene_facts(data_dir: Path, names) -> list[str]:
+def _scene_facts(datasets: dict, names) -> list[str]:
     facts = []
     for name in names:
-        path = data_dir / f"{name}.nc"
-        if not path.exists():
-            facts.append(f"{name}: not yet computed")
-            continue
-        a = read_dataset(path).attrs
+        a = read_dataset(datasets[name]).attrs
         settings = ", ".join(f"{k.replace('param_', '')} = {a[k]:.4g}" if isinstance(a[k], float) else f"{k} = {a[k]}"
                              for k in SETTINGS if k in a)
         acc = f"max |dE/E| = {a['energy_max_rel_drift']:.2g}" if "energy_max_rel_drift" in a else ""
@@ -92,25 +92,14 @@ def _table(ds, key, cols, colour_of=None) -> tuple[list[str], list[str]]:
     return h, md
 
 
-def _case_table(ds) -> tuple[list[str], list[str]]:
-    """The hard cases, coloured by outcome."""
-    colour = {"reliable": COLOURS["reproduced"], "degraded": COLOURS["differs"], "refused": COLOURS["not yet computed"]}
-    return _table(ds, "case", ("outcome", "error", "drift", "disagreement", "steps", "wall_s", "detail"),
-                  lambda vals: colour.get(str(vals[0]), "#fff"))
-
-
-def _hierarchy_table(ds) -> tuple[list[str], list[str]]:
-    """Terms where the printed perturbation hierarchy differs from the derived one."""
-    return _table(ds, "equation", ("term", "derived", "printed", "derived_with_kappa"))
-
-
-def build(rows: list[Row], *, out_dir, figures_dir, data_dir, bench_dir, tex_path, figure_inputs: dict,
-          labels: dict, extra_figures: dict) -> None:
+def build(rows: list[Row], *, out_dir, tex_path, labels: dict, figures: dict, datasets: dict,
+          benchmarks: dict) -> None:
     """Write index.html and README.md into ``out_dir`` with the figures copied beside them.
 
-    figure_inputs: {figure: [dataset names]}; labels: {figure: paper LaTeX label};
-    extra_figures: {section title: figure name} (audit, bench, ...)."""
-    out_dir, figures_dir, data_dir, bench_dir = map(Path, (out_dir, figures_dir, data_dir, bench_dir))
+    labels: {figure: paper LaTeX label}; figures: {figure: PNG path} of the figures built;
+    datasets: {dataset: netCDF path}; benchmarks: {"data/<dataset>" or "figure/<figure>": [Snakemake
+    benchmark files]}."""
+    out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     caps = captions(tex_path)
     counts = {v: sum(r.verdict == v for r in rows) for v in COLOURS}
@@ -123,14 +112,14 @@ def build(rows: list[Row], *, out_dir, figures_dir, data_dir, bench_dir, tex_pat
     md = ["# sleighsim reproduction report", "", "Verdicts: " + ", ".join(f"{v}: {n}" for v, n in counts.items()), ""]
     h.append("<h2>Figures</h2>")
     md.append("## Figures\n")
-    for fig, names in figure_inputs.items():
-        png = figures_dir / f"{fig}.png"
+    for fig in (f for f in figures if FIGURES[f].paper):
+        names = list(FIGURES[fig].data)
         cap = caps.get(labels.get(fig, ""), "(no counterpart in the paper)")
         h.append(f"<h3 id='{fig}'>{fig}</h3><p class='cap'>Paper: {html.escape(cap)}</p>")
         md += [f"### {fig}", "", f"*Paper:* {cap}", ""]
-        _embed(png, out_dir, fig, h, md)
-        facts = _scene_facts(data_dir, names)
-        run = _runtime(bench_dir, names + [fig])
+        _embed(Path(figures[fig]), out_dir, fig, h, md)
+        facts = _scene_facts(datasets, names)
+        run = _runtime(t for key in [f"data/{n}" for n in names] + [f"figure/{fig}"] for t in benchmarks.get(key, []))
         h.append("<ul class='facts'>" + "".join(f"<li>{html.escape(f)}</li>" for f in facts)
                  + f"<li>run time (Snakemake benchmarks): {run:.1f} s</li></ul>")
         md += [""] + [f"- {f}" for f in facts] + [f"- run time (Snakemake benchmarks): {run:.1f} s", ""]
@@ -145,46 +134,50 @@ def build(rows: list[Row], *, out_dir, figures_dir, data_dir, bench_dir, tex_pat
         md.append("| " + " | ".join(str(c).replace("|", "/") for c in (r.id, r.paper_value, r.measured, r.verdict,
                                                                           r.reason)) + " |")
     h.append("</table>")
-    for title, fig in extra_figures.items():
-        png = figures_dir / f"{fig}.png"
+    for fig in (f for f in figures if not FIGURES[f].paper):
+        title = FIGURES[fig].title
         h.append(f"<h2>{html.escape(title)}</h2>")
         md += ["", f"## {title}", ""]
-        _embed(png, out_dir, fig, h, md)
-    bench = data_dir / "bench.nc"
-    if bench.exists():
-        a = read_dataset(bench).attrs
-        title = "Speed against error: fastest method per error target"
-        rows_b = [(k.removeprefix("fastest_at_"), a[k], a.get("speedup_vs_scipy_at_" + k.removeprefix("fastest_at_")))
-                  for k in sorted(a) if k.startswith("fastest_at_")]
-        rows_b = [(t, f, f"{r:.0f}x" if np.isfinite(r) else "no SciPy run reaches it") for t, f, r in rows_b]
-        h.append(f"<h2>{title}</h2><table><tr><th>error target (t = {a['t_short']:g})</th><th>fastest</th>"
-                 "<th>speed ratio to the fastest SciPy method</th></tr>"
-                 + "".join(f"<tr><td>{t}</td><td>{html.escape(str(f))}</td><td>{r}</td></tr>" for t, f, r in rows_b)
-                 + f"</table><p>engine overhead over a bare propagation: {a['overhead_overhead_ratio']:.2f}</p>")
-        md += ["", f"## {title}", "", "| error target | fastest | ratio to fastest SciPy |", "|---|---|---|"]
-        md += [f"| {t} | {f} | {r} |" for t, f, r in rows_b]
-        md += ["", f"Engine overhead over a bare propagation: {a['overhead_overhead_ratio']:.2f}"]
-    audit = data_dir / "pert_audit.nc"
-    if audit.exists():
-        title = "Perturbation hierarchy: terms where the printed equations differ from the derived ones"
-        h.append(f"<h2>{title}</h2>")
+        _embed(Path(figures[fig]), out_dir, fig, h, md)
+        speed = [read_dataset(datasets[n]) for n in FIGURES[fig].data]
+        for ds in (d for d in speed if any(k.startswith("fastest_at_") for k in d.attrs)):
+            th, tm = _fastest_table(ds)
+            h += th
+            md += tm
+    for title, table in TABLES.items():
+        h.append(f"<h2>{html.escape(title)}</h2>")
         md += ["", f"## {title}", ""]
-        th, tm = _hierarchy_table(read_dataset(audit))
-        h += th
-        md += tm
-    h.append("<h2>Hard cases</h2>")
-    md += ["", "## Hard cases", ""]
-    cases = data_dir / "hardcases.nc"
-    if cases.exists():
-        th, tm = _case_table(read_dataset(cases))
-        h += th
-        md += tm
-    else:
-        h.append("<p><b>not yet computed</b> (<code>snakemake -c2 hardcases</code>)</p>")
-        md.append("**not yet computed** (`snakemake -c2 hardcases`)")
+        if table.data in datasets:
+            ds = read_dataset(datasets[table.data])
+            colour = (lambda vals, k=table.columns.index(table.colour_by): OUTCOME_COLOURS.get(str(vals[k]), "#fff")
+                      ) if table.colour_by else None
+            th, tm = _table(ds, table.key, table.columns, colour)
+            h += th
+            md += tm
+        else:
+            h.append(f"<p><b>not yet computed</b> (on request: <code>snakemake -c2 {table.data}</code>)</p>")
+            md.append(f"**not yet computed** (on request: `snakemake -c2 {table.data}`)")
     h.append("<div id='image-check'></div><script>window.addEventListener('load',function(){var im=document.images,"
              "bad=0;for(var i=0;i<im.length;i++){if(!(im[i].complete&&im[i].naturalWidth>0))bad++;}"
              "document.getElementById('image-check').textContent='images: '+im.length+' broken: '+bad;});</script>")
     h.append("</body></html>")
     (out_dir / "index.html").write_text("\n".join(h))
     (out_dir / "README.md").write_text("\n".join(md) + "\n")
+
+
+def _fastest_table(ds) -> tuple[list[str], list[str]]:
+    """The fastest method per error target and its speed ratio to the fastest SciPy method."""
+    a = ds.attrs
+    rows_b = [(k.removeprefix("fastest_at_"), a[k], a.get("speedup_vs_scipy_at_" + k.removeprefix("fastest_at_")))
+              for k in sorted(a) if k.startswith("fastest_at_")]
+    rows_b = [(t, f, f"{r:.0f}x" if np.isfinite(r) else "no SciPy run reaches it") for t, f, r in rows_b]
+    h = [f"<h3>Fastest method per error target</h3><table><tr><th>error target (t = {a['t_short']:g})</th>"
+         "<th>fastest</th><th>speed ratio to the fastest SciPy method</th></tr>"
+         + "".join(f"<tr><td>{t}</td><td>{html.escape(str(f))}</td><td>{r}</td></tr>" for t, f, r in rows_b)
+         + f"</table><p>engine overhead over a bare propagation: {a['overhead_overhead_ratio']:.2f}</p>"]
+    md = ["", "### Fastest method per error target", "", "| error target | fastest | ratio to fastest SciPy |",
+          "|---|---|---|"]
+    md += [f"| {t} | {f} | {r} |" for t, f, r in rows_b]
+    md += ["", f"Engine overhead over a bare propagation: {a['overhead_overhead_ratio']:.2f}"]
+    return h, md
+

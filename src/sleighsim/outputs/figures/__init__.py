@@ -1,0 +1,21 @@
+"""Figures. Each plot function reads datasets (never integrates) and writes PNG and PDF; every
+figure carries a footer with the numbers that say how its data were made. Which datasets a
+figure reads is declared in :data:`sleighsim.registry.FIGURES`."""
+
+from __future__ import annotations
+
+from ...registry import plot_name
+from .audit import audit
+from .bench import bench
+from .exponents import fig10, fig11, lyapunov
+from .steady_state import fig9, fig12, psd
+from .trajectories import fig1, fig2, fig3, fig7, fig8
+from .transients import fig4, fig5, fig6, perturbation, transients
+
+PLOTS = {f.__name__: f for f in (fig1, fig2, fig3, fig4, fig5, fig6, fig7, fig8, fig9, fig10, fig11, fig12, psd,
+                                  transients, perturbation, lyapunov, audit, bench)}
+
+
+def draw(figure: str, source, png, pdf) -> None:
+    """Draw ``figure`` from its datasets (a list of paths) or, for a schematic, its config block."""
+    PLOTS[plot_name(figure)](source, png, pdf)

@@ -1,0 +1,58 @@
+"""Speed against error: work-precision and the observables against tolerance."""
+
+from __future__ import annotations
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+from ...io import read_dataset
+from .common import finish
+
+def bench(sources, png, pdf) -> None:
+    """Work-precision: wall time against error (short horizon) and energy drift (long), and
+    the scene observables against heyoka's tolerance."""
+    ds = read_dataset(sources[0])
+    fig, axes = plt.subplots(1, 4, figsize=(20, 4.8))
+    keys = sorted({(b, m) for b, m in zip(ds.backend.values, ds.method.values)})
+    for b, m in keys:
+        sel = (ds.backend.values == b) & (ds.method.values == m)
+        name = "heyoka (Taylor)" if b == "heyoka" else f"SciPy {m}"
+        axes[0].loglog(ds.error_short.values[sel], ds.wall_short.values[sel], "o-", label=name)
+        axes[1].loglog(np.maximum(ds.drift_long.values[sel], 1e-17), ds.wall_long.values[sel], "o-", label=name)
+    axes[0].set_xlabel(f"end-state error at t = {ds.attrs['t_short']:g} (vs long-double reference)")
+    axes[0].set_ylabel(f"wall time (s), median of {ds.attrs['repeats_heyoka']} (heyoka) / "
+                       f"{ds.attrs['repeats_scipy']} (SciPy)")
+    axes[1].set_xlabel(f"max |E/E0 - 1| over t <= {ds.attrs['t_long']:g}")
+    axes[1].set_ylabel("wall time (s)")
+    axes[0].legend(fontsize=7)
+    axes[0].set_title(f"reference self-difference {ds.attrs['reference_self_difference']:.1e}", fontsize=8)
+    hy = ds.backend.values == "heyoka"
+    ax = axes[2]
+    tol = ds.tol.values[hy]
+    for name, vals in (("spike interval", ds.spike_interval.values[hy]), ("first spike", ds.first_spike.values[hy])):
+        ax.semilogx(tol, vals / vals[np.argmin(tol)], "o-", label=name)
+    to = ds.tol_observable.values
+    for name in ("lambda_1", "rotation_number"):
+        v = ds[name].values
+        ax.semilogx(to, v / v[np.argmin(to)], "s--", label=name)
+    ax.set_xlabel("heyoka tolerance")
+    ax.set_ylabel("observable / value at the tightest tolerance")
+    ax.legend(fontsize=7)
+    ax.set_title("loosest converged tol: " + ", ".join(
+        f"{k.replace('loosest_converged_tol_', '')} {v:.0e}" for k, v in ds.attrs.items()
+        if k.startswith("loosest_converged_tol_")), fontsize=7)
+    ax = axes[3]
+    best = float(ds.lambda_1.values[np.argmin(to)])
+    ax.loglog(np.maximum(np.abs(ds.lambda_1.values - best), 1e-12), ds.lambda_1_wall.values, "o-",
+              label="heyoka (Taylor)")
+    if "lyap_scipy" in ds.dims:
+        for m in sorted(set(ds.lyap_scipy_method.values.tolist())):
+            sel = ds.lyap_scipy_method.values == m
+            ax.loglog(np.abs(ds.lyap_scipy_lambda_1.values[sel] - best), ds.lyap_scipy_wall.values[sel], "s--",
+                      label=f"SciPy {m}")
+    ax.set_xlabel(f"|lambda_1 - heyoka tightest| over T = {ds.attrs['T_lyapunov']:g} (floor 1e-12)")
+    ax.set_ylabel("wall time (s)")
+    ax.set_title(f"Lyapunov kernel (heyoka tightest: lambda_1 = {best:.4g})", fontsize=8)
+    ax.legend(fontsize=7)
+    finish(fig, ds.attrs, png, pdf)
+

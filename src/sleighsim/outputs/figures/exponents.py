@@ -1,0 +1,116 @@
+"""Figures of the Lyapunov analysis: against energy (F10), on the (eps, b) grid (F11), the spectrum and the verdict."""
+
+from __future__ import annotations
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+from ...io import read_dataset
+from .common import finish
+
+def fig10(sources, png, pdf) -> None:
+    """Max Lyapunov exponent against energy label, with the time-scaling law."""
+    ds = read_dataset(sources[0])
+    fig, ax = plt.subplots(figsize=(7, 5))
+    lam, err, E = ds.lambda_1.values, ds.stderr.values, ds.label.values
+    pos = lam > 0
+    ax.errorbar(E[pos], lam[pos], yerr=err[pos], fmt="o", capsize=3, label="direct (Benettin, k = 1)")
+    if (~pos).any():
+        ax.plot(E[~pos], np.abs(lam[~pos]), "x", color="tab:red", label="|lambda_1| where lambda_1 <= 0")
+    ax.loglog(E, np.abs(ds.law.values), "-", color="0.4",
+              label=f"law $\\lambda \\propto E^{{1/2}}$ from E = {ds.attrs['reference_label']:g}")
+    ax.set_xlabel("energy label $E$")
+    ax.set_ylabel(r"max Lyapunov exponent $\lambda_1$")
+    ax.set_title(f"$\\epsilon$ = {ds.attrs['param_eps']:.3g}, b = {ds.attrs['param_b']:.3g}: fitted exponent "
+                 f"{ds.attrs['fitted_exponent']:.4f} +- {ds.attrs['fitted_exponent_stderr']:.2g} (law: 0.5)\n"
+                 f"T = {ds.attrs['T_reference']:g} time units at E = {ds.attrs['reference_label']:g}, scaled by the law",
+                 fontsize=8)
+    ax.legend(fontsize=7)
+    finish(fig, ds.attrs, png, pdf)
+
+
+def _every_other_tick(axis, values) -> None:
+    """Label every other grid value on a log axis, without matplotlib's crowded minor labels."""
+    from matplotlib.ticker import NullFormatter
+
+    axis.set_minor_formatter(NullFormatter())
+    axis.set_ticks(values[::2], [f"{v:.2g}" for v in values[::2]])
+
+
+def fig11(sources, png, pdf) -> None:
+    """Max Lyapunov exponent on the (eps, b) grid (log colour scale), flagged points marked; and
+    lambda_1 against eps (b is a symmetry: every b of a row is the same system)."""
+    from matplotlib.colors import LogNorm
+
+    ds = read_dataset(sources[0])
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(13, 5.8), gridspec_kw={"width_ratios": [1.3, 1]})
+    lam = ds.lambda_1.values
+    positive = lam[lam > 0]
+    mesh = ax.pcolormesh(ds.b.values, ds.eps.values, np.where(lam > 0, lam, np.nan), shading="nearest",
+                         cmap="viridis", norm=LogNorm(vmin=positive.min(), vmax=positive.max()))
+    fig.colorbar(mesh, ax=ax, label=r"$\lambda_1$ (1/time; non-positive values blank)")
+    B, Eps = np.meshgrid(ds.b.values, ds.eps.values)
+    flagged = ds.flagged.values.astype(bool)
+    ax.plot(B[flagged], Eps[flagged], "wx", ms=5, mew=1.5, label="flagged: transient not over or not converged")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    _every_other_tick(ax.xaxis, ds.b.values)
+    _every_other_tick(ax.yaxis, ds.eps.values)
+    ax.set_xlabel("$b$")
+    ax.set_ylabel(r"$\epsilon$")
+    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.1), facecolor="0.6")
+    ax.set_title(f"E label {ds.attrs['energy_label']:g}: {ds.attrs['n_points']} points, "
+                 f"{100 * ds.attrs['fraction_flagged']:.0f}% flagged; lambda_1 in "
+                 f"[{ds.attrs['min_lambda_1']:.2g}, {ds.attrs['max_lambda_1']:.2g}]", fontsize=8)
+    eps = ds.eps.values
+    for j in range(ds.sizes["b"]):
+        ok = ~flagged[:, j]
+        bx.plot(eps[ok], lam[ok, j], ".", color="C0", ms=4, label="points" if j == 0 else None)
+        bx.plot(eps[~ok], lam[~ok, j], "x", color="C3", ms=4, label="flagged points" if j == 0 else None)
+    bx.errorbar(eps, ds.row_mean.values, yerr=ds.row_stderr.values, fmt="o-", color="k", ms=4, capsize=3,
+                label="mean over b, +- mean block stderr")
+    bx.axhline(1e-4, color="0.5", ls=":", label="paper: smallest value > 1e-4")
+    bx.set_xscale("log")
+    bx.set_yscale("log")
+    _every_other_tick(bx.xaxis, eps)
+    bx.set_xlabel(r"$\epsilon$")
+    bx.set_ylabel(r"$\lambda_1$ (1/time; log scale, positive values)")
+    bx.legend(fontsize=7)
+    bx.set_title(f"reference point (eps {ds.attrs['reference_point_eps']:.3g}): stderr / lambda_1 = "
+                 f"{ds.attrs['reference_point_rel_err']:.2f}; spread over b / stderr: "
+                 f"{ds.attrs['median_row_spread_over_stderr']:.2f}\n(median over rows with lambda_1 T >= 100)", fontsize=8)
+    finish(fig, ds.attrs, png, pdf)
+
+
+def lyapunov(sources, png, pdf) -> None:
+    """lambda_i(T) on log-log axes, the paper-protocol spread, and the verdict."""
+    spec, prot, verdict = (read_dataset(s) for s in sources)
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(12, 5), gridspec_kw={"width_ratios": [1.6, 1]})
+    T = spec["T"].values
+    for i in range(4):
+        lam = spec.running.values[:, i]
+        line, = ax.loglog(T, np.where(lam > 0, lam, np.nan), "-", label=f"$\\lambda_{i + 1}(T) > 0$")
+        ax.loglog(T, np.where(lam < 0, -lam, np.nan), "--", color=line.get_color(), label=f"$-\\lambda_{i + 1}(T)$")
+    ax.loglog(T, 1.0 / T, ":", color="k", label="$1/T$")
+    ax.axhline(abs(spec.attrs["mean_divergence"]), color="0.5", lw=0.8,
+               label=f"|mean divergence| = {abs(spec.attrs['mean_divergence']):.2g}")
+    ax.set_xlabel("accumulation time $T$")
+    ax.set_ylabel(r"$|\lambda_i(T)|$")
+    ax.legend(fontsize=6, ncol=2)
+    lam = spec.exponent.values
+    err = spec.stderr.values
+    ax.set_title("exponents at T = %g: %s\n+- %s; verdict: %s (0-1 test K = %.2f)" % (
+        spec.attrs["T"], np.array2string(lam, precision=2), np.array2string(err, precision=1),
+        verdict.attrs["verdict"], verdict.attrs["zero_one_K"]), fontsize=8)
+    for j in range(prot.sizes["state"]):
+        bx.plot(np.arange(1, 5), prot.exponent.values[j], "o-", ms=4, label=f"state {j}")
+    bx.axhline(0, color="k", lw=0.6)
+    bx.set_xticks(range(1, 5))
+    bx.set_xlabel("index $i$")
+    bx.set_ylabel(r"$\lambda_i$ (paper protocol)")
+    bx.set_title(f"paper protocol: T = {prot.attrs['T']:g} after {prot.attrs['t_transient']:g}, tau = "
+                 f"{prot.attrs['tau']:g}\nspread of lambda_1 over states: {prot.attrs['spread_lambda_1']:.2g}",
+                 fontsize=8)
+    bx.legend(fontsize=6)
+    finish(fig, spec.attrs, png, pdf)
+

@@ -1,0 +1,141 @@
+"""Physical parameters of the sleigh and the paper's (eps, b, K2) form (SCIENCE.md: m = 1).
+
+Physical: sleigh mass m_c, rotor mass m_r, inertias I_c (sleigh, about C) and I_r
+(rotor), rotor offset a [length] and runner distance b [length]. The paper's form:
+m_r / m = a / b = eps, m = 1, I_c = (K2 - 1) b^2, I_r = eps^3 b^2 (K2 - 1 + eps).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+PARAM_NAMES = ("m_c", "m_r", "I_c", "I_r", "a", "b")
+
+
+def finite(name, value) -> float:
+    """``value`` as a float; ValueError naming ``name`` when it is NaN or infinite."""
+    value = float(value)
+    if not math.isfinite(value):
+        raise ValueError(f"{name} = {value} is not a finite number")
+    return value
+
+
+@dataclass(frozen=True)
+class Params:
+    """Physical parameters: masses m_c, m_r, inertias I_c (about C), I_r (rotor),
+    rotor offset a and runner distance b. Build with :meth:`physical` or :meth:`paper`."""
+
+    m_c: float
+    m_r: float
+    I_c: float
+    I_r: float
+    a: float
+    b: float
+
+    @classmethod
+    def physical(cls, *, m_c, m_r, I_c, I_r, a, b) -> "Params":
+        vals = {k: finite(k, v) for k, v in dict(m_c=m_c, m_r=m_r, I_c=I_c, I_r=I_r, a=a, b=b).items()}
+        for k in ("m_c", "b"):
+            if vals[k] <= 0:
+                raise ValueError(f"{k} = {vals[k]} is outside the admissible range (0, inf)")
+        for k in ("m_r", "I_c", "I_r", "a"):
+            if vals[k] < 0:
+                raise ValueError(f"{k} = {vals[k]} is outside the admissible range [0, inf)")
+        p = cls(**vals)
+        p._check_positive_definite()
+        return p
+
+    @classmethod
+    def paper(cls, *, eps, b=1.0, K2=None, formal: bool = False) -> "Params":
+        """The paper's form: m_r/m = a/b = eps, m = 1, K2 = 1 + I_c/(m b^2) (default 1 + eps).
+
+        ``formal=True`` admits eps >= 1, the formal system with a negative sleigh
+        mass m_c = 1 - eps (not a mechanical system; the inertia stays positive definite)."""
+        eps = finite("eps", eps)
+        b = finite("b", b)
+        K2 = 1.0 + eps if K2 is None else finite("K2", K2)
+        if not (0.0 < eps < 1.0 or (formal and eps >= 1.0)):
+            why = ("eps = m_r/m must be positive" if eps <= 0 else
+                   "eps = m_r/m, and eps >= 1 makes m_c <= 0; pass formal=True for the formal system")
+            raise ValueError(f"eps = {eps} is outside the admissible range (0, 1): {why}")
+        if b <= 0:
+            raise ValueError(f"b = {b} is outside the admissible range (0, inf)")
+        if K2 <= 1:
+            raise ValueError(f"K2 = {K2} is outside the admissible range (1, inf): K2 = 1 + I_c/(m b^2)")
+        if eps >= 1.0:
+            p = cls(m_c=1.0 - eps, m_r=eps, I_c=(K2 - 1.0) * b**2, I_r=eps**3 * b**2 * (K2 - 1.0 + eps),
+                    a=eps * b, b=b)
+            p._check_positive_definite()
+            return p
+        return cls.physical(
+            m_c=1.0 - eps,
+            m_r=eps,
+            I_c=(K2 - 1.0) * b**2,
+            I_r=eps**3 * b**2 * (K2 - 1.0 + eps),
+            a=eps * b,
+            b=b,
+        )
+
+    @classmethod
+    def sleigh0(cls, *, b=1.0, K2=1.1) -> "Params":
+        """The rotor-free sleigh (eps = 0) inside the full model: the rotor is massless,
+        centred (a = 0) and decoupled (it spins at constant omega)."""
+        return cls.physical(m_c=1.0, m_r=0.0, I_c=(K2 - 1.0) * b**2, I_r=1.0, a=0.0, b=b)
+
+    @classmethod
+    def from_config(cls, cfg: dict) -> "Params":
+        """From a config block: either {eps, b, K2} or {m_c, m_r, I_c, I_r, a, b}."""
+        if "eps" in cfg:
+            return cls.paper(eps=cfg["eps"], b=cfg.get("b", 1.0), K2=cfg.get("K2"))
+        missing = [k for k in PARAM_NAMES if k not in cfg]
+        if missing:
+            raise ValueError(f"parameter block needs eps (paper form) or all of {PARAM_NAMES}; missing {missing}")
+        return cls.physical(**{k: cfg[k] for k in PARAM_NAMES})
+
+    def _check_positive_definite(self):
+        # det M(delta) is linear in cos^2(delta): check both ends.
+        m = self.m
+        J = self.I_c + m * self.b**2
+        R = self.I_r + self.m_r * self.a**2
+        c = self.m_r * self.a
+        det_min = min(m * J * R - m * (c * self.b) ** 2, m * J * R - J * c**2)
+        if not det_min > 1e-14 * m * J * max(R, 1e-300):
+            raise ValueError(
+                f"inertia is not positive definite (min det M = {det_min:.3g}): "
+                "I_r + m_r a^2 must exceed the rotor coupling; increase I_r or reduce m_r a"
+            )
+
+    @property
+    def m(self) -> float:
+        return self.m_c + self.m_r
+
+    @property
+    def eps(self) -> float:
+        """m_r / m (the paper's small parameter)."""
+        return self.m_r / self.m
+
+    @property
+    def K2(self) -> float:
+        """1 + I_c / (m b^2), the paper's K^2 (with its typo I_r -> I_c corrected)."""
+        return 1.0 + self.I_c / (self.m * self.b**2)
+
+    @property
+    def is_paper_form(self) -> bool:
+        """True when (m = 1, a = eps b, I_r = eps^3 b^2 (K2 - 1 + eps)) hold, so eps, b, K2 describe it exactly."""
+        e, b, K2 = self.eps, self.b, self.K2
+        return (
+            math.isclose(self.m, 1.0, rel_tol=1e-12)
+            and math.isclose(self.a, e * b, rel_tol=1e-12, abs_tol=1e-300)
+            and math.isclose(self.I_r, e**3 * b**2 * (K2 - 1 + e), rel_tol=1e-12, abs_tol=1e-300)
+        )
+
+    @property
+    def values(self) -> tuple:
+        return tuple(getattr(self, k) for k in PARAM_NAMES)
+
+    def attrs(self) -> dict:
+        """Flat netCDF-friendly attributes: physical and paper form."""
+        out = {f"param_{k}": v for k, v in zip(PARAM_NAMES, self.values)}
+        out.update(param_eps=self.eps, param_K2=self.K2, param_is_paper_form=int(self.is_paper_form))
+        return out

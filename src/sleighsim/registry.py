@@ -1,0 +1,181 @@
+"""What the workflow builds, declared once.
+
+- Scenes live in the config: each block under ``scenes`` names its ``kind``; the dataset is
+  ``results/data/<scene>.nc``. :data:`KINDS` says which function computes each kind and which
+  other datasets (by role, named in the block's ``inputs``) it reads.
+- :data:`FIGURES`: every figure, the datasets its plot function reads (in order), the paper's
+  figure id and the claims it illustrates.
+- :data:`EVIDENCE`: the datasets each claim of ``paper/CLAIMS.md`` is judged from (in the order
+  its judge takes them).
+
+The Snakefile, the config checks, the claims ledger and the report all derive from these;
+nothing else lists scenes, figures or claims. This module imports nothing heavy, so the
+workflow can read it while it builds the job graph.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class Kind:
+    """How a scene kind is computed: ``function`` is "module:function" in :mod:`sleighsim.scenes`
+    (config block in, Dataset out); ``inputs`` are the roles of the datasets it reads; a
+    ``chunked`` kind runs as independent chunk jobs ("module:chunk") gathered by "module:gather";
+    a kind that ``integrates`` takes the config's ``defaults`` (the tolerance) unless its block sets them."""
+
+    function: str | None
+    inputs: tuple[str, ...] = ()
+    chunked: bool = False
+    integrates: bool = True
+
+
+KINDS: dict[str, Kind] = {
+    "schematic": Kind(None, integrates=False),  # drawn from its config block; no dataset
+    "sleigh0": Kind("trajectories:sleigh0"),
+    "trajectory": Kind("trajectories:trajectory"),
+    "attractor_levels": Kind("transients:attractor_levels"),
+    "transient_scaling": Kind("transients:transient_scaling"),
+    "series_vs_exact": Kind("hierarchy:series_vs_exact"),
+    "hierarchy_terms": Kind("hierarchy:hierarchy_terms"),
+    "hierarchy_audit": Kind("hierarchy:hierarchy_audit"),
+    "poincare": Kind("steady_state:poincare_maps"),
+    "psd": Kind("steady_state:psd"),
+    "attractor_scaling": Kind("steady_state:attractor_scaling", inputs=("reference", "scaled"), integrates=False),
+    "lyapunov_spectrum": Kind("exponents:spectrum"),
+    "lyapunov_protocol": Kind("exponents:protocol"),
+    "lyapunov_energy": Kind("exponents:energy_sweep"),
+    "small_eps_cost": Kind("exponents:small_eps_cost"),
+    "lyapunov_grid": Kind("grid:chunk", chunked=True),
+    "chaos_verdict": Kind("verdict:verdict", inputs=("spectrum", "poincare"), integrates=False),
+    "printed_model": Kind("audit:printed_model"),
+    "hardcases": Kind("hardcases:hardcases"),
+    "bench": Kind("bench:bench", integrates=False),
+}
+
+
+@dataclass(frozen=True)
+class Figure:
+    """A figure: ``data`` are the datasets its plot function reads, in order; ``plot`` names the
+    function in :mod:`sleighsim.outputs.figures` (default: the figure's own name); ``paper`` is
+    its id in CLAIMS.md ("" when the paper has no such figure, then ``title`` heads its report
+    section); ``claims`` are the claims it illustrates; ``schematic`` names the scene whose
+    config block a dataset-free figure draws."""
+
+    data: tuple[str, ...] = ()
+    paper: str = ""
+    claims: tuple[str, ...] = ()
+    title: str = ""
+    plot: str = ""
+    schematic: str = ""
+
+
+FIGURES: dict[str, Figure] = {
+    "fig1": Figure(paper="F1", schematic="fig1"),
+    "fig2": Figure(("fig2",), "F2", ("C01",)),
+    "fig3": Figure(("fig3",), "F3", ("C03", "C04", "C05")),
+    "fig4": Figure(("fig4",), "F4", ("C06",)),
+    "fig5": Figure(("fig5",), "F5", ("C11",)),
+    "fig6": Figure(("fig6",), "F6", ("C07", "C08", "C09", "C10")),
+    "transients": Figure(("transients", "fig3"), title="Transient length against eps (C03-C05)"),
+    "perturbation": Figure(("fig5", "pert_audit"),
+                           title="Perturbation hierarchy: convergence as eps -> 0 and secular growth (C12)"),
+    "fig7": Figure(("fig7",), "F7", ("C13",)),
+    "fig8": Figure(("fig8",), "F8", ("C14",)),
+    "fig9": Figure(("fig9_ref", "fig9_highE", "fig9_eps001", "fig9_scaling"), "F9", ("C15", "C16", "C17")),
+    "fig12": Figure(("fig9_ref", "fig9_eps001"), "F12", ("C22",)),
+    "fig13": Figure(("psd_eps01",), "F13", ("C23",), plot="psd"),
+    "fig14": Figure(("psd_eps001",), "F14", ("C24",), plot="psd"),
+    "fig10": Figure(("lyap_energy",), "F10", ("C20",)),
+    "fig11": Figure(("fig11_grid",), "F11", ("C21",)),
+    "lyapunov": Figure(("lyap_spectrum", "lyap_protocol", "chaos_verdict"), title="Lyapunov spectrum and chaos verdict"),
+    "audit": Figure(("audit",), title="The model as printed: energy drift of the printed udot"),
+    "bench": Figure(("bench",), title="Speed against error"),
+}
+
+@dataclass(frozen=True)
+class Table:
+    """A table of the report: dataset ``data``, one row per value of ``key``, the ``columns`` shown;
+    rows coloured by the value of ``colour_by`` (an outcome) when given."""
+
+    data: str
+    key: str
+    columns: tuple[str, ...]
+    colour_by: str = ""
+
+
+#: Tables the report shows after the figures: section title -> table.
+TABLES: dict[str, Table] = {
+    "Perturbation hierarchy: terms where the printed equations differ from the derived ones":
+        Table("pert_audit", "equation", ("term", "derived", "printed", "derived_with_kappa")),
+    "Hard cases": Table("hardcases", "case", ("outcome", "error", "drift", "disagreement", "steps", "wall_s", "detail"),
+                        colour_by="outcome"),
+}
+
+EVIDENCE: dict[str, tuple[str, ...]] = {
+    "C01": ("fig2",),
+    "C03": ("fig3",),
+    "C04": ("fig3", "transients"),
+    "C05": ("fig3",),
+    "C06": ("fig4",),
+    "C07": ("fig6",),
+    "C08": ("fig6",),
+    "C09": ("fig6",),
+    "C10": ("fig6",),
+    "C11": ("fig5",),
+    "C12": ("pert_audit",),
+    "C13": ("fig7",),
+    "C14": ("fig8",),
+    "C15": ("fig9_ref",),
+    "C16": ("fig9_ref",),
+    "C17": ("fig9_highE", "fig9_eps001", "fig9_scaling"),
+    "C18": ("lyap_spectrum",),
+    "C19": ("lyap_protocol", "lyap_spectrum"),
+    "C20": ("lyap_energy",),
+    "C21": ("fig11_grid",),
+    "C22": ("fig9_ref",),
+    "C23": ("psd_eps01",),
+    "C24": ("psd_eps001",),
+    "C25": ("lyap_feasibility",),
+    "C26": ("audit",),
+    "C27": ("chaos_verdict",),
+    "D1": ("audit",),
+    "D2": ("audit",),
+    "D3": ("audit",),
+    "D4": ("audit",),
+    "D5": ("audit",),
+    "D6": ("audit",),
+}
+
+
+#: Keys of a scene block that schedule its jobs and do not change what it computes.
+SCHEDULING = ("on_request", "schedule_first", "chunk_runtime_min")
+
+
+def scene_config(config: dict, scene: str) -> dict:
+    """The block of ``scene`` as its function reads it: the config's ``defaults`` filled in where
+    the kind integrates and the block sets no value, the scheduling keys removed."""
+    block = config["scenes"][scene]
+    defaults = config.get("defaults", {}) if KINDS[block["kind"]].integrates else {}
+    return {**defaults, **{k: v for k, v in block.items() if k not in SCHEDULING}}
+
+
+def datasets(config: dict, *, on_request: bool = False) -> list[str]:
+    """The scenes of ``config`` that make a dataset: those built in the full run, or with
+    ``on_request`` also those built only when asked for."""
+    return [name for name, block in config["scenes"].items()
+            if KINDS[block["kind"]].function is not None and (on_request or not block.get("on_request", False))]
+
+
+def figures_built(config: dict, *, on_request: bool = False) -> list[str]:
+    """The figures whose datasets (or schematic block) the config builds, in declaration order."""
+    built = set(datasets(config, on_request=on_request))
+    drawn = {n for n, block in config["scenes"].items() if on_request or not block.get("on_request", False)}
+    return [name for name, f in FIGURES.items()
+            if set(f.data) <= built and (not f.schematic or f.schematic in drawn)]
+
+
+def plot_name(figure: str) -> str:
+    """The plot function of a figure."""
+    return FIGURES[figure].plot or figure

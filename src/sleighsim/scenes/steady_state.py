@@ -1,0 +1,150 @@
+"""Steady-state scenes after a checked transient: Poincare maps and return times (F9, F12),
+power spectra (F13, F14), and the attractor under the time-scaling law (C17)."""
+
+from __future__ import annotations
+
+import logging
+import time
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from .. import model, poincare, spectra
+from ..attrs import UNITS, state_attrs
+from ..integrate import integrate, sample_grid
+from ..io import read_dataset
+from ..params import Params
+from ..transient import settle
+from .common import initial_state
+
+log = logging.getLogger("sleighsim")
+
+
+def poincare_maps(cfg: dict, scene: str = "") -> xr.Dataset:
+    """P_2pi and P_pi/2 iterates after a checked transient, return times, rotation
+    number, loop count, and a sampled stretch of the attractor (F9, F12)."""
+    start = time.perf_counter()
+    params = Params.from_config(cfg["params"])
+    y0 = initial_state(cfg, params)
+    y_settled, attrs = settle(params, y0, cfg["t_settle"], **cfg["transient"], tol=cfg["tol"], label=scene)
+    t0, t1 = cfg["t_settle"], cfg["t_settle"] + cfg["t_map"]
+    c = poincare.crossings(params, y_settled, t0, t1, tol=cfg["tol"], scene=scene)
+    att = integrate(params, y_settled, sample_grid(t0, t0 + cfg["attractor_span"], cfg["attractor_dt"]),
+                    tol=cfg["tol"], scene=f"{scene}.attractor", progress=1)
+    pts = np.c_[c["u"], c["Omega"], c["omega"]]
+    is2pi = c["k"] % 4 == 0
+    rt = np.diff(c["time"][is2pi])
+    stride = max(1, int(np.ceil(len(pts) / cfg["max_stored_pi2"])))
+    stride += 1 - stride % 2  # odd, so thinning keeps all four classes k mod 4
+    loops = poincare.count_loops(pts[::stride], c["k"][::stride] % 4, cfg["loop_knn"])
+    rot = poincare.rotation_number(pts[is2pi])
+    E = model.energy(np.c_[pts, c["k"] * (np.pi / 2)], params)
+    E0 = float(model.energy(y0, params))
+    units = {"u": UNITS["u"][1], "Omega": UNITS["Omega"][1], "omega": UNITS["omega"][1]}
+    data = {f"p2pi_{v}": ("n2pi", c[v][is2pi], {"units": units[v]}) for v in ("u", "Omega", "omega")}
+    data["p2pi_time"] = ("n2pi", c["time"][is2pi], {"units": "time"})
+    data["return_time"] = ("nret", rt, {"long_name": "t_{n+1} - t_n of P_2pi", "units": "time"})
+    data.update({f"ppi2_{v}": ("npi2", c[v][::stride], {"units": units[v]}) for v in ("u", "Omega", "omega")})
+    data["ppi2_class"] = ("npi2", (c["k"][::stride] % 4).astype(np.int8), {"long_name": "k mod 4, delta = k pi/2"})
+    data["ppi2_cluster"] = ("npi2", loops["labels"].astype(np.int32),
+                            {"long_name": "k-NN graph component in the (u, Omega, omega) projection"})
+    data.update({f"attractor_{v}": ("natt", att[v].values, {"units": units[v]}) for v in ("u", "Omega", "omega")})
+    ds = xr.Dataset(data)
+    ds.attrs.update(state_attrs(params, y0))
+    ds.attrs.update(attrs)
+    ds.attrs.update(rot)
+    ds.attrs.update(
+        scene=scene, backend="heyoka", method="taylor_adaptive + nt_event sin(2 delta)", tol=cfg["tol"],
+        energy_max_rel_drift=float(np.max(np.abs(E / E0 - 1))) if E.size else float("nan"),
+        t_map_start=t0, t_map_end=t1, n_p2pi=int(is2pi.sum()), n_ppi2=int(len(pts)), ppi2_stride=stride,
+        max_crossing_residual=float(c["residual"].max()) if len(pts) else float("nan"),
+        return_time_min=float(rt.min()) if rt.size else float("nan"),
+        return_time_max=float(rt.max()) if rt.size else float("nan"),
+        return_time_min_pairwise_difference=poincare.min_pairwise_difference(rt),
+        return_time_resolution=float(2 * np.spacing(t1)),
+        return_time_tie_tol=cfg["return_time_tie_tol"],
+        return_time_n_adjacent_pairs_within_tie_tol=int(np.sum(np.diff(np.sort(rt)) < cfg["return_time_tie_tol"])),
+        p2pi_curve_thickness=poincare.curve_thickness(pts[is2pi]) if is2pi.sum() > 10 else float("nan"),
+        n_loops=loops["n_loops"], n_components_projected=loops["n_components_projected"],
+        loops_per_class=np.array([loops["loops_per_class"].get(k, 0) for k in range(4)], dtype=np.int32),
+        loop_rule=f"per class k mod 4: connected components (>= 1% of the class) of the symmetric "
+        f"{cfg['loop_knn']}-nearest-neighbour graph of standardised (u, Omega, omega); n_loops sums over classes",
+        steps=int(c["steps"]), compile_time_s=c["compile_time_s"], wall_time_s=time.perf_counter() - start,
+    )
+    log.info("%s: %d P_2pi, %d P_pi/2 iterates, %d loops, rotation number %.6g, max residual %.2g", scene,
+             is2pi.sum(), len(pts), loops["n_loops"], rot["rotation_number"], ds.attrs["max_crossing_residual"])
+    return ds
+
+
+def psd(cfg: dict, scene: str = "") -> xr.Dataset:
+    """Welch PSD of u and Omega on the attractor, band edges and near-zero peaks (F13, F14);
+    band edges are recomputed at a finer sampling to show they do not move."""
+    start = time.perf_counter()
+    params = Params.from_config(cfg["params"])
+    y0 = initial_state(cfg, params)
+    y_settled, attrs = settle(params, y0, cfg["t_settle"], **cfg["transient"], tol=cfg["tol"], label=scene)
+    t0 = cfg["t_settle"]
+    sc = cfg["spectrum"]
+    run = integrate(params, y_settled, sample_grid(t0, t0 + cfg["duration"], cfg["dt"]), tol=cfg["tol"], scene=scene)
+    fine = integrate(params, y_settled, sample_grid(t0, t0 + cfg["check_duration"], cfg["check_dt"]),
+                     tol=cfg["tol"], scene=f"{scene}.check", progress=4)
+    coarse = run.sel(time=slice(t0, t0 + cfg["check_duration"]))
+    data, out_attrs = {}, {}
+    for v in ("u", "Omega"):
+        f, S = spectra.psd(run[v].values, cfg["dt"], segment=sc["segment"])
+        data[f"psd_{v}"] = ("frequency", S, {"long_name": f"PSD of {v}", "units": f"({UNITS[v][1]})^2 * time"})
+        lo, hi, fpk = spectra.band_edges(f, S, f_split=sc["f_split"], rel_threshold=sc["rel_threshold"])
+        peaks = spectra.peaks_near_zero(f, S, f_split=sc["f_split"], prominence_decades=sc["prominence_decades"],
+                                        floor_rel=sc["floor_rel"])
+        out_attrs.update({f"{v}_band_low": lo, f"{v}_band_high": hi, f"{v}_band_peak": fpk,
+                          f"{v}_n_peaks_near_zero": int(peaks.size),
+                          f"{v}_lowest_peak": float(peaks[0]) if peaks.size else float("nan")})
+        for tag, rec, dt in (("coarse", coarse, cfg["dt"]), ("fine", fine, cfg["check_dt"])):
+            fc, Sc = spectra.psd(rec[v].values, dt, segment=sc["check_segment"])
+            lo_c, hi_c, _ = spectra.band_edges(fc, Sc, f_split=sc["f_split"], rel_threshold=sc["rel_threshold"])
+            out_attrs.update({f"{v}_check_{tag}_band_low": lo_c, f"{v}_check_{tag}_band_high": hi_c})
+    ds = xr.Dataset(data, coords={"frequency": ("frequency", f, {"units": "cycles/time"}),
+                                  "angular_frequency": ("frequency", 2 * np.pi * f, {"units": "rad/time"})})
+    ds.attrs.update(state_attrs(params, y0))
+    ds.attrs.update(attrs)
+    ds.attrs.update(out_attrs)
+    ds.attrs.update(
+        scene=scene, backend="heyoka", method="taylor_adaptive", tol=cfg["tol"],
+        energy_max_rel_drift=max(run.attrs["energy_max_rel_drift"], attrs["pre_run_energy_max_rel_drift"]),
+        record_start=t0, record_duration=cfg["duration"], sample_dt=cfg["dt"], check_dt=cfg["check_dt"],
+        check_duration=cfg["check_duration"], psd_method="scipy.signal.welch", psd_window="hann",
+        psd_segment=sc["segment"], psd_check_segment=sc["check_segment"], psd_overlap="50%",
+        psd_detrend="constant (mean removed per segment)", frequency_units="cycles per unit time",
+        band_rule=f"f > {sc['f_split']}: PSD >= {sc['rel_threshold']} x max PSD above f_split",
+        peak_rule=f"0 < f < {sc['f_split']}: local maxima of log10 PSD with prominence >= {sc['prominence_decades']}"
+        f" and PSD >= {sc['floor_rel']} x max PSD",
+        steps=run.attrs["steps"], wall_time_s=time.perf_counter() - start,
+    )
+    log.info("%s: Omega band [%.4g, %.4g], %d peaks near zero", scene, out_attrs["Omega_band_low"],
+             out_attrs["Omega_band_high"], out_attrs["Omega_n_peaks_near_zero"])
+    return ds
+
+
+def attractor_scaling(cfg: dict, inputs: dict, scene: str = "") -> xr.Dataset:
+    """C17: the P_pi/2 iterates of the ``scaled`` input (a higher energy label), divided by
+    c = sqrt(label ratio), against those of the ``reference`` input (poincare.scaled_set_distance)."""
+    ref_nc, high_nc = inputs["reference"], inputs["scaled"]
+    ref, high = read_dataset(ref_nc), read_dataset(high_nc)
+    c = float(np.sqrt(high.attrs["energy_label"] / ref.attrs["energy_label"]))
+    pts = lambda ds: np.c_[ds.ppi2_u, ds.ppi2_Omega, ds.ppi2_omega]  # noqa: E731
+    d = poincare.scaled_set_distance(pts(ref), ref.ppi2_class.values, pts(high), high.ppi2_class.values, c)
+    ds = xr.Dataset()
+    ds.attrs.update({f"distance_{k}": v for k, v in d.items()})
+    ds.attrs.update(
+        scale_factor_c=c, label_ref=ref.attrs["energy_label"], label_high=high.attrs["energy_label"],
+        rotation_number_ref=ref.attrs["rotation_number"], rotation_number_high=high.attrs["rotation_number"],
+        n_loops_ref=ref.attrs["n_loops"], n_loops_high=high.attrs["n_loops"],
+        method="nearest same-class P_pi/2 iterate of the reference label, distances over the reference "
+        "attractor's RMS size; high-label velocities divided by c (scaled) or not (unscaled)",
+        sources=f"{Path(ref_nc).name}, {Path(high_nc).name}",
+    )
+    log.info("attractor scaling: median distance %.3g scaled, %.3g unscaled (c = %.4g)",
+             d["scaled_median"], d["unscaled_median"], c)
+    return ds
+

@@ -1,0 +1,102 @@
+"""Trajectory scenes: the rotor-free sleigh against its closed form (F2), and sampled runs
+of the full model (F3, F7, F8)."""
+
+from __future__ import annotations
+
+import logging
+import time
+
+import numpy as np
+import xarray as xr
+
+from .. import model
+from ..attrs import UNITS
+from ..integrate import integrate, sample_grid
+from ..params import Params
+from ..sleigh0 import closed_form
+from ..sleigh0 import rhs as sleigh0_rhs
+from .common import initial_state
+
+log = logging.getLogger("sleighsim")
+
+
+def trajectory(cfg: dict, scene: str = "") -> xr.Dataset:
+    """Integrate from ``y0`` at t = 0 and sample the kept variables on
+    [t_sample_start, t_end] with step dt (F3, F7, F8)."""
+    params = Params.from_config(cfg["params"])
+    y0 = initial_state(cfg, params)
+    times = sample_grid(cfg.get("t_sample_start", 0.0), cfg["t_end"], cfg["dt"])
+    keep = list(cfg["keep"])
+    kinematics = any(v in model.KINEMATIC_NAMES for v in keep)
+    ds = integrate(params, y0, times, t0=0.0, kinematics=kinematics, tol=cfg["tol"], scene=scene)
+    return ds[keep]
+
+
+def sleigh0(cfg: dict, scene: str = "") -> xr.Dataset:
+    """The eps = 0 sleigh: phase-portrait trajectories (closed form and integration
+    of the full model with a decoupled rotor), the vector field, and a path."""
+    start = time.perf_counter()
+    b, K2, tol = cfg["b"], cfg["K2"], cfg["tol"]
+    params = Params.sleigh0(b=b, K2=K2)
+    pc = cfg["portrait"]
+    t = np.linspace(-pc["t_half"], pc["t_half"], pc["n_samples"])
+    starts = np.asarray(pc["states"], dtype=float)  # states at t = 0
+    u_cf = np.empty((len(starts), t.size))
+    Om_cf = np.empty_like(u_cf)
+    u_num = np.empty_like(u_cf)
+    Om_num = np.empty_like(u_cf)
+    drift, steps = 0.0, 0
+    # Both halves run from t = 0 in their stable direction: forward for t >= 0; for t <= 0
+    # the reversal symmetry y(-s) = -y~(s), y~ the solution from -y(0), gives the past.
+    # (Integrating forward from t = -t_half would start beside the unstable branch u = -V.)
+    past, future = t <= 0, t >= 0
+    for k, (u0, Om0) in enumerate(starts):
+        u_cf[k], Om_cf[k], _ = closed_form(t, u0, Om0, b, K2)
+        for mask, sign in ((future, 1.0), (past, -1.0)):
+            ts = sign * t[mask]
+            order = np.argsort(ts)
+            ds = integrate(params, [sign * u0, sign * Om0, 0.0, 0.0], ts[order], tol=tol,
+                           scene=f"{scene}[{k}]", progress=1)
+            idx = np.flatnonzero(mask)[order]
+            u_num[k, idx], Om_num[k, idx] = sign * ds.u.values, sign * ds.Omega.values
+            drift = max(drift, ds.attrs["energy_max_rel_drift"])
+            steps += ds.attrs["steps"]
+    err = float(max(np.max(np.abs(u_num - u_cf)), np.max(np.abs(Om_num - Om_cf))))
+
+    ug = np.linspace(*pc["u_range"], pc["n_field"])
+    Og = np.linspace(*pc["Omega_range"], pc["n_field"])
+    UU, OO = np.meshgrid(ug, Og, indexing="ij")
+    field = sleigh0_rhs(np.stack([UU, OO], axis=-1), b, K2)
+
+    path_cfg = cfg["path"]
+    tp = sample_grid(0.0, path_cfg["t_end"], path_cfg["dt"])
+    path = integrate(params, [*path_cfg["y0"], 0.0, 0.0], tp, kinematics=True, tol=tol, scene=f"{scene}.path")
+    _, _, theta_cf = closed_form(tp, *path_cfg["y0"], b, K2)
+    path_err = float(np.max(np.abs(path.theta.values - theta_cf)))
+
+    out = xr.Dataset(
+        {
+            "u_closed": (("trajectory", "t"), u_cf, {"long_name": "u, closed form", "units": UNITS["u"][1]}),
+            "Omega_closed": (("trajectory", "t"), Om_cf, {"long_name": "Omega, closed form", "units": UNITS["Omega"][1]}),
+            "u_integrated": (("trajectory", "t"), u_num, {"long_name": "u, heyoka", "units": UNITS["u"][1]}),
+            "Omega_integrated": (("trajectory", "t"), Om_num, {"long_name": "Omega, heyoka", "units": UNITS["Omega"][1]}),
+            "du": (("u_grid", "Omega_grid"), field[..., 0], {"long_name": "udot on the grid"}),
+            "dOmega": (("u_grid", "Omega_grid"), field[..., 1], {"long_name": "Omegadot on the grid"}),
+            "path_x": ("path_time", path.x.values, {"units": "length"}),
+            "path_y": ("path_time", path.y.values, {"units": "length"}),
+            "path_theta": ("path_time", path.theta.values, {"units": "rad"}),
+        },
+        coords={"t": t, "u_grid": ug, "Omega_grid": Og, "path_time": tp,
+                "u_start": ("trajectory", starts[:, 0]), "Omega_start": ("trajectory", starts[:, 1])},
+    )
+    out.attrs.update(params.attrs())
+    out.attrs.update(
+        scene=scene, backend="heyoka", method="taylor_adaptive", tol=tol, param_eps=0.0,
+        closed_form_max_abs_error=err, path_theta_max_abs_error=path_err,
+        energy_max_rel_drift=max(drift, path.attrs["energy_max_rel_drift"]),
+        path_y0_u=path_cfg["y0"][0], path_y0_Omega=path_cfg["y0"][1],
+        wall_time_s=time.perf_counter() - start, steps=steps + path.attrs["steps"],
+    )
+    log.info("%s: closed form vs integration max error %.3g, path heading error %.3g", scene, err, path_err)
+    return out
+

@@ -1,0 +1,241 @@
+"""Transient scenes: the transient phases against eps from the reference state (C03-C05), and
+many initial states on each of two energy levels run until their steady state (F4, C06)."""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+
+import numpy as np
+import xarray as xr
+
+from .. import fits, model, transient
+from ..integrate import final_state, integrate, sample_grid
+from ..params import Params
+from ..symmetries import REFERENCE_LABEL, state_at_label
+
+log = logging.getLogger("sleighsim")
+
+
+def _record_phases(rec, tc):
+    """sleighsim.transient.phases of a trajectory dataset with a scene's ``transient`` block."""
+    return transient.phases(rec.time.values, rec.u.values, rec.Omega.values, rec.omega.values, **tc)
+
+
+def _phases_of(params, y0, t_end, cfg, scene):
+    run = integrate(params, y0, sample_grid(0.0, t_end, cfg["dt"]), tol=cfg["tol"], scene=scene, progress=4)
+    return run, _record_phases(run, cfg["transient"])
+
+
+def transient_scaling(cfg: dict, scene: str = "") -> xr.Dataset:
+    """The transient phases (sleighsim.transient.phases) for each eps from the reference state
+    (label 0.1127 at every eps), over t_end = t_scale / eps^2, and the log-log slope against eps."""
+    start = time.perf_counter()
+    eps_list = np.asarray(cfg["eps"], float)
+    keys = ("sleigh_phase_end", "first_spike", "n_spikes", "spike_interval_mean", "spike_interval_std",
+            "omega_settling_time")
+    table = {k: [] for k in keys}
+    drift, steps, t_end = [], [], []
+    for e in eps_list:
+        params = Params.paper(eps=e, b=cfg["b"], K2=1.0 + cfg["kappa"] * e)
+        te = cfg["t_scale"] / e**2
+        run, ph = _phases_of(params, cfg["y0"], te, cfg, f"{scene}[eps={e:g}]")
+        for k in keys:
+            table[k].append(ph[k])
+        drift.append(run.attrs["energy_max_rel_drift"])
+        steps.append(run.attrs["steps"])
+        t_end.append(te)
+    ds = xr.Dataset({k: ("eps", np.asarray(v, float)) for k, v in table.items()}, coords={"eps": eps_list})
+    ds["t_end"] = ("eps", np.asarray(t_end))
+    ds["energy_max_rel_drift"] = ("eps", np.asarray(drift))
+    ds["steps"] = ("eps", np.asarray(steps))
+    ok = np.isfinite(ds.first_spike.values)
+    slope, icpt, _ = fits.loglog(eps_list[ok], ds.first_spike.values[ok])
+    ok_i = np.isfinite(ds.spike_interval_mean.values)
+    slope_i = fits.loglog(eps_list[ok_i], ds.spike_interval_mean.values[ok_i])[0]
+    ds.attrs.update(
+        scene=scene, b=cfg["b"], kappa=cfg["kappa"], K2_rule="K2 = 1 + kappa eps",
+        **{f"y0_{n}": float(v) for n, v in zip(model.STATE_NAMES, cfg["y0"])}, energy_label=REFERENCE_LABEL,
+        t_scale=cfg["t_scale"], dt=cfg["dt"], tol=cfg["tol"], backend="heyoka", rule=transient.PHASES_RULE,
+        spike_rule=transient.RULE, first_spike_slope=float(slope), first_spike_prefactor=float(np.exp(icpt)),
+        spike_interval_slope=float(slope_i), predicted_slope=-2.0,
+        fit_method="least squares of log(time) against log(eps) over the eps with a detected spike",
+        wall_time_s=time.perf_counter() - start,
+    )
+    log.info("%s: done in %.3g s; first spikes %s; slope %.3f", scene, ds.attrs["wall_time_s"],
+             ds.first_spike.values.round(1).tolist(), slope)
+    return ds
+
+
+def _until_steady(params, y0, cfg, scene):
+    """Integrate in chunks until the phase detector finds the first spike and ``spikes_after``
+    more (the steady state, sampled), or t_max. Returns (record, phases, reached, max relative
+    energy drift of the whole record)."""
+    dt = cfg["dt"]
+    pieces, y, t = [], np.asarray(y0, float), 0.0
+    while True:
+        chunk = integrate(params, y, sample_grid(t, t + cfg["chunk"], dt), tol=cfg["tol"], scene=scene, progress=1)
+        pieces.append(chunk if not pieces else chunk.isel(time=slice(1, None)))
+        y, t = final_state(chunk), float(chunk.time.values[-1])
+        rec = xr.concat(pieces, dim="time", data_vars="minimal", coords="minimal", compat="override",
+                        combine_attrs="override")
+        ph = _record_phases(rec, cfg["transient"])
+        window_end = ph["first_spike"] + cfg["compare_window"] * cfg["time_unit"]
+        reached = ph["n_spikes"] > cfg["spikes_after"] and t >= window_end
+        if reached or t >= cfg["t_max"] * cfg["time_unit"]:
+            E = model.energy(np.stack([rec[v].values for v in model.STATE_NAMES], axis=-1), params)
+            E0 = float(model.energy(y0, params))
+            return rec, ph, reached, float(np.max(np.abs(E / E0 - 1.0)))
+
+
+def _aligned(rec, t_first, tau, c=1.0):
+    """omega(t_first + tau / c) / c: the record after its first spike, in level-0 units (time scaling by c)."""
+    return np.interp(t_first + tau / c, rec.time.values, rec.omega.values) / c
+
+
+def _running_mean_same(x, n):
+    """Centred running mean over n samples on x's grid; NaN where the window does not fit."""
+    out = np.convolve(x, np.ones(n) / n, mode="same")
+    out[: n // 2], out[out.size - n // 2:] = np.nan, np.nan
+    return out
+
+
+def _max_distance(curves, others=None):
+    """Max over pairs (within ``curves``, or between curves and others) of max |a - b|, NaN samples ignored."""
+    pairs = ([(a, b) for i, a in enumerate(curves) for b in curves[i + 1:]] if others is None
+             else [(a, b) for a in curves for b in others])
+    return float(max(np.nanmax(np.abs(a - b)) for a, b in pairs)) if pairs else float("nan")
+
+
+def _groups(intervals, rel_tol):
+    """Label runs by steady spike interval: a run joins the first group whose first member's
+    interval is within rel_tol; NaN intervals get -1."""
+    labels, heads = np.full(len(intervals), -1), []
+    for i, x in enumerate(intervals):
+        if not np.isfinite(x):
+            continue
+        for g, h in enumerate(heads):
+            if abs(x - h) <= rel_tol * h:
+                labels[i] = g
+                break
+        else:
+            heads.append(x)
+            labels[i] = len(heads) - 1
+    return labels
+
+
+def _long_check(params, y0, cfg, scene):
+    """Spike times and intervals of one state over a long horizon (is a group a slow transient?)."""
+    lc = cfg["long_check"]
+    run = integrate(params, y0, sample_grid(0.0, lc["t_end"], lc["dt"]), tol=cfg["tol"], scene=scene, progress=4)
+    sp = transient.spike_times(run.time.values, run.Omega.values, factor=cfg["transient"]["spike_factor"],
+                               t_min=lc["t_min"])
+    return sp, run.attrs["energy_max_rel_drift"]
+
+
+def attractor_levels(cfg: dict, scene: str = "") -> xr.Dataset:
+    """Several initial states on each of two energy levels, each run until its steady state;
+    omega aligned at the first spike after the transient and compared within and across levels
+    (every level mapped onto the first by the time-scaling law; runs with omega < 0 by the
+    mirror symmetry (u, Omega, omega, delta) -> (u, -Omega, -omega, -delta))."""
+    start = time.perf_counter()
+    params = Params.from_config(cfg["params"])
+    levels = cfg["levels"]
+    labels = [lv["label"] for lv in levels]
+    c_of = [math.sqrt(L / labels[0]) for L in labels]
+    window, dt_cmp, smooth = cfg["compare_window"], cfg["compare_dt"], cfg["smooth"]
+    tau = np.arange(0.0, window + 0.5 * dt_cmp, dt_cmp)
+    keys = ("first_spike", "sleigh_phase_end", "n_spikes", "spike_interval_mean", "spike_interval_std")
+    per = {k: [] for k in (*keys, "omega_mean", "mirrored", "reached", "t_run", "energy_max_rel_drift")}
+    raw, smoothed, y0s, run_label, run_level, run_state, run_c = [], [], [], [], [], [], []
+    for li, lv in enumerate(levels):
+        for si, s in enumerate(lv["states"]):
+            y0 = state_at_label(s, params, lv["label"])
+            rec, ph, reached, drift = _until_steady(params, y0, dict(cfg, time_unit=1.0 / c_of[li]),
+                                                    f"{scene}[E={lv['label']:g}, state {si}]")
+            om = _aligned(rec, ph["first_spike"], tau, c_of[li]) if reached else np.full(tau.size, np.nan)
+            mirrored = bool(np.nanmean(om) < 0)
+            om = -om if mirrored else om
+            raw.append(om)
+            smoothed.append(_running_mean_same(om, max(1, int(round(smooth / dt_cmp)))))
+            for k in keys:
+                per[k].append(ph[k])
+            per["omega_mean"].append(float(np.nanmean(om)))
+            per["mirrored"].append(int(mirrored))
+            per["reached"].append(int(reached))
+            per["t_run"].append(float(rec.time.values[-1]))
+            per["energy_max_rel_drift"].append(drift)
+            y0s.append(y0)
+            run_label.append(lv["label"])
+            run_level.append(li)
+            run_state.append(si)
+            run_c.append(c_of[li])
+    raw, smoothed = np.array(raw), np.array(smoothed)
+    level, ok = np.array(run_level), np.array(per["reached"], bool)
+    interval = np.array(per["spike_interval_mean"], float) * np.array(run_c)  # in level-0 time units
+    group = _groups(np.where(ok, interval, np.nan), cfg["group_rel_tol"])
+    scale = float(np.nanmean(np.abs(smoothed[level == 0])))
+
+    def dist(sel_a, sel_b=None, curves=smoothed):
+        a = [curves[i] for i in np.flatnonzero(sel_a & ok)]
+        b = None if sel_b is None else [curves[i] for i in np.flatnonzero(sel_b & ok)]
+        return _max_distance(a, b) / scale
+
+    n_groups = [len(set(group[(level == li) & ok])) for li in range(len(levels))]
+    main = np.bincount(group[ok]).argmax() if ok.any() else -1
+    attrs = {}
+    for li in range(len(levels)):
+        attrs[f"level{li}_n_groups"] = n_groups[li]
+        attrs[f"level{li}_distance_all"] = dist(level == li)
+        attrs[f"level{li}_distance_all_raw"] = dist(level == li, curves=raw)
+        attrs[f"level{li}_distance_main_group"] = dist((level == li) & (group == main))
+    if len(levels) > 1:
+        attrs["across_levels_distance_main_group_scaled"] = dist((level == 0) & (group == main),
+                                                                  (level == 1) & (group == main))
+        unscaled = [np.nanmean(smoothed[(level == li) & (group == main) & ok], axis=0) * (c_of[li] if li else 1.0)
+                    for li in (0, 1)]
+        attrs["across_levels_distance_main_group_unscaled"] = float(np.nanmax(np.abs(unscaled[1] - unscaled[0]))) / scale
+    # Long horizon: one representative per group, to see whether a group is a slow transient.
+    reps = [int(np.flatnonzero((group == g) & ok)[0]) for g in sorted(set(group[ok]))]
+    long_sp = [_long_check(params, y0s[r] if run_level[r] == 0 else state_at_label(y0s[r], params, labels[0]),
+                           cfg, f"{scene}.long[group {group[r]}]") for r in reps]
+    width = max((sp.size for sp, _ in long_sp), default=0)
+    pad = lambda x: np.r_[x, np.full(width - x.size, np.nan)]  # noqa: E731
+    ds = xr.Dataset(
+        {
+            "omega_aligned": (("run", "tau"), raw, {"long_name": "omega(t_first + tau / c) / c (sign: mirrored)"}),
+            "omega_aligned_smooth": (("run", "tau"), smoothed,
+                                     {"long_name": f"running mean over {smooth:g} of omega_aligned"}),
+            "y0": (("run", "component"), np.array(y0s)),
+            **{k: ("run", np.asarray(v, float)) for k, v in per.items()},
+            "spike_interval_level0_units": ("run", interval),
+            "group": ("run", group, {"long_name": "steady spike interval group (group_rel_tol)"}),
+            "long_spike_time": (("group", "spike"), np.array([pad(sp) for sp, _ in long_sp])),
+            "long_representative_run": ("group", np.array(reps)),
+        },
+        coords={"tau": tau, "component": list(model.STATE_NAMES), "label": ("run", run_label),
+                "level": ("run", run_level), "state_index": ("run", run_state), "scale_c": ("run", run_c),
+                "group_id": ("group", np.array([group[r] for r in reps]))},
+    )
+    ds.attrs.update(params.attrs())
+    ds.attrs.update(attrs)
+    ds.attrs.update(
+        scene=scene, tol=cfg["tol"], backend="heyoka", labels=np.asarray(labels, float), n_runs=len(raw),
+        n_reached=int(ok.sum()), main_group=int(main), group_rel_tol=cfg["group_rel_tol"],
+        alignment="first Omega spike after the sleigh-like phase (sleighsim.transient.phases); level k is mapped "
+                  "onto level 0 by the time-scaling law (tau -> tau / c, omega -> omega / c); omega < 0 runs "
+                  "are mirrored",
+        phase_rule=transient.PHASES_RULE, compare_window=window, compare_dt=dt_cmp, smooth=smooth,
+        distance_rule="max over pairs of max over tau of |omega_i - omega_j| of the smoothed aligned curves "
+                      f"(defined {smooth:g} / 2 inside the window), over the mean |omega| of level 0 ({scale:.4g}); "
+                      "raw = unsmoothed",
+        group_rule="runs whose steady spike interval (level-0 units) is within group_rel_tol of a group's first member",
+        long_check_t_end=cfg["long_check"]["t_end"],
+        long_check_energy_max_rel_drift=float(max((d for _, d in long_sp), default=np.nan)),
+        energy_max_rel_drift=float(np.max(per["energy_max_rel_drift"])), wall_time_s=time.perf_counter() - start,
+    )
+    log.info("%s: done in %.3g s; groups per level %s; distances %s", scene, ds.attrs["wall_time_s"], n_groups,
+             {k: round(v, 4) for k, v in attrs.items() if "distance" in k})
+    return ds
+
