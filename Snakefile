@@ -27,7 +27,7 @@ include: "workflow/rules/report.smk"
 
 
 rule all:
+    default_target: True
     input:
         figure_files(FIGURES_BUILT),
         f"{R}/report/index.html",
-    default_target: True

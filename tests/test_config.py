@@ -162,3 +162,27 @@ def test_shipped_configs_are_valid_merged_as_snakemake_merges_them(name):
     update_config(cfg, load_configfile(str(ROOT / "config" / name)))
     assert refused(cfg) == ""
     configcheck.check(cfg)
+
+
+def test_config_readme_is_generated_from_the_schema_and_documents_every_key():
+    from sleighsim import configdoc
+
+    assert configdoc.main(["--schema", str(SCHEMA_PATH), "--out", str(ROOT / "config" / "README.md"), "--check"]) == 0
+    undocumented = []
+
+    def visit(node, path):
+        node = configdoc._resolve(SCHEMA, node)
+        for key, sub in node.get("properties", {}).items():
+            full = configdoc._resolve(SCHEMA, sub)
+            if key not in ("kind",) and not full.get("description"):
+                undocumented.append(f"{path}{key}")
+            visit(sub, f"{path}{key}.")
+        if isinstance(node.get("items"), dict):
+            visit(node["items"], f"{path}[].")
+
+    for name in ["scene", *registry.KINDS, "transient", "params"]:
+        visit(SCHEMA["$defs"][name], f"{name}.")
+    visit({k: v for k, v in SCHEMA.items() if k != "$defs"}, "")
+    assert not undocumented, undocumented
+    for key in ("scenes.fig11_grid.n_chunks", "defaults.tol", "transient.spike_factor"):  # spot checks
+        assert f"`{key.split('.')[-1]}`" in (ROOT / "config" / "README.md").read_text()

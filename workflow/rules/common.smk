@@ -10,7 +10,11 @@ FIGURES_BUILT = registry.figures_built(config)
 ALL_FIGURES = registry.figures_built(config, on_request=True)
 SCHEMATICS = [f for f in ALL_FIGURES if registry.FIGURES[f].schematic]
 CHUNKED = [n for n in ALL_DATASETS if registry.KINDS[SCENES[n]["kind"]].chunked]
-FIRST = [n for n in ALL_DATASETS if n not in CHUNKED and SCENES[n].get("schedule_first", False)]
+FIRST = [
+    n
+    for n in ALL_DATASETS
+    if n not in CHUNKED and SCENES[n].get("schedule_first", False)
+]
 PLAIN = [n for n in ALL_DATASETS if n not in CHUNKED and n not in FIRST]
 # What the report reads: the datasets of the figures shown and of the tables built.
 REPORT_DATA = sorted(
@@ -46,7 +50,10 @@ def figure_inputs(wildcards):
 
 
 def scene_inputs(wildcards):
-    return {role: f"{R}/data/{source}.nc" for role, source in SCENES[wildcards.scene].get("inputs", {}).items()}
+    return {
+        role: f"{R}/data/{source}.nc"
+        for role, source in SCENES[wildcards.scene].get("inputs", {}).items()
+    }
 
 
 def chunk_files(wildcards):
@@ -59,10 +66,20 @@ def benchmark_files(datasets, figures):
     out = {}
     for name in datasets:
         if name in CHUNKED:
-            chunks = expand(f"{R}/benchmarks/chunk/{name}/{{k}}.tsv", k=range(SCENES[name]["n_chunks"]))
+            chunks = expand(
+                f"{R}/benchmarks/chunk/{name}/{{k}}.tsv",
+                k=range(SCENES[name]["n_chunks"]),
+            )
             out[f"data/{name}"] = [f"{R}/benchmarks/gather/{name}.tsv"] + chunks
         else:
             out[f"data/{name}"] = [f"{R}/benchmarks/scene/{name}.tsv"]
     for name in figures:
         out[f"figure/{name}"] = [f"{R}/benchmarks/figure/{name}.tsv"]
     return out
+
+
+REPORT_BENCHMARKS = benchmark_files(REPORT_DATA, FIGURES_BUILT)
+PAPER_TEX = str(
+    Path(workflow.basedir) / "paper" / "fedonyuk-tallapragada-sleigh-rotor.tex"
+)
+CLAIMS_MD = str(Path(workflow.basedir) / "paper" / "CLAIMS.md")

@@ -6,37 +6,45 @@ rule figure:
     input:
         nc=figure_inputs,
     output:
-        png=report(f"{R}/figures/{{fig}}.png", caption="../report/figure.rst", category="Figures"),
+        png=report(
+            f"{R}/figures/{{fig}}.png",
+            caption="../report/figure.rst",
+            category="Figures",
+        ),
         pdf=f"{R}/figures/{{fig}}.pdf",
-    params:
-        fig=lambda w: w.fig,
     log:
         f"{R}/logs/figure/{{fig}}.log",
     benchmark:
         f"{R}/benchmarks/figure/{{fig}}.tsv"
-    conda:
-        "../envs/sleighsim.yaml"
     wildcard_constraints:
         fig=alternatives([f for f in ALL_FIGURES if f not in SCHEMATICS]),
+    conda:
+        "../envs/sleighsim.yaml"
+    params:
+        fig=lambda w: w.fig,
     script:
         "../scripts/figure.py"
 
 
 rule schematic:
     output:
-        png=report(f"{R}/figures/{{fig}}.png", caption="../report/figure.rst", category="Figures"),
+        png=report(
+            f"{R}/figures/{{fig}}.png",
+            caption="../report/figure.rst",
+            category="Figures",
+        ),
         pdf=f"{R}/figures/{{fig}}.pdf",
-    params:
-        fig=lambda w: w.fig,
-        cfg=lambda w: SCENE_CFG[registry.FIGURES[w.fig].schematic],
     log:
         f"{R}/logs/figure/{{fig}}.log",
     benchmark:
         f"{R}/benchmarks/figure/{{fig}}.tsv"
-    conda:
-        "../envs/sleighsim.yaml"
     wildcard_constraints:
         fig=alternatives(SCHEMATICS),
+    conda:
+        "../envs/sleighsim.yaml"
+    params:
+        fig=lambda w: w.fig,
+        cfg=lambda w: SCENE_CFG[registry.FIGURES[w.fig].schematic],
     script:
         "../scripts/figure.py"
 

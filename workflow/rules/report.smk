@@ -6,7 +6,7 @@ rule claims:
     input:
         data=expand(f"{R}/data/{{name}}.nc", name=DATASETS),
         figures=expand(f"{R}/figures/{{fig}}.png", fig=FIGURES_BUILT),
-        claims_md=str(Path(workflow.basedir) / "paper" / "CLAIMS.md"),
+        claims_md=CLAIMS_MD,
     output:
         csv=report(f"{R}/claims.csv", caption="../report/claims.rst", category="Claims"),
         nc=f"{R}/claims.nc",
@@ -25,21 +25,21 @@ rule report:
         claims=f"{R}/claims.nc",
         figures=expand(f"{R}/figures/{{fig}}.png", fig=FIGURES_BUILT),
         data=expand(f"{R}/data/{{name}}.nc", name=REPORT_DATA),
-        benchmarks=[t for ts in benchmark_files(REPORT_DATA, FIGURES_BUILT).values() for t in ts],
-        tex=str(Path(workflow.basedir) / "paper" / "fedonyuk-tallapragada-sleigh-rotor.tex"),
-        claims_md=str(Path(workflow.basedir) / "paper" / "CLAIMS.md"),
+        benchmarks=[t for ts in REPORT_BENCHMARKS.values() for t in ts],
+        tex=PAPER_TEX,
+        claims_md=CLAIMS_MD,
     output:
         html=f"{R}/report/index.html",
         md=f"{R}/report/README.md",
-    params:
-        figures=FIGURES_BUILT,
-        data=REPORT_DATA,
-        benchmarks=benchmark_files(REPORT_DATA, FIGURES_BUILT),
     log:
         f"{R}/logs/report/report.log",
     benchmark:
         f"{R}/benchmarks/report/report.tsv"
     conda:
         "../envs/sleighsim.yaml"
+    params:
+        figures=FIGURES_BUILT,
+        data=REPORT_DATA,
+        benchmarks=REPORT_BENCHMARKS,
     script:
         "../scripts/report.py"

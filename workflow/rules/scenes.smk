@@ -6,46 +6,46 @@ rule scene:
         unpack(scene_inputs),
     output:
         nc=f"{R}/data/{{scene}}.nc",
-    params:
-        cfg=lambda w: SCENE_CFG[w.scene],
     log:
         f"{R}/logs/scene/{{scene}}.log",
     benchmark:
         f"{R}/benchmarks/scene/{{scene}}.tsv"
-    conda:
-        "../envs/sleighsim.yaml"
     wildcard_constraints:
         scene=alternatives(PLAIN),
+    conda:
+        "../envs/sleighsim.yaml"
+    params:
+        cfg=lambda w: SCENE_CFG[w.scene],
     script:
         "../scripts/scene.py"
 
 
 # Long jobs start first, so the rest of the workflow runs beside them.
 use rule scene as scene_first with:
-    priority: 50
     wildcard_constraints:
         scene=alternatives(FIRST),
+    priority: 50
 
 
 # A chunked scene: independent chunk jobs (scaled out on a cluster), gathered into its dataset.
 rule chunk:
     output:
         nc=f"{R}/chunks/{{scene}}/{{chunk}}.nc",
-    params:
-        cfg=lambda w: SCENE_CFG[w.scene],
-    threads: 1
-    resources:
-        runtime=lambda w: SCENES[w.scene]["chunk_runtime_min"],
-        mem_mb=1500,
     log:
         f"{R}/logs/chunk/{{scene}}/{{chunk}}.log",
     benchmark:
         f"{R}/benchmarks/chunk/{{scene}}/{{chunk}}.tsv"
-    conda:
-        "../envs/sleighsim.yaml"
     wildcard_constraints:
         scene=alternatives(CHUNKED),
         chunk=r"\d+",
+    conda:
+        "../envs/sleighsim.yaml"
+    threads: 1
+    resources:
+        runtime=lambda w: SCENES[w.scene]["chunk_runtime_min"],
+        mem_mb=1500,
+    params:
+        cfg=lambda w: SCENE_CFG[w.scene],
     script:
         "../scripts/chunk.py"
 
@@ -55,15 +55,15 @@ rule gather:
         chunks=chunk_files,
     output:
         nc=f"{R}/data/{{scene}}.nc",
-    params:
-        cfg=lambda w: SCENE_CFG[w.scene],
     log:
         f"{R}/logs/gather/{{scene}}.log",
     benchmark:
         f"{R}/benchmarks/gather/{{scene}}.tsv"
-    conda:
-        "../envs/sleighsim.yaml"
     wildcard_constraints:
         scene=alternatives(CHUNKED),
+    conda:
+        "../envs/sleighsim.yaml"
+    params:
+        cfg=lambda w: SCENE_CFG[w.scene],
     script:
         "../scripts/gather.py"
