@@ -98,7 +98,7 @@ CROSS_FIELD = [
     (("scenes", "fig4", "compare_window"), 1e9, r"scenes.fig4.compare_window = 1000000000.0 must lie in"),
     (("scenes", "fig4", "smooth"), 900.0, r"scenes.fig4.smooth = 900.0 must lie in"),
     (("scenes", "psd_eps01", "check_duration"), 1e6, r"scenes.psd_eps01.check_duration = 1000000.0 must lie in"),
-    (("scenes", "psd_eps01", "spectrum", "segment"), 1e6, r"scenes.psd_eps01.spectrum.segment = 1000000.0 must lie"),
+    (("scenes", "psd_eps01", "welch", "segment"), 1e6, r"scenes.psd_eps01.welch.segment = 1000000.0 must lie"),
     (("scenes", "fig9_ref", "transient", "window"), 200.0, r"scenes.fig9_ref.transient.window = 200.0 must lie in"),
     (("scenes", "fig11_grid", "n_chunks"), 9, r"scenes.fig11_grid.n_chunks = 9 must lie in \[1, n_eps = 3\]"),
     (("scenes", "fig11_grid", "reference_eps"), 0.1, r"scenes.fig11_grid.reference_eps = 0.1 must lie in eps_range"),

@@ -148,7 +148,7 @@ def _verdict_inputs(tmp_path, lam, err, slope, phi, dt):
     pc = xr.Dataset({"p2pi_u": ("n", phi), "p2pi_time": ("n", dt * np.arange(len(phi)))})
     spec.to_netcdf(tmp_path / "spec.nc")
     pc.to_netcdf(tmp_path / "pc.nc")
-    return {"spectrum": tmp_path / "spec.nc", "poincare": tmp_path / "pc.nc"}
+    return {"exponents": tmp_path / "spec.nc", "poincare": tmp_path / "pc.nc"}
 
 
 def test_a_short_smooth_record_is_not_evidence_of_regularity(tmp_path):

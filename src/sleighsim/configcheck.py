@@ -78,8 +78,8 @@ def _psd(w, cfg):
     if cfg["check_duration"] > cfg["duration"]:
         raise ConfigError(f"{w}.check_duration = {cfg['check_duration']} must lie in (0, duration = {cfg['duration']}]")
     for key, span in (("segment", cfg["duration"]), ("check_segment", cfg["check_duration"])):
-        if cfg["spectrum"][key] > span:
-            raise ConfigError(f"{w}.spectrum.{key} = {cfg['spectrum'][key]} must lie in (0, {span}]")
+        if cfg["welch"][key] > span:
+            raise ConfigError(f"{w}.welch.{key} = {cfg['welch'][key]} must lie in (0, {span}]")
 
 
 def _hierarchy_terms(w, cfg):

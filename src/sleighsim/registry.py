@@ -48,7 +48,7 @@ KINDS: dict[str, Kind] = {
     "lyapunov_energy": Kind("exponents:energy_sweep"),
     "small_eps_cost": Kind("exponents:small_eps_cost"),
     "lyapunov_grid": Kind("grid:chunk", chunked=True),
-    "chaos_verdict": Kind("verdict:verdict", inputs=("spectrum", "poincare"), integrates=False),
+    "chaos_verdict": Kind("verdict:verdict", inputs=("exponents", "poincare"), integrates=False),
     "printed_model": Kind("audit:printed_model"),
     "hardcases": Kind("hardcases:hardcases"),
     "bench": Kind("bench:bench", integrates=False),

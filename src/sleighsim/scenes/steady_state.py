@@ -85,7 +85,7 @@ def psd(cfg: dict, scene: str = "") -> xr.Dataset:
     y0 = initial_state(cfg, params)
     y_settled, attrs = settle(params, y0, cfg["t_settle"], **cfg["transient"], tol=cfg["tol"], label=scene)
     t0 = cfg["t_settle"]
-    sc = cfg["spectrum"]
+    sc = cfg["welch"]
     run = integrate(params, y_settled, sample_grid(t0, t0 + cfg["duration"], cfg["dt"]), tol=cfg["tol"], scene=scene)
     fine = integrate(params, y_settled, sample_grid(t0, t0 + cfg["check_duration"], cfg["check_dt"]),
                      tol=cfg["tol"], scene=f"{scene}.check", progress=4)

@@ -24,7 +24,7 @@ def verdict(cfg: dict, inputs: dict, scene: str = "") -> xr.Dataset:
     A short record of a slowly chaotic flow is a smooth, oversampled signal, for which the
     0-1 test returns K near 0 whatever the dynamics: such a K is not counted as evidence of
     regularity."""
-    spectrum_nc, poincare_nc = inputs["spectrum"], inputs["poincare"]
+    spectrum_nc, poincare_nc = inputs["exponents"], inputs["poincare"]
     spec, pc = read_dataset(spectrum_nc), read_dataset(poincare_nc)
     n = cfg["max_samples"]
     z = lyapunov.zero_one_test(pc[cfg["observable"]].values[:n], n_c=cfg["n_c"])
