@@ -28,6 +28,7 @@ from .params import Params
 log = logging.getLogger("sleighsim")
 
 DEFAULT_TOL = 2.0**-52  # heyoka's default: double-precision epsilon
+TWO_PI = 2.0 * math.pi
 
 
 class IntegrationError(RuntimeError):
@@ -64,30 +65,55 @@ def _initial_state(y0, kinematics: bool) -> np.ndarray:
     return y0
 
 
-def _chunks(times: np.ndarray, n_chunks: int):
-    """Split a grid into consecutive pieces sharing their end points."""
-    edges = np.unique(np.linspace(0, len(times) - 1, max(1, n_chunks) + 1).astype(int))
-    return [times[i : j + 1] for i, j in zip(edges[:-1], edges[1:])] or [times]
-
-
 def _fail(scene, t, state, why):
     raise IntegrationError(f"scene {scene or '?'}: integration failed at t = {t:.6g}, state = {np.asarray(state).tolist()}: {why}")
+
+
+def bound(y, kinematics: bool) -> tuple[np.ndarray, np.ndarray]:
+    """The state with delta reduced to [-pi, pi) and, with the path, theta reduced by whole turns
+    and the centre (x, y) moved to the origin: all exact symmetries of the equations. Returns the
+    bounded state and the shift to add to later samples (theta's turns, x and y; delta is reported
+    reduced)."""
+    y = np.array(y, dtype=float)
+    shift = np.zeros_like(y)
+    y[model.DELTA] = (y[model.DELTA] + math.pi) % TWO_PI - math.pi
+    if kinematics:
+        turns = math.floor(y[model.THETA] / TWO_PI)
+        y[model.THETA] -= turns * TWO_PI
+        shift[model.THETA] = turns * TWO_PI
+        shift[5:7], y[5:7] = y[5:7], 0.0
+    return y, shift
+
+
+class _Path:
+    """Chunk length for runs with the path: the centre moves by at most about pi (and theta turns by
+    about pi) between re-origins, so |x|, |y| and |theta| never set the error scale. Adapted from
+    the last chunk's displacement (factor between 1/2 and 2)."""
+
+    def __init__(self):
+        self.span = 1.0
+
+    def adapt(self, y_end, theta_start) -> None:
+        moved = max(abs(y_end[5]), abs(y_end[6]), abs(y_end[model.THETA] - theta_start), 1e-300)
+        self.span *= min(2.0, max(0.5, math.pi / moved))
 
 
 def _run_heyoka(params, y0, t0, times, kinematics, tol, scene, progress, max_steps):
     import heyoka as hy
 
     ta, compile_s = integrators.flow(kinematics, tol)
-    ta.time = t0
-    ta.state[:] = y0
+    callback = integrators.bounded(ta)
     ta.pars[:] = params.values
+    state, shift = bound(y0, kinematics)
+    integrators.load(ta, state)
+    ta.time, origin = 0.0, t0  # the local clock restarts at every chunk; origin is its absolute time
     nsteps, min_h, max_h = 0, math.inf, 0.0
 
-    def advance(call, *args):
-        """Run one propagation; on failure report the last finite state before it."""
+    def advance(call, arg):
+        """Run one propagation on the local clock; on failure report the last finite state before it."""
         nonlocal nsteps, min_h, max_h
-        t_before, y_before = ta.time, ta.state.copy()
-        res = call(*args, max_steps=max(1, max_steps - nsteps))
+        t_before, y_before = origin + ta.time, integrators.read(ta, y0.size) + shift
+        res = call(arg, max_steps=max(1, max_steps - nsteps), callback=callback)
         outcome, lo, hi, n = res[0], res[1], res[2], res[3]
         nsteps += n
         if n:
@@ -96,31 +122,52 @@ def _run_heyoka(params, y0, t0, times, kinematics, tol, scene, progress, max_ste
             _fail(scene, t_before, y_before, f"heyoka outcome {outcome.name} (last finite state shown)")
         return res
 
-    pieces = _chunks(times, progress)
-    if times[0] > t0:
-        for target in np.linspace(t0, times[0], len(pieces) + 1)[1:]:
-            advance(ta.propagate_until, float(target))
-            log.info("%s: pre-run t = %.6g / %.6g", scene, ta.time, times[0])
-    out = []
-    for k, piece in enumerate(pieces):
-        res = advance(ta.propagate_grid, piece)
-        out.append(res[5] if k == 0 else res[5][1:])
-        log.info("%s: t = %.6g / %.6g (%d steps)", scene, ta.time, times[-1], nsteps)
+    out = np.empty((times.size, y0.size))
+    every = (times[-1] - t0) / max(1, progress)
+    next_log = t0 + every
+    path = _Path() if kinematics else None
+    pos = 0
+    while pos < times.size:
+        end = min(times[-1], next_log if path is None else min(next_log, origin + path.span))
+        stop = int(np.searchsorted(times, end, side="right"))
+        theta_start = ta.state[model.THETA] if kinematics else 0.0  # theta is stored as it is
+        if stop == pos:  # no sample in this chunk
+            advance(ta.propagate_until, end - origin)
+        else:
+            if times[pos] > origin:
+                advance(ta.propagate_until, times[pos] - origin)
+            res = advance(ta.propagate_grid, times[pos:stop] - origin)
+            out[pos:stop] = integrators.samples(ta, res[5]) + shift
+            pos, end = stop, times[stop - 1]
+        if kinematics:
+            path.adapt(ta.state, theta_start)
+            state, moved = bound(integrators.read(ta, y0.size), kinematics)
+            integrators.load(ta, state)
+            shift += moved
+        ta.time, origin = 0.0, end
+        if origin >= next_log or pos == times.size:
+            log.info("%s: t = %.6g / %.6g (%d steps)", scene, origin, times[-1], nsteps)
+            next_log += every
     info = dict(backend="heyoka", method="taylor_adaptive", tol=tol, order=int(ta.order),
                 compile_time_s=compile_s, steps=nsteps, min_step=min_h if nsteps else float("nan"),
                 max_step=max_h)
-    return np.concatenate(out, axis=0), info
+    return out, info
 
 
-def _run_scipy(params, y0, t0, times, method, rtol, atol, scene, progress, max_steps):
+def _run_scipy(params, y0, t0, times, method, rtol, atol, kinematics, scene, progress, max_steps):
     from scipy.integrate import _ivp
 
     solvers = {"DOP853": _ivp.DOP853, "RK45": _ivp.RK45, "RK23": _ivp.RK23, "Radau": _ivp.Radau,
                "BDF": _ivp.BDF, "LSODA": _ivp.LSODA}
     if method not in solvers:
         raise ValueError(f"unknown SciPy method {method!r}; choose one of {sorted(solvers)}")
-    solver = solvers[method](lambda t, y: model.full_rhs(y, params), t0, y0, float(times[-1]),
-                             rtol=rtol, atol=atol)
+
+    def start(t, y, first_step=None):
+        return solvers[method](lambda _, z: model.full_rhs(z, params), t, y, float(times[-1]), rtol=rtol, atol=atol,
+                               first_step=first_step)
+
+    state, shift = bound(y0, kinematics)
+    solver, nfev = start(t0, state), 0
     out = np.empty((len(times), len(y0)))
     i = 0
     while i < len(times) and times[i] <= t0:
@@ -131,21 +178,30 @@ def _run_scipy(params, y0, t0, times, method, rtol, atol, scene, progress, max_s
     while i < len(times):
         msg = solver.step()
         if solver.status == "failed" or not np.all(np.isfinite(solver.y)):
-            _fail(scene, solver.t, solver.y, f"SciPy {method}: {msg}")
+            _fail(scene, solver.t, solver.y + shift, f"SciPy {method}: {msg}")
         nsteps += 1
         if nsteps >= max_steps and solver.t < times[-1]:
-            _fail(scene, solver.t, solver.y, f"SciPy {method}: step limit {max_steps} reached")
+            _fail(scene, solver.t, solver.y + shift, f"SciPy {method}: step limit {max_steps} reached")
         j = i
         while j < len(times) and times[j] <= solver.t:
             j += 1
         if j > i:
-            out[i:j] = solver.dense_output()(times[i:j]).T
+            out[i:j] = solver.dense_output()(times[i:j]).T + shift
             i = j
         if i >= next_report:
             log.info("%s: t = %.6g / %.6g (%d steps)", scene, solver.t, times[-1], nsteps)
             next_report += report_every
+        y = solver.y
+        if i < len(times) and (not -math.pi <= y[model.DELTA] < math.pi
+                               or (kinematics and (not 0 <= y[model.THETA] < TWO_PI or max(abs(y[5]), abs(y[6])) > math.pi))):
+            # SciPy's error control is per component, but rtol |delta| still loosens delta itself:
+            # restart from the bounded state with the step size reached.
+            state, moved = bound(y, kinematics)
+            shift += moved
+            nfev += solver.nfev
+            solver = start(solver.t, state, first_step=solver.step_size or None)
     info = dict(backend="scipy", method=method, rtol=rtol, atol=atol, steps=nsteps,
-                rhs_evaluations=int(solver.nfev))
+                rhs_evaluations=int(nfev + solver.nfev))
     return out, info
 
 
@@ -172,6 +228,12 @@ def integrate(
     ``rtol``, ``atol`` apply to the SciPy backend. Progress is logged ``progress``
     times. Raises :class:`IntegrationError` naming scene, time and state on failure,
     including when ``max_steps`` steps do not reach the end.
+
+    The state is kept bounded by exact symmetries (:func:`bound`, sleighsim.integrators): delta
+    is kept in [-pi, pi) after every step (and reported in [0, 2 pi)), theta is reduced by whole
+    turns and (x, y) moved to the origin between chunks short enough that the path never sets
+    the error scale of the dynamics; the samples of theta, x and y are the unwrapped, absolute
+    values.
     """
     times = np.asarray(times, dtype=float).ravel()
     if times.size == 0 or not np.all(np.isfinite(times)) or np.any(np.diff(times) <= 0):
@@ -189,12 +251,13 @@ def integrate(
     if backend == "heyoka":
         states, info = _run_heyoka(params, y0, t0, times, kinematics, tol, scene, progress, max_steps)
     elif backend == "scipy":
-        states, info = _run_scipy(params, y0, t0, times, method, rtol, atol, scene, progress, max_steps)
+        states, info = _run_scipy(params, y0, t0, times, method, rtol, atol, kinematics, scene, progress, max_steps)
     else:
         raise ValueError(f"unknown backend {backend!r}; choose 'heyoka' or 'scipy'")
     wall = time.perf_counter() - start
+    states[:, model.DELTA] %= TWO_PI
 
-    E0 = float(model.energy(y0[:4], params))
+    E0 = float(model.energy(bound(y0, kinematics)[0][:4], params))
     E = model.energy(states[:, :4], params)
     drift = float(np.max(np.abs(E - E0)) / E0) if E0 > 0 else float(np.max(np.abs(E)))
 

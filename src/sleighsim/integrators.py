@@ -1,25 +1,91 @@
-"""Compiled heyoka integrators: one cache per process.
+"""Compiled heyoka integrators: one cache per process, and the angles each keeps bounded.
 
 An integrator is compiled once per process for its structure (system, tolerance, mode) and
 reused; parameters are runtime par[] and states are set per run. heyoka also keeps compiled
 code in its on-disk cache (heyoka.llvm_state), so a new process reuses earlier compilations.
+
+Bounded angles. heyoka sizes its steps from the infinity norm of the whole state, so an angle
+that grows without bound (delta = theta - beta decreases by about 3.4 per time unit at
+eps = 0.1) loosens the accuracy of u and Omega in proportion to it. The equations depend on
+delta only through sin and cos, so reducing it by whole turns is an exact symmetry: every
+integrator registers its angles here, and every propagation passes :func:`bounded` as its
+step callback (heyoka's compiled angle reducer, which brings them back to [0, 2 pi) after
+every step, at no measurable cost per step). The sleigh's integrators store delta + pi, so
+the reduced angle is delta in [-pi, pi) and never exceeds |omega| (about 3.4 on the attractor)
+in that norm; :func:`load`, :func:`read` and :func:`samples` convert to and from the model's
+variables. (Measured over 1e6 time units from the reference state at tol 2.2e-16: energy
+drift 1.0e-12 with delta in [0, 2 pi), 5.9e-13 with delta in [-pi, pi); 2.3e-12 within 1e4
+time units when delta is left to grow.)
 """
 
 from __future__ import annotations
 
+import math
 import time
 from typing import Callable
 
+import numpy as np
+
+#: The sleigh's angle as its compiled integrators store it: delta + DELTA_SHIFT, in [0, 2 pi).
+DELTA_SHIFT = math.pi
+#: Angle variables of the sleigh's integrators: name -> (state index, stored shift).
+SLEIGH_ANGLES = {"delta": (3, DELTA_SHIFT)}
+
 _CACHE: dict = {}
+_ANGLES: dict = {}
 
 
-def compiled(key: tuple, build: Callable):
-    """(integrator, compile seconds) for ``key``: built by ``build()`` on first use in this process."""
+def compiled(key: tuple, build: Callable, angles: dict = SLEIGH_ANGLES):
+    """(integrator, compile seconds) for ``key``: built by ``build()`` on first use in this process;
+    ``angles`` (name -> (state index, stored shift)) are the variables :func:`bounded` keeps in [0, 2 pi)."""
     if key not in _CACHE:
         start = time.perf_counter()
         ta = build()
         _CACHE[key] = (ta, time.perf_counter() - start)
+        register(ta, angles)
     return _CACHE[key]
+
+
+def register(ta, angles: dict) -> None:
+    """Make :func:`bounded` reduce ``angles`` (name -> (state index, stored shift)) of ``ta`` after every step."""
+    import heyoka as hy
+
+    reducer = hy.callback.angle_reducer([hy.make_vars(a) for a in angles]) if angles else None
+    _ANGLES[id(ta)] = (reducer, [(i, shift) for i, shift in angles.values() if shift])
+
+
+def bounded(ta):
+    """The step callback that keeps the registered angles of ``ta`` in [0, 2 pi) (None when it has none)."""
+    return _ANGLES.get(id(ta), (None, []))[0]
+
+
+def _shifts(ta):
+    return _ANGLES.get(id(ta), (None, []))[1]
+
+
+def load(ta, y) -> None:
+    """Set the leading components of ``ta``'s state (rows, for a batch integrator) from y, given in
+    the model's variables."""
+    y = np.array(y, dtype=ta.state.dtype)
+    for i, shift in _shifts(ta):
+        y[i] += shift
+    ta.state[: y.shape[0]] = y
+
+
+def read(ta, n: int) -> np.ndarray:
+    """The first n components of ``ta``'s state (rows, for a batch integrator) in the model's variables."""
+    y = np.array(ta.state[:n])
+    for i, shift in _shifts(ta):
+        y[i] -= shift
+    return y
+
+
+def samples(ta, Y) -> np.ndarray:
+    """Samples of ``ta``'s state (one row per time, as propagate_grid returns them) in the model's variables."""
+    Y = np.array(Y)
+    for i, shift in _shifts(ta):
+        Y[:, i] -= shift
+    return Y
 
 
 def flow(kinematics: bool, tol: float):
@@ -32,7 +98,7 @@ def flow(kinematics: bool, tol: float):
         from .params import Params
 
         n = 7 if kinematics else 4
-        return hy.taylor_adaptive(heyoka_system(kinematics), [0.0, 0.1, 1.0, 0.0] + [0.0] * (n - 4),
+        return hy.taylor_adaptive(heyoka_system(kinematics, DELTA_SHIFT), [0.0, 0.1, 1.0, DELTA_SHIFT] + [0.0] * (n - 4),
                                   pars=list(Params.paper(eps=0.1).values), tol=tol)
 
     return compiled(("flow", kinematics, tol), build)

@@ -47,7 +47,8 @@ def sleigh_tangent(k: int, tol: float, compact: bool):
     from .params import Params
 
     def build():
-        return tangent_integrator(model.heyoka_system(), k, tol, Params.paper(eps=0.1).values, compact_mode=compact)[0]
+        return tangent_integrator(model.heyoka_system(delta_shift=integrators.DELTA_SHIFT), k, tol,
+                                  Params.paper(eps=0.1).values, compact_mode=compact)[0]
 
     return integrators.compiled(("tangent", k, tol, compact), build)
 
@@ -59,8 +60,8 @@ def sleigh_tangent_batch(batch_size: int, tol: float, compact: bool):
     from .params import PARAM_NAMES
 
     def build():
-        return tangent_integrator_batch(model.heyoka_system(), batch_size, tol, npars=len(PARAM_NAMES),
-                                        compact_mode=compact)[0]
+        return tangent_integrator_batch(model.heyoka_system(delta_shift=integrators.DELTA_SHIFT), batch_size, tol,
+                                        npars=len(PARAM_NAMES), compact_mode=compact)[0]
 
     return integrators.compiled(("tangent_batch", batch_size, tol, compact), build)
 
@@ -74,8 +75,8 @@ def _divergence_integrator(tol):
     def build():
         import heyoka as hy
 
-        sys = model.heyoka_system()
-        smap = model.heyoka_symbols([v for v, _ in sys])
+        sys = model.heyoka_system(delta_shift=integrators.DELTA_SHIFT)
+        smap = model.heyoka_symbols([v for v, _ in sys], integrators.DELTA_SHIFT)
         D = hy.make_vars("D")
         return hy.taylor_adaptive(sys + [(D, hy.from_sympy(model.divergence_expr(), smap))],
                                   [0.0, 0.1, 1.0, 0.0, 0.0], tol=tol, pars=list(Params.paper(eps=0.1).values))
@@ -87,9 +88,11 @@ def mean_divergence(params, y0, T, tol) -> float:
     """(1/T) integral of trace J along the sleigh's orbit from y0 over [0, T]."""
     ta = _divergence_integrator(tol)
     ta.time = 0.0
-    ta.state[:] = [*np.asarray(y0, float), 0.0]
+    y = np.array([*np.asarray(y0, float), 0.0])
+    y[3] %= 2.0 * math.pi
+    integrators.load(ta, y)
     ta.pars[:] = params.values
-    ta.propagate_until(float(T))
+    ta.propagate_until(float(T), callback=integrators.bounded(ta))
     return float(ta.state[4] / T)
 
 
@@ -106,14 +109,16 @@ def benettin(ta, n: int, k: int, y0, *, t_align: float, T: float, tau: float, n_
     Phases: alignment over t_align (renormalised, not accumulated), then T
     accumulated in steps of tau. Returns exponents (k,), their standard error
     from n_blocks blocks, block estimates, finite-time estimates on a log-spaced
-    grid of accumulation times, the final state and wall time."""
+    grid of accumulation times, the log growth of each vector in each interval
+    (n_steps, k) (the convergence history), the final state and wall time."""
     if not (tau > 0 and T >= n_blocks * tau and t_align >= 0):
         raise ValueError(f"need tau > 0, T >= n_blocks * tau and t_align >= 0 (tau={tau}, T={T}, t_align={t_align})")
     import heyoka as hy
 
     start = time.perf_counter()
+    callback = integrators.bounded(ta)
     ta.time = 0.0
-    ta.state[:n] = np.asarray(y0, float)
+    integrators.load(ta, np.asarray(y0, float))
     ta.state[n:] = initial_directions(n, k, seed).ravel()
     n_steps = int(round(T / tau))
     n_align = int(math.ceil(t_align / tau))
@@ -122,10 +127,11 @@ def benettin(ta, n: int, k: int, y0, *, t_align: float, T: float, tau: float, n_
     block_of = np.minimum((np.arange(n_steps) * n_blocks) // n_steps, n_blocks - 1)
     blocks = np.zeros((n_blocks, k))
     total = np.zeros(k)
+    log_growth = np.empty((n_steps, k))
     r = 0
     last_log = time.perf_counter()
     for i in range(-n_align, n_steps):
-        res = ta.propagate_for(tau)
+        res = ta.propagate_for(tau, callback=callback)
         if res[0] != hy.taylor_outcome.time_limit or not np.all(np.isfinite(ta.state)):
             raise RuntimeError(f"{label}: Lyapunov run failed at t = {ta.time:.6g}: heyoka outcome {res[0].name}")
         ta.time = 0.0  # autonomous: keep the clock small
@@ -135,6 +141,7 @@ def benettin(ta, n: int, k: int, y0, *, t_align: float, T: float, tau: float, n_
         if i < 0:
             continue
         growth = np.log(np.abs(np.diag(rr)))
+        log_growth[i] = growth
         total += growth
         blocks[block_of[i]] += growth
         if r < len(record_at) and i + 1 == record_at[r]:
@@ -152,7 +159,8 @@ def benettin(ta, n: int, k: int, y0, *, t_align: float, T: float, tau: float, n_
         "block_estimates": block_est,
         "T_grid": record_at * tau,
         "running": running,
-        "final_state": ta.state[:n].copy(),
+        "log_growth": log_growth,
+        "final_state": integrators.read(ta, n),
         "wall_time_s": time.perf_counter() - start,
     }
 
@@ -190,15 +198,16 @@ def max_le_batch(ta, n: int, y0s, taus, *, t_align_steps: int, n_steps: int, n_b
     if n_steps < n_blocks:
         raise ValueError(f"n_steps = {n_steps} must be >= n_blocks = {n_blocks}")
     start = time.perf_counter()
+    callback = integrators.bounded(ta)
     ta.set_time(np.zeros(B))
-    ta.state[:n] = y0s.T
+    integrators.load(ta, y0s.T)
     ta.state[n:] = initial_directions(n, 1, seed)[:, :1] * np.ones((1, B))
     block_of = np.minimum((np.arange(n_steps) * n_blocks) // n_steps, n_blocks - 1)
     blocks = np.zeros((n_blocks, B))
     state_sums = np.zeros((n_blocks, n, B))
     last_log = time.perf_counter()
     for i in range(-t_align_steps, n_steps):
-        ta.propagate_for(taus)
+        ta.propagate_for(taus, callback=callback)
         if any(r[0] != hy.taylor_outcome.time_limit for r in ta.propagate_res) or not np.all(np.isfinite(ta.state)):
             raise RuntimeError(f"{label}: batch Lyapunov run failed: {[r[0].name for r in ta.propagate_res]}")
         ta.set_time(np.zeros(B))
@@ -206,7 +215,7 @@ def max_le_batch(ta, n: int, y0s, taus, *, t_align_steps: int, n_steps: int, n_b
         ta.state[n:] /= norm
         if i >= 0:
             blocks[block_of[i]] += np.log(norm)
-            state_sums[block_of[i]] += ta.state[:n]
+            state_sums[block_of[i]] += integrators.read(ta, n)
         if time.perf_counter() - last_log > progress_every:
             last_log = time.perf_counter()
             log.info("%s: batch Lyapunov step %d / %d, running lambda_1 %s", label, i + 1, n_steps,
@@ -217,7 +226,7 @@ def max_le_batch(ta, n: int, y0s, taus, *, t_align_steps: int, n_steps: int, n_b
     return {"exponents": blocks.sum(axis=0) / (n_steps * taus),
             "stderr": block_est.std(axis=0, ddof=1) / math.sqrt(n_blocks),
             "state_block_means": state_sums / counts[:, None, None],
-            "final_state": ta.state[:n].T.copy(), "wall_time_s": time.perf_counter() - start}
+            "final_state": integrators.read(ta, n).T, "wall_time_s": time.perf_counter() - start}
 
 
 def zero_one_test(phi, *, n_c: int = 100, seed: int = 0, n_cut_fraction: float = 0.1) -> dict:

@@ -91,21 +91,25 @@ def heyoka_vars(kinematics: bool = False):
     return hy.make_vars(*(STATE_NAMES + (KINEMATIC_NAMES if kinematics else ())))
 
 
-def heyoka_symbols(variables) -> dict:
-    """SymPy state and parameter symbols -> heyoka variables and par[0..5] (PARAM_NAMES order)."""
+def heyoka_symbols(variables, delta_shift: float = 0.0) -> dict:
+    """SymPy state and parameter symbols -> heyoka expressions: the state variables (the 4th
+    storing delta + delta_shift) and par[0..5] (PARAM_NAMES order)."""
     import heyoka as hy
 
     smap = {s: v for s, v in zip(mech.STATE, variables)}
+    if delta_shift:
+        smap[mech.delta] = variables[DELTA] - delta_shift
     smap.update({s: hy.par[i] for i, s in enumerate(mech.PHYSICAL)})
     return smap
 
 
-def heyoka_system(kinematics: bool = False):
-    """[(var, expr), ...] for heyoka; parameters are par[0..5] in PARAM_NAMES order."""
+def heyoka_system(kinematics: bool = False, delta_shift: float = 0.0):
+    """[(var, expr), ...] for heyoka; parameters are par[0..5] in PARAM_NAMES order. The variable
+    ``delta`` stores delta + delta_shift (sleighsim.integrators keeps it in [0, 2 pi))."""
     import heyoka as hy
 
     hv = heyoka_vars(kinematics)
-    smap = heyoka_symbols(hv)
+    smap = heyoka_symbols(hv, delta_shift)
     sys = [(v, hy.from_sympy(e, smap)) for v, e in zip(hv, mech.derive().rhs)]
     if kinematics:
         u_, Om_ = hv[0], hv[1]
@@ -117,6 +121,14 @@ def heyoka_system(kinematics: bool = False):
             (hv[6], u_ * hy.sin(th_) + b_ * Om_ * hy.cos(th_)),
         ]
     return sys
+
+
+def state_difference(a, b) -> np.ndarray:
+    """a - b for states (..., 4 or more), with delta (and theta) compared modulo 2 pi."""
+    d = np.asarray(a, dtype=float) - np.asarray(b, dtype=float)
+    for i in (DELTA, THETA)[: 2 if d.shape[-1] > THETA else 1]:
+        d[..., i] = (d[..., i] + np.pi) % (2.0 * np.pi) - np.pi
+    return d
 
 
 def divergence_expr():

@@ -230,7 +230,7 @@ def state_names(order: int) -> list[str]:
 
 def _integrator(order: int, tol: float):
     """The hierarchy to ``order`` (compiled once per process). Returns (ta, compile_s)."""
-    return integrators.compiled(("hierarchy", order, tol), lambda: _build_integrator(order, tol))
+    return integrators.compiled(("hierarchy", order, tol), lambda: _build_integrator(order, tol), angles={"delta0": (3, 0.0)})
 
 
 def _build_integrator(order: int, tol: float):
@@ -277,7 +277,7 @@ def integrate_hierarchy(order: int, y0, times, *, b=1.0, K2=1.1, kappa_value=1.0
     ta.state[:4] = np.asarray(y0, dtype=float)
     ta.pars[:] = [b, K2, kappa_value]
     start = time.perf_counter()
-    res = ta.propagate_grid(times)
+    res = ta.propagate_grid(times, callback=integrators.bounded(ta))
     if res[0] != hy.taylor_outcome.time_limit or not np.all(np.isfinite(res[5])):
         raise RuntimeError(f"hierarchy integration to order {order} failed at t = {ta.time:g}: {res[0].name}")
     ds = xr.Dataset({n: ("time", res[5][:, i]) for i, n in enumerate(state_names(order))}, coords={"time": times})

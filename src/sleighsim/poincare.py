@@ -3,12 +3,11 @@
 One non-terminal event, sin(2 delta) = 0, fires at every delta = k pi/2; the map
 P_pi/2 keeps all crossings and P_2pi those with k = 0 mod 4. The state at each
 crossing comes from heyoka's dense output at the event time (not from
-interpolating samples). delta is reduced by whole turns between propagation
-chunks (an exact symmetry of the equations), so |delta| stays small and the
-crossing residual |delta - k pi/2| stays at rounding level. For the same reason
-the integrator's clock restarts at 0 every chunk (the flow is autonomous) and
-the offset is kept apart: an event time near t = 3e4 has a rounding error of
-4e-12, which would put delta 1e-11 off the section.
+interpolating samples). delta is reduced to [0, 2 pi) after every step (an exact
+symmetry, sleighsim.integrators.bounded), so the crossing residual |delta - k pi/2|
+stays at rounding level; the integrator's clock restarts at 0 every chunk (the flow
+is autonomous) and the offset is kept apart: an event time near t = 3e4 has a
+rounding error of 4e-12, which would put delta 1e-11 off the section.
 """
 
 from __future__ import annotations
@@ -28,16 +27,15 @@ TWO_PI = 2.0 * math.pi
 
 
 class _Recorder:
-    """Event callback: stores (local t, u, Omega, omega, delta, turns removed, time offset)."""
+    """Event callback: stores (local t, u, Omega, omega, delta, time offset)."""
 
     def __init__(self):
         self.hits: list = []
-        self.turns = 0
         self.offset = 0.0
 
     def __call__(self, ta, t, d_sgn):
         ta.update_d_output(t)
-        self.hits.append((t, *ta.d_output[:4], self.turns, self.offset))
+        self.hits.append((t, *ta.d_output[:4], self.offset))
 
 
 def event_integrator(tol: float):
@@ -46,10 +44,10 @@ def event_integrator(tol: float):
     def build():
         import heyoka as hy
 
-        sys = model.heyoka_system()
-        delta = sys[3][0]
-        return hy.taylor_adaptive(sys, [0.0, 0.1, 1.0, 0.0], pars=list(Params.paper(eps=0.1).values), tol=tol,
-                                  nt_events=[hy.nt_event(hy.sin(2.0 * delta), _Recorder())])
+        sys = model.heyoka_system(delta_shift=integrators.DELTA_SHIFT)
+        stored = sys[3][0]  # delta + pi: sin(2 (delta + pi)) = sin(2 delta)
+        return hy.taylor_adaptive(sys, [0.0, 0.1, 1.0, integrators.DELTA_SHIFT], pars=list(Params.paper(eps=0.1).values),
+                                  tol=tol, nt_events=[hy.nt_event(hy.sin(2.0 * stored), _Recorder())])
 
     return integrators.compiled(("events", tol), build)
 
@@ -58,29 +56,29 @@ def crossings(params: Params, y0, t0: float, t_end: float, *, tol: float = 2.0**
               scene: str = "", progress: int = 20) -> dict:
     """All crossings of delta = k pi/2 for t in (t0, t_end], starting from y0 at t0.
 
-    Returns arrays: time, u, Omega, omega, k (the absolute multiple of pi/2),
-    residual |delta - k pi/2| (rad); plus steps, wall_time_s, compile_time_s.
+    Returns arrays: time, u, Omega, omega, k (the multiple of pi/2 of the reduced delta, so
+    k mod 4 is the section class), residual |delta - k pi/2| (rad); plus steps, wall_time_s,
+    compile_time_s.
     """
     import heyoka as hy
 
     ta, compile_s = event_integrator(tol)
+    callback = integrators.bounded(ta)
     rec = ta.nt_events[0].callback
     rec.hits.clear()
-    rec.turns = 0
     rec.offset = float(t0)
-    ta.state[:] = np.asarray(y0, float)
+    y0 = np.array(y0, dtype=float)
+    y0[3] %= TWO_PI
+    integrators.load(ta, y0)
     ta.pars[:] = params.values
     start, steps, next_report = time.perf_counter(), 0, t0
     report_every = (t_end - t0) / max(1, progress)
     while rec.offset < t_end:
-        turns = round(ta.state[3] / TWO_PI)
-        ta.state[3] -= turns * TWO_PI
-        rec.turns += turns
         rate = abs(ta.state[1] - ta.state[2]) + 1e-3
         span = min(t_end - rec.offset, 20.0 * math.pi / rate)
         ta.time = 0.0
-        y_before = ta.state.copy()
-        res = ta.propagate_until(span)
+        y_before = integrators.read(ta, 4)
+        res = ta.propagate_until(span, callback=callback)
         steps += res[3]
         if res[0] != hy.taylor_outcome.time_limit or not np.all(np.isfinite(ta.state)):
             raise IntegrationError(f"scene {scene or '?'}: integration failed at t = {rec.offset:.6g}, "
@@ -89,13 +87,13 @@ def crossings(params: Params, y0, t0: float, t_end: float, *, tol: float = 2.0**
         if rec.offset >= next_report:
             log.info("%s: t = %.6g / %.6g, %d crossings", scene, rec.offset, t_end, len(rec.hits))
             next_report += report_every
-    hits = np.array(rec.hits, dtype=float).reshape(-1, 7)
+    hits = np.array(rec.hits, dtype=float).reshape(-1, 6)
     hits = hits[hits[:, 0] > 0]  # a crossing exactly at a chunk start was recorded by the chunk before
-    local_k = np.round(hits[:, 4] / (math.pi / 2))
+    hits[:, 1:5] = integrators.samples(ta, hits[:, 1:5])
+    k = np.round(hits[:, 4] / (math.pi / 2))
     return {
-        "time": hits[:, 6] + hits[:, 0], "u": hits[:, 1], "Omega": hits[:, 2], "omega": hits[:, 3],
-        "k": (local_k + 4 * hits[:, 5]).astype(np.int64),
-        "residual": np.abs(hits[:, 4] - local_k * (math.pi / 2)),
+        "time": hits[:, 5] + hits[:, 0], "u": hits[:, 1], "Omega": hits[:, 2], "omega": hits[:, 3],
+        "k": k.astype(np.int64) % 4, "residual": np.abs(hits[:, 4] - k * (math.pi / 2)),
         "steps": steps, "wall_time_s": time.perf_counter() - start, "compile_time_s": compile_s,
     }
 

@@ -87,7 +87,7 @@ def _integrator(tol: float):
 
         return hy.taylor_adaptive(heyoka_system(), [0.0, 0.1, 1.0, 0.0], pars=[0.1, 1.0, 1.1], tol=tol)
 
-    return integrators.compiled(("printed", tol), build)
+    return integrators.compiled(("printed", tol), build, angles={"delta": (3, 0.0)})
 
 
 def energy_drift(params: Params, y0, times, tol: float = 2.0**-52) -> xr.Dataset:
@@ -105,13 +105,14 @@ def energy_drift(params: Params, y0, times, tol: float = 2.0**-52) -> xr.Dataset
     printed.time = float(times[0])
     printed.state[:] = y0
     printed.pars[:] = [params.eps, params.b, params.K2]
-    out_p = printed.propagate_grid(times)
+    out_p = printed.propagate_grid(times, callback=integrators.bounded(printed))
     derived, _ = integrators.flow(False, tol)
     derived.time = float(times[0])
-    derived.state[:] = y0
+    integrators.load(derived, y0)
     derived.pars[:] = params.values
-    out_d = derived.propagate_grid(times)
-    rel = {k: energy(r[5], params) / E0 - 1.0 for k, r in (("printed", out_p), ("derived", out_d))}
+    out_d = derived.propagate_grid(times, callback=integrators.bounded(derived))
+    rel = {k: energy(Y, params) / E0 - 1.0 for k, Y in (("printed", out_p[5]),
+                                                          ("derived", integrators.samples(derived, out_d[5])))}
     ds = xr.Dataset(
         {f"energy_rel_change_{k}": ("time", v, {"long_name": f"E(t)/E(0) - 1, {k} equations"})
          for k, v in rel.items()},

@@ -16,6 +16,7 @@ import xarray as xr
 
 from .. import poincare
 from ..integrate import final_state, integrate, sample_grid
+from ..model import state_difference
 from ..params import Params
 from ..symmetries import REFERENCE_LABEL, REFERENCE_STATE, state_at_label
 
@@ -28,7 +29,7 @@ def _agreement(params, y0, T, tol, rtol):
     a = integrate(params, y0, [0.0, T], tol=tol, progress=1)
     b = integrate(params, y0, [0.0, T], backend="scipy", rtol=rtol, atol=rtol * 1e-3, progress=1)
     scale = max(np.max(np.abs(y0[:3])), 1e-300)
-    return a, float(np.max(np.abs(final_state(a) - final_state(b))) / scale)
+    return a, float(np.max(np.abs(state_difference(final_state(a), final_state(b)))) / scale)
 
 
 def case_params(name, params, y0, T, cfg):
@@ -52,7 +53,8 @@ def case_scaling(name, label, cfg):
     y = state_at_label(REF, p, label)
     scaled = integrate(p, y, [0.0, T / c], tol=cfg["tol"], progress=1)
     pred = np.r_[c * final_state(base)[:3], final_state(base)[3]]
-    err = float(np.max(np.abs(np.r_[final_state(scaled)[:3] / c, final_state(scaled)[3]] - np.r_[pred[:3] / c, pred[3]])))
+    err = float(np.max(np.abs(state_difference(np.r_[final_state(scaled)[:3] / c, final_state(scaled)[3]],
+                                                np.r_[pred[:3] / c, pred[3]]))))
     ok = err < cfg["max_scaling_error"]
     return dict(case=name, outcome="reliable" if ok else "degraded", error=err,
                 drift=scaled.attrs["energy_max_rel_drift"], disagreement=np.nan, steps=scaled.attrs["steps"],
@@ -78,7 +80,7 @@ def case_at_rest(name, cfg):
     p = Params.paper(eps=0.1)
     y0 = np.array([0.0, 0.0, 0.0, 0.7])
     a = integrate(p, y0, [0.0, 100.0], tol=cfg["tol"], progress=1)
-    err = float(np.max(np.abs(final_state(a) - y0)))
+    err = float(np.max(np.abs(state_difference(final_state(a), y0))))
     return dict(case=name, outcome="reliable" if err == 0 else "degraded", error=err, drift=np.nan,
                 disagreement=np.nan, steps=a.attrs["steps"], min_step=a.attrs["min_step"], max_step=a.attrs["max_step"],
                 wall_s=a.attrs["wall_time_s"], detail="state unchanged after 100 time units")
