@@ -103,21 +103,59 @@ def test_loglog_fit_recovers_a_power_law():
     assert slope == pytest.approx(0.5, abs=1e-9) and 0 < err < 1e-3
 
 
-def test_batch_lanes_match_the_scalar_benettin_run():
-    """Two grid-like points (different params and renormalisation intervals) in SIMD lanes."""
+@pytest.mark.parametrize("k", [1, 4])
+def test_batch_lanes_match_the_scalar_benettin_run(k):
+    """Two systems (different params and renormalisation intervals) in SIMD lanes, k vectors each."""
     ps = [Params.paper(eps=0.1, b=1.0), Params.paper(eps=0.2, b=0.5)]
     ys = np.array([state_at_label([0.0, 0.1, 1.0, 0.0], p, 0.1127) for p in ps])
     taus = np.array([5.0, 3.0])
-    ta, n, _ = lyapunov.tangent_integrator_batch(model.heyoka_system(), 2, npars=6, compact_mode=True)
+    ta, n, _ = lyapunov.tangent_integrator_batch(model.heyoka_system(), 2, npars=6, compact_mode=True, k=k)
     ta.pars[:] = np.array([p.values for p in ps]).T
-    batch = lyapunov.max_le_batch(ta, n, ys, taus, t_align_steps=4, n_steps=40, n_blocks=4)
+    batch = lyapunov.batch_benettin(ta, n, k, ys, taus, t_align_steps=4, n_steps=40)
+    lam = batch["log_growth"].sum(axis=0) / (40 * taus)  # (k, lanes)
     for j, p in enumerate(ps):
-        ts, _, _ = lyapunov.tangent_integrator(model.heyoka_system(), 1, pars=p.values, compact_mode=True)
-        one = lyapunov.benettin(ts, 4, 1, ys[j], t_align=4 * taus[j], T=40 * taus[j], tau=taus[j], n_blocks=4)
-        assert batch["exponents"][j] == pytest.approx(one["exponents"][0], rel=1e-9)
-        assert batch["stderr"][j] == pytest.approx(one["stderr"][0], rel=1e-6)
+        ts, _, _ = lyapunov.tangent_integrator(model.heyoka_system(), k, pars=p.values, compact_mode=True)
+        one = lyapunov.benettin(ts, 4, k, ys[j], t_align=4 * taus[j], T=40 * taus[j], tau=taus[j], n_blocks=4)
+        assert lam[:, j] == pytest.approx(one["exponents"], rel=1e-9, abs=1e-12)
+        assert batch["log_growth"][:, :, j] == pytest.approx(one["log_growth"], rel=1e-9, abs=1e-12)
     with pytest.raises(ValueError):
-        lyapunov.max_le_batch(ta, n, ys[:1], taus[:1], t_align_steps=0, n_steps=10)
+        lyapunov.batch_benettin(ta, n, k, ys[:1], taus[:1], n_steps=10)
+
+
+def _lorenz(hy):
+    x, y, z = hy.make_vars("x", "y", "z")
+    return [(x, 10.0 * (y - x)), (y, x * (28.0 - z) - y), (z, x * y - 8.0 / 3.0 * z)]
+
+
+def test_replicas_resolve_lorenz_and_stop_as_converged(hy):
+    ta, n, _ = lyapunov.tangent_integrator_batch(_lorenz(hy), 4, k=3)
+    y0s = np.array([[1.0, 1.0, 20.0], [2.0, 1.0, 20.0], [1.0, 3.0, 20.0], [1.0, 1.0, 25.0]])
+    r = lyapunov.replica_exponents(ta, n, 3, y0s, 0.5, T_round=500.0, max_rounds=6, target_rel=0.01, t_align=50.0,
+                                   regular_floor=0.01)
+    assert r["status"] == "converged" and r["stderr"][0] <= 0.01 * r["exponents"][0]
+    assert r["exponents"][0] == pytest.approx(0.906, rel=0.02) and r["exponents"][2] == pytest.approx(-14.572, rel=0.01)
+    assert r["per_replica"].shape == (4, 3) and r["log_growth"].shape == (r["T"] / 0.5, 3, 4)
+    assert np.allclose(r["per_replica"].sum(axis=1), -(10 + 1 + 8 / 3), rtol=1e-6)  # constant divergence
+
+
+def test_replicas_call_a_torus_regular_and_cap_an_unresolved_run(hy):
+    a, b = hy.make_vars("a", "b")
+    torus = [(a, 1.0 + 0.5 * hy.cos(a)), (b, math.sqrt(2) + 0.3 * hy.cos(b))]
+    ta, n, _ = lyapunov.tangent_integrator_batch(torus, 4)
+    starts = np.array([[0.1, 0.2], [1.0, 2.0], [2.0, 0.5], [3.0, 4.0]])
+    r = lyapunov.replica_exponents(ta, n, 1, starts, 1.0, T_round=2000.0, max_rounds=5, target_rel=0.1,
+                                   regular_floor=0.01)
+    assert r["status"] == "regular" and r["T"] == 2000.0
+    r = lyapunov.replica_exponents(ta, n, 1, starts, 1.0, T_round=2000.0, max_rounds=2, target_rel=0.1,
+                                   regular_floor=1e-3)  # a finer floor needs a longer run than the cap
+    assert r["status"] == "capped" and r["T"] == 4000.0
+    ta, n, _ = lyapunov.tangent_integrator_batch(_lorenz(hy), 2)
+    r = lyapunov.replica_exponents(ta, n, 1, np.array([[1.0, 1.0, 20.0], [2.0, 1.0, 20.0]]), 0.5, T_round=5.0,
+                                   max_rounds=2, target_rel=1e-6, regular_floor=0.01)  # short: nothing is resolved
+    assert r["status"] == "capped" and r["T"] == 10.0 and len(r["history"]) == 2
+    with pytest.raises(ValueError, match="at least 2 lanes"):
+        lyapunov.replica_exponents(lyapunov.tangent_integrator_batch(_lorenz(hy), 1)[0], 3, 1, np.ones((1, 3)), 0.5,
+                                   T_round=5.0, max_rounds=1, target_rel=0.1, regular_floor=0.01)
 
 
 def test_b_image_maps_a_trajectory_at_one_b_onto_the_trajectory_at_another():
@@ -131,33 +169,10 @@ def test_b_image_maps_a_trajectory_at_one_b_onto_the_trajectory_at_another():
     assert not np.allclose(ends[1.0], ends[2.5], rtol=1e-3)  # u itself differs: the map is not the identity
 
 
-def test_grid_horizons_scale_with_the_fast_time_unit_and_pre_runs_with_one_over_eps_squared():
-    cfg = {"energy_label": 0.1127, "reference_eps": 0.1, "t_pre": 2e4, "t_pre_min": 5e3}
-    assert grid.time_scale(cfg, 0.1) == pytest.approx(1.0)
-    s = [grid.time_scale(cfg, e) for e in (0.02, 0.05, 0.2, 0.5)]
-    assert np.all(np.diff(s) > 0) and s[0] < 0.2 < 2 < s[-1]  # the rotor spins faster at small eps
+def test_grid_horizons_scale_with_the_slow_time_and_pre_runs_with_one_over_eps_squared():
+    cfg = {"energy_label": 0.1127, "reference_eps": 0.1, "t_pre": 2e4, "t_pre_min": 5e3, "eps_range": [0.02, 0.5],
+           "n_eps": 13, "b_range": [0.25, 4.0], "n_b": 12}
+    assert grid.slow_time(cfg, 0.1) == pytest.approx(1.0) and grid.slow_time(cfg, 0.02) == pytest.approx(5.0)
     assert grid.pre_run(cfg, 0.02) == pytest.approx(5e5)
     assert grid.pre_run(cfg, 0.5) == 5e3  # the floor
-
-
-def _verdict_inputs(tmp_path, lam, err, slope, phi, dt):
-    import xarray as xr
-
-    spec = xr.Dataset({"exponent": ("i", [lam, 0.0, 0.0, -lam]), "stderr": ("i", [err] * 4)},
-                      attrs={"T": 1e6, "lambda_1_decay_slope_last_decade": slope})
-    pc = xr.Dataset({"p2pi_u": ("n", phi), "p2pi_time": ("n", dt * np.arange(len(phi)))})
-    spec.to_netcdf(tmp_path / "spec.nc")
-    pc.to_netcdf(tmp_path / "pc.nc")
-    return {"exponents": tmp_path / "spec.nc", "poincare": tmp_path / "pc.nc"}
-
-
-def test_a_short_smooth_record_is_not_evidence_of_regularity(tmp_path):
-    """K near 0 from a record shorter than min_lyapunov_times Lyapunov times leaves the verdict open."""
-    cfg = {"observable": "p2pi_u", "max_samples": 20000, "n_c": 20, "sigma": 3.0, "slope_limit": 0.5,
-           "K_threshold": 0.5, "min_lyapunov_times": 100.0}
-    smooth = np.sin(0.01 * np.arange(4000)) + 0.5 * np.sin(0.0131 * np.arange(4000))
-    # zero exponent with a tight bound: the record spans (3 * 1e-7) * 4000 * 1.8 << 100 Lyapunov times
-    ds = verdict.verdict(cfg, _verdict_inputs(tmp_path, 1e-8, 1e-7, -1.0, smooth, 1.8))
-    assert ds.attrs["zero_one_K"] < 0.5 and ds.attrs["verdict"] == "undecided" and not ds.attrs["zero_one_informative"]
-    ds = verdict.verdict(cfg, _verdict_inputs(tmp_path, 1e-8, 1e-7, -1.0, smooth, 1e5))  # the same samples, spread out
-    assert ds.attrs["verdict"] == "quasi-periodic" and ds.attrs["zero_one_informative"]
+    assert grid.axes(cfg)[0][grid.reference_row(cfg)] == pytest.approx(0.1)

@@ -147,9 +147,13 @@ def _records(kind: str, cfg: dict) -> list[tuple[str, float, int]]:
         return [span(cfg["t_settle"], tc["dt"], "t_settle / transient.dt"), span(cfg["duration"], cfg["dt"], "duration / dt"),
                 span(cfg["check_duration"], cfg["check_dt"], "check_duration / check_dt")]
     if kind == "lyapunov_spectrum":
-        return [span(cfg["t_transient"], tc["dt"], "t_transient / transient.dt")]
+        steps = cfg["T_round"] * cfg["max_rounds"] / cfg["tau"] * cfg["replicas"]
+        return [span(cfg["t_transient"], tc["dt"], "t_transient / transient.dt"),
+                ("T_round x max_rounds / tau x replicas", steps, 8)]
     if kind == "lyapunov_grid":
-        return [span(cfg["t_pre"], tc["dt"], "t_pre / transient.dt")]
+        steps = cfg["T_round"] * cfg["max_rounds"] / cfg["tau"] * cfg["replicas"]
+        return [span(cfg["t_pre"], tc["dt"], "t_pre / transient.dt"),
+                ("T_round x max_rounds / tau x replicas", steps, 5)]
     if kind == "small_eps_cost":
         return [span(max(cfg["horizons"]), cfg["dt"], "max(horizons) / dt")]
     if kind == "printed_model":

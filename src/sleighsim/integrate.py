@@ -274,3 +274,14 @@ def integrate(
     )
     log.info("%s: done in %.3g s, %d steps, max relative energy drift %.3g", scene, wall, info["steps"], drift)
     return ds
+
+
+def orbit_samples(params: Params, y, n: int, spacing: float, *, tol: float = DEFAULT_TOL, samples_per_spacing: int = 400,
+                  scene: str = "") -> tuple[np.ndarray, xr.Dataset]:
+    """n states along the orbit from y, ``spacing`` time units apart (the first is y, bounded), and
+    the sampled record of that stretch (``samples_per_spacing`` samples per spacing)."""
+    record = integrate(params, y, sample_grid(0.0, spacing * n, spacing / samples_per_spacing), tol=tol,
+                       scene=f"{scene}.orbit", progress=1)
+    picks = np.arange(n) * samples_per_spacing
+    return np.stack([record[v].values[picks] for v in model.STATE_NAMES], axis=1), record
+

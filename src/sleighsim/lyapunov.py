@@ -53,17 +53,17 @@ def sleigh_tangent(k: int, tol: float, compact: bool):
     return integrators.compiled(("tangent", k, tol, compact), build)
 
 
-def sleigh_tangent_batch(batch_size: int, tol: float, compact: bool):
-    """The sleigh plus one tangent vector in ``batch_size`` SIMD lanes, compiled once per process.
+def sleigh_tangent_batch(batch_size: int, tol: float, compact: bool, k: int = 1):
+    """The sleigh plus k tangent vectors in ``batch_size`` SIMD lanes, compiled once per process.
     Returns (ta, compile_s)."""
     from . import model
     from .params import PARAM_NAMES
 
     def build():
         return tangent_integrator_batch(model.heyoka_system(delta_shift=integrators.DELTA_SHIFT), batch_size, tol,
-                                        npars=len(PARAM_NAMES), compact_mode=compact)[0]
+                                        npars=len(PARAM_NAMES), compact_mode=compact, k=k)[0]
 
-    return integrators.compiled(("tangent_batch", batch_size, tol, compact), build)
+    return integrators.compiled(("tangent_batch", batch_size, tol, compact, k), build)
 
 
 def _divergence_integrator(tol):
@@ -166,67 +166,120 @@ def benettin(ta, n: int, k: int, y0, *, t_align: float, T: float, tau: float, n_
 
 
 def tangent_integrator_batch(sys, batch_size: int, tol: float = 2.0**-52, npars: int = 0,
-                             compact_mode: bool = True):
-    """heyoka batch integrator (SIMD lanes) for ``sys`` plus one tangent vector per lane.
+                             compact_mode: bool = True, k: int = 1):
+    """heyoka batch integrator (SIMD lanes) for ``sys`` plus k tangent vectors per lane.
 
-    Returns (ta, n, compile_s); the state has shape (2 n, batch_size)."""
+    Returns (ta, n, compile_s); the state has shape (n + n k, batch_size), the tangent
+    vectors stored as (n, k) row-major below the state."""
     import heyoka as hy
 
     sys = list(sys)
     n = len(sys)
+    if not 1 <= k <= n:
+        raise ValueError(f"k = {k} is outside the admissible range [1, {n}]")
     start = time.perf_counter()
-    vsys = hy.var_ode_sys(sys, [sys[0][0]], order=1)
-    ta = hy.taylor_adaptive_batch(vsys, np.full((2 * n, batch_size), 0.1), tol=tol,
+    vsys = hy.var_ode_sys(sys, [v for v, _ in sys[:k]], order=1)
+    ta = hy.taylor_adaptive_batch(vsys, np.full((n + n * k, batch_size), 0.1), tol=tol,
                                   pars=np.zeros((npars, batch_size)), compact_mode=compact_mode)
     return ta, n, time.perf_counter() - start
 
 
-def max_le_batch(ta, n: int, y0s, taus, *, t_align_steps: int, n_steps: int, n_blocks: int = 10,
-                 seed: int = 0, label: str = "", progress_every: float = 30.0) -> dict:
-    """Largest exponent for several systems in lock-step, one per SIMD lane (``ta`` from
-    :func:`tangent_integrator_batch`, pars already set): lane j renormalises every taus[j];
-    every lane runs t_align_steps alignment steps, then n_steps accumulated ones, so a lane's
-    horizon is n_steps * taus[j]. Returns per-lane exponents, block standard errors, the block
-    means of the state sampled at the renormalisation times (n_blocks, n, B), wall time."""
+def batch_benettin(ta, n: int, k: int, y0s, taus, *, n_steps: int, t_align_steps: int = 0, seed: int = 0,
+                   resume: bool = False, label: str = "", progress_every: float = 30.0) -> dict:
+    """Benettin's method for several systems or replicas in lock-step, one per SIMD lane (``ta``
+    from :func:`tangent_integrator_batch` with k vectors, pars already set): lane j renormalises
+    every taus[j] (QR of its k vectors); t_align_steps steps align the vectors (not accumulated),
+    then n_steps are accumulated. With ``resume`` the lanes continue from the integrator's state
+    (y0s and the vectors are not reset). Returns the log growth of every step, vector and lane
+    (n_steps, k, B), the state at every renormalisation (n_steps, n, B), the final states (B, n)
+    and the wall time."""
     import heyoka as hy
 
-    y0s = np.atleast_2d(np.asarray(y0s, float))
-    taus = np.asarray(taus, float)
     B = ta.batch_size
-    if y0s.shape != (B, n) or taus.shape != (B,) or np.any(taus <= 0):
-        raise ValueError(f"need {B} states of {n} components and {B} positive taus; got {y0s.shape}, {taus.shape}")
-    if n_steps < n_blocks:
-        raise ValueError(f"n_steps = {n_steps} must be >= n_blocks = {n_blocks}")
+    taus = np.asarray(taus, float)
+    if taus.shape != (B,) or np.any(taus <= 0) or n_steps < 1:
+        raise ValueError(f"need {B} positive taus and n_steps >= 1; got taus {taus.shape}, n_steps = {n_steps}")
     start = time.perf_counter()
     callback = integrators.bounded(ta)
-    ta.set_time(np.zeros(B))
-    integrators.load(ta, y0s.T)
-    ta.state[n:] = initial_directions(n, 1, seed)[:, :1] * np.ones((1, B))
-    block_of = np.minimum((np.arange(n_steps) * n_blocks) // n_steps, n_blocks - 1)
-    blocks = np.zeros((n_blocks, B))
-    state_sums = np.zeros((n_blocks, n, B))
+    if not resume:
+        y0s = np.atleast_2d(np.asarray(y0s, float))
+        if y0s.shape != (B, n):
+            raise ValueError(f"need {B} states of {n} components; got {y0s.shape}")
+        integrators.load(ta, y0s.T)
+        ta.state[n:] = np.repeat(initial_directions(n, k, seed)[:, :, None], B, axis=2).reshape(n * k, B)
+    growth = np.empty((n_steps, k, B))
+    states = np.empty((n_steps, n, B))
     last_log = time.perf_counter()
     for i in range(-t_align_steps, n_steps):
+        ta.set_time(np.zeros(B))
         ta.propagate_for(taus, callback=callback)
         if any(r[0] != hy.taylor_outcome.time_limit for r in ta.propagate_res) or not np.all(np.isfinite(ta.state)):
             raise RuntimeError(f"{label}: batch Lyapunov run failed: {[r[0].name for r in ta.propagate_res]}")
-        ta.set_time(np.zeros(B))
-        norm = np.linalg.norm(ta.state[n:], axis=0)
-        ta.state[n:] /= norm
+        V = np.moveaxis(ta.state[n:].reshape(n, k, B), 2, 0)  # (B, n, k)
+        q, r = np.linalg.qr(V)
+        ta.state[n:] = np.moveaxis(q, 0, 2).reshape(n * k, B)
         if i >= 0:
-            blocks[block_of[i]] += np.log(norm)
-            state_sums[block_of[i]] += integrators.read(ta, n)
+            growth[i] = np.log(np.abs(np.diagonal(r, axis1=1, axis2=2))).T
+            states[i] = integrators.read(ta, n)
         if time.perf_counter() - last_log > progress_every:
             last_log = time.perf_counter()
             log.info("%s: batch Lyapunov step %d / %d, running lambda_1 %s", label, i + 1, n_steps,
-                     np.array2string(blocks.sum(axis=0) / (max(i + 1, 1) * taus), precision=3))
-    counts = np.bincount(block_of, minlength=n_blocks)
-    block_len = counts[:, None] * taus[None, :]
-    block_est = blocks / block_len
-    return {"exponents": blocks.sum(axis=0) / (n_steps * taus),
-            "stderr": block_est.std(axis=0, ddof=1) / math.sqrt(n_blocks),
-            "state_block_means": state_sums / counts[:, None, None],
-            "final_state": integrators.read(ta, n).T, "wall_time_s": time.perf_counter() - start}
+                     np.array2string(growth[: max(i + 1, 1), 0].sum(axis=0) / (max(i + 1, 1) * taus), precision=3))
+    return {"log_growth": growth, "states": states, "final_state": integrators.read(ta, n).T,
+            "wall_time_s": time.perf_counter() - start}
+
+
+def replica_exponents(ta, n: int, k: int, y0s, tau: float, *, T_round: float, max_rounds: int, target_rel: float,
+                      regular_floor: float, t_align: float = 0.0, sigma: float = 3.0, degree: float = 2.0,
+                      seed: int = 0, label: str = "") -> dict:
+    """The first k Lyapunov exponents from independent replicas, one per SIMD lane: y0s are
+    points along one settled orbit, many decorrelation times apart. The lanes run in rounds of
+    T_round; after each round the estimate is the mean over replicas of each replica's
+    cumulative exponents and its standard error the replicas' spread / sqrt(B), an honest
+    uncertainty that assumes no independence within a run. Stops when lambda_1 is resolved
+    (stderr <= target_rel lambda_1: "converged"), when lambda_1 + sigma stderr lies below the
+    rate polynomial growth can fake, degree ln(T / tau) / T, and that rate is itself below
+    ``regular_floor`` (any exponent above the floor would have been resolved: "regular"), or after
+    max_rounds ("capped"). Returns the exponents, their standard errors, the per-replica exponents (B, k),
+    the horizon per replica, the status and rule, the history per round (T, lambdas, stderrs),
+    the log growth per step, vector and lane (steps, k, B; for finite-time statistics), the
+    states at the renormalisations (for steadiness checks), the final states and the wall time."""
+    from .indicators import polynomial_rate_bound
+
+    B = ta.batch_size
+    if B < 2:
+        raise ValueError("replica_exponents needs at least 2 lanes (replicas) for an uncertainty")
+    steps = int(round(T_round / tau))
+    if steps < 1 or max_rounds < 1:
+        raise ValueError(f"need T_round >= tau and max_rounds >= 1 (T_round = {T_round}, tau = {tau})")
+    taus = np.full(B, tau)
+    growth, states, history = [], [], []
+    start, status = time.perf_counter(), "capped"
+    for rnd in range(max_rounds):
+        r = batch_benettin(ta, n, k, y0s, taus, n_steps=steps, t_align_steps=int(math.ceil(t_align / tau)) if rnd == 0 else 0,
+                           seed=seed, resume=rnd > 0, label=f"{label} round {rnd + 1}")
+        growth.append(r["log_growth"])
+        states.append(r["states"])
+        T = (rnd + 1) * steps * tau
+        per_replica = np.concatenate(growth).sum(axis=0).T / T  # (B, k)
+        lam, err = per_replica.mean(axis=0), per_replica.std(axis=0, ddof=1) / math.sqrt(B)
+        history.append((T, *lam, *err))
+        log.info("%s: T = %.4g per replica, lambda = %s +- %s", label, T, np.array2string(lam, precision=3),
+                 np.array2string(err, precision=2))
+        if err[0] <= target_rel * lam[0]:
+            status = "converged"
+            break
+        fake = polynomial_rate_bound(T, tau, degree)
+        if lam[0] + sigma * err[0] < fake <= regular_floor:
+            status = "regular"
+            break
+    return {"exponents": lam, "stderr": err, "per_replica": per_replica, "T": T, "status": status,
+            "rule": f"replicas in rounds of {T_round:g}: converged when stderr <= {target_rel:g} lambda_1; regular "
+                    f"when lambda_1 + {sigma:g} stderr < {degree:g} ln(T / tau) / T <= {regular_floor:g}; capped after "
+                    f"{max_rounds} rounds",
+            "history": np.array(history), "log_growth": np.concatenate(growth),
+            "states": np.concatenate(states), "final_state": r["final_state"],
+            "wall_time_s": time.perf_counter() - start}
 
 
 def zero_one_test(phi, *, n_c: int = 100, seed: int = 0, n_cut_fraction: float = 0.1) -> dict:

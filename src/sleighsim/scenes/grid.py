@@ -1,5 +1,12 @@
-"""The Lyapunov exponent on the (eps, b) grid (F11, C21), as independent chunk jobs (whole eps
-rows) gathered into one dataset."""
+"""The largest Lyapunov exponent against eps (rows) and b (F11, C21), as independent chunk jobs
+(whole eps rows) gathered into one dataset. The same rows, at more eps and with the Poincare
+observables, are the regime diagram.
+
+b is an exact symmetry at fixed K2: (u / b, Omega, omega, delta) obeys b-free equations
+(mechanics.b_free_form), so lambda_1(eps, b) = lambda_1(eps) at a fixed label. Each row is
+computed once, at b = 1, and the b axis is filled by the symmetry; the reference row is also
+computed directly at the ``b_check`` values, from the same replicas mapped by the symmetry.
+"""
 
 from __future__ import annotations
 
@@ -10,13 +17,40 @@ import time
 import numpy as np
 import xarray as xr
 
-from .. import lyapunov
+from .. import lyapunov, poincare, transient
+from ..integrate import orbit_samples
 from ..io import read_dataset
 from ..params import Params
 from ..symmetries import b_image, state_at_label
 from ..transient import settle
 
 log = logging.getLogger("sleighsim")
+
+ROW_VARIABLES = ("lambda_1", "stderr", "T", "status_code", "transient_over", "omega_block_drift", "steady",
+                 "settling_time", "t_pre", "spike_interval", "spike_interval_std", "rotation_number",
+                 "curve_thickness", "b_check_max_diff", "b_check_bound", "wall_time_s")
+STATUS = ("converged", "regular", "capped")
+
+
+def axes(cfg: dict) -> tuple[np.ndarray, np.ndarray]:
+    """The log-spaced eps and b values of the grid."""
+    return np.geomspace(*cfg["eps_range"], cfg["n_eps"]), np.geomspace(*cfg["b_range"], cfg["n_b"])
+
+
+def reference_row(cfg: dict) -> int:
+    """Index of the eps row nearest reference_eps (in log eps)."""
+    return int(np.argmin(np.abs(np.log(axes(cfg)[0] / cfg["reference_eps"]))))
+
+
+def slow_time(cfg: dict, eps: float) -> float:
+    """The slow time unit at eps relative to reference_eps: the spike cycle grows like 1 / eps
+    (measured: interval ~ eps^-1.03), so horizons and replica spacings scale by eps_ref / eps."""
+    return cfg["reference_eps"] / eps
+
+
+def pre_run(cfg: dict, eps: float) -> float:
+    """Pre-run length at eps: t_pre (eps_ref / eps)^2 (transients grow like 1/eps^2), at least t_pre_min."""
+    return max(cfg["t_pre_min"], cfg["t_pre"] * (cfg["reference_eps"] / eps) ** 2)
 
 
 def _row_transient(cfg: dict, t_pre: float) -> dict:
@@ -27,131 +61,127 @@ def _row_transient(cfg: dict, t_pre: float) -> dict:
     return dict(tc, **scaled)
 
 
-def axes(cfg: dict) -> tuple[np.ndarray, np.ndarray]:
-    """The log-spaced eps and b values of the grid."""
-    return np.geomspace(*cfg["eps_range"], cfg["n_eps"]), np.geomspace(*cfg["b_range"], cfg["n_b"])
+def _replicas(params, y, cfg, s, label):
+    """``replicas`` states along the settled orbit, replica_spacing (slow time units) apart, and the
+    steady spike interval of that stretch (mean and standard deviation)."""
+    states, run = orbit_samples(params, y, cfg["replicas"], cfg["replica_spacing"] * s, tol=cfg["tol"], scene=label)
+    try:
+        spikes = transient.spike_times(run.time.values, run.Omega.values, factor=cfg["transient"]["spike_factor"])
+    except ValueError:  # a record shorter than two spike-detection blocks
+        spikes = np.array([])
+    d = np.diff(spikes)
+    return states, (float(d.mean()) if d.size else math.nan), (float(d.std(ddof=1)) if d.size > 1 else math.nan)
 
 
-def time_scale(cfg: dict, eps: float) -> float:
-    """Fast time unit at eps relative to reference_eps: the ratio of rotor speeds when the rotor
-    carries the whole energy at the label (close to the mean rotor speed on the attractor:
-    measured within 5% for eps <= 0.37, 19% at eps = 0.5). Horizons scaled by it cost about the
-    same number of integrator steps at every eps."""
-    def omega_rot(e):
-        return state_at_label([0.0, 0.0, 1.0, 0.0], Params.paper(eps=e), cfg["energy_label"])[2]
-    return float(omega_rot(cfg["reference_eps"]) / omega_rot(eps))
+def _steadiness(states, n_blocks: int, rtol: float) -> tuple[float, bool]:
+    """Largest relative drift of omega's block means (over n_blocks blocks of each replica's record)."""
+    om = states[:, 2, :]
+    m = (om.shape[0] // n_blocks) * n_blocks
+    means = om[:m].reshape(n_blocks, -1, om.shape[1]).mean(axis=1)
+    drift = float(np.max(np.abs(means / means.mean(axis=0) - 1.0)))
+    return drift, drift <= rtol
 
 
-def pre_run(cfg: dict, eps: float) -> float:
-    """Pre-run length at eps: t_pre (eps_ref / eps)^2 (transients grow like 1/eps^2), at least t_pre_min."""
-    return max(cfg["t_pre_min"], cfg["t_pre"] * (cfg["reference_eps"] / eps) ** 2)
+def row(cfg: dict, eps: float, label: str = "", check_b: bool = False) -> dict:
+    """One eps row at b = 1: pre-run from y0 at the label (transient checked), replicas along the
+    settled orbit, the replica estimate of lambda_1 (lyapunov.replica_exponents), steadiness of each
+    replica, the steady spike interval, and (poincare_span > 0) the P_2pi rotation number and curve
+    thickness; with ``check_b``, lambda_1 again at the b_check values from the replicas mapped by the
+    symmetry (one round)."""
+    start = time.perf_counter()
+    s, t_pre = slow_time(cfg, eps), pre_run(cfg, eps)
+    p = Params.paper(eps=eps, b=1.0)
+    y, pre = settle(p, state_at_label(cfg["y0"], p, cfg["energy_label"]), t_pre, **_row_transient(cfg, t_pre),
+                    tol=cfg["tol"], label=label, progress=1)
+    replicas, interval, interval_std = _replicas(p, y, cfg, s, label)
+    B = cfg["replicas"]
+    ta, _ = lyapunov.sleigh_tangent_batch(B, cfg["tol"], cfg["compact_mode"])
+    ta.pars[:] = np.tile(np.array(p.values)[:, None], (1, B))
+    kw = dict(T_round=cfg["T_round"] * s, max_rounds=cfg["max_rounds"], target_rel=cfg["target_rel"],
+              regular_floor=cfg["regular_floor"] / s, t_align=cfg["t_align"] * s, sigma=cfg["sigma"], label=label)
+    r = lyapunov.replica_exponents(ta, 4, 1, replicas, cfg["tau"] * s, **kw)
+    drift, steady = _steadiness(r["states"], cfg["steady_blocks"], cfg["transient"]["rtol"])
+    out = {"lambda_1": float(r["exponents"][0]), "stderr": float(r["stderr"][0]), "T": r["T"],
+           "status_code": STATUS.index(r["status"]), "transient_over": pre["transient_over"],
+           "omega_block_drift": drift, "steady": int(steady), "settling_time": pre["transient_settling_time"],
+           "t_pre": t_pre, "spike_interval": interval, "spike_interval_std": interval_std,
+           "rotation_number": math.nan, "curve_thickness": math.nan, "b_check_max_diff": math.nan,
+           "b_check_bound": math.nan,
+           "rule": r["rule"]}
+    if cfg["poincare_span"] > 0:
+        c = poincare.crossings(p, replicas[0], 0.0, cfg["poincare_span"] * s, tol=cfg["tol"], scene=label)
+        pts = np.c_[c["u"], c["Omega"], c["omega"]][c["k"] == 0]
+        if len(pts) > 10:
+            out["rotation_number"] = poincare.rotation_number(pts)["rotation_number"]
+            out["curve_thickness"] = poincare.curve_thickness(pts)
+    if check_b and cfg["b_check"]:
+        diffs, bounds = [], []
+        for b in cfg["b_check"]:
+            pb = Params.paper(eps=eps, b=b)
+            ta.pars[:] = np.tile(np.array(pb.values)[:, None], (1, B))
+            rb = lyapunov.replica_exponents(ta, 4, 1, np.array([b_image(x, 1.0, b) for x in replicas]),
+                                            cfg["tau"] * s, **dict(kw, max_rounds=1, label=f"{label}[b={b:g}]"))
+            T1, first = r["history"][0][0], r["history"][0][1]  # the b = 1 estimate after the same single round
+            diffs.append(abs(rb["exponents"][0] - first))
+            # the same orbit in other coordinates (u scaled by b): the tangent norms differ by at most a
+            # factor b at both ends, so the finite-time exponents may differ by up to 2 |ln b| / T
+            bounds.append(2 * abs(math.log(b)) / T1)
+            log.info("%s: b = %g gives lambda_1 %.6g after one round (b = 1: %.6g; allowed difference %.2g)", label, b,
+                     rb["exponents"][0], first, bounds[-1])
+        out["b_check_max_diff"] = float(max(diffs))
+        out["b_check_bound"] = float(max(bounds))
+    out["wall_time_s"] = time.perf_counter() - start
+    log.info("%s: lambda_1 = %.4g +- %.2g (%s, T = %.4g per replica), omega drift %.2g, interval %.4g, %.1f s",
+             label, out["lambda_1"], out["stderr"], r["status"], r["T"], drift, interval, out["wall_time_s"])
+    return out
 
 
 def chunk(cfg: dict, index: int, scene: str = "") -> xr.Dataset:
-    """Max LE at the grid points of one chunk: the eps rows chunk, chunk + n_chunks, ...
-
-    Per row: one pre-run from y0 (the reference state at the label) at the first b, of
-    grid_pre_run(eps), checked with the transient rule of sleighsim.transient. Every b of the
-    row then starts from that settled state mapped by the length-scale symmetry (b_image), so
-    no point pays the transient again. The Benettin phase (one tangent vector) runs ``batch_size``
-    b values at once in heyoka's SIMD batch mode over T, t_align and tau scaled by
-    grid_time_scale(eps). Each lane's transient is verified in the run itself: the block means of
-    omega at the renormalisation times must lie within transient.rtol of their mean. A point is
-    flagged when its row's pre-run or its own run is not steady, or when lambda_1 <= flag_sigma
-    stderr or stderr >= flag_rel_err lambda_1. A point's wall time is its share of the pre-run
-    and of its batch."""
-    start = time.perf_counter()
-    eps_all, bs = axes(cfg)
-    n_chunks = cfg["n_chunks"]
-    B, rtol = cfg["batch_size"], cfg["transient"]["rtol"]
-    n_steps = int(round(cfg["T"] / cfg["tau"]))
-    n_align = int(math.ceil(cfg["t_align"] / cfg["tau"]))
-    ta, compile_s = lyapunov.sleigh_tangent_batch(B, cfg["tol"], cfg["compact_mode"])
-    rows = []
-    for eps in eps_all[index::n_chunks]:
-        s, t_pre = time_scale(cfg, eps), pre_run(cfg, eps)
-        p0 = Params.paper(eps=eps, b=bs[0])
-        t0 = time.perf_counter()
-        y, pre = settle(p0, state_at_label(cfg["y0"], p0, cfg["energy_label"]), t_pre, **_row_transient(cfg, t_pre),
-                        tol=cfg["tol"], label=f"{scene}[eps={eps:.4g}]", progress=1)
-        pre_over, settled = bool(pre["transient_over"]), pre["transient_settling_time"]
-        pre_share = (time.perf_counter() - t0) / bs.size
-        log.info("%s[eps=%.4g]: pre-run %.4g, omega settled at %.4g (%s)", scene, eps, t_pre, settled,
-                 "over" if pre_over else "NOT over")
-        for first in range(0, bs.size, B):
-            group = list(bs[first:first + B])
-            lanes = group + [group[-1]] * (B - len(group))  # pad a short last batch
-            ta.pars[:] = np.array([Params.paper(eps=eps, b=b).values for b in lanes]).T
-            r = lyapunov.max_le_batch(ta, 4, np.array([b_image(y, bs[0], b) for b in lanes]), np.full(B, cfg["tau"] * s),
-                                      t_align_steps=n_align, n_steps=n_steps, n_blocks=cfg["n_blocks"],
-                                      label=f"{scene}[eps={eps:.4g}, batch {first // B}]")
-            om = r["state_block_means"][:, 2, :]
-            drift = np.max(np.abs(om / om.mean(axis=0) - 1.0), axis=0)
-            share = r["wall_time_s"] / len(group)
-            for j, b in enumerate(group):
-                lam, err = float(r["exponents"][j]), float(r["stderr"][j])
-                over = pre_over and drift[j] <= rtol
-                converged = lam > cfg["flag_sigma"] * err and err < cfg["flag_rel_err"] * abs(lam)
-                rows.append((eps, b, lam, err, s, cfg["T"] * s, t_pre, settled, drift[j], int(over), int(converged),
-                             pre_share + share))
-                log.info("%s[eps=%.4g, b=%.4g]: lambda_1 = %.4g +- %.2g, omega block drift %.2g, transient %s, %s",
-                         scene, eps, b, lam, err, drift[j], "over" if over else "NOT over",
-                         "converged" if converged else "NOT converged")
-    names = ["eps", "b", "lambda_1", "stderr", "time_scale", "T", "t_pre", "settling_time", "omega_block_drift",
-             "transient_over", "converged", "wall_time_s"]
-    a = np.array(rows, dtype=float).reshape(-1, len(names))
-    ds = xr.Dataset({n: ("point", a[:, i]) for i, n in enumerate(names)})
-    ds.attrs.update(chunk=index, n_chunks=n_chunks, wall_time_s=time.perf_counter() - start, tol=cfg["tol"],
-                    energy_label=cfg["energy_label"], batch_size=B, compile_time_s=compile_s,
-                    method=f"Benettin (one tangent vector) in heyoka batch mode, {B} lanes",
-                    start_rule=chunk.__doc__.split("\n\n")[1].replace("\n", " ").strip())
+    """The eps rows index, index + n_chunks, ... (see :func:`row`)."""
+    eps_all, _ = axes(cfg)
+    ref = eps_all[reference_row(cfg)]
+    rows = {e: row(cfg, e, label=f"{scene}[eps={e:.4g}]", check_b=e == ref) for e in eps_all[index::cfg["n_chunks"]]}
+    eps = np.array(list(rows), float)
+    ds = xr.Dataset({v: ("eps", np.array([rows[e][v] for e in eps], float)) for v in ROW_VARIABLES},
+                    coords={"eps": eps})
+    ds.attrs.update(chunk=index, n_chunks=cfg["n_chunks"], rule=next(iter(rows.values()))["rule"] if rows else "")
     return ds
 
 
 def gather(paths, cfg: dict, scene: str = "") -> xr.Dataset:
-    """Assemble chunk datasets into the (eps, b) grid, with per-row statistics: the spread of
-    lambda_1 across b (the b values of a row are one system under the length-scale symmetry, so
-    where lambda_1 T >> 37 the spread measures the sampling error of one point) and the
-    reference point's relative error."""
+    """The rows of every chunk, in eps order, with lambda_1 on the (eps, b) grid filled by the
+    symmetry and each row's flags: a row is flagged when its transient was not shown over, a
+    replica's omega block means drift by more than transient.rtol, or lambda_1 is not resolved
+    (status other than converged)."""
     chunks = [read_dataset(p) for p in paths]
-    parts = xr.concat(chunks, dim="point")
+    parts = xr.concat(chunks, dim="eps", combine_attrs="drop").sortby("eps")
     eps, bs = axes(cfg)
-    out = {}
-    for name in ("lambda_1", "stderr", "transient_over", "converged", "wall_time_s", "T", "omega_block_drift"):
-        grid = np.full((eps.size, bs.size), np.nan)
-        for e, b, v in zip(parts.eps.values, parts.b.values, parts[name].values):
-            grid[np.argmin(np.abs(eps - e)), np.argmin(np.abs(bs - b))] = v
-        out[name] = (("eps", "b"), grid)
-    ds = xr.Dataset(out, coords={"eps": eps, "b": bs})
-    flagged = (ds.transient_over.values == 0) | (ds.converged.values == 0)
-    ds["flagged"] = (("eps", "b"), flagged.astype(np.int8))
-    lam, err = ds.lambda_1.values, ds.stderr.values
-    ds["row_mean"] = ("eps", lam.mean(axis=1), {"long_name": "mean of lambda_1 over b", "units": "1/time"})
-    ds["row_spread"] = ("eps", lam.std(axis=1, ddof=1) if bs.size > 1 else np.full(eps.size, np.nan),
-                        {"long_name": "standard deviation of lambda_1 over b", "units": "1/time"})
-    ds["row_stderr"] = ("eps", err.mean(axis=1), {"long_name": "mean block standard error over b", "units": "1/time"})
-    ds["row_lambda_T"] = ("eps", np.abs(ds.row_mean.values) * ds["T"].values.mean(axis=1),
-                          {"long_name": "|mean lambda_1| x T: the b lanes start from one state (u scaled), so they "
-                                        "sample independently only once this is well above ln(1e16) = 37"})
-    ref = (int(np.argmin(np.abs(np.log(eps / cfg["reference_eps"])))), int(np.argmin(np.abs(np.log(bs)))))
-    ratio = (ds.row_spread.values / ds.row_stderr.values)[ds.row_lambda_T.values >= 100]
+    if not np.allclose(parts.eps.values, eps, rtol=1e-12):
+        raise ValueError(f"chunks hold eps {parts.eps.values.tolist()}, expected {eps.tolist()}")
+    ds = parts.assign_coords(eps=eps, b=bs)
+    flagged = (ds.transient_over.values == 0) | (ds.steady.values == 0) | (ds.status_code.values != 0)
+    ds["flagged"] = ("eps", flagged.astype(np.int8))
+    ds["lambda_1_grid"] = (("eps", "b"), np.repeat(ds.lambda_1.values[:, None], bs.size, axis=1),
+                           {"long_name": "lambda_1(eps, b) = lambda_1(eps, 1) by the length-scale symmetry"})
+    ds["status"] = ("eps", np.array([STATUS[int(c)] for c in ds.status_code.values], dtype=object))
+    ref = reference_row(cfg)
+    ok = ~flagged
     ds.attrs.update(
-        reference_point_eps=float(eps[ref[0]]), reference_point_b=float(bs[ref[1]]),
-        reference_point_rel_err=float(err[ref] / abs(lam[ref])),
-        median_row_spread_over_stderr=float(np.nanmedian(ratio)) if ratio.size else float("nan"),
-        spread_rule="median over rows with lambda_1 T >= 100 of (standard deviation over b) / (mean block stderr)",
-        chunk_wall_time_s=float(sum(c.attrs["wall_time_s"] for c in chunks)),
-        start_rule=chunks[0].attrs["start_rule"],
-        horizon_rule="T, t_align and tau scaled by grid_time_scale(eps) (same integrator steps at every eps); "
-        f"pre-run max(t_pre_min, t_pre (eps_ref / eps)^2) with t_pre = {cfg['t_pre']:g}, eps_ref = "
-        f"{cfg['reference_eps']:g}",
-        energy_label=cfg["energy_label"], n_points=int(eps.size * bs.size), fraction_flagged=float(flagged.mean()),
+        rule=chunks[0].attrs["rule"], reference_eps=float(eps[ref]),
+        reference_rel_err=float(ds.stderr.values[ref] / abs(ds.lambda_1.values[ref])),
+        b_check=np.asarray(cfg["b_check"], float), b_check_max_diff=float(ds.b_check_max_diff.values[ref]),
+        b_check_bound=float(ds.b_check_bound.values[ref]),
+        b_check_consistent=int(ds.b_check_max_diff.values[ref] <= ds.b_check_bound.values[ref]),
+        uncertainty="standard error of the mean over independent replicas (points along the settled orbit, "
+                    f"{cfg['replica_spacing']:g} slow time units apart)",
+        horizon_rule=f"pre-run max(t_pre_min, t_pre (eps_ref / eps)^2), t_pre = {cfg['t_pre']:g}; replica spacing, "
+                     "T_round, t_align and tau scaled by eps_ref / eps (the spike cycle)",
+        flag_rule="transient not over, or a replica's omega block means drift by more than transient.rtol, or "
+                  "lambda_1 not resolved (status regular or capped)",
+        n_rows=int(eps.size), n_points=int(eps.size * bs.size), fraction_flagged=float(flagged.mean()),
         min_lambda_1=float(np.nanmin(ds.lambda_1.values)), max_lambda_1=float(np.nanmax(ds.lambda_1.values)),
-        min_lambda_1_unflagged=float(np.nanmin(np.where(flagged, np.nan, ds.lambda_1.values))) if (~flagged).any()
-        else float("nan"),
-        cost_per_point_s=float(np.nanmean(ds.wall_time_s.values)), cost_total_s=float(np.nansum(ds.wall_time_s.values)),
-        flag_rule=f"transient not over, or lambda_1 <= {cfg['flag_sigma']} stderr, or stderr >= "
-        f"{cfg['flag_rel_err']} |lambda_1|", tol=cfg["tol"], T_reference=cfg["T"],
+        min_lambda_1_unflagged=float(np.nanmin(ds.lambda_1.values[ok])) if ok.any() else math.nan,
+        cost_total_s=float(np.nansum(ds.wall_time_s.values)), tol=cfg["tol"], energy_label=cfg["energy_label"],
+        scene=scene,
     )
     return ds
-
