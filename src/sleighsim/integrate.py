@@ -154,7 +154,7 @@ def _run_heyoka(params, y0, t0, times, kinematics, tol, scene, progress, max_ste
     return out, info
 
 
-def _run_scipy(params, y0, t0, times, method, rtol, atol, kinematics, scene, progress, max_steps):
+def _run_scipy(params, y0, t0, times, method, rtol, atol, kinematics, compiled, scene, progress, max_steps):
     from scipy.integrate import _ivp
 
     solvers = {"DOP853": _ivp.DOP853, "RK45": _ivp.RK45, "RK23": _ivp.RK23, "Radau": _ivp.Radau,
@@ -162,9 +162,14 @@ def _run_scipy(params, y0, t0, times, method, rtol, atol, kinematics, scene, pro
     if method not in solvers:
         raise ValueError(f"unknown SciPy method {method!r}; choose one of {sorted(solvers)}")
 
+    if compiled:
+        f, pars = integrators.rhs_function(kinematics), np.array(params.values)
+        rhs = lambda _, z: f(z, pars=pars)  # noqa: E731
+    else:
+        rhs = lambda _, z: model.full_rhs(z, params)  # noqa: E731
+
     def start(t, y, first_step=None):
-        return solvers[method](lambda _, z: model.full_rhs(z, params), t, y, float(times[-1]), rtol=rtol, atol=atol,
-                               first_step=first_step)
+        return solvers[method](rhs, t, y, float(times[-1]), rtol=rtol, atol=atol, first_step=first_step)
 
     state, shift = bound(y0, kinematics)
     solver, nfev = start(t0, state), 0
@@ -199,9 +204,10 @@ def _run_scipy(params, y0, t0, times, method, rtol, atol, kinematics, scene, pro
             state, moved = bound(y, kinematics)
             shift += moved
             nfev += solver.nfev
-            solver = start(solver.t, state, first_step=solver.step_size or None)
+            room = float(times[-1]) - solver.t
+            solver = start(solver.t, state, first_step=min(solver.step_size, room) if solver.step_size else None)
     info = dict(backend="scipy", method=method, rtol=rtol, atol=atol, steps=nsteps,
-                rhs_evaluations=int(nfev + solver.nfev))
+                rhs_evaluations=int(nfev + solver.nfev), rhs="heyoka cfunc" if compiled else "SymPy lambdify (NumPy)")
     return out, info
 
 
@@ -217,6 +223,7 @@ def integrate(
     method: str = "DOP853",
     rtol: float = 1e-12,
     atol: float = 1e-14,
+    compiled: bool = False,
     scene: str = "",
     progress: int = 20,
     max_steps: int = 10**9,
@@ -225,7 +232,9 @@ def integrate(
 
     ``y0``: (u, Omega, omega, delta), or with (theta, x, y) appended when
     ``kinematics`` (zeros if omitted). ``tol`` is heyoka's tolerance; ``method``,
-    ``rtol``, ``atol`` apply to the SciPy backend. Progress is logged ``progress``
+    ``rtol``, ``atol`` apply to the SciPy backend, whose right-hand side is the lambdified
+    NumPy one (independent of heyoka) or, with ``compiled``, heyoka's cfunc (for speed
+    studies of the integrator itself). Progress is logged ``progress``
     times. Raises :class:`IntegrationError` naming scene, time and state on failure,
     including when ``max_steps`` steps do not reach the end.
 
@@ -251,7 +260,8 @@ def integrate(
     if backend == "heyoka":
         states, info = _run_heyoka(params, y0, t0, times, kinematics, tol, scene, progress, max_steps)
     elif backend == "scipy":
-        states, info = _run_scipy(params, y0, t0, times, method, rtol, atol, kinematics, scene, progress, max_steps)
+        states, info = _run_scipy(params, y0, t0, times, method, rtol, atol, kinematics, compiled, scene, progress,
+                                  max_steps)
     else:
         raise ValueError(f"unknown backend {backend!r}; choose 'heyoka' or 'scipy'")
     wall = time.perf_counter() - start

@@ -102,3 +102,23 @@ def flow(kinematics: bool, tol: float):
                                   pars=list(Params.paper(eps=0.1).values), tol=tol)
 
     return compiled(("flow", kinematics, tol), build)
+
+
+def rhs_function(kinematics: bool = False, k: int = 0):
+    """The sleigh's right-hand side compiled by heyoka (``heyoka.cfunc``): f(y, pars) for the flow
+    (with the path when ``kinematics``) or, with k > 0, for the flow plus k tangent vectors (the
+    state (n + n k), vectors stored (n, k) row-major). For SciPy's solvers, about 10 microseconds
+    a call against 80 for the lambdified NumPy one. Compiled once per process."""
+
+    def build():
+        import heyoka as hy
+
+        from .model import heyoka_system
+
+        sys = heyoka_system(kinematics)
+        if k:
+            sys = list(hy.var_ode_sys(sys, [v for v, _ in sys[:k]], order=1).sys)
+        return hy.cfunc([e for _, e in sys], vars=[v for v, _ in sys])
+
+    return compiled(("cfunc", kinematics, k), build, angles={})[0]
+

@@ -50,6 +50,8 @@ KINDS: dict[str, Kind] = {
     "lyapunov_grid": Kind("grid:chunk", chunked=True),
     "chaos_verdict": Kind("verdict:verdict", inputs=("exponents", "poincare"), integrates=False),
     "printed_model": Kind("audit:printed_model"),
+    "k2_sweep": Kind("causes:k2_sweep"),
+    "integration_error": Kind("causes:integration_error"),
     "hardcases": Kind("hardcases:hardcases"),
     "bench": Kind("bench:bench", integrates=False),
 }

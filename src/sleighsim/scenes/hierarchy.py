@@ -56,6 +56,23 @@ def convergence_study(cfg: dict) -> dict:
     return out
 
 
+def series_errors(exact: xr.Dataset, h: xr.Dataset, eps: float, order: int) -> dict:
+    """The exact flow, the partial sum of orders 0..order and their errors for u, Omega, omega, as
+    Dataset variables on the common time grid. The relative error is taken against the largest
+    |exact| so far: Omega passes through zero, omega does not (there the two definitions agree to the
+    size of its oscillation)."""
+    data = {}
+    for v in ("u", "Omega", "omega"):
+        s = pert.partial_sum(h, v, eps, order)
+        data[f"{v}_exact"] = ("time", exact[v].values, {"long_name": f"{v}, exact flow"})
+        data[f"{v}_series"] = ("time", s, {"long_name": f"{v}, sum of orders 0..{order}"})
+        err = np.abs(s - exact[v].values)
+        data[f"{v}_abs_error"] = ("time", err)
+        data[f"{v}_rel_error"] = ("time", err / np.maximum(np.maximum.accumulate(np.abs(exact[v].values)), 1e-300),
+                                  {"long_name": f"|series - exact| / max |exact| up to t, {v}"})
+    return data
+
+
 def series_vs_exact(cfg: dict, scene: str = "") -> xr.Dataset:
     """Exact flow against u0 + eps u1 + eps^2 u2 (and Omega, omega) on [0, t_end], the relative
     error of each over time (C11), and the convergence of the series as eps -> 0."""
@@ -66,17 +83,7 @@ def series_vs_exact(cfg: dict, scene: str = "") -> xr.Dataset:
     order = cfg["order"]
     exact = integrate(params, y0, times, tol=cfg["tol"], scene=scene, progress=1)
     h = pert.integrate_hierarchy(order, y0, times, b=b, K2=K2, kappa_value=kap, tol=cfg["tol"])
-    data = {}
-    for v in ("u", "Omega", "omega"):
-        s = pert.partial_sum(h, v, eps, order)
-        data[f"{v}_exact"] = ("time", exact[v].values, {"long_name": f"{v}, exact flow"})
-        data[f"{v}_series"] = ("time", s, {"long_name": f"{v}, sum of orders 0..{order}"})
-        err = np.abs(s - exact[v].values)
-        data[f"{v}_abs_error"] = ("time", err)
-        # Relative to the largest |exact| so far: Omega passes through zero, omega does not (there the
-        # two definitions agree to the size of its oscillation).
-        data[f"{v}_rel_error"] = ("time", err / np.maximum(np.maximum.accumulate(np.abs(exact[v].values)), 1e-300),
-                                  {"long_name": f"|series - exact| / max |exact| up to t, {v}"})
+    data = series_errors(exact, h, eps, order)
     conv = convergence_study({"tol": cfg["tol"], **cfg["convergence"]})
     cc = cfg["convergence"]
     for o, (errs, slope, predicted) in conv.items():
@@ -115,15 +122,11 @@ def _paper_closed_forms(u0, omega0, b, K2) -> dict:
             "omega2_growth": growth}
 
 
-def hierarchy_terms(cfg: dict, scene: str = "") -> xr.Dataset:
-    """Orders 0 and 2 of u, Omega, omega from the paper's data (order 1 checked to stay zero)
-    and the numbers of C08-C10 measured on a late window, beside the paper's closed forms."""
-    start = time.perf_counter()
-    params, eps, b, K2, kap = _hierarchy_params(cfg)
-    y0 = np.asarray(cfg["y0"], float)
-    times = sample_grid(0.0, cfg["t_end"], cfg["dt"])
-    h = pert.integrate_hierarchy(2, y0, times, b=b, K2=K2, kappa_value=kap, tol=cfg["tol"])
-    w0, w1 = cfg["fit_window"]
+def hierarchy_numbers(y0, times, *, b: float, K2: float, kappa: float, tol: float, fit_window) -> tuple:
+    """The hierarchy to order 2 from y0 on ``times`` and the numbers of C07-C10 measured on
+    ``fit_window``, beside the paper's closed forms. Returns (hierarchy dataset, numbers)."""
+    h = pert.integrate_hierarchy(2, y0, times, b=b, K2=K2, kappa_value=kappa, tol=tol)
+    w0, w1 = fit_window
     win = (times >= w0) & (times <= w1)
     tw = times[win]
     u0_end, omega0_end = float(h.u0.values[-1]), float(h.omega0.values[-1])
@@ -137,35 +140,50 @@ def hierarchy_terms(cfg: dict, scene: str = "") -> xr.Dataset:
                  (slice(0, half), slice(half, None))]
     omega0_w = h.omega0.values[win]
     theory = _paper_closed_forms(u0_end, omega0_end, b, K2)
-    keep = ["u0", "u2", "Omega0", "Omega2", "omega0", "omega2", "delta0"]
-    ds = xr.Dataset({v: ("time", h[v].values) for v in keep}, coords={"time": times})
-    order1 = max(float(np.max(np.abs(h[f"{v}1"].values))) for v in pert.VARS)
-    ds.attrs.update(state_attrs(params, y0))
-    ds.attrs.update(
-        scene=scene, kappa=kap, tol=cfg["tol"], backend="heyoka", steps=h.attrs["steps"],
-        order1_max_abs=order1, u0_end=u0_end, omega0_end=omega0_end, two_pi_over_omega0=2 * math.pi / omega0_end,
+    numbers = dict(
+        order1_max_abs=max(float(np.max(np.abs(h[f"{v}1"].values))) for v in pert.VARS),
+        u0_end=u0_end, omega0_end=omega0_end, two_pi_over_omega0=2 * math.pi / omega0_end,
         two_pi_over_omega0_uncertainty=float(2 * math.pi * np.ptp(omega0_w) / omega0_end**2),
-        two_pi_over_omega0_method="omega0 at t_end; uncertainty from the range of omega0 over the fit window",
-        fit_window_start=w0, fit_window_end=w1, fit_method=fits.METHOD,
         T1_u2=meas["u2_period"], T1_u2_uncertainty=meas["u2_period_uncertainty"],
         T1_Omega2=meas["Omega2_period"], T1_Omega2_uncertainty=meas["Omega2_period_uncertainty"],
         Omega2_amplitude=meas["Omega2_amplitude"], Omega2_amplitude_uncertainty=meas["Omega2_amplitude_uncertainty"],
         phi1=ph["phase"], phi1_over_pi=ph["phase"] / math.pi, phi1_rms_residual=ph["rms_residual"],
         phi1_uncertainty=0.5 * abs(ph_halves[0]["phase"] - ph_halves[1]["phase"]),
-        phi1_method="least squares Omega2 ~ -A sin(delta0 + phi1) on the fit window, delta0 from the integration; "
-                    "uncertainty: half-difference of the fits on the two halves of the window",
         T2=meas["omega2_period"], T2_uncertainty=meas["omega2_period_uncertainty"],
         B=meas["omega2_amplitude"], B_uncertainty=meas["omega2_amplitude_uncertainty"],
         omega2_growth=meas["omega2_slope"], omega2_growth_uncertainty=meas["omega2_slope_uncertainty"],
         **{f"theory_{k}": v for k, v in theory.items()},
+    )
+    return h, numbers
+
+
+def hierarchy_terms(cfg: dict, scene: str = "") -> xr.Dataset:
+    """Orders 0 and 2 of u, Omega, omega from the paper's data (order 1 checked to stay zero)
+    and the numbers of C08-C10 measured on a late window, beside the paper's closed forms."""
+    start = time.perf_counter()
+    params, eps, b, K2, kap = _hierarchy_params(cfg)
+    y0 = np.asarray(cfg["y0"], float)
+    times = sample_grid(0.0, cfg["t_end"], cfg["dt"])
+    h, numbers = hierarchy_numbers(y0, times, b=b, K2=K2, kappa=kap, tol=cfg["tol"], fit_window=cfg["fit_window"])
+    w0, w1 = cfg["fit_window"]
+    keep = ["u0", "u2", "Omega0", "Omega2", "omega0", "omega2", "delta0"]
+    ds = xr.Dataset({v: ("time", h[v].values) for v in keep}, coords={"time": times})
+    ds.attrs.update(state_attrs(params, y0))
+    ds.attrs.update(
+        scene=scene, kappa=kap, tol=cfg["tol"], backend="heyoka", steps=h.attrs["steps"],
+        two_pi_over_omega0_method="omega0 at t_end; uncertainty from the range of omega0 over the fit window",
+        fit_window_start=w0, fit_window_end=w1, fit_method=fits.METHOD,
+        phi1_method="least squares Omega2 ~ -A sin(delta0 + phi1) on the fit window, delta0 from the integration; "
+                    "uncertainty: half-difference of the fits on the two halves of the window",
         theory_method="the paper's closed forms (eq:Omega2_sol, eq:w2_approx) as printed, evaluated with our "
                       "u0 and omega0 at t_end and K^2 = K2",
         wall_time_s=time.perf_counter() - start,
+        **numbers,
     )
     log.info("%s: done in %.3g s; T1 %.5g, 2pi/omega0 %.5g, A %.4g, phi1 %.4f pi, T2 %.5g, B %.4g, growth %.4g",
-             scene, ds.attrs["wall_time_s"],
-             meas["u2_period"], 2 * math.pi / omega0_end, meas["Omega2_amplitude"], ph["phase"] / math.pi,
-             meas["omega2_period"], meas["omega2_amplitude"], meas["omega2_slope"])
+             scene, ds.attrs["wall_time_s"], numbers["T1_u2"], numbers["two_pi_over_omega0"],
+             numbers["Omega2_amplitude"], numbers["phi1_over_pi"], numbers["T2"], numbers["B"],
+             numbers["omega2_growth"])
     return ds
 
 
