@@ -88,7 +88,7 @@ def test_changing_the_grid_runtime_resource_reruns_nothing(smoke_run, tmp_path):
     changed.write_text(yaml.safe_dump(cfg))
     dry = snakemake(smoke_run, changed, "-n", GRID, timeout=120)
     assert dry.returncode == 0 and "Nothing to be done" in dry.stdout + dry.stderr, (dry.stdout + dry.stderr)[-2000:]
-    cfg["scenes"]["fig11_grid"]["T"] *= 2  # what the grid computes does force a rerun
+    cfg["scenes"]["fig11_grid"]["T_round"] *= 2  # what the grid computes does force a rerun
     changed.write_text(yaml.safe_dump(cfg))
     dry = snakemake(smoke_run, changed, "-n", GRID, timeout=120)
     assert "rule chunk:" in dry.stdout + dry.stderr
