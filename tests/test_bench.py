@@ -18,6 +18,10 @@ def test_loosest_converged_tolerance():
     assert bench.loosest_converged(tols, values, rel=0.01) == 1e-10
     assert bench.loosest_converged(tols, values, rel=0.5) == 1e-6
     assert bench.loosest_converged(tols, [2.0, 1.0, 1.0, 1.0, 1.0], rel=0.01) == 1e-8
+    # not converged: the second-tightest tolerance already disagrees, or is undetermined
+    assert np.isnan(bench.loosest_converged(tols, [1.0, 1.0, 1.0, 1.5, 1.0], rel=0.01))
+    assert np.isnan(bench.loosest_converged(tols, [1.0, 1.0, 1.0, np.nan, 1.0], rel=0.01))
+    assert np.isnan(bench.loosest_converged([1e-12], [1.0], rel=0.01))
 
 
 def test_fastest_table_picks_the_fastest_run_reaching_each_error():

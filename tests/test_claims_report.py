@@ -3,6 +3,7 @@
 import re
 import shutil
 import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -12,43 +13,95 @@ import xarray as xr
 from sleighsim.outputs import claims
 from sleighsim.io import write_dataset
 
+from test_judges import _ref
+
 ROOT = Path(__file__).resolve().parents[1]
 CLAIMS_MD = ROOT / "paper" / "CLAIMS.md"
+
+
+TEX = ROOT / "paper" / "fedonyuk-tallapragada-sleigh-rotor.tex"
 
 
 def test_parse_claims_finds_every_table_row_once():
     text = CLAIMS_MD.read_text()
     ids_in_file = re.findall(r"^\|\s*([FCD]\d+)\s*\|", text, flags=re.M)
-    parsed = [cid for cid, _, _ in claims.parse_claims(CLAIMS_MD)]
+    parsed = [c.id for c in claims.parse_claims(CLAIMS_MD)]
     assert parsed == ids_in_file and len(set(parsed)) == len(parsed)
     assert {c[0] for c in parsed} == {"F", "C", "D"}
 
 
-def test_number_rule():
-    assert claims.judge_number(2200.0, 2080.0) == "reproduced"  # within 10%
-    assert claims.judge_number(8700.0, 5440.0) == "differs"
-    assert claims.judge_number(1.0, 1.5, uncertainty=0.3) == "reproduced"  # within 2 standard errors
-    assert claims.judge_number(1.0, float("nan")) == "not yet computed"
-    assert claims.judge_interval((1.45, 1.8), (1.46, 1.79)) == "reproduced"
-    assert claims.judge_interval((1.45, 1.8), (0.52, 0.57)) == "differs"
+def test_value_column_parses_numbers_lists_and_spellings():
+    v = claims.parse_values("exponents=[2.9e-4, -2.2e-4]; T=4000; band=[1.45, 1.8]")
+    assert v["exponents"] == [2.9e-4, -2.2e-4] and v["T"] == 4000.0 and v["_text"]["band"] == ["1.45", "1.8"]
+    assert claims.parse_values("") == {}
+
+
+def _spellings(text: str) -> set[str]:
+    """How the paper's LaTeX may write a number: as is, 8,700, 2.9e^{-4}, 10^{-7}, 2\\%."""
+    out, x = {text}, float(text)
+    if "e" in text.lower():
+        m, e = text.lower().split("e")
+        for mm in ([m] if m not in ("1", "1.0") else ["", "1"]):
+            forms = (f"{mm}e^{{{int(e)}}}", f"{mm}\\times10^{{{int(e)}}}", f"{mm}\\times10^{int(e)}")
+            out |= set(forms) if mm else {f"10^{{{int(e)}}}", f"10^{int(e)}"}
+    if x >= 1000 and x == int(x):
+        out.add(f"{int(x):,}")
+    if 0 < x < 1 and "e" not in text:
+        out.add(f"{x * 100:g}\\%")
+    return out
+
+
+def test_every_value_of_the_claims_list_is_written_in_the_paper():
+    tex = re.sub(r"\s+", "", TEX.read_text())
+    checked = 0
+    for c in claims.parse_claims(CLAIMS_MD):
+        for name, text in c.values.get("_text", {}).items():
+            for t in text if isinstance(text, list) else [text]:
+                assert any(sp in tex for sp in _spellings(t)), (c.id, name, t)
+                checked += 1
+    assert checked >= 40
+
+
+def _steady(path, **attrs):
+    write_dataset(xr.Dataset(attrs=attrs), path)
+
+
+def test_figure_rows_count_a_missing_transient_check_as_not_checked(tmp_path, monkeypatch):
+    from sleighsim.outputs.rules import Judgement
+    for cid in list(claims.JUDGES):  # the figure row alone is under test
+        monkeypatch.setitem(claims.JUDGES, cid, lambda paper, *ds: Judgement("reproduced", "", ""))
+    data, figs = tmp_path / "data", tmp_path / "figures"
+    figs.mkdir(parents=True)
+    name = next(n for n, f in claims.FIGURES.items() if len(f.data) == 1 and f.steady)
+    fid, ds_name = claims.FIGURES[name].paper, claims.FIGURES[name].steady[0]
+    (figs / f"{name}.png").write_bytes(b"png")
+    _steady(data / f"{ds_name}.nc")
+    assert {r.id: r for r in claims.ledger(CLAIMS_MD, data, figs)}[fid].verdict == "not yet computed"
+    _steady(data / f"{ds_name}.nc", transient_over=0)
+    row = {r.id: r for r in claims.ledger(CLAIMS_MD, data, figs)}[fid]
+    assert row.verdict == "differs" and "not shown to be over" in row.reason
+    _steady(data / f"{ds_name}.nc", transient_over=1)
+    row = {r.id: r for r in claims.ledger(CLAIMS_MD, data, figs)}[fid]
+    assert row.verdict == "reproduced" and "settled" in row.measured
+    (figs / f"{name}.png").unlink()
+    assert {r.id: r for r in claims.ledger(CLAIMS_MD, data, figs)}[fid].verdict == "not yet computed"
 
 
 def _fig9(path, n_loops, pairs):
-    ds = xr.Dataset()
-    ds.attrs.update(n_loops=n_loops, loops_per_class=np.ones(4, np.int32), n_components_projected=2,
-                    return_time_min=1.0, return_time_max=2.0, return_time_min_pairwise_difference=1e-3,
-                    return_time_n_adjacent_pairs_within_tie_tol=pairs, transient_over=1)
+    ds = _ref(n_loops=n_loops, return_time_min=1.0, return_time_max=2.0, return_time_n_adjacent_pairs_within_tie_tol=pairs,
+              transient_over=1, n_p2pi=20000)
     write_dataset(ds, path)
 
 
 def test_ledger_on_synthetic_datasets(tmp_path):
-    """Reproduced, differs and missing rows from hand-made datasets; every id exactly once."""
+    """Reproduced, differs (with its cause test) and missing rows from hand-made datasets; every id once."""
     data = tmp_path / "data"
     _fig9(data / "fig9_ref.nc", n_loops=4, pairs=3)
     rows = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures")}
-    assert list(rows) == [cid for cid, _, _ in claims.parse_claims(CLAIMS_MD)]
+    assert list(rows) == [c.id for c in claims.parse_claims(CLAIMS_MD)]
     assert rows["C16"].verdict == "reproduced" and "4 loops" in rows["C16"].measured
     assert rows["C22"].verdict == "differs" and rows["C22"].reason
+    assert rows["C22"].cause.startswith("explained by the number of return times")  # 19999^2 1e-7 / 1 = 40 near-ties by chance
     assert rows["C03"].verdict == "not yet computed" and rows["C03"].measured == ""
     assert rows["F3"].verdict == "not yet computed"
     assert rows["C02"].verdict == "reproduced"  # needs only the model
@@ -58,9 +111,38 @@ def test_ledger_on_synthetic_datasets(tmp_path):
     assert row.verdict == "differs" and "C22" in row.reason
     _fig9(data / "fig9_ref.nc", n_loops=3, pairs=0)
     rows = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures")}
-    assert rows["C16"].verdict == "differs" and rows["C22"].verdict == "reproduced"
+    assert rows["C16"].verdict == "differs" and rows["C22"].verdict == "reproduced" and not rows["C22"].cause
     ds = claims.to_dataset(list(rows.values()))
     assert sum(ds.attrs[f"n_{v.replace(' ', '_')}"] for v in claims.VERDICTS) == len(rows)
+
+
+def test_a_cause_whose_datasets_are_missing_says_so(tmp_path):
+    data = tmp_path / "data"
+    write_dataset(xr.Dataset(attrs=dict(omega_rel_error_at_t_end=7e-4, t_end=100.0, u_rel_error_at_t_end=0.01,
+                                        Omega_rel_error_at_t_end=0.01)), data / "fig5.nc")
+    rows = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures")}
+    assert rows["C11"].verdict == "differs" and rows["C11"].cause.startswith("causes not yet computed: dataset")
+
+
+def test_command_line_rejudges_without_snakemake(tmp_path):
+    out = tmp_path / "ledger" / "claims.csv"
+    run = subprocess.run([sys.executable, "-m", "sleighsim.claims", "--data", str(tmp_path / "none"), "--figures",
+                          str(tmp_path / "none"), "--out", str(out)], capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr
+    rows = claims.read(out.with_suffix(".nc"))
+    assert {r.verdict for r in rows if r.id != "C02"} == {"not yet computed"}
+    assert "not yet computed: 46" in run.stdout or "not yet computed" in run.stdout
+    bad = subprocess.run([sys.executable, "-m", "sleighsim.claims", "--out", str(tmp_path / "x.txt")],
+                         capture_output=True, text=True, timeout=120)
+    assert bad.returncode == 2 and ".csv" in bad.stderr
+    helped = subprocess.run([sys.executable, "-m", "sleighsim.claims", "--help"], capture_output=True, text=True)
+    assert helped.returncode == 0 and "--figures" in helped.stdout
+
+
+def test_caption_math_becomes_mathml():
+    from sleighsim.outputs.report import math_html
+    out = math_html("energy $E_0=0.1127$ and $\\epsilon=0.1$ <b>")
+    assert "$" not in out and out.count("<math") == 2 and "&lt;b&gt;" in out
 
 
 def _chromium():
@@ -84,8 +166,13 @@ def test_report_renders_in_headless_chromium(smoke_run, tmp_path):
     m = re.search(r"images: (\d+) broken: (\d+)", dom.stdout)
     assert m, dom.stdout[-2000:] + dom.stderr[-2000:]
     assert int(m.group(1)) >= 12 and int(m.group(2)) == 0
-    for cid, _, _ in claims.parse_claims(CLAIMS_MD):
-        assert f"id='{cid}'" in page.read_text() or f'id="{cid}"' in dom.stdout, cid
+    for c in claims.parse_claims(CLAIMS_MD):
+        assert f"id='{c.id}'" in page.read_text() or f'id="{c.id}"' in dom.stdout, c.id
+    body = re.sub(r"<script.*?</script>", "", dom.stdout, flags=re.S)
+    text = re.sub(r"<[^>]+>", " ", body)
+    assert "$" not in text, text[text.index("$") - 200: text.index("$") + 200]
+    assert 'id="answers"' in dom.stdout and "Is the steady state chaotic?" in dom.stdout
+    assert dom.stdout.index('id="answers"') < dom.stdout.index('id="contents"') < dom.stdout.index('id="ledger"')
     shot = tmp_path / "shot.png"
     subprocess.run([browser, *flags, f"--screenshot={shot}", "--window-size=1200,2000", page.as_uri()],
                    capture_output=True, timeout=120)

@@ -116,7 +116,8 @@ CROSS_FIELD = {"trajectory": _trajectory, "psd": _psd, "hierarchy_terms": _hiera
                "attractor_levels": _attractor_levels, "lyapunov_grid": _lyapunov_grid, "sleigh0": _sleigh0}
 
 #: Kinds with a checked pre-run, and the key of its length: the settling window must fit twice.
-PRE_RUN = {"poincare": "t_settle", "psd": "t_settle", "lyapunov_spectrum": "t_transient", "lyapunov_grid": "t_pre"}
+PRE_RUN = {"poincare": "t_settle", "psd": "t_settle", "lyapunov_spectrum": "t_transient", "lyapunov_grid": "t_pre",
+           "lyapunov_energy": "t_transient", "trajectory": "t_sample_start"}
 
 
 def _records(kind: str, cfg: dict) -> list[tuple[str, float, int]]:
@@ -197,7 +198,7 @@ def check(config: dict, available_memory: float | None = None) -> None:
                 raise ConfigError(f"{w}.inputs.{role} = {source!r} is not a scene of the config that makes a dataset")
         if kind in CROSS_FIELD:
             CROSS_FIELD[kind](w, cfg)
-        if kind in PRE_RUN:
+        if kind in PRE_RUN and "transient" in cfg and cfg.get(PRE_RUN[kind], 0) > 0:
             t = cfg[PRE_RUN[kind]]
             _within(f"{w}.transient.window", cfg["transient"]["window"], "0", 0, f"{PRE_RUN[kind]} / 2", t / 2)
         check_memory(name, kind, cfg, available)

@@ -139,6 +139,25 @@ def curve_thickness(points, bins: int = 180) -> float:
     return float(np.median(dev) / np.median(r))
 
 
+def recurrence(points, q_max: int = 50) -> float:
+    """How close the iterates come to repeating: the smallest, over q = 1..q_max, of the median
+    distance |x_{n+q} - x_n| in units of the set's size (RMS distance to its centroid). About 0 for
+    a periodic orbit of period <= q_max; of order 1/q_max or more for iterates filling a curve."""
+    X = np.asarray(points, float)
+    size = float(np.sqrt(np.mean(np.sum((X - X.mean(0)) ** 2, axis=1))))
+    q_max = min(q_max, len(X) - 1)
+    if q_max < 1 or size == 0:
+        return float("nan")
+    return float(min(np.median(np.linalg.norm(X[q:] - X[:-q], axis=1)) for q in range(1, q_max + 1)) / size)
+
+
+def flatness(points) -> float:
+    """Smallest over largest singular value of the centred point cloud: 0 for a planar set."""
+    X = np.asarray(points, float)
+    s = np.linalg.svd(X - X.mean(0), compute_uv=False)
+    return float(s[-1] / s[0])
+
+
 def knn_components(points, k: int = 10, min_fraction: float = 0.01) -> tuple[int, np.ndarray]:
     """Connected components of the symmetric k-nearest-neighbour graph of the
     standardised points (scale-free: thin curves sampled with any density stay

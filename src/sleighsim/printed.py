@@ -90,6 +90,23 @@ def _integrator(tol: float):
     return integrators.compiled(("printed", tol), build, angles={"delta": (3, 0.0)})
 
 
+def trajectory(params: Params, y0, times, tol: float = 2.0**-52) -> np.ndarray:
+    """The printed equations integrated from ``y0`` at times[0], sampled at ``times`` (rows of
+    (u, Omega, omega, delta)); ``params`` must be of the paper's form (eps, b, K2)."""
+    import heyoka as hy
+
+    if not params.is_paper_form:
+        raise ValueError("the printed equations exist only for paper-form parameters (Params.paper)")
+    ta, _ = _integrator(tol)
+    ta.time = float(times[0])
+    ta.state[:] = np.asarray(y0, dtype=float)
+    ta.pars[:] = [params.eps, params.b, params.K2]
+    res = ta.propagate_grid(np.asarray(times, dtype=float), callback=integrators.bounded(ta))
+    if res[0] != hy.taylor_outcome.time_limit:
+        raise RuntimeError(f"the printed equations stopped at t = {ta.time:.6g}: heyoka outcome {res[0].name}")
+    return res[5]
+
+
 def energy_drift(params: Params, y0, times, tol: float = 2.0**-52) -> xr.Dataset:
     """Integrate the printed and the derived equations from ``y0`` (heyoka, same tol)
     and return E(t)/E(0) - 1 for both; E is the mechanics' energy (SCIENCE.md).
@@ -101,17 +118,13 @@ def energy_drift(params: Params, y0, times, tol: float = 2.0**-52) -> xr.Dataset
     y0 = np.asarray(y0, dtype=float)
     E0 = float(energy(y0, params))
     start = time.perf_counter()
-    printed, _ = _integrator(tol)
-    printed.time = float(times[0])
-    printed.state[:] = y0
-    printed.pars[:] = [params.eps, params.b, params.K2]
-    out_p = printed.propagate_grid(times, callback=integrators.bounded(printed))
+    printed_states = trajectory(params, y0, times, tol)
     derived, _ = integrators.flow(False, tol)
     derived.time = float(times[0])
     integrators.load(derived, y0)
     derived.pars[:] = params.values
     out_d = derived.propagate_grid(times, callback=integrators.bounded(derived))
-    rel = {k: energy(Y, params) / E0 - 1.0 for k, Y in (("printed", out_p[5]),
+    rel = {k: energy(Y, params) / E0 - 1.0 for k, Y in (("printed", printed_states),
                                                           ("derived", integrators.samples(derived, out_d[5])))}
     ds = xr.Dataset(
         {f"energy_rel_change_{k}": ("time", v, {"long_name": f"E(t)/E(0) - 1, {k} equations"})

@@ -9,8 +9,8 @@ from sleighsim.runlog import logging_to
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logging_to(sm.log[0]):
     rows = claims.read(sm.input.claims)
-    labels = {f: label for f in FIGURES for cid, _, label in claims.parse_claims(sm.input.claims_md)
-              if cid == FIGURES[f].paper}
+    labels = {f: c.paper_value for f in FIGURES for c in claims.parse_claims(sm.input.claims_md)
+              if c.id == FIGURES[f].paper}
     report.build(rows, out_dir=Path(sm.output.html).parent, tex_path=sm.input.tex, labels=labels,
                  figures=dict(zip(sm.params.figures, sm.input.figures)), datasets=dict(zip(sm.params.data, sm.input.data)),
                  benchmarks=sm.params.benchmarks)

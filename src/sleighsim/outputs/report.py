@@ -15,6 +15,7 @@ import re
 import shutil
 from pathlib import Path
 
+import latex2mathml.converter
 import numpy as np
 
 from ..io import read_dataset
@@ -92,9 +93,80 @@ def _table(ds, key, cols, colour_of=None) -> tuple[list[str], list[str]]:
     return h, md
 
 
+def math_html(text: str) -> str:
+    """HTML of caption text: ``$...$`` rendered as MathML (latex2mathml, offline), the rest escaped."""
+    parts = re.split(r"(\$[^$]+\$)", text)
+    out = []
+    for part in parts:
+        if len(part) > 2 and part[0] == part[-1] == "$":
+            try:
+                out.append(latex2mathml.converter.convert(part[1:-1]))
+            except Exception:  # noqa: BLE001 - a formula the converter rejects is shown as text, without $
+                out.append(html.escape(part[1:-1]))
+        else:
+            out.append(html.escape(part))
+    return "".join(out)
+
+
+def _badge(verdict: str) -> str:
+    return f"<span class='badge' style='background:{COLOURS.get(verdict, '#fff')}'>{html.escape(verdict)}</span>"
+
+
+def chaos_answers(datasets: dict) -> list[tuple[str, str, str]]:
+    """(state, verdict, reason) from every dataset that carries a chaos verdict: per state (a
+    ``state`` dimension with ``verdict`` and ``reason``) or one verdict in the attributes."""
+    out = []
+    for name, path in datasets.items():
+        ds = read_dataset(path)
+        if "verdict" in ds.data_vars and "state" in ds.dims:
+            for i, st in enumerate(ds.state.values):
+                reason = str(ds.reason.values[i]) if "reason" in ds.data_vars else ""
+                out.append((f"{name}: {st}", str(ds.verdict.values[i]), reason))
+        elif "verdict" in ds.attrs and "chaotic" in str(ds.attrs.get("rule", "")) + str(ds.attrs["verdict"]):
+            out.append((name, str(ds.attrs["verdict"]), str(ds.attrs.get("rule", ""))))
+    return out
+
+
+def _answers(rows: list[Row], datasets: dict, n_largest: int = 5) -> tuple[list[str], list[str]]:
+    """The report's first section: is the steady state chaotic, how many claims are reproduced, the
+    largest differences with their tested causes."""
+    counts = {v: sum(r.verdict == v for r in rows) for v in COLOURS}
+    claims_only = [r for r in rows if r.id[0] in "CD"]
+    reproduced = sum(r.verdict == "reproduced" for r in claims_only)
+    differs = sorted((r for r in rows if r.verdict == "differs" and np.isfinite(r.difference)),
+                     key=lambda r: -r.difference)[:n_largest]
+    chaos = chaos_answers(datasets)
+    h = ["<section id='answers'><h2>Answers</h2><h3>Is the steady state chaotic?</h3>"]
+    md = ["## Answers", "", "### Is the steady state chaotic?", ""]
+    if chaos:
+        h.append("<table><tr><th>steady state</th><th>verdict</th><th>evidence</th></tr>" + "".join(
+            f"<tr><td>{html.escape(st)}</td><td>{_badge(v)}</td><td>{html.escape(why)}</td></tr>" for st, v, why in chaos)
+            + "</table>")
+        md += [f"- **{st}**: {v}. {why}" for st, v, why in chaos]
+    else:
+        h.append("<p>not yet computed (no chaos-verdict dataset in this run)</p>")
+        md.append("not yet computed (no chaos-verdict dataset in this run)")
+    h.append(f"<h3>How many claims are reproduced?</h3><p>{reproduced} of {len(claims_only)} claims and model "
+             "items; all rows: " + ", ".join(f"{_badge(v)} {n}" for v, n in counts.items()) + "</p>")
+    md += ["", "### How many claims are reproduced?", "",
+           f"{reproduced} of {len(claims_only)} claims and model items; all rows: "
+           + ", ".join(f"{v}: {n}" for v, n in counts.items()), "", "### The largest differences and their tested causes", ""]
+    h.append("<h3>The largest differences and their tested causes</h3><table><tr><th>id</th><th>relative "
+             "difference</th><th>ours</th><th>tested causes</th></tr>")
+    for r in differs:
+        h.append(f"<tr><td><a href='#{r.id}'>{r.id}</a></td><td>{r.difference:.3g}</td><td>{html.escape(r.measured)}"
+                 f"</td><td>{html.escape(r.cause or 'no cause test for this claim')}</td></tr>")
+        md.append(f"- **{r.id}** (relative difference {r.difference:.3g}): {r.measured} Causes: "
+                  f"{r.cause or 'no cause test for this claim'}")
+    h.append("</table></section>")
+    return h, md
+
+
 def build(rows: list[Row], *, out_dir, tex_path, labels: dict, figures: dict, datasets: dict,
           benchmarks: dict) -> None:
-    """Write index.html and README.md into ``out_dir`` with the figures copied beside them.
+    """Write index.html and README.md into ``out_dir`` with the figures copied beside them: the
+    answers first, a table of contents, the paper's figures (each with its verdict and the claims it
+    illustrates), the ledger, the figures with no counterpart in the paper and the tables.
 
     labels: {figure: paper LaTeX label}; figures: {figure: PNG path} of the figures built;
     datasets: {dataset: netCDF path}; benchmarks: {"data/<dataset>" or "figure/<figure>": [Snakemake
@@ -102,41 +174,60 @@ def build(rows: list[Row], *, out_dir, tex_path, labels: dict, figures: dict, da
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     caps = captions(tex_path)
-    counts = {v: sum(r.verdict == v for r in rows) for v in COLOURS}
+    by_id = {r.id: r for r in rows}
+    paper_figs = [f for f in figures if FIGURES[f].paper]
+    other_figs = [f for f in figures if not FIGURES[f].paper]
     h = ["<!doctype html><html><head><meta charset='utf-8'><title>sleighsim reproduction report</title>",
          "<style>body{font-family:sans-serif;max-width:1100px;margin:auto;padding:1em}img{max-width:100%;"
          "border:1px solid #ccc}table{border-collapse:collapse;font-size:12px}td,th{border:1px solid #bbb;"
-         "padding:3px;vertical-align:top}.cap{font-style:italic;color:#444}.facts{font-size:12px;color:#333}</style>",
-         "</head><body><h1>sleighsim: reproduction of Fedonyuk &amp; Tallapragada</h1>",
-         "<p>Verdicts: " + ", ".join(f"{v}: {n}" for v, n in counts.items()) + "</p>"]
-    md = ["# sleighsim reproduction report", "", "Verdicts: " + ", ".join(f"{v}: {n}" for v, n in counts.items()), ""]
+         "padding:3px;vertical-align:top}.cap{font-style:italic;color:#444}.facts{font-size:12px;color:#333}"
+         ".badge{padding:1px 6px;border-radius:8px;border:1px solid #999;font-size:12px;white-space:nowrap}</style>",
+         "</head><body><h1>sleighsim: reproduction of Fedonyuk &amp; Tallapragada</h1>"]
+    md = ["# sleighsim reproduction report", ""]
+    ah, am = _answers(rows, datasets)
+    h += ah
+    md += am + [""]
+    toc = [("answers", "Answers"), *((f, f"{FIGURES[f].paper}: {f}") for f in paper_figs), ("ledger", "Claims ledger"),
+           *((f, FIGURES[f].title) for f in other_figs), *((f"table{i}", t) for i, t in enumerate(TABLES))]
+    h.append("<nav id='contents'><h2>Contents</h2><ol>" + "".join(
+        f"<li><a href='#{a}'>{html.escape(t)}</a></li>" for a, t in toc) + "</ol></nav>")
+    md += ["## Contents", ""] + [f"- {t}" for _, t in toc] + ["", "## Figures", ""]
     h.append("<h2>Figures</h2>")
-    md.append("## Figures\n")
-    for fig in (f for f in figures if FIGURES[f].paper):
+    for fig in paper_figs:
         names = list(FIGURES[fig].data)
         cap = caps.get(labels.get(fig, ""), "(no counterpart in the paper)")
-        h.append(f"<h3 id='{fig}'>{fig}</h3><p class='cap'>Paper: {html.escape(cap)}</p>")
-        md += [f"### {fig}", "", f"*Paper:* {cap}", ""]
+        row = by_id.get(FIGURES[fig].paper)
+        verdict = row.verdict if row else "not yet computed"
+        illustrated = [by_id[c] for c in FIGURES[fig].claims if c in by_id]
+        h.append(f"<h3 id='{fig}'>{FIGURES[fig].paper}: {fig} {_badge(verdict)}</h3>"
+                 f"<p class='cap'>Paper: {math_html(cap)}</p>")
+        if illustrated:
+            h.append("<p>Claims: " + ", ".join(f"<a href='#{c.id}'>{c.id}</a> {_badge(c.verdict)}" for c in illustrated)
+                     + "</p>")
+        md += [f"### {FIGURES[fig].paper}: {fig} ({verdict})", "", f"*Paper:* {cap}", ""]
+        if illustrated:
+            md += ["Claims: " + ", ".join(f"{c.id} ({c.verdict})" for c in illustrated), ""]
         _embed(Path(figures[fig]), out_dir, fig, h, md)
         facts = _scene_facts(datasets, names)
         run = _runtime(t for key in [f"data/{n}" for n in names] + [f"figure/{fig}"] for t in benchmarks.get(key, []))
         h.append("<ul class='facts'>" + "".join(f"<li>{html.escape(f)}</li>" for f in facts)
                  + f"<li>run time (Snakemake benchmarks): {run:.1f} s</li></ul>")
         md += [""] + [f"- {f}" for f in facts] + [f"- run time (Snakemake benchmarks): {run:.1f} s", ""]
-    h.append("<h2>Claims ledger</h2><table><tr><th>id</th><th>claim</th><th>paper</th><th>ours</th>"
-             "<th>uncertainty</th><th>units</th><th>verdict</th><th>evidence</th><th>reason</th><th>rule</th></tr>")
-    md += ["## Claims ledger", "", "| id | paper | ours | verdict | reason |", "|---|---|---|---|---|"]
+    h.append("<h2 id='ledger'>Claims ledger</h2><table><tr><th>id</th><th>claim</th><th>paper</th><th>ours</th>"
+             "<th>uncertainty</th><th>units</th><th>verdict</th><th>evidence</th><th>reason</th><th>cause</th>"
+             "<th>rule</th></tr>")
+    md += ["## Claims ledger", "", "| id | paper | ours | verdict | reason | cause |", "|---|---|---|---|---|---|"]
     for r in rows:
         cells = [r.id, r.statement, r.paper_value, r.measured, r.uncertainty, r.units, r.verdict, r.evidence,
-                 r.reason, r.rule]
+                 r.reason, r.cause, r.rule]
         h.append(f"<tr id='{r.id}' style='background:{COLOURS[r.verdict]}'>"
                  + "".join(f"<td>{html.escape(str(c))}</td>" for c in cells) + "</tr>")
         md.append("| " + " | ".join(str(c).replace("|", "/") for c in (r.id, r.paper_value, r.measured, r.verdict,
-                                                                          r.reason)) + " |")
+                                                                          r.reason, r.cause)) + " |")
     h.append("</table>")
-    for fig in (f for f in figures if not FIGURES[f].paper):
+    for fig in other_figs:
         title = FIGURES[fig].title
-        h.append(f"<h2>{html.escape(title)}</h2>")
+        h.append(f"<h2 id='{fig}'>{html.escape(title)}</h2>")
         md += ["", f"## {title}", ""]
         _embed(Path(figures[fig]), out_dir, fig, h, md)
         speed = [read_dataset(datasets[n]) for n in FIGURES[fig].data]
@@ -144,8 +235,8 @@ def build(rows: list[Row], *, out_dir, tex_path, labels: dict, figures: dict, da
             th, tm = _fastest_table(ds)
             h += th
             md += tm
-    for title, table in TABLES.items():
-        h.append(f"<h2>{html.escape(title)}</h2>")
+    for i, (title, table) in enumerate(TABLES.items()):
+        h.append(f"<h2 id='table{i}'>{html.escape(title)}</h2>")
         md += ["", f"## {title}", ""]
         if table.data in datasets:
             ds = read_dataset(datasets[table.data])

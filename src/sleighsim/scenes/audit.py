@@ -3,13 +3,14 @@
 from __future__ import annotations
 
 import logging
+import math
 
 import numpy as np
 import sympy as sp
 import xarray as xr
 
 from .. import mechanics as mech
-from .. import model, printed
+from .. import model, printed, transient
 from ..integrate import sample_grid
 from ..params import Params
 from ..symmetries import REFERENCE_LABEL, REFERENCE_STATE, energy_label
@@ -59,8 +60,54 @@ def printed_model(cfg: dict, scene: str = "") -> xr.Dataset:
         d5_reference_label=REFERENCE_LABEL,
         d6_eps_25=d6,
     )
+    ds.attrs.update(_energy_normalisations(params, REFERENCE_STATE))
+    ds.attrs.update(_formal_system(cfg["formal_eps"]))
+    ds.attrs.update(_printed_spikes(params, cfg))
     ds.attrs.update(scene=scene, energy_label=float(energy_label(cfg["y0"], params)))
     log.info("%s: done in %.3g s; printed udot changes E by up to %.3g, derived by %.2g", scene,
              ds.attrs["wall_time_s"], ds.attrs["printed_max_abs_rel_change"], ds.attrs["derived_max_abs_rel_change"])
     return ds
+
+
+def _energy_normalisations(params: Params, y) -> dict:
+    """D5's likely cause: the reference state's energy under the normalisations a reader might have
+    used, to see whether any gives the paper's 0.1127."""
+    u, Om, om, de = y
+    E = float(model.energy(y, params))
+    sleigh = 0.5 * (u**2 + params.K2 * params.b**2 * Om**2)
+    rotor = 0.5 * (params.I_r + params.m_r * params.a**2) * om**2
+    candidates = {
+        "1/2 v^T M v (the mechanics)": E, "v^T M v (no 1/2)": 2 * E, "per unit rotor mass, E / m_r": E / params.m_r,
+        "per unit rotor inertia, E / I_r": E / params.I_r, "sleigh part alone": sleigh, "rotor part alone": rotor,
+        "1/2 (u^2 + Omega^2 + omega^2)": 0.5 * (u**2 + Om**2 + om**2), "1/2 omega^2": 0.5 * om**2,
+        "K^2 read as K in the sleigh part": 0.5 * (u**2 + math.sqrt(params.K2) * params.b**2 * Om**2) + (E - sleigh),
+    }
+    return {"d5_normalisations": " | ".join(f"{k}: {v:.6g}" for k, v in candidates.items()),
+            "d5_normalisation_values": np.array(list(candidates.values()), float),
+            "d5_normalisation_names": " | ".join(candidates)}
+
+
+def _formal_system(eps_values) -> dict:
+    """D6 from the derivation: the paper's form with eps > 1 has m_c = 1 - eps < 0 (no physical sleigh),
+    while its inertia matrix M(delta) stays positive definite (the formal system is well defined)."""
+    d = mech.derive()
+    det = sp.lambdify((mech.delta, *mech.PHYSICAL), d.M.det(method="berkowitz"), modules="numpy")
+    deltas = np.linspace(0.0, 2 * np.pi, 721)
+    m_c, min_det = [], []
+    for e in eps_values:
+        p = Params.paper(eps=e, formal=True)
+        m_c.append(p.m_c)
+        min_det.append(float(np.min(det(deltas, *p.values))))
+    return {"d6_eps": np.asarray(eps_values, float), "d6_m_c": np.array(m_c), "d6_min_det_M": np.array(min_det)}
+
+
+def _printed_spikes(params: Params, cfg: dict) -> dict:
+    """C04/C05's likely cause: the first Omega spike and spike interval when the printed equations
+    (with their wrong udot) are integrated from the reference state."""
+    sc = cfg["spikes"]
+    times = sample_grid(0.0, sc["t_end"], sc["dt"])
+    Y = printed.trajectory(params, cfg["y0"], times, cfg["tol"])
+    ph = transient.phases(times, Y[:, 0], Y[:, 1], Y[:, 2], **sc["transient"])
+    return {"printed_first_spike": ph["first_spike"], "printed_spike_interval": ph["spike_interval_mean"],
+            "printed_n_spikes": ph["n_spikes"], "printed_spikes_t_end": sc["t_end"]}
 

@@ -165,15 +165,16 @@ def lyapunov_kernel_scipy(cfg: dict) -> xr.Dataset:
 
 def loosest_converged(tols, values, rel: float) -> float:
     """The loosest tolerance from which on (to the tightest) the observable stays within
-    ``rel`` of its value at the tightest tolerance."""
+    ``rel`` of its value at the tightest tolerance; NaN (not converged) when not even the
+    second-tightest tolerance agrees with the tightest, or the value there is undetermined."""
     order = np.argsort(tols)
     tols, values = np.asarray(tols)[order], np.asarray(values)[order]
     best = values[0]
-    ok = np.abs(values - best) <= rel * abs(best)
+    ok = np.isfinite(values) & (np.abs(values - best) <= rel * abs(best))
     k = 0
     while k + 1 < len(ok) and ok[k + 1]:
         k += 1
-    return float(tols[k])
+    return float(tols[k]) if k > 0 else float("nan")
 
 
 def fastest_table(ds: xr.Dataset, targets) -> list[dict]:

@@ -171,7 +171,8 @@ def energy_sweep(cfg: dict, scene: str = "") -> xr.Dataset:
     labels = np.asarray(cfg["labels"], float)
     scale = np.sqrt(cfg["reference_label"] / labels)  # time unit at each label relative to the reference
     y0 = state_at_label(cfg["y0"], params, cfg["reference_label"])
-    y = _advance(params, y0, cfg["t_transient"], cfg["tol"])
+    y, transient_attrs = settle(params, y0, cfg["t_transient"], **cfg["transient"], tol=cfg["tol"], label=scene,
+                                progress=1)
     lanes = np.array([np.r_[y[:3] / s, y[3]] for s in scale])  # the time-scaling images of the settled state
     ta, compile_s = lyapunov.sleigh_tangent_batch(labels.size, cfg["tol"], cfg["compact_mode"])
     ta.pars[:] = np.tile(np.array(params.values)[:, None], (1, labels.size))
@@ -193,6 +194,7 @@ def energy_sweep(cfg: dict, scene: str = "") -> xr.Dataset:
         coords={"label": ("label", labels, {"long_name": "paper energy label"})},
     )
     ds.attrs.update(_common_attrs(params, y0, cfg, scene))
+    ds.attrs.update(transient_attrs)
     ds.attrs.update(
         reference_label=cfg["reference_label"], T_reference=cfg["T"], t_transient_reference=cfg["t_transient"],
         n_blocks=cfg["n_blocks"], compile_time_s=compile_s,
@@ -235,6 +237,7 @@ def small_eps_cost(cfg: dict, scene: str = "") -> xr.Dataset:
     )
     ds.attrs.update(
         transient_exponent=float(k_t), steps_per_time_exponent=float(k_s), seconds_per_step=us,
+        budget_core_hours=cfg["budget_core_hours"],
         energy_label=cfg["energy_label"], tol=cfg["tol"], wall_time_s=time.perf_counter() - start,
         method="first Omega spike from the reference state; log-log least squares in eps; cost = transient x "
         "steps per time unit x measured seconds per step (one core)",

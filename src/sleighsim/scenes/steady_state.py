@@ -66,6 +66,11 @@ def poincare_maps(cfg: dict, scene: str = "") -> xr.Dataset:
         return_time_tie_tol=cfg["return_time_tie_tol"],
         return_time_n_adjacent_pairs_within_tie_tol=int(np.sum(np.diff(np.sort(rt)) < cfg["return_time_tie_tol"])),
         p2pi_curve_thickness=poincare.curve_thickness(pts[is2pi]) if is2pi.sum() > 10 else float("nan"),
+        p2pi_recurrence=poincare.recurrence(pts[is2pi]),
+        p2pi_recurrence_rule="smallest over q = 1..50 of the median |x_(n+q) - x_n| of the P_2pi iterates, in units of "
+                             "their RMS size: about 0 for a periodic orbit",
+        attractor_flatness=poincare.flatness(np.c_[att.u.values, att.Omega.values, att.omega.values]),
+        attractor_flatness_rule="smallest over largest singular value of the centred (u, Omega, omega) samples",
         n_loops=loops["n_loops"], n_components_projected=loops["n_components_projected"],
         loops_per_class=np.array([loops["loops_per_class"].get(k, 0) for k in range(4)], dtype=np.int32),
         loop_rule=f"per class k mod 4: connected components (>= 1% of the class) of the symmetric "

@@ -10,26 +10,37 @@ import numpy as np
 import xarray as xr
 
 from .. import model
-from ..attrs import UNITS
+from ..attrs import UNITS, state_attrs
 from ..integrate import integrate, sample_grid
 from ..params import Params
 from ..sleigh0 import closed_form
 from ..sleigh0 import rhs as sleigh0_rhs
+from ..transient import settle
 from .common import initial_state
 
 log = logging.getLogger("sleighsim")
 
 
 def trajectory(cfg: dict, scene: str = "") -> xr.Dataset:
-    """Integrate from ``y0`` at t = 0 and sample the kept variables on
-    [t_sample_start, t_end] with step dt (F3, F7, F8)."""
+    """Integrate from ``y0`` at t = 0 and sample the kept variables on [t_sample_start, t_end] with
+    step dt (F3, F7, F8). With a ``transient`` block the run to t_sample_start is a checked pre-run
+    (sleighsim.transient.settle) and the path (theta, x, y) is measured from the window's start."""
     params = Params.from_config(cfg["params"])
     y0 = initial_state(cfg, params)
-    times = sample_grid(cfg.get("t_sample_start", 0.0), cfg["t_end"], cfg["dt"])
+    start = cfg.get("t_sample_start", 0.0)
+    times = sample_grid(start, cfg["t_end"], cfg["dt"])
     keep = list(cfg["keep"])
     kinematics = any(v in model.KINEMATIC_NAMES for v in keep)
-    ds = integrate(params, y0, times, t0=0.0, kinematics=kinematics, tol=cfg["tol"], scene=scene)
-    return ds[keep]
+    pre = {}
+    if "transient" in cfg and start > 0:
+        y0, pre = settle(params, y0, start, **cfg["transient"], tol=cfg["tol"], label=scene)
+    ds = integrate(params, y0, times, t0=0.0 if not pre else start, kinematics=kinematics, tol=cfg["tol"], scene=scene)
+    ds = ds[keep]
+    ds.attrs.update(pre)
+    if pre:
+        ds.attrs.update(state_attrs(params, initial_state(cfg, params)), path_origin="the window's start (t_sample_start)")
+        ds.attrs["energy_max_rel_drift"] = max(ds.attrs["energy_max_rel_drift"], pre["pre_run_energy_max_rel_drift"])
+    return ds
 
 
 def sleigh0(cfg: dict, scene: str = "") -> xr.Dataset:
