@@ -107,8 +107,10 @@ CROSS_FIELD = [
     (("scenes", "fig3", "params", "K2"), 1e-9 + 1.0, None),  # admissible: passes
     (("scenes", "fig9_ref", "params"), {"m_c": 1.0, "m_r": 0.1, "I_c": 0.1, "I_r": 0.0, "a": 0.0, "b": 1.0},
      r"scenes.fig9_ref.params: inertia is not positive definite"),
-    (("scenes", "chaos_verdict", "inputs", "poincare"), "fig9_nowhere",
-     r"scenes.chaos_verdict.inputs.poincare = 'fig9_nowhere' is not a scene"),
+    (("scenes", "fig9_scaling", "inputs", "reference"), "fig9_nowhere",
+     r"scenes.fig9_scaling.inputs.reference = 'fig9_nowhere' is not a scene"),
+    (("scenes", "chaos_verdict", "transient", "window"), 1000.0,
+     r"scenes.chaos_verdict.transient.window = 1000.0 must lie in"),
     (("scenes", "fig9_scaling", "inputs", "scaled"), "fig1", r"scenes.fig9_scaling.inputs.scaled = 'fig1' is not a scene"),
 ]
 

@@ -1,35 +1,54 @@
-"""The chaos verdict's rule on each branch, and the reversibility it rests on."""
+"""The per-state chaos verdict's rules on each branch, and the reversibility they rest on."""
 
 import math
 
 import numpy as np
 import pytest
 
-from sleighsim import model
+from sleighsim import indicators, model
+from sleighsim.integrate import integrate, sample_grid
 from sleighsim.params import Params
-from sleighsim.scenes.verdict import decide
+from sleighsim.scenes.verdict import R, classify, consistent, judge_benettin, r_image
 
-RULE = dict(sigma=3.0, slope_limit=0.5, K_threshold=0.5, lambda_floor=1e-4, min_lyapunov_times=100.0, min_samples=1000)
+C, G, U = indicators.CHAOTIC, indicators.REGULAR, indicators.UNDECIDED
 
 
-@pytest.mark.parametrize("lam, err, slope, K, n, record, want, why", [
-    (5e-4, 1e-5, -0.1, 0.95, 5000, 2e6, "chaotic", "both say chaotic"),
-    (1e-7, 1e-6, -1.0, 0.05, 5000, 2e6, "quasi-periodic", "both say regular"),
-    (1e-7, 1e-6, -1.0, 0.05, 5000, 1e4, "undecided", "too short"),  # 1 Lyapunov time at the floor rate
-    (1e-7, 1e-6, -1.0, 0.05, 50, 2e6, "undecided", "too short"),  # too few iterates
-    (5e-4, 1e-5, -0.1, 0.05, 5000, 2e6, "undecided", "disagree"),
-    (5e-4, 1e-5, -0.1, math.nan, 5000, 2e6, "undecided", "NaN"),
-    (math.nan, 1e-5, -0.1, 0.9, 5000, 2e6, "undecided", "NaN"),
+def _res(lam1, err1, status, T=1e5):
+    return {"exponents": np.array([lam1, 0, 0, -lam1]), "stderr": np.array([err1] * 4), "T": T, "status": status}
+
+
+@pytest.mark.parametrize("lam, err, status, want", [
+    (5e-4, 1e-5, "converged", C),   # bound 2 ln(1e4) / 1e5 = 1.8e-4
+    (1e-5, 1e-6, "regular", G),
+    (2e-4, 1e-4, "capped", U),
+    (math.nan, 1e-5, "capped", U),
 ])
-def test_decide_on_each_branch(lam, err, slope, K, n, record, want, why):
-    v, reason = decide(lam, err, slope, K, n, record, **RULE)
-    assert v == want and why in reason
+def test_judge_benettin_on_each_branch(lam, err, status, want):
+    assert judge_benettin(_res(lam, err, status), 10.0, 3.0)[0] == want
 
 
-def test_a_larger_uncertainty_never_makes_regular_easier():
-    regular = decide(1e-7, 1e-6, -1.0, 0.05, 5000, 5e5, **RULE)[0]
-    for err in (1e-5, 1e-4, 1e-3):
-        assert decide(1e-7, err, -1.0, 0.05, 5000, 5e5, **RULE)[0] == regular
+@pytest.mark.parametrize("verdict, s, s_err, l1, l4, image, want", [
+    (G, 0.0, 1e-6, 1e-6, -1e-6, "leaves", "regular"),
+    (C, -1e-3, 1e-5, 5e-4, -1.5e-3, "leaves", "strange attractor"),
+    (C, 1e-7, 1e-6, 5e-4, -5e-4, "stays", "conservative-type chaos"),
+    (C, 1e-7, 1e-6, 5e-4, -5e-4, "leaves", "mixed dynamics"),
+    (C, 1e-3, 1e-5, 5e-4, 5e-4, "leaves", "undetermined"),  # expanding on average: no class
+    (U, -1e-3, 1e-5, 5e-4, -1.5e-3, "leaves", "undetermined"),
+    (C, math.nan, 1e-5, 5e-4, -1.5e-3, "leaves", "undetermined"),
+])
+def test_classify_on_each_branch(verdict, s, s_err, l1, l4, image, want):
+    assert classify(verdict, s, s_err, l1, l4, image, 3.0) == want
+
+
+def test_r_image_stays_and_leaves():
+    p = Params.paper(eps=0.1)
+    y = np.array([0.05, 0.02, 0.8, 0.4])
+    run = integrate(p, R * y, sample_grid(0.0, 100.0, 0.05), tol=1e-12)
+    half = run.time.values >= 50.0
+    own = -np.array([run.u.values[half].mean(), run.omega.values[half].mean()])  # what R(state) has, exactly
+    assert r_image(p, y, own, T=100.0, tol=1e-12, rtol=0.01, scene="t")[0] == "stays"
+    assert r_image(p, y, own * np.array([-1.0, 1.0]) + np.array([1.0, 0.0]), T=100.0, tol=1e-12, rtol=0.01,
+                   scene="t")[0] == "leaves"
 
 
 def test_the_flow_is_reversible_under_R():
@@ -38,9 +57,21 @@ def test_the_flow_is_reversible_under_R():
     p = Params.paper(eps=0.1)
     rng = np.random.default_rng(3)
     y = np.c_[rng.uniform(-1, 1, (200, 3)), rng.uniform(-np.pi, np.pi, 200)]
-    R = np.array([-1.0, -1.0, -1.0, 1.0])
-    lhs = model.rhs(y * R, p)
-    rhs = -model.rhs(y, p) * R
-    assert np.max(np.abs(lhs - rhs)) < 1e-14
-    # and it is not a symmetry the other way round (the test can fail)
+    assert np.max(np.abs(model.rhs(y * R, p) + model.rhs(y, p) * R)) < 1e-14
+    # and not the other way round (the test can fail)
     assert np.max(np.abs(model.rhs(y * R, p) - model.rhs(y, p) * R)) > 1e-3
+    # along a solution: R y(T) run forward for T returns to R y(0)
+    y0 = np.array([0.05, 0.02, 0.8, 0.4])
+    yT = integrate(p, y0, [0.0, 50.0], tol=1e-15)
+    back = integrate(p, R * np.array([yT[v].values[-1] for v in model.STATE_NAMES]), [0.0, 50.0], tol=1e-15)
+    assert np.max(np.abs(model.state_difference(R * np.array([back[v].values[-1] for v in model.STATE_NAMES]), y0))) < 1e-9
+
+
+@pytest.mark.parametrize("verdict, a, b, want", [
+    (C, (7.3e-4, 5.6e-5), (8.5e-3, 3.2e-4), U),   # chaotic by both, rates 11x apart: not trusted
+    (C, (7.3e-4, 5.6e-5), (8.0e-4, 9.0e-5), C),   # consistent rates
+    (C, (7.3e-4, 1e-6), (9.0e-4, 1e-6), C),       # resolved apart but within a factor 2
+    (G, (7.3e-4, 5.6e-5), (8.5e-3, 3.2e-4), G),   # only a chaotic verdict is checked
+])
+def test_chaotic_indicators_must_agree_on_the_rate(verdict, a, b, want):
+    assert consistent(verdict, "r", *a, *b, 3.0)[0] == want

@@ -117,7 +117,7 @@ CROSS_FIELD = {"trajectory": _trajectory, "psd": _psd, "hierarchy_terms": _hiera
 
 #: Kinds with a checked pre-run, and the key of its length: the settling window must fit twice.
 PRE_RUN = {"poincare": "t_settle", "psd": "t_settle", "lyapunov_spectrum": "t_transient", "lyapunov_grid": "t_pre",
-           "lyapunov_energy": "t_transient", "trajectory": "t_sample_start"}
+           "lyapunov_energy": "t_transient", "trajectory": "t_sample_start", "chaos_verdict": "t_transient"}
 
 
 def _records(kind: str, cfg: dict) -> list[tuple[str, float, int]]:

@@ -10,7 +10,7 @@ import re
 
 import numpy as np
 
-from .rules import K_SIGMA, REL_TOL, finite
+from .rules import K_SIGMA, REL_TOL, finite, fmt
 
 NONE = "not explained by the causes tested"
 
@@ -135,7 +135,7 @@ def c19(judgement, paper, err):
         close = all(abs(o - w) <= REL_TOL * abs(w) for o, w in zip(lam, want))
         rows.append((r, close, lam))
     hits = [f"{r:.0e}" for r, c, _ in rows if c]
-    text = "; ".join(f"rtol {r:.0e}: {np.array2string(lam, precision=2)}" for r, _, lam in rows)
+    text = "; ".join(f"rtol {r:.0e}: {fmt(lam, 2)}" for r, _, lam in rows)
     return _verdict([(f"integration error ({err.attrs['method']} protocol)", bool(hits), text)])
 
 

@@ -1,66 +1,194 @@
-"""The chaos verdict at one steady state from the exponent spectrum and the 0-1 test."""
+"""Is the steady state chaotic? A verdict per steady state from independent indicators, and the
+class of each state in the reversible system (the report's first answer)."""
 
 from __future__ import annotations
 
 import logging
 import math
+import time
 
+import numpy as np
 import xarray as xr
 
-from .. import lyapunov
-from ..io import read_dataset
+from .. import indicators, integrators, lyapunov, model
+from ..integrate import integrate, orbit_samples, sample_grid
+from ..params import Params
+from ..symmetries import state_at_label
+from ..transient import settle
 
 log = logging.getLogger("sleighsim")
 
-
-def decide(lam: float, err: float, slope: float, K: float, n_samples: int, record: float, *, sigma: float,
-           slope_limit: float, K_threshold: float, lambda_floor: float, min_lyapunov_times: float,
-           min_samples: int) -> tuple[str, str]:
-    """(verdict, reason): "chaotic" when lambda_1 > sigma stderr, lambda_1(T) does not decay (log-log
-    slope over the last decade above -slope_limit) and the 0-1 test gives K > K_threshold;
-    "quasi-periodic" when lambda_1 is within sigma stderr of 0 or decays, and K < K_threshold from an
-    informative record: at least min_samples iterates spanning min_lyapunov_times / lambda_floor time
-    units (so that chaos at any rate above lambda_floor would have decorrelated it); "undecided"
-    otherwise, including when any input is NaN."""
-    if not all(math.isfinite(v) for v in (lam, err, slope, K, record)):
-        return "undecided", "an input is undetermined (NaN)"
-    informative = n_samples >= min_samples and record * lambda_floor >= min_lyapunov_times
-    positive = lam > sigma * err and slope > -slope_limit
-    zero = abs(lam) <= sigma * err or slope <= -slope_limit
-    chaotic_01 = K > K_threshold
-    facts = (f"lambda_1 = {lam:.3g} +- {err:.2g} (slope of lambda_1(T) {slope:.2f}); 0-1 test K = {K:.3f} from "
-             f"{n_samples} iterates over {record:.3g} time units ({record * lambda_floor:.3g} Lyapunov times at the "
-             f"floor rate {lambda_floor:g})")
-    if positive and chaotic_01:
-        return "chaotic", "both say chaotic: " + facts
-    if zero and not chaotic_01 and informative:
-        return "quasi-periodic", "both say regular: " + facts
-    if zero and not chaotic_01:
-        return "undecided", "regular-looking, but the 0-1 record is too short to exclude slow chaos: " + facts
-    return "undecided", "the exponent and the 0-1 test disagree: " + facts
+INDICATORS = ("benettin", "ftle", "two_trajectory")
+TANGENT_BASED = ("benettin", "ftle")
+R = np.array([-1.0, -1.0, -1.0, 1.0])  # the reversing involution: (u, Omega, omega, delta) -> (-u, -Omega, -omega, delta)
 
 
-def verdict(cfg: dict, inputs: dict, scene: str = "") -> xr.Dataset:
-    """The verdict of :func:`decide` from a lyapunov_spectrum dataset and the P_2pi iterates of a
-    poincare dataset of the same steady state (C27)."""
-    spectrum_nc, poincare_nc = inputs["exponents"], inputs["poincare"]
-    spec, pc = read_dataset(spectrum_nc), read_dataset(poincare_nc)
-    n = cfg["max_samples"]
-    samples = pc[cfg["observable"]].values[:n]
-    z = lyapunov.zero_one_test(samples, n_c=cfg["n_c"])
-    t = pc.p2pi_time.values[:n]
-    lam, err = float(spec.exponent.values[0]), float(spec.stderr.values[0])
-    record = float(t[-1] - t[0]) if t.size > 1 else math.nan
-    slope = spec.attrs["lambda_1_decay_slope_last_decade"]
-    keys = ("sigma", "slope_limit", "K_threshold", "lambda_floor", "min_lyapunov_times", "min_samples")
-    v, reason = decide(lam, err, slope, float(z["K"]), int(samples.size), record, **{k: cfg[k] for k in keys})
-    ds = xr.Dataset()
-    ds.attrs.update({f"zero_one_{k}": val for k, val in z.items()})
-    ds.attrs.update(
-        verdict=v, reason=reason, lambda_1=lam, lambda_1_stderr=err, lambda_1_decay_slope=slope, T=spec.attrs["T"],
-        zero_one_record_time=record, observable=f"{cfg['observable']} at the P_2pi crossings",
-        rule=" ".join(decide.__doc__.split()), sources=f"{spectrum_nc}, {poincare_nc}",
-        **{k: cfg[k] for k in keys},
+def judge_benettin(res: dict, tau: float, sigma: float) -> tuple[str, str]:
+    """The replicas' lambda_1: chaotic when resolved above the rate polynomial growth can fake over
+    the horizon (lambda_1 - sigma stderr > 2 ln(T / tau) / T); regular when the replica run says so
+    (lambda_1 + sigma stderr below that rate, itself below the configured floor); else undecided."""
+    lam, err, T = float(res["exponents"][0]), float(res["stderr"][0]), float(res["T"])
+    bound = indicators.polynomial_rate_bound(T, tau)
+    text = f"lambda_1 = {lam:.3g} +- {err:.2g} over T = {T:.3g} per replica ({res['status']}); bound {bound:.2g}"
+    if not (math.isfinite(lam) and math.isfinite(err)):
+        return indicators.UNDECIDED, "undetermined: " + text
+    if lam - sigma * err > bound:
+        return indicators.CHAOTIC, "exponential growth resolved: " + text
+    if res["status"] == "regular":
+        return indicators.REGULAR, "no growth beyond polynomial: " + text
+    return indicators.UNDECIDED, "neither resolved: " + text
+
+
+def consistent(verdict: str, reason: str, rate_a: float, err_a: float, rate_b: float, err_b: float,
+               sigma: float) -> tuple[str, str]:
+    """Indicators that agree on "chaotic" must also agree on the rate: when the tangent-based lambda_1
+    (a) and the rate of two nearby orbits (b) differ by more than sigma combined standard errors and
+    by more than a factor 2, the verdict is "undecided" (one of them is biased)."""
+    if verdict != indicators.CHAOTIC:
+        return verdict, reason
+    gap = abs(rate_a - rate_b)
+    if gap > sigma * math.hypot(err_a, err_b) and max(rate_a, rate_b) > 2 * min(rate_a, rate_b):
+        return indicators.UNDECIDED, (f"the indicators say chaotic but disagree on the rate: lambda_1 = {rate_a:.3g} +- "
+                                      f"{err_a:.2g} against {rate_b:.3g} +- {err_b:.2g} from two nearby orbits; {reason}")
+    return verdict, reason
+
+
+def classify(verdict: str, sum_all: float, sum_err: float, l1: float, l4: float, r_image: str, sigma: float) -> str:
+    """The class of a state of a reversible system: regular; chaotic with the sum of exponents resolved
+    negative -> "strange attractor" (its R-image a repeller when R sends it away), with the sum within
+    sigma stderr of 0 and lambda_1 about -lambda_4 -> "conservative-type chaos" when its R-image stays
+    on the state's image, "mixed dynamics" when it leaves; "undetermined" otherwise."""
+    if verdict == indicators.REGULAR:
+        return "regular"
+    if verdict != indicators.CHAOTIC or not all(math.isfinite(v) for v in (sum_all, sum_err, l1, l4)):
+        return "undetermined"
+    if sum_all + sigma * sum_err < 0:
+        return "strange attractor"
+    if abs(sum_all) <= sigma * sum_err and abs(l1 + l4) <= 0.5 * abs(l1):
+        return "conservative-type chaos" if r_image == "stays" else "mixed dynamics"
+    return "undetermined"
+
+
+def r_image(params, y, ref_mean, *, T: float, tol: float, rtol: float, scene: str) -> tuple[str, float]:
+    """Where R sends a point of the state: integrate R y forward over T and compare the time means of
+    (u, omega) over the second half with R applied to the state's own means. "stays" when within rtol
+    of the scale of the means, else "leaves" (the image of the state is not visited: a repeller)."""
+    run = integrate(params, R * np.asarray(y), sample_grid(0.0, T, T / 2000), tol=tol, scene=f"{scene}.R", progress=1)
+    half = run.time.values >= T / 2
+    got = np.array([run.u.values[half].mean(), run.omega.values[half].mean()])
+    want = -np.asarray(ref_mean)
+    dist = float(np.max(np.abs(got - want)) / max(np.max(np.abs(ref_mean)), 1e-12))
+    return ("stays" if dist <= rtol else "leaves"), dist
+
+
+def one_state(params, y0, cfg: dict, scene: str) -> dict:
+    """Every indicator, the classification and the settling facts for the state reached from y0."""
+    tol, tau, sigma = cfg["tol"], cfg["tau"], cfg["sigma"]
+    y, pre = settle(params, y0, cfg["t_transient"], **cfg["transient"], tol=tol, label=scene, progress=1)
+    replicas, record = orbit_samples(params, y, cfg["replicas"], cfg["replica_spacing"], tol=tol, scene=scene)
+    mean_u_omega = np.array([record.u.values.mean(), record.omega.values.mean()])
+    B = cfg["replicas"]
+    ta, _ = lyapunov.sleigh_tangent_batch(B, tol, True, k=4)
+    ta.pars[:] = np.tile(np.array(params.values)[:, None], (1, B))
+    res = lyapunov.replica_exponents(ta, 4, 4, replicas, tau, T_round=cfg["T_round"], max_rounds=cfg["max_rounds"],
+                                     target_rel=cfg["target_rel"], t_align=cfg["t_align"],
+                                     regular_floor=cfg["regular_floor"], sigma=sigma, label=scene)
+    values, errors, verdicts = {}, {}, {}
+    values["benettin"], errors["benettin"] = float(res["exponents"][0]), float(res["stderr"][0])
+    verdicts["benettin"] = judge_benettin(res, tau, sigma)
+    g = res["log_growth"][:, 0, 0]
+    windows = [w for w in cfg["ftle_windows"] if g.size * tau / w >= 2]
+    f = indicators.finite_time_exponents(g, tau, windows)
+    values["ftle"], errors["ftle"] = f["rate"], f["rate_err"]
+    verdicts["ftle"] = indicators.judge_ftle(f["rate"], f["rate_err"], f["T"], tau, f["spread_slope"],
+                                             f["spread_slope_err"], sigma=sigma)
+    flow, _ = integrators.flow(False, tol)
+    flow.pars[:] = params.values
+    y_int = replicas[-1].copy()
+    y_int[3] = (y_int[3] + integrators.DELTA_SHIFT) % (2 * math.pi)
+    tt = indicators.two_trajectory(flow, y_int, d0=cfg["d0"], tau=tau, T=cfg["T_two"], t_align=cfg["t_align"],
+                                   callback=integrators.bounded(flow), difference=model.state_difference,
+                                   project=lambda ref, p: _on_level(ref, p, params))
+    values["two_trajectory"], errors["two_trajectory"] = tt["rate"], tt["stderr"]
+    verdicts["two_trajectory"] = indicators.judge_two_trajectory(tt["rate"], tt["stderr"], tt["T"], tau,
+                                                                 tt["running_slope"], tt["running_slope_err"], sigma=sigma)
+    verdict, reason, _ = indicators.decide(verdicts, TANGENT_BASED)
+    verdict, reason = consistent(verdict, reason, values["benettin"], errors["benettin"], values["two_trajectory"],
+                                 errors["two_trajectory"], sigma)
+    per = res["per_replica"]
+    sums = per.sum(axis=1)
+    s, s_err = float(sums.mean()), float(sums.std(ddof=1) / math.sqrt(B))
+    image, image_dist = r_image(params, replicas[0], mean_u_omega, T=cfg["T_R"], tol=tol, rtol=cfg["R_rtol"], scene=scene)
+    lam = res["exponents"]
+    klass = classify(verdict, s, s_err, float(lam[0]), float(lam[3]), image, sigma)
+    return dict(verdict=verdict, reason=reason, klass=klass, values=values, errors=errors, verdicts=verdicts,
+                exponents=lam, stderr=res["stderr"], T=float(res["T"]), status=res["status"], sum_all=s, sum_err=s_err,
+                r_image=image, r_image_distance=image_dist, mean_u=float(mean_u_omega[0]),
+                mean_omega=float(mean_u_omega[1]), transient_over=int(pre["transient_over"]), T_two=float(tt["T"]),
+                drift=float(abs(model.energy(integrators.read(flow, 4), params) / model.energy(y0, params) - 1)))
+
+
+def _on_level(ref, partner, params):
+    """The partner (integrator variables) scaled back onto the reference's energy level: the
+    velocities scale, delta is kept (E is quadratic in the velocities at fixed delta)."""
+    shift = np.array([0.0, 0.0, 0.0, integrators.DELTA_SHIFT])
+    out = np.array(partner, float)
+    out[:3] *= math.sqrt(model.energy(ref - shift, params) / model.energy(out - shift, params))
+    return out
+
+
+def verdict(cfg: dict, scene: str = "") -> xr.Dataset:
+    """The chaos verdict per steady state of cfg["states"] (name -> start state, scaled to the
+    energy label): indicators (Benettin over independent replicas, the finite-time-exponent
+    spread, two nearby orbits without tangent dynamics), combined by indicators.DECISION_RULE;
+    the sum of exponents over replicas and the R-image test give the class."""
+    start = time.perf_counter()
+    params = Params.from_config(cfg["params"])
+    names = list(cfg["states"])
+    out = []
+    for name in names:
+        y0 = state_at_label(cfg["states"][name], params, cfg["energy_label"])
+        out.append(one_state(params, y0, cfg, f"{scene}[{name}]"))
+        log.info("%s: %s: %s (%s); %s", scene, name, out[-1]["verdict"], out[-1]["klass"], out[-1]["reason"])
+    ind = list(INDICATORS)
+
+    def per_state(key):
+        return np.array([o[key] for o in out])
+
+    ds = xr.Dataset(
+        {
+            "verdict": ("state", per_state("verdict").astype(object)),
+            "reason": ("state", per_state("reason").astype(object)),
+            "state_class": ("state", per_state("klass").astype(object)),
+            "indicator_value": (("state", "indicator"), [[o["values"][i] for i in ind] for o in out], {"units": "1/time"}),
+            "indicator_uncertainty": (("state", "indicator"), [[o["errors"][i] for i in ind] for o in out],
+                                      {"units": "1/time", "long_name": "standard error (replicas or blocks)"}),
+            "indicator_verdict": (("state", "indicator"), np.array([[o["verdicts"][i][0] for i in ind] for o in out],
+                                                                    dtype=object)),
+            "indicator_reason": (("state", "indicator"), np.array([[o["verdicts"][i][1] for i in ind] for o in out],
+                                                                   dtype=object)),
+            "exponent": (("state", "i"), per_state("exponents"), {"units": "1/time"}),
+            "stderr": (("state", "i"), per_state("stderr"), {"units": "1/time"}),
+            "sum_exponents": ("state", per_state("sum_all"), {"units": "1/time"}),
+            "sum_exponents_stderr": ("state", per_state("sum_err"), {"units": "1/time"}),
+            "R_image": ("state", per_state("r_image").astype(object)),
+            "R_image_distance": ("state", per_state("r_image_distance")),
+            "mean_u": ("state", per_state("mean_u")), "mean_omega": ("state", per_state("mean_omega")),
+            "transient_over": ("state", per_state("transient_over")),
+            "T": ("state", per_state("T"), {"long_name": "Benettin horizon per replica", "units": "time"}),
+            "energy_max_rel_drift": ("state", per_state("drift")),
+        },
+        coords={"state": names, "indicator": ind, "i": np.arange(1, 5),
+                "tangent_based": ("indicator", [int(i in TANGENT_BASED) for i in ind])},
     )
-    log.info("verdict %s: %s", v, reason)
+    ds.attrs.update(
+        rule=indicators.DECISION_RULE + "; then " + " ".join(consistent.__doc__.split()), class_rule=" ".join(classify.__doc__.split()),
+        benettin_rule=" ".join(judge_benettin.__doc__.split()), R_rule=" ".join(r_image.__doc__.split()),
+        uncertainty="Benettin: standard error over independent replicas along the settled orbit; FTLE: window "
+                    "standard error; two-trajectory: consecutive blocks",
+        param_eps=params.eps, param_b=params.b, param_K2=params.K2, energy_label=cfg["energy_label"], tol=cfg["tol"],
+        tau=cfg["tau"], replicas=cfg["replicas"], replica_spacing=cfg["replica_spacing"], d0=cfg["d0"],
+        T_two=cfg["T_two"], T_R=cfg["T_R"], backend="heyoka", wall_time_s=time.perf_counter() - start,
+        transient_over=int(np.all(per_state("transient_over") == 1)),
+    )
     return ds

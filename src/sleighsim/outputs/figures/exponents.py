@@ -83,8 +83,8 @@ def fig11(sources, png, pdf) -> None:
 
 
 def lyapunov(sources, png, pdf) -> None:
-    """lambda_i(T) on log-log axes, the paper-protocol spread, and the verdict."""
-    spec, prot, verdict = (read_dataset(s) for s in sources)
+    """lambda_i(T) on log-log axes and the paper-protocol spread."""
+    spec, prot = (read_dataset(s) for s in sources)
     fig, (ax, bx) = plt.subplots(1, 2, figsize=(12, 5), gridspec_kw={"width_ratios": [1.6, 1]})
     T = spec["T"].values
     for i in range(4):
@@ -99,9 +99,9 @@ def lyapunov(sources, png, pdf) -> None:
     ax.legend(fontsize=6, ncol=2)
     lam = spec.exponent.values
     err = spec.stderr.values
-    ax.set_title("exponents at T = %g: %s\n+- %s; verdict: %s (0-1 test K = %.2f)" % (
-        spec.attrs["T"], np.array2string(lam, precision=2), np.array2string(err, precision=1),
-        verdict.attrs["verdict"], verdict.attrs["zero_one_K"]), fontsize=8)
+    ax.set_title("exponents at T = %g per replica: %s\n+- %s (%d replicas)" % (
+        spec.attrs["T"], np.array2string(lam, precision=2), np.array2string(err, precision=1), spec.attrs["replicas"]),
+        fontsize=8)
     for j in range(prot.sizes["state"]):
         bx.plot(np.arange(1, 5), prot.exponent.values[j], "o-", ms=4, label=f"state {j}")
     bx.axhline(0, color="k", lw=0.6)
@@ -114,3 +114,28 @@ def lyapunov(sources, png, pdf) -> None:
     bx.legend(fontsize=6)
     finish(fig, spec.attrs, png, pdf)
 
+
+
+VERDICT_COLOURS = {"chaotic": "tab:red", "regular": "tab:blue", "undecided": "0.5"}
+
+
+def chaos(sources, png, pdf) -> None:
+    """Per steady state: each indicator's rate with its uncertainty (colour: the indicator's verdict),
+    the verdict and the class."""
+    (ds,) = (read_dataset(s) for s in sources)
+    states, ind = list(ds.state.values), list(ds.indicator.values)
+    fig, axes = plt.subplots(1, len(states), figsize=(4.2 * len(states), 4), squeeze=False, sharey=True)
+    for k, (ax, st) in enumerate(zip(axes[0], states)):
+        v, e = ds.indicator_value.values[k], ds.indicator_uncertainty.values[k]
+        for j, name in enumerate(ind):
+            c = VERDICT_COLOURS.get(str(ds.indicator_verdict.values[k, j]), "k")
+            ax.errorbar(j, v[j], yerr=3 * e[j] if np.isfinite(e[j]) else None, fmt="o", color=c, capsize=4)
+        ax.axhline(0, color="k", lw=0.6)
+        ax.set_xticks(range(len(ind)))
+        ax.set_xticklabels([f"{n}{' (t)' if t else ''}" for n, t in zip(ind, ds.tangent_based.values)], fontsize=7,
+                           rotation=15)
+        ax.set_title(f"{st}: {ds.verdict.values[k]}\n{ds.state_class.values[k]}; sum of exponents "
+                     f"{ds.sum_exponents.values[k]:.2g} +- {ds.sum_exponents_stderr.values[k]:.1g}", fontsize=8)
+    axes[0][0].set_ylabel("rate (1/time), bars: 3 standard errors")
+    fig.suptitle("indicator verdicts: red chaotic, blue regular, grey undecided; (t) tangent-based", fontsize=8)
+    finish(fig, ds.attrs, png, pdf)
