@@ -1,0 +1,17 @@
+# On request (`snakemake -c2 stability`): the ledger rerun with perturbed initial states and a
+# looser tolerance (sleighsim.stability), and the table of verdicts that change.
+
+
+rule stability:
+    input:
+        claims=f"{R}/claims.nc",
+    output:
+        csv=f"{R}/stability/verdicts.csv",
+        nc=f"{R}/stability/verdicts.nc",
+    log:
+        f"{R}/logs/report/stability.log",
+    conda:
+        "../envs/sleighsim.yaml"
+    threads: workflow.cores
+    script:
+        "../scripts/stability.py"
