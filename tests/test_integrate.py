@@ -106,3 +106,15 @@ def test_written_files_get_the_permissions_the_umask_allows(tmp_path, umask):
         os.umask(old)
     for path in (nc, txt):
         assert stat.S_IMODE(path.stat().st_mode) == 0o666 & ~umask, oct(path.stat().st_mode)
+
+
+def test_the_jit_cache_goes_where_the_environment_says(tmp_path):
+    import subprocess
+    import sys
+
+    code = ("import heyoka as hy; from sleighsim import integrators; integrators.flow(False, 1e-10); "
+            "print(hy.llvm_state.get_diskcache_path())")
+    env = {**__import__("os").environ, "SLEIGHSIM_JIT_CACHE": str(tmp_path / "jit")}
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=300)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip() == str(tmp_path / "jit") and any((tmp_path / "jit").iterdir())

@@ -13,7 +13,12 @@ step callback (heyoka's compiled angle reducer, which brings them back to [0, 2 
 every step, at no measurable cost per step). The sleigh's integrators store delta + pi, so
 the reduced angle is delta in [-pi, pi) and never exceeds |omega| (about 3.4 on the attractor)
 in that norm; :func:`load`, :func:`read` and :func:`samples` convert to and from the model's
-variables. (Measured over 1e6 time units from the reference state at tol 2.2e-16: energy
+variables.
+
+JIT cache. heyoka's on-disk cache is on by default (~/.cache/heyoka); ``SLEIGHSIM_JIT_CACHE``
+points it elsewhere, e.g. node-local storage on a cluster (the cache does not support network
+file systems). Measured per process on this machine (CPU seconds, median of 3): compiling the
+plain flow 1.00 s without the cache, 0.07 s with it; the 4-lane tangent batch 0.61 s, 0.04 s. (Measured over 1e6 time units from the reference state at tol 2.2e-16: energy
 drift 1.0e-12 with delta in [0, 2 pi), 5.9e-13 with delta in [-pi, pi); 2.3e-12 within 1e4
 time units when delta is left to grow.)
 """
@@ -21,6 +26,7 @@ time units when delta is left to grow.)
 from __future__ import annotations
 
 import math
+import os
 import time
 from typing import Callable
 
@@ -39,11 +45,23 @@ def compiled(key: tuple, build: Callable, angles: dict = SLEIGH_ANGLES):
     """(integrator, compile seconds) for ``key``: built by ``build()`` on first use in this process;
     ``angles`` (name -> (state index, stored shift)) are the variables :func:`bounded` keeps in [0, 2 pi)."""
     if key not in _CACHE:
+        _jit_cache_path()
         start = time.perf_counter()
         ta = build()
         _CACHE[key] = (ta, time.perf_counter() - start)
         register(ta, angles)
     return _CACHE[key]
+
+
+def _jit_cache_path() -> None:
+    """Point heyoka's on-disk cache at $SLEIGHSIM_JIT_CACHE when set (created if missing)."""
+    path = os.environ.get("SLEIGHSIM_JIT_CACHE")
+    if path:
+        import heyoka as hy
+
+        os.makedirs(path, exist_ok=True)
+        if hy.llvm_state.get_diskcache_path() != path:
+            hy.llvm_state.set_diskcache_path(path)
 
 
 def register(ta, angles: dict) -> None:
