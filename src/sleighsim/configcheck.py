@@ -117,7 +117,8 @@ CROSS_FIELD = {"trajectory": _trajectory, "psd": _psd, "hierarchy_terms": _hiera
 
 #: Kinds with a checked pre-run, and the key of its length: the settling window must fit twice.
 PRE_RUN = {"poincare": "t_settle", "psd": "t_settle", "lyapunov_spectrum": "t_transient", "lyapunov_grid": "t_pre",
-           "lyapunov_energy": "t_transient", "trajectory": "t_sample_start", "chaos_verdict": "t_transient"}
+           "lyapunov_energy": "t_transient", "trajectory": "t_sample_start", "chaos_verdict": "t_transient",
+           "formal_exponents": "t_transient"}
 
 
 def _records(kind: str, cfg: dict) -> list[tuple[str, float, int]]:
@@ -147,7 +148,7 @@ def _records(kind: str, cfg: dict) -> list[tuple[str, float, int]]:
     if kind == "psd":
         return [span(cfg["t_settle"], tc["dt"], "t_settle / transient.dt"), span(cfg["duration"], cfg["dt"], "duration / dt"),
                 span(cfg["check_duration"], cfg["check_dt"], "check_duration / check_dt")]
-    if kind == "lyapunov_spectrum":
+    if kind in ("lyapunov_spectrum", "chaos_verdict", "formal_exponents"):
         steps = cfg["T_round"] * cfg["max_rounds"] / cfg["tau"] * cfg["replicas"]
         return [span(cfg["t_transient"], tc["dt"], "t_transient / transient.dt"),
                 ("T_round x max_rounds / tau x replicas", steps, 8)]

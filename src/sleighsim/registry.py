@@ -47,6 +47,7 @@ KINDS: dict[str, Kind] = {
     "lyapunov_protocol": Kind("exponents:protocol"),
     "lyapunov_energy": Kind("exponents:energy_sweep"),
     "small_eps_cost": Kind("exponents:small_eps_cost"),
+    "formal_exponents": Kind("exponents:formal_exponents"),
     "lyapunov_grid": Kind("grid:chunk", chunked=True),
     "chaos_verdict": Kind("verdict:verdict"),
     "printed_model": Kind("audit:printed_model"),
