@@ -289,10 +289,23 @@ def test_c26_without_eps_above_the_threshold():
     assert judges.c26(PAPER["C26"], ds).verdict == NOT_YET
 
 
-@pytest.mark.parametrize("route", [REPRODUCED, DIFFERS, NOT_YET])
-def test_c27_takes_the_regime_diagrams_computed_route_verdict(route):
-    ds = A(route_verdict=route, route_measured="m", route_rule="r")
-    assert judges.c27(PAPER["C27"], ds).verdict == route
+def _regimes(status, lam, thick):
+    n = len(status)
+    return xr.Dataset({"lambda_1": ("eps", lam), "stderr": ("eps", [1e-6] * n), "status": ("eps", status),
+                       "transient_over": ("eps", [1] * n), "steady": ("eps", [1] * n),
+                       "curve_thickness": ("eps", thick)}, coords={"eps": np.geomspace(0.02, 0.5, n)})
+
+
+@pytest.mark.parametrize("status, lam, thick, want", [
+    (["regular", "regular", "converged", "converged"], [1e-6, 2e-6, 3e-4, 5e-4], [0.001] * 4, REPRODUCED),
+    (["regular", "regular", "converged", "converged"], [1e-6, 2e-6, 3e-4, 5e-4], [0.05, 0.001, 0.001, 0.001], DIFFERS),
+    (["capped", "regular", "converged", "converged"], [1e-4, 2e-6, 3e-4, 5e-4], [0.001] * 4, REPRODUCED),
+    (["capped", "capped", "converged", "converged"], [1e-4, 2e-6, 3e-4, 5e-4], [0.001] * 4, NOT_YET),
+    (["converged"] * 4, [1e-4, 2e-4, 3e-4, 5e-4], [0.001] * 4, NOT_YET),
+    (["regular"] * 4, [1e-6] * 4, [0.001] * 4, NOT_YET),
+])
+def test_c27_route_to_chaos_near_eps_zero(status, lam, thick, want):
+    assert judges.c27(PAPER["C27"], _regimes(status, lam, thick)).verdict == want
 
 
 def _audit(**over):

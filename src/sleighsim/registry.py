@@ -147,7 +147,7 @@ EVIDENCE: dict[str, tuple[str, ...]] = {
     "C24": ("psd_eps001",),
     "C25": ("lyap_feasibility",),
     "C26": ("formal_exponents",),
-    "C27": ("regimes",),
+    "C27": ("fig11_grid",),
     "D1": ("audit",),
     "D2": ("audit",),
     "D3": ("audit",),

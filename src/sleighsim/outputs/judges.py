@@ -457,9 +457,42 @@ def c26(paper, formal) -> Judgement:
 
 
 def c27(paper, regimes) -> Judgement:
-    a = regimes.attrs
+    """Quasi-periodic route to chaos near eps = 0, from lambda_1 against eps (the F11 rows, or the
+    on-request regime diagram)."""
+    eps, lam, err, status = regimes.eps.values, regimes.lambda_1.values, regimes.stderr.values, regimes.status.values
+    steady = (regimes.transient_over.values == 1) & (regimes.steady.values == 1)
+    thin = np.asarray(regimes.curve_thickness.values) < 0.01
+    chaotic = steady & (status == "converged") & (lam - K_SIGMA * err > 0)
+    regular = steady & (status == "regular")
+    order = np.argsort(eps)
+    eps, chaotic, regular, thin = eps[order], chaotic[order], regular[order], thin[order]
+    first_chaos = eps[chaotic].min() if chaotic.any() else math.nan
+    below = eps < first_chaos if finite(first_chaos) else np.zeros(eps.size, bool)
+
+    def listed(sel):
+        return ", ".join(f"{e:.3g}" for e in eps[sel]) or "none"
+
+    resolved_below = below & regular
+    if not chaotic.any():
+        verdict, reason = NOT_YET, "no row is resolved chaotic"
+    elif not resolved_below.any():
+        verdict, reason = NOT_YET, (f"no row below the first chaotic eps ({first_chaos:.3g}) is resolved regular: a "
+                                    f"route, if any, lies below the computed range or the rows there are unresolved")
+    elif np.all(thin[resolved_below]):
+        verdict, reason = REPRODUCED, ""
+    else:
+        verdict, reason = DIFFERS, (f"regular rows below the first chaotic eps ({first_chaos:.3g}) without a thin P_2pi "
+                                    f"curve (not a torus) at eps {listed(resolved_below & ~thin)}")
     return Judgement(
-        a["route_verdict"], measured=a["route_measured"], rule=a["route_rule"], reason=a.get("route_reason", ""))
+        verdict,
+        measured=f"{eps.size} eps rows in [{eps.min():.3g}, {eps.max():.3g}]: chaotic (lambda_1 resolved > 0) at eps "
+                 f"{listed(chaotic)}; regular at eps {listed(regular)}; regular with a thin P_2pi curve at eps "
+                 f"{listed(regular & thin)}",
+        rule=f"below the smallest chaotic eps (lambda_1 - {K_SIGMA:g} stderr > 0), the rows resolved regular must have "
+             "a thin P_2pi curve (thickness < 0.01: a torus): reproduced when at least one such row exists and all "
+             "have it, differs when one does not, not yet computed when none is resolved regular (unresolved rows "
+             "are not counted)",
+        reason=reason)
 
 
 def d1(paper, audit) -> Judgement:
