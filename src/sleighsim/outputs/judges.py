@@ -456,12 +456,12 @@ def c26(paper, formal) -> Judgement:
              "formal system: m_c = 1 - eps < 0)")
 
 
-def c27(paper, regimes) -> Judgement:
+def c27(paper, rows) -> Judgement:
     """Quasi-periodic route to chaos near eps = 0, from lambda_1 against eps (the F11 rows, or the
     on-request regime diagram)."""
-    eps, lam, err, status = regimes.eps.values, regimes.lambda_1.values, regimes.stderr.values, regimes.status.values
-    steady = (regimes.transient_over.values == 1) & (regimes.steady.values == 1)
-    thin = np.asarray(regimes.curve_thickness.values) < 0.01
+    eps, lam, err, status = rows.eps.values, rows.lambda_1.values, rows.stderr.values, rows.status.values
+    steady = (rows.transient_over.values == 1) & (rows.steady.values == 1)
+    thin = np.asarray(rows.curve_thickness.values) < 0.01
     chaotic = steady & (status == "converged") & (lam - K_SIGMA * err > 0)
     regular = steady & (status == "regular")
     order = np.argsort(eps)
