@@ -3,6 +3,8 @@ config refusal before any job, and what reruns after a change."""
 
 import os
 import re
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -151,6 +153,15 @@ def test_dry_run_of_the_paper_config_fans_the_grid_out(tmp_path):
     counts = dict(re.findall(r"^(chunk|gather)\s+(\d+)\s*$", out, flags=re.M))
     assert int(counts["chunk"]) == n_chunks and int(counts["gather"]) == 1
     assert int(re.search(r"^total\s+(\d+)", out, flags=re.M).group(1)) == n_chunks + 1
+
+
+def test_commands_without_a_core_count_parse_the_workflow(tmp_path):
+    """`snakemake --unlock` (after a killed run) takes no --cores: no rule may need workflow.cores."""
+    cmd = [sys.executable, "-m", "snakemake", "-s", str(ROOT / "Snakefile"), "-d", str(tmp_path),
+           "--configfile", str(SMOKE), "--unlock"]
+    res = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+    assert res.returncode == 0, res.stderr[-2000:]
+    assert "Unlocked working directory" in res.stdout + res.stderr
 
 
 def test_on_request_scenes_join_the_run_and_the_report_when_switched_on(tmp_path):

@@ -12,6 +12,8 @@ rule stability:
         f"{R}/logs/report/stability.log",
     conda:
         "../envs/sleighsim.yaml"
-    threads: workflow.cores
+    # the nested runs use this many cores; Snakemake lowers it to --cores (a fixed number, not
+    # workflow.cores, so that `snakemake --unlock` and other core-less commands still parse)
+    threads: 64
     script:
         "../scripts/stability.py"
