@@ -273,8 +273,9 @@ def test_c25_cannot_only_from_a_cost_above_the_budget(hours, want):
     assert j.verdict == want and ("above the budget" in j.reason) == (want == CANNOT)
 
 
-def _formal(lam, err):
-    return xr.Dataset({"lambda_1": ("eps", lam), "stderr": ("eps", err)}, coords={"eps": [10.0, 30.0, 60.0]})
+def _formal(lam, err, over=(1, 1, 1)):
+    return xr.Dataset({"lambda_1": ("eps", lam), "stderr": ("eps", err), "transient_over": ("eps", list(over))},
+                      coords={"eps": [10.0, 30.0, 60.0]})
 
 
 @pytest.mark.parametrize("lam, err, want", [([1e-3, 1e-6, 2e-6], [1e-5, 1e-7, 1e-7], REPRODUCED),
@@ -282,6 +283,23 @@ def _formal(lam, err):
                                             ([1e-3, 1e-5, 2e-6], [1e-5, 1e-5, 1e-7], NOT_YET)])
 def test_c26(lam, err, want):
     assert judges.c26(PAPER["C26"], _formal(lam, err)).verdict == want
+
+
+@pytest.mark.parametrize("lam, over, want, reason", [
+    ([1e-3, 1e-6, 1e-3], (1, 1, 0), NOT_YET, "transient not over at eps 60"),  # the excess is at an unsettled eps
+    ([1e-3, 1e-6, 1e-3], (1, 0, 1), DIFFERS,  # a settled eps resolves the excess
+     "lambda_1 resolved above 1e-05 at settled eps 60; transient not over at eps 30"),
+    ([1e-3, 1e-6, 2e-6], (0, 1, 1), REPRODUCED, ""),  # eps 10 is below the paper's threshold
+])
+def test_c26_counts_only_rows_whose_transient_is_over(lam, over, want, reason):
+    j = judges.c26(PAPER["C26"], _formal(lam, [1e-5, 1e-7, 1e-7], over))
+    assert j.verdict == want
+    assert j.reason == reason
+
+
+def test_c26_a_missing_transient_check_counts_as_not_checked():
+    ds = _formal([1e-3, 1e-6, 2e-6], [1e-5, 1e-7, 1e-7]).drop_vars("transient_over")
+    assert judges.c26(PAPER["C26"], ds).verdict == NOT_YET
 
 
 def test_c26_without_eps_above_the_threshold():

@@ -11,7 +11,7 @@ from sleighsim import mechanics as mech
 from sleighsim import perturbation as pert
 from sleighsim.params import Params
 from sleighsim.scenes.hierarchy import convergence_study
-from sleighsim.scenes.transients import _groups
+from sleighsim.transient import interval_groups
 
 REF = [0.0, 0.1, 1.0, 0.0]
 
@@ -120,4 +120,4 @@ def test_phase_detector_finds_known_change_points():
 
 
 def test_interval_groups():
-    assert _groups(np.array([2000.0, 2040.0, 1300.0, np.nan, 1310.0, 2090.0]), 0.05).tolist() == [0, 0, 1, -1, 1, 0]
+    assert interval_groups(np.array([2000.0, 2040.0, 1300.0, np.nan, 1310.0, 2090.0]), 0.05).tolist() == [0, 0, 1, -1, 1, 0]

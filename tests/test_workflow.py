@@ -155,6 +155,20 @@ def test_dry_run_of_the_paper_config_fans_the_grid_out(tmp_path):
     assert int(re.search(r"^total\s+(\d+)", out, flags=re.M).group(1)) == n_chunks + 1
 
 
+def test_atlas_builds_the_regime_diagram_and_the_basin_fractions(tmp_path):
+    """`snakemake atlas` (on request): every atlas figure, and a basins dataset that accounts for
+    every sample once."""
+    res = snakemake(tmp_path, SMOKE, "atlas", timeout=600)
+    assert res.returncode == 0, res.stderr[-3000:]
+    for fig in registry.ATLAS:
+        assert (tmp_path / "results" / "figures" / f"{fig}.png").stat().st_size > 0
+    ds = read_dataset(tmp_path / "results" / "data" / "basins.nc")
+    n = SMOKE_CFG["scenes"]["basins"]["n_samples"]
+    assert ds.sizes["sample"] == n and int(ds["count"].sum()) == n
+    assert np.isclose(float(ds.fraction.sum()), 1.0)
+    assert ((ds.ci_low <= ds.fraction) & (ds.fraction <= ds.ci_high)).all()
+
+
 def test_commands_without_a_core_count_parse_the_workflow(tmp_path):
     """`snakemake --unlock` (after a killed run) takes no --cores: no rule may need workflow.cores."""
     cmd = [sys.executable, "-m", "snakemake", "-s", str(ROOT / "Snakefile"), "-d", str(tmp_path),

@@ -107,18 +107,26 @@ def _lyapunov_grid(w, cfg):
         raise ConfigError(f"{w}.reference_eps = {cfg['reference_eps']} must lie in eps_range [{lo}, {hi}]")
 
 
+def _basins(w, cfg):
+    if cfg["n_chunks"] > cfg["n_samples"]:
+        raise ConfigError(f"{w}.n_chunks = {cfg['n_chunks']} must lie in [1, n_samples = {cfg['n_samples']}]")
+    if cfg["dt_measure"] >= cfg["T_measure"]:
+        raise ConfigError(f"{w}.dt_measure = {cfg['dt_measure']} must lie in (0, T_measure = {cfg['T_measure']})")
+
+
 def _sleigh0(w, cfg):
     for key in ("u_range", "Omega_range"):
         _increasing(f"{w}.portrait.{key}", cfg["portrait"][key])
 
 
 CROSS_FIELD = {"trajectory": _trajectory, "psd": _psd, "hierarchy_terms": _hierarchy_terms,
-               "attractor_levels": _attractor_levels, "lyapunov_grid": _lyapunov_grid, "sleigh0": _sleigh0}
+               "attractor_levels": _attractor_levels, "lyapunov_grid": _lyapunov_grid, "sleigh0": _sleigh0,
+               "basins": _basins}
 
 #: Kinds with a checked pre-run, and the key of its length: the settling window must fit twice.
 PRE_RUN = {"poincare": "t_settle", "psd": "t_settle", "lyapunov_spectrum": "t_transient", "lyapunov_grid": "t_pre",
            "lyapunov_energy": "t_transient", "trajectory": "t_sample_start", "chaos_verdict": "t_transient",
-           "formal_exponents": "t_transient"}
+           "formal_exponents": "t_transient", "basins": "t_round"}
 
 
 def _records(kind: str, cfg: dict) -> list[tuple[str, float, int]]:
@@ -156,6 +164,9 @@ def _records(kind: str, cfg: dict) -> list[tuple[str, float, int]]:
         steps = cfg["T_round"] * cfg["max_rounds"] / cfg["tau"] * cfg["replicas"]
         return [span(cfg["t_pre"], tc["dt"], "t_pre / transient.dt"),
                 ("T_round x max_rounds / tau x replicas", steps, 5)]
+    if kind == "basins":
+        return [span(cfg["t_round"], tc["dt"], "t_round / transient.dt"),
+                span(cfg["T_measure"], cfg["dt_measure"], "T_measure / dt_measure")]
     if kind == "small_eps_cost":
         return [span(max(cfg["horizons"]), cfg["dt"], "max(horizons) / dt")]
     if kind == "printed_model":

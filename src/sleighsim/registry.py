@@ -50,6 +50,7 @@ KINDS: dict[str, Kind] = {
     "formal_exponents": Kind("exponents:formal_exponents"),
     "lyapunov_grid": Kind("grid:chunk", chunked=True),
     "chaos_verdict": Kind("verdict:verdict"),
+    "basins": Kind("basins:chunk", chunked=True),
     "printed_model": Kind("audit:printed_model"),
     "k2_sweep": Kind("causes:k2_sweep"),
     "integration_error": Kind("causes:integration_error"),
@@ -98,9 +99,16 @@ FIGURES: dict[str, Figure] = {
     "lyapunov": Figure(("lyap_spectrum", "lyap_protocol"), title="Lyapunov spectrum and the paper's protocol"),
     "chaos": Figure(("chaos_verdict",), title="Is the steady state chaotic? Indicators per state",
                     steady=("chaos_verdict",)),
+    "regimes": Figure(("regimes",), title="Regime diagram: lambda_1, spike interval and P_2pi rotation number "
+                                         "against eps (C27)"),
+    "basins": Figure(("basins",), title="Basin fractions on the energy level (C06 made quantitative)"),
     "audit": Figure(("audit",), title="The model as printed: energy drift of the printed udot"),
     "bench": Figure(("bench",), title="Speed against error"),
 }
+
+#: The atlas (on request: snakemake -c2 atlas): the figures of the large chaos surveys.
+ATLAS = ("regimes", "basins")
+
 
 @dataclass(frozen=True)
 class Table:

@@ -111,6 +111,23 @@ PHASES_RULE = ("sleigh-like phase ends when the running mean of u (window mean_w
                "of the intervals between later spikes")
 
 
+def interval_groups(intervals, rel_tol: float) -> np.ndarray:
+    """Label runs by steady spike interval: a run joins the first group whose first member's
+    interval is within rel_tol (so runs listed first head the groups); NaN intervals get -1."""
+    labels, heads = np.full(len(intervals), -1), []
+    for i, x in enumerate(intervals):
+        if not np.isfinite(x):
+            continue
+        for g, h in enumerate(heads):
+            if abs(x - h) <= rel_tol * h:
+                labels[i] = g
+                break
+        else:
+            heads.append(x)
+            labels[i] = len(heads) - 1
+    return labels
+
+
 def running_mean(x, n: int) -> np.ndarray:
     """Centred running mean over n samples (valid part, length len(x) - n + 1)."""
     c = np.cumsum(np.insert(np.asarray(x, float), 0, 0.0))

@@ -67,3 +67,10 @@ for _target in [d for d in ALL_DATASETS if d not in ALL_FIGURES]:
         input:
             f"{R}/data/{_target}.nc",
         localrule: True
+
+
+# The atlas of on-request chaos surveys (sleighsim.registry.ATLAS): snakemake -c2 atlas
+rule atlas:
+    input:
+        figure_files([f for f in registry.ATLAS if f in ALL_FIGURES]),
+    localrule: True

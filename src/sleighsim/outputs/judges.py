@@ -442,18 +442,28 @@ def c25(paper, cost) -> Judgement:
 
 
 def c26(paper, formal) -> Judgement:
+    """Above the paper's eps only rows whose transient was checked over count (a missing check counts
+    as not checked); one resolved lambda_1 above the bound differs, all resolved below reproduce."""
     eps, lam, err = formal.eps.values, formal.lambda_1.values, formal.stderr.values
+    over = formal["transient_over"].values == 1 if "transient_over" in formal else np.zeros(eps.size, bool)
     big = eps > paper["eps_above"]
     if not big.any():
         return Judgement(NOT_YET, measured="no eps above the paper's threshold computed", rule="")
-    below = lam[big] + K_SIGMA * err[big] < paper["lambda_below"]
-    above = lam[big] - K_SIGMA * err[big] > paper["lambda_below"]
-    verdict = REPRODUCED if below.all() else DIFFERS if above.any() else NOT_YET
+    settled = big & over
+    below = lam + K_SIGMA * err < paper["lambda_below"]
+    above = lam - K_SIGMA * err > paper["lambda_below"]
+    verdict = DIFFERS if (settled & above).any() else REPRODUCED if (below[big] & over[big]).all() else NOT_YET
+    unsettled = ", ".join(f"{e:g}" for e in eps[big & ~over])
+    resolved_above = ", ".join(f"{e:g}" for e in eps[settled & above])
+    reasons = ([f"lambda_1 resolved above {paper['lambda_below']:g} at settled eps {resolved_above}"]
+               if resolved_above else []) + ([f"transient not over at eps {unsettled}"] if unsettled else [])
     return Judgement(
         verdict, units="1/time",
-        measured="; ".join(f"eps {e:g}: lambda_1 = {m:.2g} +- {s:.1g}" for e, m, s in zip(eps, lam, err)),
-        rule=f"at every eps above {paper['eps_above']:g}, lambda_1 + {K_SIGMA:g} stderr < {paper['lambda_below']:g} (the "
-             "formal system: m_c = 1 - eps < 0)")
+        measured="; ".join(f"eps {e:g}: lambda_1 = {m:.2g} +- {s:.1g}{'' if o else ' (transient not over)'}"
+                           for e, m, s, o in zip(eps, lam, err, over)),
+        reason="; ".join(reasons),
+        rule=f"at every eps above {paper['eps_above']:g} with its transient over, lambda_1 + {K_SIGMA:g} stderr < "
+             f"{paper['lambda_below']:g} (the formal system: m_c = 1 - eps < 0)")
 
 
 def c27(paper, rows) -> Judgement:

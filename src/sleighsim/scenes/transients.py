@@ -108,23 +108,6 @@ def _max_distance(curves, others=None):
     return float(max(np.nanmax(np.abs(a - b)) for a, b in pairs)) if pairs else float("nan")
 
 
-def _groups(intervals, rel_tol):
-    """Label runs by steady spike interval: a run joins the first group whose first member's
-    interval is within rel_tol; NaN intervals get -1."""
-    labels, heads = np.full(len(intervals), -1), []
-    for i, x in enumerate(intervals):
-        if not np.isfinite(x):
-            continue
-        for g, h in enumerate(heads):
-            if abs(x - h) <= rel_tol * h:
-                labels[i] = g
-                break
-        else:
-            heads.append(x)
-            labels[i] = len(heads) - 1
-    return labels
-
-
 def _long_check(params, y0, cfg, scene):
     """Spike times and intervals of one state over a long horizon (is a group a slow transient?)."""
     lc = cfg["long_check"]
@@ -174,7 +157,7 @@ def attractor_levels(cfg: dict, scene: str = "") -> xr.Dataset:
     raw, smoothed = np.array(raw), np.array(smoothed)
     level, ok = np.array(run_level), np.array(per["reached"], bool)
     interval = np.array(per["spike_interval_mean"], float) * np.array(run_c)  # in level-0 time units
-    group = _groups(np.where(ok, interval, np.nan), cfg["group_rel_tol"])
+    group = transient.interval_groups(np.where(ok, interval, np.nan), cfg["group_rel_tol"])
     scale = float(np.nanmean(np.abs(smoothed[level == 0])))
 
     def dist(sel_a, sel_b=None, curves=smoothed):

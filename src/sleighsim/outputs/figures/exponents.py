@@ -8,6 +8,7 @@ import numpy as np
 from ...io import read_dataset
 from .common import finish
 
+
 def fig10(sources, png, pdf) -> None:
     """Max Lyapunov exponent against energy label, with the time-scaling law."""
     ds = read_dataset(sources[0])
@@ -138,4 +139,38 @@ def chaos(sources, png, pdf) -> None:
                      f"{ds.sum_exponents.values[k]:.2g} +- {ds.sum_exponents_stderr.values[k]:.1g}", fontsize=8)
     axes[0][0].set_ylabel("rate (1/time), bars: 3 standard errors")
     fig.suptitle("indicator verdicts: red chaotic, blue regular, grey undecided; (t) tangent-based", fontsize=8)
+    finish(fig, ds.attrs, png, pdf)
+
+
+def regimes(sources, png, pdf) -> None:
+    """The regime diagram: lambda_1 (by status, flagged rows marked), the steady spike interval,
+    and the P_2pi rotation number and curve thickness, against eps."""
+    ds = read_dataset(sources[0])
+    eps = ds.eps.values
+    fig, (ax, bx, cx) = plt.subplots(3, 1, figsize=(8, 9), sharex=True)
+    for status, marker in (("converged", "o"), ("regular", "s"), ("capped", "x")):
+        sel = ds.status.values == status
+        if sel.any():
+            ax.errorbar(eps[sel], ds.lambda_1.values[sel], yerr=ds.stderr.values[sel], fmt=marker, ms=4, capsize=2,
+                        label=f"lambda_1, {status}")
+    flagged = ds.flagged.values.astype(bool)
+    ax.plot(eps[flagged], ds.lambda_1.values[flagged], "o", mfc="none", mec="r", ms=9, label="flagged row")
+    ax.axhline(0, color="0.5", lw=0.8)
+    ax.set_yscale("symlog", linthresh=1e-5)
+    ax.set_ylabel(r"$\lambda_1$ (1/time), +- stderr")
+    ax.legend(fontsize=7)
+    ax.set_title(f"E label {ds.attrs['energy_label']:g}: {eps.size} eps, {int(flagged.sum())} flagged "
+                 "(transient, steadiness or lambda_1 not resolved)", fontsize=8)
+    bx.errorbar(eps, ds.spike_interval.values, yerr=ds.spike_interval_std.values, fmt="o", ms=3, capsize=2)
+    bx.set_yscale("log")
+    bx.set_ylabel("steady spike interval (time)")
+    cx.plot(eps, ds.rotation_number.values, "o-", ms=3, label="P_2pi rotation number")
+    cx.set_ylabel("rotation number")
+    tx = cx.twinx()
+    tx.plot(eps, ds.curve_thickness.values, "s--", ms=3, color="C1", label="curve thickness")
+    tx.set_yscale("log")
+    tx.set_ylabel("curve thickness (relative)", color="C1")
+    cx.set_xscale("log")
+    cx.set_xlabel(r"$\epsilon$")
+    cx.legend(fontsize=7, loc="upper left")
     finish(fig, ds.attrs, png, pdf)

@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+import textwrap
+
 import matplotlib.pyplot as plt
 import numpy as np
 
 from ...io import read_dataset
 from .common import LABELS, finish
+
 
 def fig4(sources, png, pdf) -> None:
     """omega aligned at the first spike after the transient, per energy level (mapped onto the
@@ -137,3 +140,37 @@ def perturbation(sources, png, pdf) -> None:
                  fontsize=9, loc="left")
     finish(fig, fig5_ds.attrs, png, pdf)
 
+
+
+def basins(sources, png, pdf) -> None:
+    """Basin fractions on the energy level with their intervals, and the steady spike interval of
+    every sampled run coloured by its group (the reference states' intervals as lines)."""
+    ds = read_dataset(sources[0])
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(12, 4.8), gridspec_kw={"width_ratios": [1, 1.4]})
+    groups = [str(g) for g in ds.group.values]
+    x = np.arange(len(groups))
+    f = ds.fraction.values
+    ax.bar(x, f, color=[f"C{i}" for i in x], alpha=0.7)
+    ax.errorbar(x, f, yerr=[f - ds.ci_low.values, ds.ci_high.values - f], fmt="none", ecolor="k", capsize=4)
+    for i, (c, m) in enumerate(zip(ds["count"].values, ds.mirrored.values)):
+        ax.text(i, ds.ci_high.values[i] + 0.01, f"{c:.0f}\n({100 * m:.0f}% mirrored)", ha="center", va="bottom", fontsize=7)
+    ax.set_xticks(x, groups, rotation=20)
+    ax.set_ylim(0, 1.12)
+    ax.set_ylabel(f"fraction of {ds.attrs['n_samples']} samples ({100 * ds.attrs['confidence']:.0f}% Wilson interval)")
+    ax.set_title(f"steady states reached on E label {ds.attrs['energy_label']:g}\nsampling: "
+                 + textwrap.fill(ds.attrs["measure"], 70), fontsize=7)
+    order = np.argsort(np.nan_to_num(ds.interval.values, nan=np.inf))
+    for i, g in enumerate(groups):
+        sel = ds.group_of.values[order] == g
+        bx.plot(np.flatnonzero(sel), ds.interval.values[order][sel], "o", ms=3, color=f"C{i}", label=g)
+    for name, interval in zip(ds.reference.values, ds.reference_interval.values):
+        if np.isfinite(interval):
+            bx.axhline(interval, color="0.4", ls=":", lw=0.8)
+            bx.text(0, interval, f" {name}", fontsize=7, va="bottom", color="0.3")
+    bx.set_xlabel("sampled run (sorted by interval)")
+    bx.set_ylabel("steady spike interval (time)")
+    bx.legend(fontsize=7)
+    bx.set_title(f"group: the first reference within {100 * ds.attrs['group_rel_tol']:.0f}% of the interval\n"
+                 f"unsettled: transient not over by {ds.attrs['max_rounds']} x {ds.attrs['t_round']:g}; no spike "
+                 f"interval: settled, < {ds.attrs['min_spikes']} spikes", fontsize=7)
+    finish(fig, ds.attrs, png, pdf)
