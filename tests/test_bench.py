@@ -56,3 +56,29 @@ def test_configured_tolerances_are_at_least_as_tight_as_the_converged_ones():
     for scene, tol in tols.items():
         for name, limit in converged.items():
             assert tol <= limit, f"scenes.{scene}.tol = {tol} is looser than {name} = {limit}"
+
+
+def test_peer_ratios_compare_the_fastest_run_of_each_engine_reaching_each_target():
+    engine = ["heyoka taylor", "heyoka taylor", "scipy DOP853 + numpy rhs", "scipy DOP853 + numpy rhs", "diffrax Tsit5"]
+    error = [1e-7, 1e-11, 1e-7, 1e-9, np.nan]  # diffrax failed: no error
+    wall = [0.001, 0.002, 0.05, 0.08, 0.01]
+    others, ratios = bench.peer_ratios(engine, error, wall, [1e-6, 1e-8, 1e-10, 1e-12])
+    assert others == ["scipy DOP853 + numpy rhs", "diffrax Tsit5"]
+    assert ratios[0, 0] == pytest.approx(50)  # 0.05 s against 0.001 s
+    assert ratios[1, 0] == pytest.approx(40)  # only the tighter runs reach 1e-8: 0.08 s against 0.002 s
+    assert np.isnan(ratios[2, 0])  # the peer never reaches 1e-10
+    assert np.isnan(ratios[3]).all()  # nobody reaches 1e-12, heyoka included
+    assert np.isnan(ratios[:, 1]).all()  # a failed peer has no ratio
+
+
+def test_quick_bench_holds_the_peer_comparison(tmp_path):
+    """The quick bench runs the peers side by side with heyoka against the same reference; a peer
+    that is not installed is a row that says so rather than a crash."""
+    cfg = dict(bench.QUICK, heyoka_tols=[1e-8, 1e-12], scipy={"DOP853": [1e-8]}, T_lyapunov=100.0, t_long=200.0)
+    ds = bench.bench(cfg)
+    heyoka = ds.peer_engine.values == "heyoka taylor"
+    assert heyoka.sum() == len(cfg["peers"]["rtols"]) and np.isfinite(ds.peer_error.values[heyoka]).all()
+    ran = np.isfinite(ds.peer_error.values)
+    assert (ran | (ds.peer_note.values != "")).all()
+    assert ds.peer_ratio.shape == (len(cfg["error_targets"]), ds.sizes["peer"])
+    assert ds.sizes["lyap_peer"] == 4 and np.isfinite(ds.lyap_peer_lambda_1.values[1])  # heyoka on Lorenz always runs

@@ -1,4 +1,4 @@
-"""Speed against error: heyoka at several tolerances against SciPy's solvers.
+"""Speed against error: heyoka at several tolerances against SciPy's solvers and the peers.
 
 Error is measured against a heyoka reference in extended precision (long double),
 shown converged by comparing two of its tolerances: the end-state error on a short
@@ -6,6 +6,13 @@ horizon (before sensitivity amplifies it) and the maximum relative energy drift 
 long one. Wall times are medians of ``repeats`` runs; heyoka's JIT compile time is
 reported apart. The scene observables (spike interval, end of the second transient,
 lambda_1 over a fixed horizon, P_2pi rotation number) are measured against tolerance.
+
+The peer comparison (``cfg["peers"]``, sleighsim.peers) runs every engine a Python user would
+pick instead (SciPy with the Python and with compiled right-hand sides, diffrax) and heyoka's bare
+propagation at the same rtols, all against the same long-double reference with the same error
+metric, each timed after a warm-up as the median of ``repeats``, compile times beside; the
+Lyapunov kernel is compared with lyapax on Lorenz and the sleigh. A missing peer is a row whose
+note says how to install it.
 
 Run: ``python -m sleighsim.scenes.bench [--quick] OUT.nc`` or ``snakemake -c2 bench``.
 """
@@ -20,7 +27,7 @@ import time
 import numpy as np
 import xarray as xr
 
-from .. import integrators, lyapunov, model, poincare, transient
+from .. import integrators, lyapunov, model, peers, poincare, transient
 from ..integrate import final_state, integrate, sample_grid
 from ..io import write_dataset
 from ..params import Params
@@ -86,6 +93,7 @@ def work_precision(cfg: dict) -> xr.Dataset:
         log.info("bench %s %s %.0e: error %.2g in %.3g s; drift %.2g in %.3g s; spike interval %.5g", backend,
                  method, tol, err, wall_short, rows[-1]["drift_long"], rows[-1]["wall_long"], rows[-1]["spike_interval"])
     ds = xr.Dataset({k: ("run", np.array([r[k] for r in rows])) for k in rows[0]})
+    ds["reference_state"] = ("component", ref)
     ds.attrs.update(params.attrs())
     ds.attrs.update(
         t_short=cfg["t_short"], t_long=cfg["t_long"], repeats_heyoka=cfg["repeats"],
@@ -193,6 +201,113 @@ def fastest_table(ds: xr.Dataset, targets) -> list[dict]:
     return out
 
 
+def heyoka_end_state(params, y0, t_end, tol):
+    """heyoka's bare propagation to t_end (delta kept bounded), the engine-level peer of
+    peers.scipy_run: returns (run() -> end state, compile seconds)."""
+    ta, compile_s = integrators.flow(False, tol)
+
+    def run():
+        ta.time = 0.0
+        integrators.load(ta, y0)
+        ta.pars[:] = params.values
+        ta.propagate_until(float(t_end), callback=integrators.bounded(ta))
+        return integrators.read(ta, 4)
+
+    return run, compile_s
+
+
+def peer_runs(cfg: dict, params, y0, ref) -> list[dict]:
+    """Every peer engine and heyoka at every rtol of cfg["peers"]: end-state error at t_short against
+    the long-double reference ``ref`` (max over components, delta modulo 2 pi), median wall after
+    warm-up, compile seconds. A peer that is missing or fails is a row with error None and a note."""
+    pc = cfg["peers"]
+    rows = peers.integration_table(
+        params.values, y0, cfg["t_short"], rtols=pc["rtols"], atol_factor=cfg["atol_factor"],
+        scipy_methods=pc["scipy_methods"], rhs_kinds=pc["rhs_kinds"], diffrax_solvers=pc["diffrax_solvers"],
+        repeats=pc["repeats"], warmup=pc["warmup"], reference=ref, log=log.info)
+    for tol in pc["rtols"]:
+        run, compile_s = heyoka_end_state(params, y0, cfg["t_short"], tol)
+        y, wall, walls = peers.timed(run, repeats=pc["repeats"], warmup=pc["warmup"])
+        rows.append(dict(engine="heyoka taylor", rtol=tol, atol=tol, compile_s=compile_s,
+                         error=peers.state_error(y, ref), wall_s=wall, walls=walls, note=f"tol = {tol:g}"))
+        log.info("bench peers: heyoka taylor tol %.0e: error %.2e in %.3g ms", tol, rows[-1]["error"], wall * 1e3)
+    return rows
+
+
+def peer_ratios(engine, error, wall, targets, ours: str = "heyoka taylor") -> tuple[list, np.ndarray]:
+    """For each error target and each other engine: (fastest wall of that engine reaching the target)
+    / (fastest wall of ``ours`` reaching it); NaN where either never reaches it. Returns (engines, ratios
+    with shape (target, engine))."""
+    engine, error, wall = np.asarray(engine), np.asarray(error, float), np.asarray(wall, float)
+    others = [e for e in dict.fromkeys(engine.tolist()) if e != ours]
+
+    def fastest(name, target):
+        ok = (engine == name) & np.isfinite(error) & np.isfinite(wall) & (error <= target)
+        return float(wall[ok].min()) if ok.any() else math.nan
+
+    return others, np.array([[fastest(e, t) / fastest(ours, t) for e in others] for t in targets])
+
+
+def peer_comparison(cfg: dict, params, y0, ref) -> xr.Dataset:
+    """The peer rows, the ratio table against heyoka at each error target, and the Lyapunov peers."""
+    rows = peer_runs(cfg, params, y0, ref)
+
+    def col(key, fill=math.nan):
+        return [fill if r.get(key) is None else r[key] for r in rows]
+
+    engine, error, wall = col("engine"), col("error"), col("wall_s")
+    others, ratios = peer_ratios(engine, error, wall, cfg["error_targets"])
+    compile_of = {r["engine"]: float(r["compile_s"]) for r in rows if r.get("compile_s") is not None}
+    ds = xr.Dataset(
+        {"peer_engine": ("peer_run", np.array(engine)), "peer_rtol": ("peer_run", np.array(col("rtol"), float)),
+         "peer_error": ("peer_run", np.array(error, float)), "peer_wall": ("peer_run", np.array(wall, float)),
+         "peer_compile_s": ("peer_run", np.array(col("compile_s"), float)),
+         "peer_note": ("peer_run", np.array(col("note", ""), dtype=object).astype(str)),
+         "peer_ratio": (("error_target", "peer"), ratios),
+         "peer_engine_compile_s": ("peer", np.array([compile_of.get(e, math.nan) for e in others]))},
+        coords={"error_target": np.array(cfg["error_targets"], float), "peer": np.array(others)},
+        attrs={"peer_repeats": cfg["peers"]["repeats"], "peer_warmup": cfg["peers"]["warmup"],
+               "peer_versions": ", ".join(f"{k} {v}" for k, v in peers.peer_versions().items() if v),
+               "peer_ratio_rule": "fastest wall of the peer reaching the error target / fastest wall of heyoka "
+                                  "reaching it (both the median after warm-up); compile times apart"})
+    lyap = lyapunov_peers(cfg, params)
+    out = xr.merge([ds, lyap])
+    out.attrs.update({**ds.attrs, **lyap.attrs})
+    return out
+
+
+def lyapunov_peers(cfg: dict, params) -> xr.Dataset:
+    """lambda_1 with lyapax (fixed-step RK, JAX) and with heyoka's variational Benettin, on Lorenz
+    and on the sleigh over the same T and tau; a missing lyapax is a row with a note."""
+    lc = cfg["peers"]["lyapunov"]
+    kw = dict(tau=lc["tau"], repeats=lc["repeats"])
+    runs = [("lorenz", f"lyapax RK4 dt {dt:g}", lambda dt=dt: peers.lyapax_lorenz(T=lc["T_lorenz"], dt=dt, **kw))
+            for dt in lc["lyapax_dt"]]
+    runs += [("lorenz", f"heyoka tol {tol:g}", lambda tol=tol: peers.heyoka_lorenz(T=lc["T_lorenz"], tol=tol, **kw))
+             for tol in lc["heyoka_tols"]]
+    runs += [("sleigh", f"lyapax RK4 dt {dt:g}", lambda dt=dt: peers.lyapax_sleigh(
+        params.values, T=lc["T_sleigh"], dt=dt, **kw)) for dt in lc["lyapax_dt_sleigh"]]
+    runs += [("sleigh", f"heyoka tol {tol:g}", lambda tol=tol: peers.heyoka_sleigh(
+        params.values, T=lc["T_sleigh"], tol=tol, **kw)) for tol in lc["heyoka_tols"]]
+    out = []
+    for system, name, fn in runs:
+        try:
+            r = fn()
+            out.append((system, name, r.lambda_1, r.wall_s, r.compile_s, ""))
+        except peers.PeerUnavailable as exc:
+            out.append((system, name, math.nan, math.nan, math.nan, str(exc)))
+        log.info("bench Lyapunov peers: %s %s: lambda_1 %.5g in %.3g s (compile %.3g s) %s", system, *out[-1][1:])
+    cols = list(zip(*out))
+    return xr.Dataset({"lyap_peer_system": ("lyap_peer", np.array(cols[0])),
+                       "lyap_peer_engine": ("lyap_peer", np.array(cols[1])),
+                       "lyap_peer_lambda_1": ("lyap_peer", np.array(cols[2], float)),
+                       "lyap_peer_wall": ("lyap_peer", np.array(cols[3], float)),
+                       "lyap_peer_compile_s": ("lyap_peer", np.array(cols[4], float)),
+                       "lyap_peer_note": ("lyap_peer", np.array(cols[5], dtype=object).astype(str))},
+                      attrs={"lyap_peer_T_lorenz": lc["T_lorenz"], "lyap_peer_T_sleigh": lc["T_sleigh"],
+                             "lyap_peer_tau": lc["tau"], "lorenz_lambda_1_literature": peers.LORENZ_LAMBDA_1})
+
+
 def overhead(cfg: dict) -> dict:
     """Wall time of integrate() (sampling, energy check, Dataset) over a bare propagation, F3 scene."""
     params = Params.from_config(cfg["params"])
@@ -218,9 +333,11 @@ def bench(cfg: dict, scene: str = "") -> xr.Dataset:
     """Everything above in one dataset."""
     start = time.perf_counter()
     wp = work_precision(cfg)
+    peer = peer_comparison(cfg, Params.from_config(cfg["params"]), np.asarray(cfg["y0"], float),
+                           wp.reference_state.values)
     obs = observables_vs_tol(cfg)
     lyap = lyapunov_kernel_scipy(cfg)
-    ds = xr.merge([wp, obs.rename({"tol": "tol_observable"}), lyap], compat="override")
+    ds = xr.merge([wp, peer, obs.rename({"tol": "tol_observable"}), lyap], compat="override")
     hy = wp.backend.values == "heyoka"
     conv = {
         "spike_interval": loosest_converged(wp.tol.values[hy], wp.spike_interval.values[hy], cfg["rel_converged"]),
@@ -237,6 +354,10 @@ def bench(cfg: dict, scene: str = "") -> xr.Dataset:
         key = f"{row['target']:.0e}"
         ds.attrs[f"fastest_at_{key}"] = row["fastest"]
         ds.attrs[f"speedup_vs_scipy_at_{key}"] = row["speedup_vs_fastest_scipy"]
+    ds.attrs.update(peer.attrs)
+    for i, target in enumerate(peer.error_target.values):
+        for j, name in enumerate(peer.peer.values):
+            ds.attrs[f"peer_ratio_at_{target:.0e}_{name.replace(' ', '_')}"] = float(peer.peer_ratio.values[i, j])
     ds.attrs.update({f"overhead_{k}": v for k, v in overhead(cfg).items()})
     ds.attrs["wall_time_s"] = time.perf_counter() - start
     return ds
@@ -247,6 +368,9 @@ QUICK = dict(
     t_min=50.0, heyoka_tols=[1e-8, 1e-12, 2.220446049250313e-16], reference_tols=[1e-19, 1e-17],
     scipy={"DOP853": [1e-8], "RK45": [1e-6]}, atol_factor=1e-3, repeats=3, scipy_repeats=1, t_settle=100.0,
     T_lyapunov=200.0, scipy_lyapunov={"DOP853": [1e-8]}, t_rotation=100.0, rel_converged=0.01, rel_converged_lyapunov=0.05, error_targets=[1e-6, 1e-8],
+    peers=dict(rtols=[1e-6, 1e-8], scipy_methods=["DOP853"], rhs_kinds=["numpy", "heyoka"], diffrax_solvers=["Dopri8"],
+               repeats=3, warmup=1, lyapunov=dict(T_lorenz=200.0, T_sleigh=200.0, tau=1.0, repeats=1, lyapax_dt=[0.01],
+                                                  lyapax_dt_sleigh=[0.05], heyoka_tols=[1e-9])),
 )
 
 
@@ -254,7 +378,8 @@ def summary(ds: xr.Dataset) -> dict:
     """The numbers worth keeping under version control: loosest converged tolerances,
     speed ratios, overhead, and where they came from."""
     keep = {k: (float(v) if isinstance(v, (float, np.floating)) else str(v)) for k, v in ds.attrs.items()
-            if k.startswith(("loosest_converged_tol_", "fastest_at_", "speedup_vs_scipy_at_", "overhead_"))
+            if k.startswith(("loosest_converged_tol_", "fastest_at_", "speedup_vs_scipy_at_", "overhead_",
+                             "peer_ratio_at_"))
             or k in ("reference_self_difference", "t_short", "t_long", "git_commit", "created_utc")}
     return dict(sorted(keep.items()))
 

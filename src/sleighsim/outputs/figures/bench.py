@@ -12,7 +12,8 @@ def bench(sources, png, pdf) -> None:
     """Work-precision: wall time against error (short horizon) and energy drift (long), and
     the scene observables against heyoka's tolerance."""
     ds = read_dataset(sources[0])
-    fig, axes = plt.subplots(1, 4, figsize=(20, 4.8))
+    fig, axes = plt.subplots(2, 3, figsize=(19, 10))
+    axes = axes.ravel()
     keys = sorted({(b, m) for b, m in zip(ds.backend.values, ds.method.values)})
     for b, m in keys:
         sel = (ds.backend.values == b) & (ds.method.values == m)
@@ -54,5 +55,45 @@ def bench(sources, png, pdf) -> None:
     ax.set_ylabel("wall time (s)")
     ax.set_title(f"Lyapunov kernel (heyoka tightest: lambda_1 = {best:.4g})", fontsize=8)
     ax.legend(fontsize=7)
+    _peers(axes[4], ds)
+    _lyapunov_peers(axes[5], ds)
     finish(fig, ds.attrs, png, pdf)
+
+
+def _peers(ax, ds) -> None:
+    """Work-precision of every peer engine beside heyoka's bare propagation, compile times in the legend."""
+    engines = list(dict.fromkeys(ds.peer_engine.values.tolist()))
+    for name in engines:
+        sel = (ds.peer_engine.values == name) & np.isfinite(ds.peer_error.values)
+        if not sel.any():
+            continue
+        compile_s = np.nanmax(ds.peer_compile_s.values[sel]) if np.isfinite(ds.peer_compile_s.values[sel]).any() else 0
+        style = dict(color="k", lw=2.5, marker="o") if name.startswith("heyoka") else dict(marker=".", lw=1)
+        ax.loglog(ds.peer_error.values[sel], ds.peer_wall.values[sel], label=f"{name} (compile {compile_s:.2g} s)", **style)
+    missing = sorted({n for n, e in zip(ds.peer_engine.values, ds.peer_error.values) if not np.isfinite(e)})
+    for t in ds.error_target.values:
+        ax.axvline(t, color="0.85", lw=0.8, zorder=0)
+    ax.set_xlabel(f"end-state error at t = {ds.attrs['t_short']:g} (same reference and metric)")
+    ax.set_ylabel(f"wall (s), median of {ds.attrs['peer_repeats']} after {ds.attrs['peer_warmup']} warm-up")
+    ax.set_title("peers at rtol " + ", ".join(f"{r:.0e}" for r in sorted(set(ds.peer_rtol.values.tolist())))
+                 + (f"\nnot run: {', '.join(missing)}" if missing else ""), fontsize=7)
+    ax.legend(fontsize=6)
+
+
+def _lyapunov_peers(ax, ds) -> None:
+    """lambda_1 and wall time of lyapax and heyoka's Benettin on Lorenz and the sleigh."""
+    y = np.arange(ds.sizes["lyap_peer"])
+    walls = ds.lyap_peer_wall.values
+    ax.barh(y, np.where(np.isfinite(walls), walls, 0), color=["C0" if e.startswith("heyoka") else "C1"
+                                                              for e in ds.lyap_peer_engine.values])
+    labels = [f"{s}: {e}" for s, e in zip(ds.lyap_peer_system.values, ds.lyap_peer_engine.values)]
+    ax.set_yticks(y, labels, fontsize=7)
+    for k, (lam, w, c, note) in enumerate(zip(ds.lyap_peer_lambda_1.values, walls, ds.lyap_peer_compile_s.values,
+                                              ds.lyap_peer_note.values)):
+        text = f"lambda_1 = {lam:.4g}, compile {c:.2g} s" if np.isfinite(lam) else f"not run: {note[:60]}"
+        ax.text(0 if not np.isfinite(w) else w, k, " " + text, va="center", fontsize=6)
+    ax.set_xlabel("wall (s), median of the timed repeats")
+    ax.set_title(f"Lyapunov kernel: T = {ds.attrs['lyap_peer_T_lorenz']:g} (Lorenz; literature lambda_1 = "
+                 f"{ds.attrs['lorenz_lambda_1_literature']:g}), {ds.attrs['lyap_peer_T_sleigh']:g} (sleigh), "
+                 f"tau = {ds.attrs['lyap_peer_tau']:g}", fontsize=7)
 
