@@ -82,3 +82,15 @@ def test_quick_bench_holds_the_peer_comparison(tmp_path):
     assert (ran | (ds.peer_note.values != "")).all()
     assert ds.peer_ratio.shape == (len(cfg["error_targets"]), ds.sizes["peer"])
     assert ds.sizes["lyap_peer"] == 4 and np.isfinite(ds.lyap_peer_lambda_1.values[1])  # heyoka on Lorenz always runs
+
+
+def test_the_report_tables_each_peer_ratio_with_its_compile_time():
+    from sleighsim.outputs import report
+
+    ds = xr.Dataset({"peer_ratio": (("error_target", "peer"), [[12.0, np.nan]]),
+                     "peer_engine_compile_s": ("peer", [0.5, 1.25])},
+                    coords={"error_target": [1e-8], "peer": ["diffrax Dopri8", "scipy LSODA + numba rhs"]},
+                    attrs={"peer_ratio_rule": "rule", "peer_versions": "diffrax 0.7.2"})
+    _, md = report._peer_table(ds)
+    assert "| error target | diffrax Dopri8 (compile 0.5 s) | scipy LSODA + numba rhs (compile 1.2 s) |" in md
+    assert "| 1e-08 | 12x | not reached |" in md

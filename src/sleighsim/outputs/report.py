@@ -235,6 +235,10 @@ def build(rows: list[Row], *, out_dir, tex_path, labels: dict, figures: dict, da
             th, tm = _fastest_table(ds)
             h += th
             md += tm
+        for ds in (d for d in speed if "peer_ratio" in d):
+            th, tm = _peer_table(ds)
+            h += th
+            md += tm
     for i, (title, table) in enumerate(TABLES.items()):
         h.append(f"<h2 id='table{i}'>{html.escape(title)}</h2>")
         md += ["", f"## {title}", ""]
@@ -272,3 +276,22 @@ def _fastest_table(ds) -> tuple[list[str], list[str]]:
     md += ["", f"Engine overhead over a bare propagation: {a['overhead_overhead_ratio']:.2f}"]
     return h, md
 
+
+def _peer_table(ds) -> tuple[list[str], list[str]]:
+    """Each peer's fastest wall reaching each error target over heyoka's, compile times beside."""
+    peers, targets = [str(p) for p in ds.peer.values], ds.error_target.values
+    compile_s = ds.peer_engine_compile_s.values
+
+    def cell(r):
+        return f"{r:.3g}x" if np.isfinite(r) else "not reached"
+
+    head = ["error target"] + [f"{p} (compile {c:.2g} s)" for p, c in zip(peers, compile_s)]
+    rows = [[f"{t:.0e}"] + [cell(r) for r in ds.peer_ratio.values[i]] for i, t in enumerate(targets)]
+    rule = html.escape(ds.attrs["peer_ratio_rule"])
+    h = ["<h3>Speed ratio of each peer to heyoka</h3><table><tr>" + "".join(f"<th>{html.escape(c)}</th>" for c in head)
+         + "</tr>" + "".join("<tr>" + "".join(f"<td>{c}</td>" for c in row) + "</tr>" for row in rows)
+         + f"</table><p>{rule}; versions: {html.escape(ds.attrs['peer_versions'])}</p>"]
+    md = ["", "### Speed ratio of each peer to heyoka", "", "| " + " | ".join(head) + " |",
+          "|" + "---|" * len(head)] + ["| " + " | ".join(row) + " |" for row in rows]
+    md += ["", f"{ds.attrs['peer_ratio_rule']}; versions: {ds.attrs['peer_versions']}"]
+    return h, md
