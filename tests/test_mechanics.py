@@ -99,3 +99,24 @@ def test_b_is_a_length_scale_at_fixed_K2():
     rhs, v = mech.b_free_form()
     assert all(mech.b not in e.free_symbols for e in rhs)
     assert any(mech.eps in e.free_symbols for e in rhs) and v in rhs[1].free_symbols
+
+
+def test_the_derivation_is_kept_on_disk_and_a_bad_cache_file_is_derived_afresh(tmp_path, monkeypatch):
+    import pickle
+
+    monkeypatch.setenv("SLEIGHSIM_CACHE", str(tmp_path))
+    mech.derive.cache_clear()
+    try:
+        first = mech.derive()
+        path = mech.cache_file()
+        assert path.parent == tmp_path and path.exists()
+        mech.derive.cache_clear()
+        with monkeypatch.context() as m:  # a second process reads the file instead of deriving
+            m.setattr(mech, "_derive", lambda: pytest.fail("derived again although the cache holds it"))
+            assert mech.derive().rhs == first.rhs
+        path.write_bytes(b"not a pickle")
+        mech.derive.cache_clear()
+        assert mech.derive().rhs == first.rhs
+        assert pickle.loads(path.read_bytes()).rhs == first.rhs  # the bad file was replaced
+    finally:
+        mech.derive.cache_clear()

@@ -17,14 +17,20 @@ with delta = theta - beta. The projected equations are invariant under
 rotations of the plane, so they are evaluated at theta = 0 (beta = -delta);
 a test checks that invariance at random headings.
 
-Everything is cached: the derivation runs once per process (about a second,
-no blanket ``simplify``).
+Everything is cached: the derivation (about half a second of CPU, no blanket ``simplify``)
+runs once per process, and its result is kept on disk between processes (``$SLEIGHSIM_CACHE``,
+default ``~/.cache/sleighsim``), under a name made from a hash of this module's source and the
+SymPy version, so any change to the derivation derives afresh.
 """
 
 from __future__ import annotations
 
+import hashlib
+import os
+import pickle
 from dataclasses import dataclass
 from functools import lru_cache
+from pathlib import Path
 
 import sympy as sp
 
@@ -98,8 +104,37 @@ def projected_equations(theta_value=0):
     return sp.expand(projected)
 
 
+def cache_file() -> Path:
+    """Where :func:`derive` keeps its result between processes: named by a hash of this module's
+    source and the SymPy version, in ``$SLEIGHSIM_CACHE`` (default ``~/.cache/sleighsim``)."""
+    key = hashlib.sha256(Path(__file__).read_bytes() + sp.__version__.encode()).hexdigest()[:16]
+    root = os.environ.get("SLEIGHSIM_CACHE") or Path.home() / ".cache" / "sleighsim"
+    return Path(root) / f"derivation-{key}.pickle"
+
+
 @lru_cache(maxsize=None)
 def derive() -> Derivation:
+    """M(delta), f and the explicit reduced vector field: from the disk cache when it holds this
+    derivation, else derived (and stored; an unwritable cache only costs the time)."""
+    from .io import atomic_path
+
+    path = cache_file()
+    try:
+        found = pickle.loads(path.read_bytes())
+        if isinstance(found, Derivation):
+            return found
+    except Exception:  # missing, unreadable or stale: derive afresh
+        pass
+    d = _derive()
+    try:
+        with atomic_path(path) as tmp:
+            tmp.write_bytes(pickle.dumps(d))
+    except OSError:
+        pass
+    return d
+
+
+def _derive() -> Derivation:
     """Derive M(delta), f and the explicit reduced vector field."""
     # sin^2 + cos^2 = 1 is the only identity needed; no blanket simplify.
     red = sp.expand(projected_equations(0).subs(sp.sin(delta) ** 2, 1 - sp.cos(delta) ** 2))
