@@ -599,3 +599,20 @@ def test_judges_feed_decide_on_textbook_orbits(runs):
         }
         v, reason, _ = ind.decide(verdicts, TANGENT)
         assert v == want, (name, reason)
+
+
+@pytest.mark.parametrize("rates, stderrs, want, says", [
+    ([1.0e-3, 1.02e-3, 0.99e-3], [1e-5, 1e-5, 1e-5], True, "independent of d0"),
+    ([1.2e-2, 8.9e-3, 6.8e-3], [3e-4, 3e-4, 3e-4], False, "depends on d0"),  # the sleigh's main state
+    ([1.0e-3, np.nan, 1.0e-3], [1e-5, 1e-5, 1e-5], False, "not finite"),
+])
+def test_d0_independence_of_the_two_trajectory_rate(rates, stderrs, want, says):
+    ok, why = ind.d0_independent([1e-11, 1e-9, 1e-7], rates, stderrs, sigma=3.0)
+    assert ok is want and says in why
+
+
+def test_d0_independence_needs_two_separations():
+    ok, why = ind.d0_independent([1e-9], [1e-3], [1e-5])
+    assert ok is False and "not checked" in why
+    with pytest.raises(ValueError):
+        ind.d0_independent([1e-9, 1e-7], [1e-3], [1e-5])

@@ -75,3 +75,19 @@ def test_the_flow_is_reversible_under_R():
 ])
 def test_chaotic_indicators_must_agree_on_the_rate(verdict, a, b, want):
     assert consistent(verdict, "r", *a, *b, 3.0)[0] == want
+
+
+@pytest.mark.parametrize("lam, err, want", [
+    (5e-4, 2e-5, "confirmed"),  # bound 2 ln(1e4) / 1e5 = 1.8e-4
+    (4e-4, 2.3e-4, "not confirmed"),  # the sleigh's main state in long double over 5e4 (helper measurement)
+    (math.nan, 1e-5, "not confirmed"),
+])
+def test_precision_check_on_each_branch(monkeypatch, lam, err, want):
+    from sleighsim import lyapunov
+    from sleighsim.scenes import verdict
+
+    monkeypatch.setattr(lyapunov, "sleigh_tangent_long_double", lambda tol: (type("TA", (), {"pars": np.zeros(6)})(), 0))
+    monkeypatch.setattr(lyapunov, "benettin", lambda *a, **k: {"exponents": np.array([lam]), "stderr": np.array([err])})
+    cfg = dict(tau=10.0, sigma=3.0, tol_long_double=1.08e-19, T_long_double=1e5, t_align=0.0)
+    out = verdict.precision_check(Params.paper(eps=0.1), [0.0, 0.1, 1.0, 0.0], cfg, "s")
+    assert out["check"] == want and out["reason"].startswith(want)

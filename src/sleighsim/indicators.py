@@ -614,6 +614,27 @@ def judge_loschmidt(n_used, exp_rate, exp_rate_err, exp_rms, pow_exponent, pow_e
     return UNDECIDED, f"return error neither clearly exponential nor bounded by T^{_g(p_max)}; {nums}"
 
 
+def d0_independent(d0s, rates, stderrs, *, sigma=3.0):
+    """Is a two-trajectory rate a Lyapunov exponent? Only if it does not depend on the separation:
+    the rates measured at the initial separations ``d0s`` must agree pairwise within sigma combined
+    standard errors. A rate that changes with d0 is dominated by rounding noise or finite size (on
+    the sleigh, noise off the leading direction amplified by many orders at every spike). Returns
+    (True | False, reason); a non-finite rate or fewer than two d0 fail the check."""
+    d0s, rates, stderrs = (np.atleast_1d(np.asarray(v, float)) for v in (d0s, rates, stderrs))
+    if not (d0s.size == rates.size == stderrs.size):
+        raise ValueError(f"d0s, rates and stderrs differ in length ({d0s.size}, {rates.size}, {stderrs.size})")
+    listed = ", ".join(f"{_g(r)} +- {_g(e)} at d0 = {_g(d)}" for d, r, e in zip(d0s, rates, stderrs))
+    if d0s.size < 2:
+        return False, f"rate at one d0 only ({listed}): its independence of d0 is not checked"
+    if not (np.all(np.isfinite(rates)) and np.all(np.isfinite(stderrs))):
+        return False, f"a rate is not finite ({listed})"
+    i, j = np.triu_indices(rates.size, 1)
+    gap = np.abs(rates[i] - rates[j]) - sigma * np.hypot(stderrs[i], stderrs[j])
+    if np.any(gap > 0):
+        return False, f"rate depends on d0 ({listed}; sigma {_g(sigma)}): not a Lyapunov exponent"
+    return True, f"rate independent of d0 within {_g(sigma)} combined standard errors ({listed})"
+
+
 def decide(verdicts, tangent_based):
     """Combine per-indicator verdicts by ``DECISION_RULE``.
 

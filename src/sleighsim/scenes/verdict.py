@@ -102,16 +102,29 @@ def one_state(params, y0, cfg: dict, scene: str) -> dict:
     values["ftle"], errors["ftle"] = f["rate"], f["rate_err"]
     verdicts["ftle"] = indicators.judge_ftle(f["rate"], f["rate_err"], f["T"], tau, f["spread_slope"],
                                              f["spread_slope_err"], sigma=sigma)
+    ld = {"lambda_1": math.nan, "stderr": math.nan, "check": "not run"}
+    if any(verdicts[k][0] == indicators.CHAOTIC for k in TANGENT_BASED):
+        ld = precision_check(params, replicas[0], cfg, scene)
+        if ld["check"] != "confirmed":
+            for k in TANGENT_BASED:
+                if verdicts[k][0] == indicators.CHAOTIC:
+                    verdicts[k] = (indicators.UNDECIDED, f"{ld['reason']}; in double precision: {verdicts[k][1]}")
     flow, _ = integrators.flow(False, tol)
     flow.pars[:] = params.values
     y_int = replicas[-1].copy()
     y_int[3] = (y_int[3] + integrators.DELTA_SHIFT) % (2 * math.pi)
-    tt = indicators.two_trajectory(flow, y_int, d0=cfg["d0"], tau=tau, T=cfg["T_two"], t_align=cfg["t_align"],
-                                   callback=integrators.bounded(flow), difference=model.state_difference,
-                                   project=lambda ref, p: _on_level(ref, p, params))
+    tts = [indicators.two_trajectory(flow, y_int, d0=d0, tau=tau, T=cfg["T_two"], t_align=cfg["t_align"],
+                                     callback=integrators.bounded(flow), difference=model.state_difference,
+                                     project=lambda ref, p: _on_level(ref, p, params)) for d0 in cfg["d0"]]
+    tt = tts[len(tts) // 2]
     values["two_trajectory"], errors["two_trajectory"] = tt["rate"], tt["stderr"]
     verdicts["two_trajectory"] = indicators.judge_two_trajectory(tt["rate"], tt["stderr"], tt["T"], tau,
                                                                  tt["running_slope"], tt["running_slope_err"], sigma=sigma)
+    independent, why = indicators.d0_independent(cfg["d0"], [t["rate"] for t in tts], [t["stderr"] for t in tts],
+                                                  sigma=sigma)
+    if not independent:
+        v, r = verdicts["two_trajectory"]
+        verdicts["two_trajectory"] = (indicators.UNDECIDED, f"{why}; at d0 = {tt['d0']:g} alone: {v}: {r}")
     verdict, reason, _ = indicators.decide(verdicts, TANGENT_BASED)
     verdict, reason = consistent(verdict, reason, values["benettin"], errors["benettin"], values["two_trajectory"],
                                  errors["two_trajectory"], sigma)
@@ -122,10 +135,33 @@ def one_state(params, y0, cfg: dict, scene: str) -> dict:
     lam = res["exponents"]
     klass = classify(verdict, s, s_err, float(lam[0]), float(lam[3]), image, sigma)
     return dict(verdict=verdict, reason=reason, klass=klass, values=values, errors=errors, verdicts=verdicts,
+                two_rates=[t["rate"] for t in tts], two_stderrs=[t["stderr"] for t in tts],
+                ld_lambda_1=ld["lambda_1"], ld_stderr=ld["stderr"], ld_check=ld["check"],
                 exponents=lam, stderr=res["stderr"], T=float(res["T"]), status=res["status"], sum_all=s, sum_err=s_err,
                 r_image=image, r_image_distance=image_dist, mean_u=float(mean_u_omega[0]),
                 mean_omega=float(mean_u_omega[1]), transient_over=int(pre["transient_over"]), T_two=float(tt["T"]),
                 drift=float(abs(model.energy(integrators.read(flow, 4), params) / model.energy(y0, params) - 1)))
+
+
+def precision_check(params, y, cfg: dict, scene: str) -> dict:
+    """lambda_1 of one replica (from y, model variables) in long double over T_long_double: a
+    tangent-based chaotic verdict stands only if this run, too, resolves lambda_1 above the rate
+    polynomial growth can fake (lambda_1 - sigma stderr > 2 ln(T / tau) / T; block standard error).
+    On the sleigh, rounding noise off the leading direction is amplified by many orders at every
+    spike, which inflates double-precision exponents. Returns lambda_1, stderr, check
+    ("confirmed" | "not confirmed") and the reason."""
+    tau, sigma = cfg["tau"], cfg["sigma"]
+    ta, _ = lyapunov.sleigh_tangent_long_double(cfg["tol_long_double"])
+    ta.pars[:] = np.array(params.values, dtype=np.longdouble)
+    r = lyapunov.benettin(ta, 4, 1, y, t_align=cfg["t_align"], T=cfg["T_long_double"], tau=tau,
+                          label=f"{scene}.long_double")
+    lam, err = float(r["exponents"][0]), float(r["stderr"][0])
+    bound = indicators.polynomial_rate_bound(cfg["T_long_double"], tau)
+    ok = math.isfinite(lam) and math.isfinite(err) and lam - sigma * err > bound
+    text = (f"long double (tol {cfg['tol_long_double']:.2g}): lambda_1 = {lam:.3g} +- {err:.2g} over T = "
+            f"{cfg['T_long_double']:.3g}, bound {bound:.2g}")
+    return {"lambda_1": lam, "stderr": err, "check": "confirmed" if ok else "not confirmed",
+            "reason": ("confirmed in " if ok else "not confirmed in ") + text}
 
 
 def _on_level(ref, partner, params):
@@ -177,17 +213,26 @@ def verdict(cfg: dict, scene: str = "") -> xr.Dataset:
             "transient_over": ("state", per_state("transient_over")),
             "T": ("state", per_state("T"), {"long_name": "Benettin horizon per replica", "units": "time"}),
             "energy_max_rel_drift": ("state", per_state("drift")),
+            "two_trajectory_rate": (("state", "d0"), per_state("two_rates"), {"units": "1/time"}),
+            "two_trajectory_stderr": (("state", "d0"), per_state("two_stderrs"), {"units": "1/time"}),
+            "lambda_1_long_double": ("state", per_state("ld_lambda_1"), {"units": "1/time"}),
+            "lambda_1_long_double_stderr": ("state", per_state("ld_stderr"), {"units": "1/time"}),
+            "precision_check": ("state", per_state("ld_check").astype(object)),
         },
-        coords={"state": names, "indicator": ind, "i": np.arange(1, 5),
+        coords={"state": names, "indicator": ind, "i": np.arange(1, 5), "d0": np.asarray(cfg["d0"], float),
                 "tangent_based": ("indicator", [int(i in TANGENT_BASED) for i in ind])},
     )
     ds.attrs.update(
         rule=indicators.DECISION_RULE + "; then " + " ".join(consistent.__doc__.split()), class_rule=" ".join(classify.__doc__.split()),
+        precision_rule=" ".join(precision_check.__doc__.split()),
+        d0_rule=" ".join(indicators.d0_independent.__doc__.split()), T_long_double=cfg["T_long_double"],
+        tol_long_double=cfg["tol_long_double"],
         benettin_rule=" ".join(judge_benettin.__doc__.split()), R_rule=" ".join(r_image.__doc__.split()),
         uncertainty="Benettin: standard error over independent replicas along the settled orbit; FTLE: window "
-                    "standard error; two-trajectory: consecutive blocks",
+                    "standard error; two-trajectory: consecutive blocks (value at the middle d0); long double: "
+                    "consecutive blocks of one replica",
         param_eps=params.eps, param_b=params.b, param_K2=params.K2, energy_label=cfg["energy_label"], tol=cfg["tol"],
-        tau=cfg["tau"], replicas=cfg["replicas"], replica_spacing=cfg["replica_spacing"], d0=cfg["d0"],
+        tau=cfg["tau"], replicas=cfg["replicas"], replica_spacing=cfg["replica_spacing"],
         T_two=cfg["T_two"], T_R=cfg["T_R"], backend="heyoka", wall_time_s=time.perf_counter() - start,
         transient_over=int(np.all(per_state("transient_over") == 1)),
     )
