@@ -131,6 +131,15 @@ def chaos(sources, png, pdf) -> None:
         for j, name in enumerate(ind):
             c = VERDICT_COLOURS.get(str(ds.indicator_verdict.values[k, j]), "k")
             ax.errorbar(j, v[j], yerr=3 * e[j] if np.isfinite(e[j]) else None, fmt="o", color=c, capsize=4)
+            if name == "benettin" and np.isfinite(ds.lambda_1_long_double.values[k]):
+                ax.errorbar(j + 0.25, ds.lambda_1_long_double.values[k], yerr=3 * ds.lambda_1_long_double_stderr.values[k],
+                            fmt="D", color="k", mfc="w", capsize=3, label="one replica in long double")
+            if name == "two_trajectory":
+                for d0, r, re in zip(ds.d0.values, ds.two_trajectory_rate.values[k], ds.two_trajectory_stderr.values[k]):
+                    ax.errorbar(j + 0.25, r, yerr=3 * re, fmt="_", color="0.3", capsize=2)
+                    ax.annotate(f"d0 {d0:.0e}", (j + 0.3, r), fontsize=5, va="center")
+        if np.isfinite(ds.lambda_1_long_double.values[k]):
+            ax.legend(fontsize=6, loc="upper left")
         ax.axhline(0, color="k", lw=0.6)
         ax.set_xticks(range(len(ind)))
         ax.set_xticklabels([f"{n}{' (t)' if t else ''}" for n, t in zip(ind, ds.tangent_based.values)], fontsize=7,
@@ -138,7 +147,8 @@ def chaos(sources, png, pdf) -> None:
         ax.set_title(f"{st}: {ds.verdict.values[k]}\n{ds.state_class.values[k]}; sum of exponents "
                      f"{ds.sum_exponents.values[k]:.2g} +- {ds.sum_exponents_stderr.values[k]:.1g}", fontsize=8)
     axes[0][0].set_ylabel("rate (1/time), bars: 3 standard errors")
-    fig.suptitle("indicator verdicts: red chaotic, blue regular, grey undecided; (t) tangent-based", fontsize=8)
+    fig.suptitle("indicator verdicts: red chaotic, blue regular, grey undecided; (t) tangent-based; the two-trajectory "
+                 "rate at each d0 beside it (it must not depend on d0)", fontsize=8)
     finish(fig, ds.attrs, png, pdf)
 
 
