@@ -43,6 +43,14 @@ def test_fractions_with_wilson_intervals_and_mirrored_share():
     assert f["mirrored"].tolist() == [0.5, 0.5]
 
 
+def test_a_reference_state_no_run_reached_is_listed_with_its_upper_bound():
+    f = basins.fractions(np.array(["main"] * 200, dtype=object), np.ones(200), always=["main", "rotor_a"])
+    assert f["group"] == ["main", "rotor_a"] and f["count"].tolist() == [200, 0]
+    # Wilson 95% for 0 of 200: [0, 0.0188]
+    assert f["ci_low"][1] == pytest.approx(0.0, abs=1e-12) and f["ci_high"][1] == pytest.approx(0.0188, abs=2e-4)
+    assert np.isnan(f["mirrored"][1])
+
+
 def test_unsettled_is_listed_last_whatever_its_count():
     f = basins.fractions(np.array([basins.UNSETTLED] * 5 + ["main"] * 2, dtype=object), np.ones(7))
     assert f["group"] == ["main", basins.UNSETTLED]

@@ -17,6 +17,7 @@ their state's group; their share is reported per group.
 from __future__ import annotations
 
 import logging
+import math
 import time
 
 import numpy as np
@@ -113,11 +114,13 @@ def classify(ref_names, ref_intervals, ref_ok, intervals, settled, has_interval,
                      for s, h, n in zip(settled, has_interval, named)], dtype=object)
 
 
-def fractions(groups, omega_sign, confidence: float = 0.95) -> dict:
+def fractions(groups, omega_sign, confidence: float = 0.95, always=()) -> dict:
     """Per group: count, fraction, its Wilson interval at ``confidence`` (binomial, the samples
-    independent by construction) and the share of mirror images (mean omega < 0)."""
+    independent by construction) and the share of mirror images (mean omega < 0; NaN for an empty
+    group). The groups named in ``always`` (the reference states) are listed even when no run
+    reached them: their interval then bounds the basin from above."""
     groups, n = np.asarray(groups, dtype=object), len(groups)
-    names = sorted(set(groups), key=lambda g: (g in (UNSETTLED, NO_INTERVAL), -np.sum(groups == g), g))
+    names = sorted(set(groups) | set(always), key=lambda g: (g in (UNSETTLED, NO_INTERVAL), -np.sum(groups == g), g))
     out = {k: [] for k in ("count", "fraction", "ci_low", "ci_high", "mirrored")}
     for g in names:
         sel = groups == g
@@ -127,7 +130,7 @@ def fractions(groups, omega_sign, confidence: float = 0.95) -> dict:
         out["fraction"].append(k / n)
         out["ci_low"].append(ci.low)
         out["ci_high"].append(ci.high)
-        out["mirrored"].append(float(np.mean(np.asarray(omega_sign)[sel] < 0)))
+        out["mirrored"].append(float(np.mean(np.asarray(omega_sign)[sel] < 0)) if k else math.nan)
     return {"group": names, **{k: np.array(v, float) for k, v in out.items()}}
 
 
@@ -143,7 +146,8 @@ def gather(paths, cfg: dict, scene: str = "") -> xr.Dataset:
     ref_ok = (refs.reference_settled.values == 1) & (refs.reference_n_spikes.values >= cfg["min_spikes"])
     groups = classify(refs.reference.values.tolist(), refs.reference_interval.values, ref_ok, runs.interval.values,
                       runs.settled.values == 1, runs.n_spikes.values >= cfg["min_spikes"], cfg["group_rel_tol"])
-    f = fractions(groups, runs.omega_sign.values, cfg["confidence"])
+    f = fractions(groups, runs.omega_sign.values, cfg["confidence"],
+                  always=[r for r, o in zip(refs.reference.values.tolist(), ref_ok) if o])
     ds = xr.merge([runs, refs])
     ds["group_of"] = ("sample", groups.astype(str))
     ds = ds.assign_coords(group=f["group"])
