@@ -77,7 +77,7 @@ def test_quick_bench_holds_the_peer_comparison(tmp_path):
     cfg = dict(bench.QUICK, heyoka_tols=[1e-8, 1e-12], scipy={"DOP853": [1e-8]}, T_lyapunov=100.0, t_long=200.0)
     ds = bench.bench(cfg)
     heyoka = ds.peer_engine.values == "heyoka taylor"
-    assert heyoka.sum() == len(cfg["peers"]["rtols"]) and np.isfinite(ds.peer_error.values[heyoka]).all()
+    assert heyoka.sum() == len(cfg["heyoka_tols"]) and np.isfinite(ds.peer_error.values[heyoka]).all()
     ran = np.isfinite(ds.peer_error.values)
     assert (ran | (ds.peer_note.values != "")).all()
     assert ds.peer_ratio.shape == (len(cfg["error_targets"]), ds.sizes["peer"])
