@@ -153,7 +153,8 @@ def basins(sources, png, pdf) -> None:
     ax.bar(x, f, color=[f"C{i}" for i in x], alpha=0.7)
     ax.errorbar(x, f, yerr=[f - ds.ci_low.values, ds.ci_high.values - f], fmt="none", ecolor="k", capsize=4)
     for i, (c, m) in enumerate(zip(ds["count"].values, ds.mirrored.values)):
-        ax.text(i, ds.ci_high.values[i] + 0.01, f"{c:.0f}\n({100 * m:.0f}% mirrored)", ha="center", va="bottom", fontsize=7)
+        text = f"{c:.0f}\n({100 * m:.0f}% mirrored)" if np.isfinite(m) else f"{c:.0f}"
+        ax.text(i, ds.ci_high.values[i] + 0.01, text, ha="center", va="bottom", fontsize=7)
     ax.set_xticks(x, groups, rotation=20)
     ax.set_ylim(0, 1.12)
     ax.set_ylabel(f"fraction of {ds.attrs['n_samples']} samples ({100 * ds.attrs['confidence']:.0f}% Wilson interval)")
