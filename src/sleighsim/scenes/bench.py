@@ -312,14 +312,11 @@ def lyapunov_peers(cfg: dict, params) -> xr.Dataset:
 def overhead(cfg: dict) -> dict:
     """Wall time of integrate() (sampling, energy check, Dataset) over a bare propagation, F3 scene."""
     params = Params.from_config(cfg["params"])
-    ta, _ = integrators.flow(False, 2.0**-52)
+    run, _ = heyoka_end_state(params, cfg["y0"], cfg["t_long"], 2.0**-52)
     bare = []
     for _ in range(cfg["repeats"]):
-        ta.time = 0.0
-        integrators.load(ta, cfg["y0"])
-        ta.pars[:] = params.values
         t0 = time.perf_counter()
-        ta.propagate_until(float(cfg["t_long"]), callback=integrators.bounded(ta))
+        run()
         bare.append(time.perf_counter() - t0)
     full = []
     for _ in range(cfg["repeats"]):
