@@ -67,14 +67,19 @@ def test_the_flow_is_reversible_under_R():
     assert np.max(np.abs(model.state_difference(R * np.array([back[v].values[-1] for v in model.STATE_NAMES]), y0))) < 1e-9
 
 
-@pytest.mark.parametrize("verdict, a, b, want", [
-    (C, (7.3e-4, 5.6e-5), (8.5e-3, 3.2e-4), U),   # chaotic by both, rates 11x apart: not trusted
-    (C, (7.3e-4, 5.6e-5), (8.0e-4, 9.0e-5), C),   # consistent rates
-    (C, (7.3e-4, 1e-6), (9.0e-4, 1e-6), C),       # resolved apart but within a factor 2
-    (G, (7.3e-4, 5.6e-5), (8.5e-3, 3.2e-4), G),   # only a chaotic verdict is checked
+@pytest.mark.parametrize("verdict, a, others, want", [
+    (C, (7.3e-4, 5.6e-5), {"two_trajectory": (8.5e-3, 3.2e-4)}, U),   # chaotic by both, rates 11x apart
+    (C, (7.3e-4, 5.6e-5), {"two_trajectory": (8.0e-4, 9.0e-5)}, C),   # consistent rates
+    (C, (7.3e-4, 1e-6), {"two_trajectory": (9.0e-4, 1e-6)}, C),       # resolved apart but within a factor 2
+    (C, (7.3e-4, 5.6e-5), {"two_trajectory": (8.0e-4, 9.0e-5), "loschmidt": (5.9e-3, 1e-4)}, U),  # one of two off
+    (C, (7.3e-4, 5.6e-5), {}, C),                                      # nothing to compare with
+    (G, (7.3e-4, 5.6e-5), {"two_trajectory": (8.5e-3, 3.2e-4)}, G),   # only a chaotic verdict is checked
 ])
-def test_chaotic_indicators_must_agree_on_the_rate(verdict, a, b, want):
-    assert consistent(verdict, "r", *a, *b, 3.0)[0] == want
+def test_chaotic_indicators_must_agree_on_the_rate(verdict, a, others, want):
+    out = consistent(verdict, "r", *a, others, 3.0)
+    assert out[0] == want
+    if want == U:
+        assert "disagree on the rate" in out[1]
 
 
 @pytest.mark.parametrize("lam, err, want", [

@@ -71,6 +71,19 @@ def sleigh_tangent_long_double(tol: float):
     return integrators.compiled(("tangent_long_double", tol), build)
 
 
+def sleigh_megno(tol: float):
+    """The sleigh, one tangent vector and the MEGNO quadratures (``indicators.megno_integrator``,
+    compact mode), compiled once per process. Returns (ta, compile_s)."""
+    from . import indicators, model
+    from .params import Params
+
+    def build():
+        return indicators.megno_integrator(model.heyoka_system(delta_shift=integrators.DELTA_SHIFT),
+                                           pars=Params.paper(eps=0.1).values, tol=tol)[0]
+
+    return integrators.compiled(("megno", tol), build)
+
+
 def sleigh_tangent_batch(batch_size: int, tol: float, compact: bool, k: int = 1):
     """The sleigh plus k tangent vectors in ``batch_size`` SIMD lanes, compiled once per process.
     Returns (ta, compile_s)."""

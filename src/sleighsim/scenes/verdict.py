@@ -18,8 +18,8 @@ from ..transient import settle
 
 log = logging.getLogger("sleighsim")
 
-INDICATORS = ("benettin", "ftle", "two_trajectory")
-TANGENT_BASED = ("benettin", "ftle")
+INDICATORS = ("benettin", "ftle", "megno", "two_trajectory", "loschmidt")
+TANGENT_BASED = ("benettin", "ftle", "megno")
 R = np.array([-1.0, -1.0, -1.0, 1.0])  # the reversing involution: (u, Omega, omega, delta) -> (-u, -Omega, -omega, delta)
 
 
@@ -39,17 +39,18 @@ def judge_benettin(res: dict, tau: float, sigma: float) -> tuple[str, str]:
     return indicators.UNDECIDED, "neither resolved: " + text
 
 
-def consistent(verdict: str, reason: str, rate_a: float, err_a: float, rate_b: float, err_b: float,
-               sigma: float) -> tuple[str, str]:
+def consistent(verdict: str, reason: str, rate_a: float, err_a: float, others: dict, sigma: float) -> tuple[str, str]:
     """Indicators that agree on "chaotic" must also agree on the rate: when the tangent-based lambda_1
-    (a) and the rate of two nearby orbits (b) differ by more than sigma combined standard errors and
-    by more than a factor 2, the verdict is "undecided" (one of them is biased)."""
+    (a) and the rate of an indicator without tangent dynamics that says chaotic (others: name ->
+    (rate, stderr)) differ by more than sigma combined standard errors and by more than a factor 2,
+    the verdict is "undecided" (one of them is biased)."""
     if verdict != indicators.CHAOTIC:
         return verdict, reason
-    gap = abs(rate_a - rate_b)
-    if gap > sigma * math.hypot(err_a, err_b) and max(rate_a, rate_b) > 2 * min(rate_a, rate_b):
-        return indicators.UNDECIDED, (f"the indicators say chaotic but disagree on the rate: lambda_1 = {rate_a:.3g} +- "
-                                      f"{err_a:.2g} against {rate_b:.3g} +- {err_b:.2g} from two nearby orbits; {reason}")
+    for name, (rate_b, err_b) in others.items():
+        gap = abs(rate_a - rate_b)
+        if gap > sigma * math.hypot(err_a, err_b) and max(rate_a, rate_b) > 2 * min(rate_a, rate_b):
+            return indicators.UNDECIDED, (f"the indicators say chaotic but disagree on the rate: lambda_1 = {rate_a:.3g} "
+                                          f"+- {err_a:.2g} against {rate_b:.3g} +- {err_b:.2g} from {name}; {reason}")
     return verdict, reason
 
 
@@ -102,6 +103,12 @@ def one_state(params, y0, cfg: dict, scene: str) -> dict:
     values["ftle"], errors["ftle"] = f["rate"], f["rate_err"]
     verdicts["ftle"] = indicators.judge_ftle(f["rate"], f["rate_err"], f["T"], tau, f["spread_slope"],
                                              f["spread_slope_err"], sigma=sigma)
+    y_int = replicas[0].copy()
+    y_int[3] = (y_int[3] + integrators.DELTA_SHIFT) % (2 * math.pi)
+    m = megno_run(params, y_int, cfg)
+    values["megno"], errors["megno"] = 2 * m["slope"], 2 * m["slope_err"]
+    verdicts["megno"] = indicators.judge_megno(m["final"], m["resid"], m["slope"], m["slope_err"], cfg["T_megno"],
+                                               sigma=sigma)
     ld = {"lambda_1": math.nan, "stderr": math.nan, "check": "not run"}
     if any(verdicts[k][0] == indicators.CHAOTIC for k in TANGENT_BASED):
         ld = precision_check(params, replicas[0], cfg, scene)
@@ -111,6 +118,13 @@ def one_state(params, y0, cfg: dict, scene: str) -> dict:
                     verdicts[k] = (indicators.UNDECIDED, f"{ld['reason']}; in double precision: {verdicts[k][1]}")
     flow, _ = integrators.flow(False, tol)
     flow.pars[:] = params.values
+    L = indicators.loschmidt(flow, y_int, np.geomspace(*cfg["loschmidt_T"], cfg["loschmidt_n"]), lambda z: R * z,
+                             callback=integrators.bounded(flow), difference=model.state_difference,
+                             scale=float(np.max(np.abs(replicas[0][:3]))))
+    values["loschmidt"], errors["loschmidt"] = L["exp_rate"], L["exp_rate_err"]
+    verdicts["loschmidt"] = indicators.judge_loschmidt(L["n_used"], L["exp_rate"], L["exp_rate_err"], L["exp_rms"],
+                                                       L["pow_exponent"], L["pow_exponent_err"], L["pow_rms"],
+                                                       sigma=sigma)
     y_int = replicas[-1].copy()
     y_int[3] = (y_int[3] + integrators.DELTA_SHIFT) % (2 * math.pi)
     tts = [indicators.two_trajectory(flow, y_int, d0=d0, tau=tau, T=cfg["T_two"], t_align=cfg["t_align"],
@@ -126,8 +140,9 @@ def one_state(params, y0, cfg: dict, scene: str) -> dict:
         v, r = verdicts["two_trajectory"]
         verdicts["two_trajectory"] = (indicators.UNDECIDED, f"{why}; at d0 = {tt['d0']:g} alone: {v}: {r}")
     verdict, reason, _ = indicators.decide(verdicts, TANGENT_BASED)
-    verdict, reason = consistent(verdict, reason, values["benettin"], errors["benettin"], values["two_trajectory"],
-                                 errors["two_trajectory"], sigma)
+    others = {k: (values[k], errors[k]) for k in INDICATORS
+              if k not in TANGENT_BASED and verdicts[k][0] == indicators.CHAOTIC}
+    verdict, reason = consistent(verdict, reason, values["benettin"], errors["benettin"], others, sigma)
     per = res["per_replica"]
     sums = per.sum(axis=1)
     s, s_err = float(sums.mean()), float(sums.std(ddof=1) / math.sqrt(B))
@@ -136,11 +151,22 @@ def one_state(params, y0, cfg: dict, scene: str) -> dict:
     klass = classify(verdict, s, s_err, float(lam[0]), float(lam[3]), image, sigma)
     return dict(verdict=verdict, reason=reason, klass=klass, values=values, errors=errors, verdicts=verdicts,
                 two_rates=[t["rate"] for t in tts], two_stderrs=[t["stderr"] for t in tts],
-                ld_lambda_1=ld["lambda_1"], ld_stderr=ld["stderr"], ld_check=ld["check"],
+                megno_t=m["t"], megno_Y_mean=m["Y_mean"], megno_final=m["final"], loschmidt_T=L["T"],
+                loschmidt_error=L["rel_error"], loschmidt_power=L["pow_exponent"],
+                loschmidt_power_err=L["pow_exponent_err"], ld_lambda_1=ld["lambda_1"], ld_stderr=ld["stderr"], ld_check=ld["check"],
                 exponents=lam, stderr=res["stderr"], T=float(res["T"]), status=res["status"], sum_all=s, sum_err=s_err,
                 r_image=image, r_image_distance=image_dist, mean_u=float(mean_u_omega[0]),
                 mean_omega=float(mean_u_omega[1]), transient_over=int(pre["transient_over"]), T_two=float(tt["T"]),
                 drift=float(abs(model.energy(integrators.read(flow, 4), params) / model.energy(y0, params) - 1)))
+
+
+def megno_run(params, y, cfg: dict) -> dict:
+    """MEGNO from y (integrator variables) over T_megno, renormalised every tau, <Y> recorded at
+    megno_samples times (``indicators.megno``)."""
+    ta, _ = lyapunov.sleigh_megno(cfg["tol"])
+    ta.pars[:] = params.values
+    return indicators.megno(ta, 4, y, T=cfg["T_megno"], n_samples=cfg["megno_samples"], tau=cfg["tau"],
+                            callback=integrators.bounded(ta))
 
 
 def precision_check(params, y, cfg: dict, scene: str) -> dict:
@@ -176,7 +202,8 @@ def _on_level(ref, partner, params):
 def verdict(cfg: dict, scene: str = "") -> xr.Dataset:
     """The chaos verdict per steady state of cfg["states"] (name -> start state, scaled to the
     energy label): indicators (Benettin over independent replicas, the finite-time-exponent
-    spread, two nearby orbits without tangent dynamics), combined by indicators.DECISION_RULE;
+    spread, MEGNO; two nearby orbits and the Loschmidt return error without tangent dynamics),
+    combined by indicators.DECISION_RULE;
     the sum of exponents over replicas and the R-image test give the class."""
     start = time.perf_counter()
     params = Params.from_config(cfg["params"])
@@ -215,11 +242,21 @@ def verdict(cfg: dict, scene: str = "") -> xr.Dataset:
             "energy_max_rel_drift": ("state", per_state("drift")),
             "two_trajectory_rate": (("state", "d0"), per_state("two_rates"), {"units": "1/time"}),
             "two_trajectory_stderr": (("state", "d0"), per_state("two_stderrs"), {"units": "1/time"}),
+            "megno_Y_mean": (("state", "megno_sample"), per_state("megno_Y_mean"),
+                             {"long_name": "MEGNO running mean <Y> (2: torus with shear, 0: periodic, ~lambda t / 2: chaos)"}),
+            "megno_t": (("state", "megno_sample"), per_state("megno_t"), {"units": "time"}),
+            "megno_final": ("state", per_state("megno_final")),
+            "loschmidt_rel_error": (("state", "T_loschmidt"), per_state("loschmidt_error"),
+                                    {"long_name": "return error (forward T, R, forward T) / max |velocity|"}),
+            "loschmidt_power": ("state", per_state("loschmidt_power"),
+                                {"long_name": "exponent p of the power fit error ~ T^p"}),
+            "loschmidt_power_stderr": ("state", per_state("loschmidt_power_err")),
             "lambda_1_long_double": ("state", per_state("ld_lambda_1"), {"units": "1/time"}),
             "lambda_1_long_double_stderr": ("state", per_state("ld_stderr"), {"units": "1/time"}),
             "precision_check": ("state", per_state("ld_check").astype(object)),
         },
         coords={"state": names, "indicator": ind, "i": np.arange(1, 5), "d0": np.asarray(cfg["d0"], float),
+                "T_loschmidt": np.geomspace(*cfg["loschmidt_T"], cfg["loschmidt_n"]),
                 "tangent_based": ("indicator", [int(i in TANGENT_BASED) for i in ind])},
     )
     ds.attrs.update(
@@ -229,8 +266,13 @@ def verdict(cfg: dict, scene: str = "") -> xr.Dataset:
         tol_long_double=cfg["tol_long_double"],
         benettin_rule=" ".join(judge_benettin.__doc__.split()), R_rule=" ".join(r_image.__doc__.split()),
         uncertainty="Benettin: standard error over independent replicas along the settled orbit; FTLE: window "
-                    "standard error; two-trajectory: consecutive blocks (value at the middle d0); long double: "
-                    "consecutive blocks of one replica",
+                    "standard error; MEGNO: 2 x (slope of <Y> over the second half, least-squares error, "
+                    "correlated residuals: understated); two-trajectory: consecutive blocks (value at the middle d0); "
+                    "Loschmidt: least-squares error of the exponential fit; long double: consecutive blocks of one "
+                    "replica",
+        megno_rule=" ".join(indicators.judge_megno.__doc__.split()),
+        loschmidt_rule=" ".join(indicators.judge_loschmidt.__doc__.split()), T_megno=cfg["T_megno"],
+        loschmidt_T=list(cfg["loschmidt_T"]), loschmidt_n=cfg["loschmidt_n"],
         param_eps=params.eps, param_b=params.b, param_K2=params.K2, energy_label=cfg["energy_label"], tol=cfg["tol"],
         tau=cfg["tau"], replicas=cfg["replicas"], replica_spacing=cfg["replica_spacing"],
         T_two=cfg["T_two"], T_R=cfg["T_R"], backend="heyoka", wall_time_s=time.perf_counter() - start,

@@ -122,11 +122,14 @@ VERDICT_COLOURS = {"chaotic": "tab:red", "regular": "tab:blue", "undecided": "0.
 
 def chaos(sources, png, pdf) -> None:
     """Per steady state: each indicator's rate with its uncertainty (colour: the indicator's verdict),
-    the verdict and the class."""
+    the verdict and the class; below, MEGNO's running mean <Y>(t) and the Loschmidt return error
+    against T for every state."""
     (ds,) = (read_dataset(s) for s in sources)
     states, ind = list(ds.state.values), list(ds.indicator.values)
-    fig, axes = plt.subplots(1, len(states), figsize=(4.2 * len(states), 4), squeeze=False, sharey=True)
-    for k, (ax, st) in enumerate(zip(axes[0], states)):
+    fig = plt.figure(figsize=(4.2 * max(len(states), 2), 7.5))
+    grid = fig.add_gridspec(2, len(states) * 2, height_ratios=(1.2, 1), hspace=0.45)
+    axes = [fig.add_subplot(grid[0, 2 * k:2 * k + 2]) for k in range(len(states))]
+    for k, (ax, st) in enumerate(zip(axes, states)):
         v, e = ds.indicator_value.values[k], ds.indicator_uncertainty.values[k]
         for j, name in enumerate(ind):
             c = VERDICT_COLOURS.get(str(ds.indicator_verdict.values[k, j]), "k")
@@ -142,11 +145,25 @@ def chaos(sources, png, pdf) -> None:
             ax.legend(fontsize=6, loc="upper left")
         ax.axhline(0, color="k", lw=0.6)
         ax.set_xticks(range(len(ind)))
-        ax.set_xticklabels([f"{n}{' (t)' if t else ''}" for n, t in zip(ind, ds.tangent_based.values)], fontsize=7,
-                           rotation=15)
+        ax.set_xticklabels([f"{n}{' (t)' if t else ''}" for n, t in zip(ind, ds.tangent_based.values)], fontsize=6,
+                           rotation=25)
         ax.set_title(f"{st}: {ds.verdict.values[k]}\n{ds.state_class.values[k]}; sum of exponents "
                      f"{ds.sum_exponents.values[k]:.2g} +- {ds.sum_exponents_stderr.values[k]:.1g}", fontsize=8)
-    axes[0][0].set_ylabel("rate (1/time), bars: 3 standard errors")
+    axes[0].set_ylabel("rate (1/time), bars: 3 standard errors")
+    half = len(states)
+    mx = fig.add_subplot(grid[1, :half])
+    lx = fig.add_subplot(grid[1, half:])
+    for k, st in enumerate(states):
+        mx.plot(ds.megno_t.values[k], ds.megno_Y_mean.values[k], label=f"{st}: {ds.indicator_verdict.values[k, ind.index('megno')]}")
+        lx.loglog(ds.T_loschmidt.values, ds.loschmidt_rel_error.values[k], "o-", ms=3,
+                  label=f"{st}: ~T^{ds.loschmidt_power.values[k]:.2g}, {ds.indicator_verdict.values[k, ind.index('loschmidt')]}")
+    mx.axhline(2.0, color="0.5", lw=0.8, ls="--")
+    mx.set_xlabel("t")
+    mx.set_ylabel("MEGNO <Y>  (2: torus, grows ~ lambda t / 2: chaos)")
+    mx.legend(fontsize=6)
+    lx.set_xlabel("T (forward T, apply R, forward T)")
+    lx.set_ylabel("Loschmidt return error (relative)")
+    lx.legend(fontsize=6)
     fig.suptitle("indicator verdicts: red chaotic, blue regular, grey undecided; (t) tangent-based; the two-trajectory "
                  "rate at each d0 beside it (it must not depend on d0)", fontsize=8)
     finish(fig, ds.attrs, png, pdf)
