@@ -50,6 +50,7 @@ KINDS: dict[str, Kind] = {
     "formal_exponents": Kind("exponents:formal_exponents"),
     "lyapunov_grid": Kind("grid:chunk", chunked=True),
     "chaos_verdict": Kind("verdict:verdict"),
+    "drift_windows": Kind("drift:drift_windows"),
     "basins": Kind("basins:chunk", chunked=True),
     "printed_model": Kind("audit:printed_model"),
     "k2_sweep": Kind("causes:k2_sweep"),
@@ -102,12 +103,14 @@ FIGURES: dict[str, Figure] = {
     "regimes": Figure(("regimes",), title="Regime diagram: lambda_1, spike interval and P_2pi rotation number "
                                          "against eps (C27)"),
     "basins": Figure(("basins",), title="Basin fractions on the energy level (C06 made quantitative)"),
+    "drift": Figure(("main_drift",), title="Does the main state's slow drift end? Spike interval and lambda_1 per "
+                                          "window"),
     "audit": Figure(("audit",), title="The model as printed: energy drift of the printed udot"),
     "bench": Figure(("bench",), title="Speed against error"),
 }
 
 #: The atlas (on request: snakemake -c2 atlas): the figures of the large chaos surveys.
-ATLAS = ("regimes", "basins")
+ATLAS = ("regimes", "basins", "drift")
 
 
 @dataclass(frozen=True)

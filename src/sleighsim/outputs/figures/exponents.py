@@ -201,3 +201,29 @@ def regimes(sources, png, pdf) -> None:
     cx.set_xlabel(r"$\epsilon$")
     cx.legend(fontsize=7, loc="upper left")
     finish(fig, ds.attrs, png, pdf)
+
+
+def drift(sources, png, pdf) -> None:
+    """The long run in windows: spike interval (+- sd) and lambda_1 per window against time, each with
+    its straight-line trend over the last part of the run and the trend verdict."""
+    ds = read_dataset(sources[0])
+    t = ds.t_mid.values
+    fig, axes = plt.subplots(2, 1, figsize=(8, 6.5), sharex=True)
+    for ax, name, label in ((axes[0], "spike_interval", "spike interval (time), +- sd"),
+                            (axes[1], "lambda_1", r"$\lambda_1$ of the window (1/time, double)")):
+        x = ds[name].values
+        err = ds.spike_interval_sd.values if name == "spike_interval" else None
+        ax.errorbar(t, x, yerr=err, fmt="o", ms=3, capsize=2, color="C0", lw=0.8)
+        a = ds.attrs
+        slope, mean = a[f"{name}_trend_slope"], a[f"{name}_trend_mean"]
+        if np.isfinite(slope):
+            sel = t >= t.min() + (1 - a["last_fraction"]) * (t.max() - t.min())
+            tt = t[sel]
+            ax.plot(tt, mean + slope * (tt - tt.mean()), "r-", lw=1.5, label="trend over the last part")
+            ax.legend(fontsize=7)
+        ax.set_ylabel(label)
+        ax.set_title(f"{name}: {a[f'{name}_trend_verdict']} (change {a[f'{name}_trend_change']:.3g} +- "
+                     f"{a[f'{name}_trend_change_stderr']:.2g}, tolerance {a[f'rel_tol_{name}']:g} x mean)", fontsize=8)
+    axes[1].axhline(0, color="0.5", lw=0.8)
+    axes[1].set_xlabel(f"t after the transient (windows of {ds.attrs['window']:g})")
+    finish(fig, ds.attrs, png, pdf)

@@ -1,0 +1,53 @@
+"""The long run in windows: its per-window exponent is Benettin's, and the trend rule on each branch."""
+
+import math
+
+import numpy as np
+import pytest
+
+from sleighsim import lyapunov, windows
+from sleighsim.params import Params
+from sleighsim.symmetries import state_at_label
+
+T_WIN = np.arange(10) * 1e5 + 5e4
+
+
+@pytest.mark.parametrize("x, want", [
+    (2000.0 + np.random.default_rng(1).normal(0, 5, 10), windows.ENDED),             # flat, tight
+    (2000.0 - 4e-4 * T_WIN + np.random.default_rng(2).normal(0, 5, 10), windows.DRIFTING),  # -80 over the last half
+    (2000.0 + np.random.default_rng(3).normal(0, 80, 10), windows.UNDETERMINED),     # too noisy to tell
+    (np.r_[np.full(7, np.nan), 2000.0, 2001.0, 1999.0], windows.UNDETERMINED),         # 3 finite windows
+])
+def test_trend_on_each_branch(x, want):
+    out = windows.trend(T_WIN, x, rel_tol=0.02, sigma=3.0)
+    assert out["verdict"] == want, out["reason"]
+    assert out["reason"]
+
+
+def test_trend_measures_the_slope_of_the_last_part_only():
+    x = np.r_[np.linspace(3000, 2000, 5), np.full(5, 2000.0)] + np.r_[0, 0, 0, 0, 0, 1, -1, 1, -1, 0]
+    out = windows.trend(T_WIN, x, rel_tol=0.02, sigma=3.0)
+    assert out["n"] == 5 and abs(out["slope"]) < 1e-5 and out["verdict"] == windows.ENDED
+    assert windows.trend(T_WIN, x, rel_tol=0.02, sigma=3.0, last_fraction=1.0)["verdict"] == windows.DRIFTING
+    with pytest.raises(ValueError):
+        windows.trend(T_WIN, x[:-1], rel_tol=0.02, sigma=3.0)
+    with pytest.raises(ValueError):
+        windows.trend(T_WIN, x, rel_tol=0.0, sigma=3.0)
+
+
+def test_windowed_orbit_gives_benettins_exponent_and_the_sampled_component():
+    p = Params.paper(eps=0.3)
+    y0 = state_at_label([0.0, 0.1, 1.0, 0.0], p, 1.0)
+    ta, _ = lyapunov.sleigh_tangent(1, 1e-14, True)
+    ta.pars[:] = p.values
+    got = list(windows.windowed_orbit(ta, 4, y0, n_windows=4, window=50.0, tau=5.0, component=1, seed=7))
+    assert [w["index"] for w in got] == [0, 1, 2, 3] and got[1]["t_start"] == 50.0
+    assert all(w["x"].size == 10 and w["x"][-1] == w["state"][1] for w in got)
+    assert np.allclose(got[2]["t"], 100.0 + 5.0 * np.arange(1, 11))
+    ref = lyapunov.benettin(ta, 4, 1, y0, t_align=0.0, T=200.0, tau=5.0, n_blocks=4, seed=7)
+    lam = np.mean([w["lambda_1"] for w in got])
+    assert math.isclose(lam, float(ref["exponents"][0]), rel_tol=1e-8, abs_tol=1e-12)
+    # each window's exponent is its own block of the same accumulation
+    assert np.allclose([w["lambda_1"] for w in got], ref["block_estimates"][:, 0], rtol=1e-7, atol=1e-12)
+    with pytest.raises(ValueError, match="multiple"):
+        next(windows.windowed_orbit(ta, 4, y0, n_windows=2, window=12.0, tau=5.0, component=1))
