@@ -176,6 +176,23 @@ def test_plot_costs_writes_png_and_pdf(tmp_path):
     assert sorted(p.name for p in png.parent.iterdir()) == ["costs.pdf", "costs.png"]  # no temporary left
 
 
+def test_job_costs_from_the_reports_benchmark_files_and_their_figure(tmp_path):
+    bench = fake_run(tmp_path, graph=False) / "results" / "benchmarks"
+    files = {"data/a": [bench / "scene" / "a.tsv"], "data/g": [bench / "gather" / "g.tsv", bench / "chunk" / "g" / "0.tsv",
+                                                              bench / "chunk" / "g" / "1.tsv"],
+             "figure/f": [bench / "figure" / "f.tsv"], "data/again": [bench / "scene" / "a.tsv"]}
+    jobs = costs.job_costs(files)
+    assert [j["job"] for j in jobs] == ["chunk/g/0", "scene/a", "chunk/g/1", "figure/f", "gather/g"]  # once each
+    assert [j["rule"] for j in jobs] == ["chunk", "scene", "chunk", "figure", "gather"]
+    assert jobs[0]["wall_s"] == 30.0 and jobs[2]["cpu_s"] is None
+    png, pdf = tmp_path / "out" / "c.png", tmp_path / "out" / "c.pdf"
+    png.parent.mkdir()
+    costs.plot_job_costs(jobs, png, pdf, top=3)
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and pdf.read_bytes()[:5] == b"%PDF-"
+    with pytest.raises(ValueError, match="no benchmark"):
+        costs.plot_job_costs([], png, pdf)
+
+
 # ---------------------------------------------------------------------------------------------
 # The estimator on a synthetic pair of configs
 

@@ -485,6 +485,58 @@ def plot_costs(summary: dict, png, pdf) -> None:
         plt.close(fig)
 
 
+def job_costs(benchmarks: dict) -> list[dict]:
+    """Per job, from the report's benchmark files ({"data/<name>" or "figure/<name>": [TSV paths]}):
+    job ("<rule>/<wildcards>"), rule, wall_s and cpu_s (None when never sampled), largest wall first."""
+    jobs = {}
+    for paths in benchmarks.values():
+        for path in map(Path, paths):
+            parts = path.with_suffix("").parts
+            i = len(parts) - 1 - parts[::-1].index("benchmarks")
+            rel = parts[i + 1:]
+            jobs["/".join(rel)] = {"job": "/".join(rel), "rule": _rule_from_path(rel), **read_benchmark(path)}
+    return sorted(jobs.values(), key=lambda j: -j["wall_s"])
+
+
+def plot_job_costs(jobs: list[dict], png, pdf, top: int = 25) -> None:
+    """Wall seconds per rule (left) and of the ``top`` costliest jobs (right), from
+    :func:`job_costs`; the title gives the total and the lower bound it sets on 2 cores."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    if not jobs:
+        raise ValueError("no benchmark records to plot")
+    per_rule = defaultdict(float)
+    for j in jobs:
+        per_rule[j["rule"]] += j["wall_s"]
+    rules = sorted(per_rule, key=per_rule.get)
+    colours = {r: plt.get_cmap("tab10")(k % 10) for k, r in enumerate(sorted(per_rule))}
+    shown = jobs[:top][::-1]
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(12, max(4.0, 0.28 * len(shown) + 1.5)),
+                                 gridspec_kw={"width_ratios": [2, 3]})
+    ax.barh(rules, [per_rule[r] for r in rules], color=[colours[r] for r in rules])
+    for y, r in enumerate(rules):
+        ax.text(per_rule[r], y, f" {per_rule[r]:.4g} s", va="center", fontsize=8)
+    ax.set_xlabel("wall seconds, summed over the rule's jobs")
+    ax.set_xlim(0, max(per_rule.values()) * 1.3)
+    bx.barh([j["job"] for j in shown], [j["wall_s"] for j in shown], color=[colours[j["rule"]] for j in shown])
+    bx.tick_params(axis="y", labelsize=7)
+    bx.set_xlabel("wall seconds of the job")
+    total = sum(per_rule.values())
+    fig.suptitle(f"Run cost from the Snakemake benchmark files: {len(jobs)} jobs, {total:.4g} job-seconds "
+                 f"(at least {total / 2:.4g} s of wall on 2 cores); the {len(shown)} costliest jobs on the right",
+                 fontsize=9)
+    fig.tight_layout()
+    try:
+        for path in (Path(png), Path(pdf)):
+            with atomic_path(path) as tmp:
+                fig.savefig(tmp, dpi=120, format=path.suffix[1:])
+    finally:
+        plt.close(fig)
+
+
 # ----------------------------------------------------------------------------------------------
 # Work models and the estimate
 

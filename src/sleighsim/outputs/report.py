@@ -18,6 +18,7 @@ from pathlib import Path
 import latex2mathml.converter
 import numpy as np
 
+from .. import costs
 from ..io import read_dataset
 from ..registry import FIGURES, TABLES
 from .claims import Row
@@ -188,7 +189,8 @@ def build(rows: list[Row], *, out_dir, tex_path, labels: dict, figures: dict, da
     h += ah
     md += am + [""]
     toc = [("answers", "Answers"), *((f, f"{FIGURES[f].paper}: {f}") for f in paper_figs), ("ledger", "Claims ledger"),
-           *((f, FIGURES[f].title) for f in other_figs), *((f"table{i}", t) for i, t in enumerate(TABLES))]
+           *((f, FIGURES[f].title) for f in other_figs), *((f"table{i}", t) for i, t in enumerate(TABLES)),
+           ("costs", "Run cost")]
     h.append("<nav id='contents'><h2>Contents</h2><ol>" + "".join(
         f"<li><a href='#{a}'>{html.escape(t)}</a></li>" for a, t in toc) + "</ol></nav>")
     md += ["## Contents", ""] + [f"- {t}" for _, t in toc] + ["", "## Figures", ""]
@@ -252,6 +254,16 @@ def build(rows: list[Row], *, out_dir, tex_path, labels: dict, figures: dict, da
         else:
             h.append(f"<p><b>not yet computed</b> (on request: <code>snakemake -c2 {table.data}</code>)</p>")
             md.append(f"**not yet computed** (on request: `snakemake -c2 {table.data}`)")
+    h.append("<h2 id='costs'>Run cost</h2>")
+    md += ["", "## Run cost", ""]
+    jobs = costs.job_costs(benchmarks)
+    if jobs:
+        costs.plot_job_costs(jobs, out_dir / "costs.png", out_dir / "costs.pdf")
+        h.append("<img src='costs.png' alt='costs'>")
+        md.append("![costs](costs.png)")
+    else:
+        h.append("<p><b>not yet computed</b> (no benchmark records)</p>")
+        md.append("**not yet computed** (no benchmark records)")
     h.append("<div id='image-check'></div><script>window.addEventListener('load',function(){var im=document.images,"
              "bad=0;for(var i=0;i<im.length;i++){if(!(im[i].complete&&im[i].naturalWidth>0))bad++;}"
              "document.getElementById('image-check').textContent='images: '+im.length+' broken: '+bad;});</script>")

@@ -126,9 +126,10 @@ def chaos(sources, png, pdf) -> None:
     against T for every state."""
     (ds,) = (read_dataset(s) for s in sources)
     states, ind = list(ds.state.values), list(ds.indicator.values)
-    fig = plt.figure(figsize=(4.2 * max(len(states), 2), 7.5))
-    grid = fig.add_gridspec(2, len(states) * 2, height_ratios=(1.2, 1), hspace=0.45)
-    axes = [fig.add_subplot(grid[0, 2 * k:2 * k + 2]) for k in range(len(states))]
+    n = len(states)
+    fig, axd = plt.subplot_mosaic([[f"s{k}" for k in range(n) for _ in (0, 1)], ["m"] * n + ["l"] * n],
+                                  figsize=(4.2 * max(n, 2), 7.5), height_ratios=(1.2, 1))
+    axes = [axd[f"s{k}"] for k in range(n)]
     for k, (ax, st) in enumerate(zip(axes, states)):
         v, e = ds.indicator_value.values[k], ds.indicator_uncertainty.values[k]
         for j, name in enumerate(ind):
@@ -150,19 +151,19 @@ def chaos(sources, png, pdf) -> None:
         ax.set_title(f"{st}: {ds.verdict.values[k]}\n{ds.state_class.values[k]}; sum of exponents "
                      f"{ds.sum_exponents.values[k]:.2g} +- {ds.sum_exponents_stderr.values[k]:.1g}", fontsize=8)
     axes[0].set_ylabel("rate (1/time), bars: 3 standard errors")
-    half = len(states)
-    mx = fig.add_subplot(grid[1, :half])
-    lx = fig.add_subplot(grid[1, half:])
+    mx, lx = axd["m"], axd["l"]
     for k, st in enumerate(states):
         mx.plot(ds.megno_t.values[k], ds.megno_Y_mean.values[k], label=f"{st}: {ds.indicator_verdict.values[k, ind.index('megno')]}")
         lx.loglog(ds.T_loschmidt.values, ds.loschmidt_rel_error.values[k], "o-", ms=3,
                   label=f"{st}: ~T^{ds.loschmidt_power.values[k]:.2g}, {ds.indicator_verdict.values[k, ind.index('loschmidt')]}")
     mx.axhline(2.0, color="0.5", lw=0.8, ls="--")
     mx.set_xlabel("t")
-    mx.set_ylabel("MEGNO <Y>  (2: torus, grows ~ lambda t / 2: chaos)")
+    mx.set_ylabel("MEGNO <Y>")
+    mx.set_title("MEGNO: 2 on a torus (dashed), grows like lambda t / 2 under chaos", fontsize=8)
     mx.legend(fontsize=6)
     lx.set_xlabel("T (forward T, apply R, forward T)")
-    lx.set_ylabel("Loschmidt return error (relative)")
+    lx.set_ylabel("return error (relative)")
+    lx.set_title("Loschmidt: a power of T when regular, exponential under chaos", fontsize=8)
     lx.legend(fontsize=6)
     fig.suptitle("indicator verdicts: red chaotic, blue regular, grey undecided; (t) tangent-based; the two-trajectory "
                  "rate at each d0 beside it (it must not depend on d0)", fontsize=8)
