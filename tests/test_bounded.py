@@ -132,3 +132,14 @@ def test_scipy_keeps_delta_bounded_too_and_agrees_with_heyoka():
     for v in ("u", "Omega", "omega", "theta", "x", "y"):
         assert np.max(np.abs(hy[v].values - sp[v].values)) < 1e-7, v
     assert np.max(np.abs(model.state_difference(_states(hy), _states(sp)))) < 1e-7
+
+
+def test_state_difference_wraps_angles_and_keeps_long_double():
+    a = np.array([0.5, 0.0, 0.0, 2 * np.pi - 1e-3])
+    b = np.array([0.25, 0.0, 0.0, 1e-3])
+    assert np.allclose(model.state_difference(a, b), [0.25, 0.0, 0.0, -2e-3])
+    ld = a.astype(np.longdouble)
+    ld[0] += np.longdouble(1e-18)  # below double's resolution at 0.5
+    d = model.state_difference(ld, a)
+    assert d.dtype == np.longdouble and 0.5e-18 < d[0] < 1.5e-18
+    assert model.state_difference([1, 2, 3, 0], [0, 0, 0, 0]).dtype == float

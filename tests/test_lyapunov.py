@@ -178,18 +178,20 @@ def test_grid_horizons_scale_with_the_slow_time_and_pre_runs_with_one_over_eps_s
     assert grid.axes(cfg)[0][grid.reference_row(cfg)] == pytest.approx(0.1)
 
 
-def test_benettin_in_long_double_matches_double_where_both_are_accurate():
-    """Over a short horizon from the reference state (no spike yet) the long-double run and the double
-    run give the same log growth per interval; the long-double one is what the chaos verdict's
-    precision check runs."""
+def test_megno_in_long_double_matches_double_where_both_are_accurate():
+    """Over a short horizon from the reference state (no spike yet) the long-double MEGNO run and
+    the double one give the same log growth per interval and the same <Y>; the long-double one is
+    what the chaos verdict's precision check runs."""
+    from sleighsim.scenes import verdict
+
     p = Params.paper(eps=0.1)
     y0 = state_at_label([0.0, 0.1, 1.0, 0.0], p, 0.1127)
-    ld, _ = lyapunov.sleigh_tangent_long_double(1.0842021724855044e-19)
-    ld.pars[:] = np.array(p.values, dtype=np.longdouble)
-    d, _ = lyapunov.sleigh_tangent(1, 2.220446049250313e-16, True)
-    d.pars[:] = p.values
-    a = lyapunov.benettin(ld, 4, 1, y0, t_align=0.0, T=200.0, tau=10.0)
-    b = lyapunov.benettin(d, 4, 1, y0, t_align=0.0, T=200.0, tau=10.0)
-    assert ld.state.dtype == np.longdouble and a["log_growth"].dtype == float
+    cfg = dict(tol=2.220446049250313e-16, tol_long_double=1.0842021724855044e-19, T_megno=200.0, T_long_double=200.0,
+               megno_samples=20, tau=10.0)
+    a = verdict.megno_run(p, y0, cfg, long_double=True)
+    b = verdict.megno_run(p, y0, cfg)
+    ta, _ = lyapunov.sleigh_megno(cfg["tol_long_double"], True)
+    assert ta.state.dtype == np.longdouble and a["log_growth"].dtype == float
     assert a["log_growth"] == pytest.approx(b["log_growth"], rel=1e-9, abs=1e-11)
+    assert a["Y_mean"] == pytest.approx(b["Y_mean"], rel=1e-8)
     assert np.abs(a["log_growth"]).max() > 1e-3  # the vector does change length: the comparison is not vacuous

@@ -82,17 +82,23 @@ def test_chaotic_indicators_must_agree_on_the_rate(verdict, a, others, want):
         assert "disagree on the rate" in out[1]
 
 
-@pytest.mark.parametrize("lam, err, want", [
-    (5e-4, 2e-5, "confirmed"),  # bound 2 ln(1e4) / 1e5 = 1.8e-4
-    (4e-4, 2.3e-4, "not confirmed"),  # the sleigh's main state in long double over 5e4 (helper measurement)
+@pytest.mark.parametrize("lam, spread, want", [
+    (5e-4, 2e-5, "confirmed"),  # bound 2 ln(2e4) / 2e5 = 9.9e-5
+    (4e-5, 1e-4, "not confirmed"),  # below the bound
+    (3e-4, 2e-3, "not confirmed"),  # above it, but not by 3 standard errors
     (math.nan, 1e-5, "not confirmed"),
 ])
-def test_precision_check_on_each_branch(monkeypatch, lam, err, want):
-    from sleighsim import lyapunov
+def test_precision_check_on_each_branch(monkeypatch, lam, spread, want):
     from sleighsim.scenes import verdict
 
-    monkeypatch.setattr(lyapunov, "sleigh_tangent_long_double", lambda tol: (type("TA", (), {"pars": np.zeros(6)})(), 0))
-    monkeypatch.setattr(lyapunov, "benettin", lambda *a, **k: {"exponents": np.array([lam]), "stderr": np.array([err])})
-    cfg = dict(tau=10.0, sigma=3.0, tol_long_double=1.08e-19, T_long_double=1e5, t_align=0.0)
+    tau, T, t_align = 10.0, 2e5, 1000.0
+    n = int(T / tau)
+    rng = np.random.default_rng(0)
+    g = lam * tau + spread * tau * rng.normal(size=n) * np.sqrt(n / 10)  # block means scatter by ~spread
+    g[: int(t_align / tau)] = 5.0  # alignment of the vector: must be left out
+    monkeypatch.setattr(verdict, "megno_run", lambda *a, **k: {"log_growth": g})
+    cfg = dict(tau=tau, sigma=3.0, tol_long_double=1.08e-19, T_long_double=T, t_align=t_align)
     out = verdict.precision_check(Params.paper(eps=0.1), [0.0, 0.1, 1.0, 0.0], cfg, "s")
     assert out["check"] == want and out["reason"].startswith(want)
+    if math.isfinite(lam):
+        assert out["lambda_1"] == pytest.approx(lam, abs=4 * out["stderr"])

@@ -82,11 +82,12 @@ def _propagate(ta, dt, callback, t_label):
     """Propagate for dt (callback only if given); RuntimeError naming the time on failure."""
     import heyoka as hy
 
+    dt = ta.state.dtype.type(dt)  # the integrator's precision (double or long double)
     res = ta.propagate_for(dt) if callback is None else ta.propagate_for(dt, callback=callback)
     if res[0] != hy.taylor_outcome.time_limit:
-        raise RuntimeError(f"integration stopped at t = {t_label:.6g} (+{ta.time:.6g}): heyoka outcome {res[0]}")
+        raise RuntimeError(f"integration stopped at t = {t_label:.6g} (+{float(ta.time):.6g}): heyoka outcome {res[0]}")
     if not np.all(np.isfinite(ta.state)):
-        raise RuntimeError(f"non-finite state at t = {t_label:.6g} (+{ta.time:.6g})")
+        raise RuntimeError(f"non-finite state at t = {t_label:.6g} (+{float(ta.time):.6g})")
 
 
 def _linfit(x, y):
@@ -336,12 +337,13 @@ def loschmidt(ta, y0, T_values, involution, callback=None, *, difference=None, s
     diff = difference if difference is not None else (lambda a, b: a - b)
     target = np.asarray(involution(y0.copy()), float)
     err = np.empty(T_arr.size)
+    fp = ta.state.dtype.type  # float, or np.longdouble for an extended-precision integrator
     for i, Tk in enumerate(T_arr):
-        ta.time = 0.0
+        ta.time = fp(0)
         ta.state[:] = y0
         _propagate(ta, Tk, callback, 0.0)
-        ta.state[:] = np.asarray(involution(ta.state.copy()), float)
-        ta.time = 0.0
+        ta.state[:] = involution(ta.state.copy())
+        ta.time = fp(0)
         _propagate(ta, Tk, callback, Tk)
         err[i] = float(np.max(np.abs(np.asarray(diff(ta.state.copy(), target), float))))
     out = {"T": T_arr, "error": err, "rel_error": err / scale, "scale": scale}
@@ -349,15 +351,15 @@ def loschmidt(ta, y0, T_values, involution, callback=None, *, difference=None, s
     return out
 
 
-def megno_integrator(sys, pars=(), tol=None, compact_mode=True):
+def megno_integrator(sys, pars=(), tol=None, compact_mode=True, fp_type=float):
     """heyoka integrator for ``sys`` (list of (var, expr)), one tangent vector and the MEGNO
     quadratures.
 
     State layout: [y (n), delta (n), I, J] with delta the variational vector (heyoka's
     derivatives with respect to the first initial condition, overwritten by ``megno``),
     I' = t (delta_dot . delta) / (delta . delta) and J' = 2 I / t, so that
-    Y(t) = 2 I / t and <Y>(t) = J / t (t = heyoka's time, which must start > 0).
-    Returns (ta, n).
+    Y(t) = 2 I / t and <Y>(t) = J / t (t = heyoka's time, which must start > 0). ``fp_type``:
+    float, or np.longdouble for an extended-precision integrator. Returns (ta, n).
     """
     import heyoka as hy
 
@@ -378,10 +380,10 @@ def megno_integrator(sys, pars=(), tol=None, compact_mode=True):
     num = hy.sum([d * f for d, f in zip(delta, ddot)])
     den = hy.sum([d * d for d in delta])
     eqs += [(qi, hy.time * num / den), (qj, 2.0 * qi / hy.time)]
-    kw = {"pars": list(pars), "compact_mode": compact_mode}
+    kw = {"pars": np.array(pars, dtype=fp_type), "compact_mode": compact_mode, "fp_type": fp_type}
     if tol is not None:
-        kw["tol"] = _positive("tol", tol)
-    ta = hy.taylor_adaptive(eqs, [0.1] * n + [1.0] * n + [0.0, 0.0], **kw)
+        kw["tol"] = fp_type(_positive("tol", tol))
+    ta = hy.taylor_adaptive(eqs, np.array([0.1] * n + [1.0] * n + [0.0, 0.0], dtype=fp_type), **kw)
     return ta, n
 
 
@@ -417,8 +419,9 @@ def megno(ta, n, y0, *, T, n_samples, tau=None, callback=None, seed=0):
         raise ValueError(f"tau = {tau} is longer than the sample spacing T / n_samples = {T / n_samples}")
     rec = np.unique(np.round(np.linspace(n_steps / n_samples, n_steps, n_samples)).astype(int))
     u = np.random.default_rng(seed).normal(size=n)
+    fp = ta.state.dtype.type  # float, or np.longdouble for an extended-precision integrator
     t0 = 1e-9 * tau
-    ta.time = t0
+    ta.time = fp(t0)
     ta.state[:n] = y0
     ta.state[n:2 * n] = u / np.linalg.norm(u)
     ta.state[2 * n:] = 0.0
@@ -427,24 +430,24 @@ def megno(ta, n, y0, *, T, n_samples, tau=None, callback=None, seed=0):
     r = 0
     for k in range(1, n_steps + 1):
         t_end = k * tau
-        _propagate_until(ta, t_end, callback)
+        _propagate_until(ta, fp(t_end), callback)
         d = ta.state[n:2 * n]
-        nrm = float(np.linalg.norm(d))
-        if not (math.isfinite(nrm) and nrm > 0):
+        nrm = np.sqrt(np.sum(d * d))  # in the integrator's precision
+        if not (np.isfinite(nrm) and nrm > 0):
             raise RuntimeError(f"tangent vector norm is {nrm} at t = {t_end:.6g}")
-        g[k - 1] = math.log(nrm)
+        g[k - 1] = float(np.log(nrm))
         ta.state[n:2 * n] = d / nrm
         if r < rec.size and k == rec[r]:
             t = ta.time
-            t_s.append(t)
-            Y.append(2.0 * ta.state[2 * n] / t)
-            Ym.append(ta.state[2 * n + 1] / t)
+            t_s.append(float(t))
+            Y.append(float(2 * ta.state[2 * n] / t))
+            Ym.append(float(ta.state[2 * n + 1] / t))
             r += 1
     t_s, Y, Ym = np.array(t_s), np.array(Y), np.array(Ym)
     half = t_s >= T / 2
     slope, slope_err, resid, _ = _linfit(t_s[half], Ym[half])
     return {"t": t_s, "Y": Y, "Y_mean": Ym, "final": float(Ym[-1]), "slope": slope, "slope_err": slope_err,
-            "resid": resid, "log_growth": g, "tau": tau, "final_state": ta.state[:n].copy()}
+            "resid": resid, "log_growth": g, "tau": tau, "final_state": ta.state[:n].astype(float)}
 
 
 def _propagate_until(ta, t_end, callback):
@@ -452,9 +455,10 @@ def _propagate_until(ta, t_end, callback):
 
     res = ta.propagate_until(t_end) if callback is None else ta.propagate_until(t_end, callback=callback)
     if res[0] != hy.taylor_outcome.time_limit:
-        raise RuntimeError(f"integration stopped at t = {ta.time:.6g} (target {t_end:.6g}): heyoka outcome {res[0]}")
+        raise RuntimeError(f"integration stopped at t = {float(ta.time):.6g} (target {float(t_end):.6g}): heyoka outcome "
+                           f"{res[0]}")
     if not np.all(np.isfinite(ta.state)):
-        raise RuntimeError(f"non-finite state at t = {ta.time:.6g}")
+        raise RuntimeError(f"non-finite state at t = {float(ta.time):.6g}")
 
 
 # ----------------------------------------------------------------------------- judges

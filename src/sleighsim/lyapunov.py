@@ -53,35 +53,20 @@ def sleigh_tangent(k: int, tol: float, compact: bool):
     return integrators.compiled(("tangent", k, tol, compact), build)
 
 
-def sleigh_tangent_long_double(tol: float):
-    """The sleigh plus one tangent vector in long double (80-bit on x86-64: machine epsilon
-    1.1e-19, about 4x the cost of double), compiled once per process. Returns (ta, compile_s)."""
-    from . import model
-    from .params import Params
-
-    def build():
-        import heyoka as hy
-
-        sys = model.heyoka_system(delta_shift=integrators.DELTA_SHIFT)
-        vsys = hy.var_ode_sys(sys, [v for v, _ in sys[:1]], order=1)
-        return hy.taylor_adaptive(vsys, np.full(8, 0.1, dtype=np.longdouble), tol=np.longdouble(tol),
-                                  pars=np.array(Params.paper(eps=0.1).values, dtype=np.longdouble),
-                                  compact_mode=True, fp_type=np.longdouble)
-
-    return integrators.compiled(("tangent_long_double", tol), build)
-
-
-def sleigh_megno(tol: float):
+def sleigh_megno(tol: float, long_double: bool = False):
     """The sleigh, one tangent vector and the MEGNO quadratures (``indicators.megno_integrator``,
-    compact mode), compiled once per process. Returns (ta, compile_s)."""
+    compact mode), in double or long double (80-bit on x86-64: machine epsilon 1.1e-19, about 5x
+    the cost), compiled once per process. Returns (ta, compile_s)."""
     from . import indicators, model
     from .params import Params
 
+    fp = np.longdouble if long_double else float
+
     def build():
         return indicators.megno_integrator(model.heyoka_system(delta_shift=integrators.DELTA_SHIFT),
-                                           pars=Params.paper(eps=0.1).values, tol=tol)[0]
+                                           pars=Params.paper(eps=0.1).values, tol=tol, fp_type=fp)[0]
 
-    return integrators.compiled(("megno", tol), build)
+    return integrators.compiled(("megno", tol, long_double), build)
 
 
 def sleigh_tangent_batch(batch_size: int, tol: float, compact: bool, k: int = 1):

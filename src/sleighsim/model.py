@@ -124,8 +124,10 @@ def heyoka_system(kinematics: bool = False, delta_shift: float = 0.0):
 
 
 def state_difference(a, b) -> np.ndarray:
-    """a - b for states (..., 4 or more), with delta (and theta) compared modulo 2 pi."""
-    d = np.asarray(a, dtype=float) - np.asarray(b, dtype=float)
+    """a - b for states (..., 4 or more), with delta (and theta) compared modulo 2 pi; in long double
+    when either is."""
+    d = np.asarray(a) - np.asarray(b)
+    d = d.astype(np.result_type(d.dtype, float))
     for i in (DELTA, THETA)[: 2 if d.shape[-1] > THETA else 1]:
         d[..., i] = (d[..., i] + np.pi) % (2.0 * np.pi) - np.pi
     return d

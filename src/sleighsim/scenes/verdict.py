@@ -18,6 +18,7 @@ from ..transient import settle
 
 log = logging.getLogger("sleighsim")
 
+N_BLOCKS = 10  # consecutive blocks of the long-double run for its standard error
 INDICATORS = ("benettin", "ftle", "megno", "two_trajectory", "loschmidt")
 TANGENT_BASED = ("benettin", "ftle", "megno")
 R = np.array([-1.0, -1.0, -1.0, 1.0])  # the reversing involution: (u, Omega, omega, delta) -> (-u, -Omega, -omega, delta)
@@ -103,21 +104,24 @@ def one_state(params, y0, cfg: dict, scene: str) -> dict:
     values["ftle"], errors["ftle"] = f["rate"], f["rate_err"]
     verdicts["ftle"] = indicators.judge_ftle(f["rate"], f["rate_err"], f["T"], tau, f["spread_slope"],
                                              f["spread_slope_err"], sigma=sigma)
-    y_int = replicas[0].copy()
-    y_int[3] = (y_int[3] + integrators.DELTA_SHIFT) % (2 * math.pi)
-    m = megno_run(params, y_int, cfg)
+    m = megno_run(params, replicas[0], cfg)
     values["megno"], errors["megno"] = 2 * m["slope"], 2 * m["slope_err"]
-    verdicts["megno"] = indicators.judge_megno(m["final"], m["resid"], m["slope"], m["slope_err"], cfg["T_megno"],
-                                               sigma=sigma)
-    ld = {"lambda_1": math.nan, "stderr": math.nan, "check": "not run"}
+    verdicts["megno"] = judge_megno_run(m, cfg["T_megno"], sigma)
+    ld = {"lambda_1": math.nan, "stderr": math.nan, "check": "not run", "megno": None}
     if any(verdicts[k][0] == indicators.CHAOTIC for k in TANGENT_BASED):
         ld = precision_check(params, replicas[0], cfg, scene)
         if ld["check"] != "confirmed":
             for k in TANGENT_BASED:
                 if verdicts[k][0] == indicators.CHAOTIC:
                     verdicts[k] = (indicators.UNDECIDED, f"{ld['reason']}; in double precision: {verdicts[k][1]}")
+        v, r = judge_megno_run(ld["megno"], cfg["T_long_double"], sigma)
+        values["megno"], errors["megno"] = 2 * ld["megno"]["slope"], 2 * ld["megno"]["slope_err"]
+        verdicts["megno"] = (v, f"in long double over T = {cfg['T_long_double']:.3g}: {r}; in double over "
+                                f"T = {cfg['T_megno']:.3g}: {verdicts['megno'][0]}")
     flow, _ = integrators.flow(False, tol)
     flow.pars[:] = params.values
+    y_int = replicas[0].copy()
+    y_int[3] = (y_int[3] + integrators.DELTA_SHIFT) % (2 * math.pi)
     L = indicators.loschmidt(flow, y_int, np.geomspace(*cfg["loschmidt_T"], cfg["loschmidt_n"]), lambda z: R * z,
                              callback=integrators.bounded(flow), difference=model.state_difference,
                              scale=float(np.max(np.abs(replicas[0][:3]))))
@@ -151,7 +155,8 @@ def one_state(params, y0, cfg: dict, scene: str) -> dict:
     klass = classify(verdict, s, s_err, float(lam[0]), float(lam[3]), image, sigma)
     return dict(verdict=verdict, reason=reason, klass=klass, values=values, errors=errors, verdicts=verdicts,
                 two_rates=[t["rate"] for t in tts], two_stderrs=[t["stderr"] for t in tts],
-                megno_t=m["t"], megno_Y_mean=m["Y_mean"], megno_final=m["final"], loschmidt_T=L["T"],
+                megno_t=m["t"], megno_Y_mean=m["Y_mean"], megno_final=m["final"],
+                megno_t_ld=_or_nan(ld["megno"], "t", m["t"].size), megno_Y_mean_ld=_or_nan(ld["megno"], "Y_mean", m["t"].size), loschmidt_T=L["T"],
                 loschmidt_error=L["rel_error"], loschmidt_power=L["pow_exponent"],
                 loschmidt_power_err=L["pow_exponent_err"], ld_lambda_1=ld["lambda_1"], ld_stderr=ld["stderr"], ld_check=ld["check"],
                 exponents=lam, stderr=res["stderr"], T=float(res["T"]), status=res["status"], sum_all=s, sum_err=s_err,
@@ -160,34 +165,50 @@ def one_state(params, y0, cfg: dict, scene: str) -> dict:
                 drift=float(abs(model.energy(integrators.read(flow, 4), params) / model.energy(y0, params) - 1)))
 
 
-def megno_run(params, y, cfg: dict) -> dict:
-    """MEGNO from y (integrator variables) over T_megno, renormalised every tau, <Y> recorded at
-    megno_samples times (``indicators.megno``)."""
-    ta, _ = lyapunov.sleigh_megno(cfg["tol"])
-    ta.pars[:] = params.values
-    return indicators.megno(ta, 4, y, T=cfg["T_megno"], n_samples=cfg["megno_samples"], tau=cfg["tau"],
+def megno_run(params, y, cfg: dict, *, long_double: bool = False) -> dict:
+    """MEGNO from y (model variables), renormalised every tau, <Y> recorded at megno_samples times
+    (``indicators.megno``): over T_megno in double, or over T_long_double at tol_long_double in long
+    double."""
+    tol, T = (cfg["tol_long_double"], cfg["T_long_double"]) if long_double else (cfg["tol"], cfg["T_megno"])
+    ta, _ = lyapunov.sleigh_megno(tol, long_double)
+    ta.pars[:] = np.array(params.values, dtype=ta.state.dtype)
+    y_int = np.array(y, float)
+    y_int[3] = (y_int[3] + integrators.DELTA_SHIFT) % (2 * math.pi)
+    return indicators.megno(ta, 4, y_int, T=T, n_samples=cfg["megno_samples"], tau=cfg["tau"],
                             callback=integrators.bounded(ta))
 
 
+def judge_megno_run(m: dict, T: float, sigma: float) -> tuple[str, str]:
+    """``indicators.judge_megno`` on a ``megno`` run over T."""
+    return indicators.judge_megno(m["final"], m["resid"], m["slope"], m["slope_err"], T, sigma=sigma)
+
+
 def precision_check(params, y, cfg: dict, scene: str) -> dict:
-    """lambda_1 of one replica (from y, model variables) in long double over T_long_double: a
-    tangent-based chaotic verdict stands only if this run, too, resolves lambda_1 above the rate
-    polynomial growth can fake (lambda_1 - sigma stderr > 2 ln(T / tau) / T; block standard error).
+    """One replica (from y, model variables) in long double over T_long_double, with MEGNO: a
+    tangent-based chaotic verdict stands only if its tangent vector, too, grows exponentially:
+    lambda_1 (log growth after t_align / its time) - sigma stderr (N_BLOCKS consecutive blocks) >
+    2 ln(T / tau) / T.
     On the sleigh, rounding noise off the leading direction is amplified by many orders at every
-    spike, which inflates double-precision exponents. Returns lambda_1, stderr, check
-    ("confirmed" | "not confirmed") and the reason."""
-    tau, sigma = cfg["tau"], cfg["sigma"]
-    ta, _ = lyapunov.sleigh_tangent_long_double(cfg["tol_long_double"])
-    ta.pars[:] = np.array(params.values, dtype=np.longdouble)
-    r = lyapunov.benettin(ta, 4, 1, y, t_align=cfg["t_align"], T=cfg["T_long_double"], tau=tau,
-                          label=f"{scene}.long_double")
-    lam, err = float(r["exponents"][0]), float(r["stderr"][0])
-    bound = indicators.polynomial_rate_bound(cfg["T_long_double"], tau)
+    spike, which inflates double-precision exponents and MEGNO. The run's MEGNO replaces the
+    double-precision one as the MEGNO indicator. Returns lambda_1, stderr, check ("confirmed" |
+    "not confirmed"), the reason and the run (``megno``)."""
+    tau, sigma, T = cfg["tau"], cfg["sigma"], cfg["T_long_double"]
+    m = megno_run(params, y, cfg, long_double=True)
+    g = m["log_growth"][int(math.ceil(cfg["t_align"] / tau)):]  # the alignment of the vector left out
+    blocks = np.array([b.sum() / (b.size * tau) for b in np.array_split(g, N_BLOCKS)])
+    lam, err = float(g.sum() / (g.size * tau)), float(blocks.std(ddof=1) / math.sqrt(N_BLOCKS))
+    bound = indicators.polynomial_rate_bound(T, tau)
     ok = math.isfinite(lam) and math.isfinite(err) and lam - sigma * err > bound
-    text = (f"long double (tol {cfg['tol_long_double']:.2g}): lambda_1 = {lam:.3g} +- {err:.2g} over T = "
-            f"{cfg['T_long_double']:.3g}, bound {bound:.2g}")
+    text = (f"long double (tol {cfg['tol_long_double']:.2g}): lambda_1 = {lam:.3g} +- {err:.2g} over T = {T:.3g}, "
+            f"bound {bound:.2g}")
+    log.info("%s: precision check: %s", scene, text)
     return {"lambda_1": lam, "stderr": err, "check": "confirmed" if ok else "not confirmed",
-            "reason": ("confirmed in " if ok else "not confirmed in ") + text}
+            "reason": ("confirmed in " if ok else "not confirmed in ") + text, "megno": m}
+
+
+def _or_nan(run, key, n):
+    """run[key], or n NaNs when the run was not made."""
+    return np.full(n, math.nan) if run is None else run[key]
 
 
 def _on_level(ref, partner, params):
@@ -246,6 +267,9 @@ def verdict(cfg: dict, scene: str = "") -> xr.Dataset:
                              {"long_name": "MEGNO running mean <Y> (2: torus with shear, 0: periodic, ~lambda t / 2: chaos)"}),
             "megno_t": (("state", "megno_sample"), per_state("megno_t"), {"units": "time"}),
             "megno_final": ("state", per_state("megno_final")),
+            "megno_Y_mean_long_double": (("state", "megno_sample"), per_state("megno_Y_mean_ld"),
+                                         {"long_name": "MEGNO <Y> of the long-double precision check (NaN: not run)"}),
+            "megno_t_long_double": (("state", "megno_sample"), per_state("megno_t_ld"), {"units": "time"}),
             "loschmidt_rel_error": (("state", "T_loschmidt"), per_state("loschmidt_error"),
                                     {"long_name": "return error (forward T, R, forward T) / max |velocity|"}),
             "loschmidt_power": ("state", per_state("loschmidt_power"),
@@ -269,7 +293,7 @@ def verdict(cfg: dict, scene: str = "") -> xr.Dataset:
                     "standard error; MEGNO: 2 x (slope of <Y> over the second half, least-squares error, "
                     "correlated residuals: understated); two-trajectory: consecutive blocks (value at the middle d0); "
                     "Loschmidt: least-squares error of the exponential fit; long double: consecutive blocks of one "
-                    "replica",
+                    "replica's MEGNO run",
         megno_rule=" ".join(indicators.judge_megno.__doc__.split()),
         loschmidt_rule=" ".join(indicators.judge_loschmidt.__doc__.split()), T_megno=cfg["T_megno"],
         loschmidt_T=list(cfg["loschmidt_T"]), loschmidt_n=cfg["loschmidt_n"],

@@ -153,13 +153,16 @@ def chaos(sources, png, pdf) -> None:
     axes[0].set_ylabel("rate (1/time), bars: 3 standard errors")
     mx, lx = axd["m"], axd["l"]
     for k, st in enumerate(states):
-        mx.plot(ds.megno_t.values[k], ds.megno_Y_mean.values[k], label=f"{st}: {ds.indicator_verdict.values[k, ind.index('megno')]}")
+        line, = mx.plot(ds.megno_t.values[k], ds.megno_Y_mean.values[k], label=f"{st}, double")
+        if np.isfinite(ds.megno_Y_mean_long_double.values[k]).any():
+            mx.plot(ds.megno_t_long_double.values[k], ds.megno_Y_mean_long_double.values[k], "--", color=line.get_color(),
+                    label=f"{st}, long double")
         lx.loglog(ds.T_loschmidt.values, ds.loschmidt_rel_error.values[k], "o-", ms=3,
                   label=f"{st}: ~T^{ds.loschmidt_power.values[k]:.2g}, {ds.indicator_verdict.values[k, ind.index('loschmidt')]}")
     mx.axhline(2.0, color="0.5", lw=0.8, ls="--")
     mx.set_xlabel("t")
     mx.set_ylabel("MEGNO <Y>")
-    mx.set_title("MEGNO: 2 on a torus (dashed), grows like lambda t / 2 under chaos", fontsize=8)
+    mx.set_title("MEGNO: 2 on a torus (grey), grows like lambda t / 2 under chaos", fontsize=8)
     mx.legend(fontsize=6)
     lx.set_xlabel("T (forward T, apply R, forward T)")
     lx.set_ylabel("return error (relative)")
