@@ -13,7 +13,7 @@ T_WIN = np.arange(10) * 1e5 + 5e4
 
 
 @pytest.mark.parametrize("x, want", [
-    (2000.0 + np.random.default_rng(1).normal(0, 5, 10), windows.ENDED),             # flat, tight
+    (2000.0 + np.random.default_rng(1).normal(0, 5, 10), windows.SETTLED),             # flat, tight
     (2000.0 - 4e-4 * T_WIN + np.random.default_rng(2).normal(0, 5, 10), windows.DRIFTING),  # -80 over the last half
     (2000.0 + np.random.default_rng(3).normal(0, 80, 10), windows.UNDETERMINED),     # too noisy to tell
     (np.r_[np.full(7, np.nan), 2000.0, 2001.0, 1999.0], windows.UNDETERMINED),         # 3 finite windows
@@ -27,7 +27,11 @@ def test_trend_on_each_branch(x, want):
 def test_trend_measures_the_slope_of_the_last_part_only():
     x = np.r_[np.linspace(3000, 2000, 5), np.full(5, 2000.0)] + np.r_[0, 0, 0, 0, 0, 1, -1, 1, -1, 0]
     out = windows.trend(T_WIN, x, rel_tol=0.02, sigma=3.0)
-    assert out["n"] == 5 and abs(out["slope"]) < 1e-5 and out["verdict"] == windows.ENDED
+    assert out["n"] == 5 and abs(out["slope"]) < 1e-5 and out["verdict"] == windows.SETTLED
+    assert "goes on" not in out["reason"]
+    slow = 2000.0 - 2e-5 * T_WIN + np.r_[0, 0, 0, 0, 0, 0.1, -0.1, 0.1, -0.1, 0]  # -8 over the last half: resolved
+    out = windows.trend(T_WIN, slow, rel_tol=0.02, sigma=3.0)
+    assert out["verdict"] == windows.SETTLED and "goes on" in out["reason"]
     assert windows.trend(T_WIN, x, rel_tol=0.02, sigma=3.0, last_fraction=1.0)["verdict"] == windows.DRIFTING
     with pytest.raises(ValueError):
         windows.trend(T_WIN, x[:-1], rel_tol=0.02, sigma=3.0)

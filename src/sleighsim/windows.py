@@ -20,7 +20,7 @@ from . import integrators, lyapunov
 
 log = logging.getLogger("sleighsim")
 
-ENDED, DRIFTING, UNDETERMINED = "ended", "drifting", "undetermined"
+SETTLED, DRIFTING, UNDETERMINED = "settled", "drifting", "undetermined"
 
 
 def windowed_orbit(ta, n: int, y0, *, n_windows: int, window: float, tau: float, component: int, seed: int = 0,
@@ -69,8 +69,8 @@ def trend(t, x, *, rel_tol: float, sigma: float, last_fraction: float = 0.5, min
     the last ``last_fraction`` of the run (least squares; the windows are treated as independent,
     which holds when a window spans many correlation times); change = slope x span of those windows.
 
-    ended: |change| + sigma * stderr(change) <= rel_tol * |mean| (any drift left is resolved below
-    the tolerance); drifting: the slope is resolved (|slope| > sigma * stderr) and |change| > rel_tol
+    settled: |change| + sigma * stderr(change) <= rel_tol * |mean| (any drift left is resolved below
+    the tolerance; the reason says when the slope itself is still resolved); drifting: the slope is resolved (|slope| > sigma * stderr) and |change| > rel_tol
     * |mean|; undetermined otherwise, or with fewer than min_points finite windows. Returns verdict,
     reason, slope (per time), slope_stderr, change, change_stderr, mean, n."""
     t, x = np.asarray(t, float), np.asarray(x, float)
@@ -99,7 +99,8 @@ def trend(t, x, *, rel_tol: float, sigma: float, last_fraction: float = 0.5, min
     text = (f"over the last {last_fraction:g} of the run ({xk.size} windows, span {span:.4g}): change {change:.3g} "
             f"+- {change_err:.2g} against rel_tol x |mean| = {scale:.3g} (mean {out['mean']:.4g}, sigma {sigma:g})")
     if abs(change) + sigma * change_err <= scale:
-        return {**out, "verdict": ENDED, "reason": "drift resolved below the tolerance: " + text}
+        still = "; the slope itself is resolved (a slow drift goes on)" if abs(slope) > sigma * slope_err else ""
+        return {**out, "verdict": SETTLED, "reason": "drift resolved below the tolerance: " + text + still}
     if abs(slope) > sigma * slope_err and abs(change) > scale:
         return {**out, "verdict": DRIFTING, "reason": "drift resolved above the tolerance: " + text}
     return {**out, "verdict": UNDETERMINED, "reason": "neither resolved: " + text}
