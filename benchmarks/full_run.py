@@ -42,9 +42,10 @@ def say(msg: str) -> None:
 
 
 def snakemake_cmd(workdir: Path, cores: int, configfiles: list[str], *extra: str) -> list[str]:
-    cmd = [sys.executable, "-m", "snakemake", "-s", str(REPO / "Snakefile"), "-d", str(workdir), f"-c{cores}"]
-    if configfiles:
-        cmd += ["--configfile", *configfiles]
+    # the Snakefile's own configfile is relative to the working directory, which is not the repository:
+    # name it, then the overlays merged onto it (as snakemake --configfile does in the repository)
+    cmd = [sys.executable, "-m", "snakemake", "-s", str(REPO / "Snakefile"), "-d", str(workdir), f"-c{cores}",
+           "--configfile", str(REPO / "config" / "config.yaml"), *configfiles]
     return cmd + list(extra)
 
 

@@ -106,7 +106,7 @@ def one_state(params, y0, cfg: dict, scene: str) -> dict:
                                              f["spread_slope_err"], sigma=sigma)
     m = megno_run(params, replicas[0], cfg)
     values["megno"], errors["megno"] = 2 * m["slope"], 2 * m["slope_err"]
-    verdicts["megno"] = judge_megno_run(m, cfg["T_megno"], sigma)
+    verdicts["megno"] = megno_double = judge_megno_run(m, cfg["T_megno"], sigma)
     ld = {"lambda_1": math.nan, "stderr": math.nan, "check": "not run", "megno": None}
     if any(verdicts[k][0] == indicators.CHAOTIC for k in TANGENT_BASED):
         ld = precision_check(params, replicas[0], cfg, scene)
@@ -117,7 +117,7 @@ def one_state(params, y0, cfg: dict, scene: str) -> dict:
         v, r = judge_megno_run(ld["megno"], cfg["T_long_double"], sigma)
         values["megno"], errors["megno"] = 2 * ld["megno"]["slope"], 2 * ld["megno"]["slope_err"]
         verdicts["megno"] = (v, f"in long double over T = {cfg['T_long_double']:.3g}: {r}; in double over "
-                                f"T = {cfg['T_megno']:.3g}: {verdicts['megno'][0]}")
+                                f"T = {cfg['T_megno']:.3g}: {megno_double[0]}")
     flow, _ = integrators.flow(False, tol)
     flow.pars[:] = params.values
     y_int = replicas[0].copy()
