@@ -102,3 +102,20 @@ def test_precision_check_on_each_branch(monkeypatch, lam, spread, want):
     assert out["check"] == want and out["reason"].startswith(want)
     if math.isfinite(lam):
         assert out["lambda_1"] == pytest.approx(lam, abs=4 * out["stderr"])
+
+
+@pytest.mark.parametrize("v_ld, check, want", [
+    (C, "confirmed", C),        # long double confirms exponential growth: MEGNO may say chaotic
+    (C, "not confirmed", U),    # the gate applies to the long-double MEGNO as well
+    (G, "not confirmed", G),    # a regular long-double MEGNO stands
+    (U, "confirmed", U),
+])
+def test_megno_judged_in_long_double_under_the_same_gate(v_ld, check, want):
+    from sleighsim.scenes.verdict import megno_in_long_double
+
+    ld = {"check": check, "reason": f"{check} in long double"}
+    v, reason = megno_in_long_double((v_ld, "r"), ld, (C, "double says chaotic"), 2e5, 5e4)
+    assert v == want
+    assert reason.startswith("in long double over T = 2e+05") and reason.endswith("in double over T = 5e+04: chaotic")
+    if (v_ld, want) == (C, U):
+        assert "not confirmed in long double" in reason

@@ -14,7 +14,7 @@ T_WIN = np.arange(10) * 1e5 + 5e4
 
 @pytest.mark.parametrize("x, want", [
     (2000.0 + np.random.default_rng(1).normal(0, 5, 10), windows.SETTLED),             # flat, tight
-    (2000.0 - 4e-4 * T_WIN + np.random.default_rng(2).normal(0, 5, 10), windows.DRIFTING),  # -80 over the last half
+    (2000.0 - 4e-4 * T_WIN + np.random.default_rng(2).normal(0, 5, 10), windows.DRIFTING),  # -160 over the last half
     (2000.0 + np.random.default_rng(3).normal(0, 80, 10), windows.UNDETERMINED),     # too noisy to tell
     (np.r_[np.full(7, np.nan), 2000.0, 2001.0, 1999.0], windows.UNDETERMINED),         # 3 finite windows
 ])
@@ -37,6 +37,19 @@ def test_trend_measures_the_slope_of_the_last_part_only():
         windows.trend(T_WIN, x[:-1], rel_tol=0.02, sigma=3.0)
     with pytest.raises(ValueError):
         windows.trend(T_WIN, x, rel_tol=0.0, sigma=3.0)
+    with pytest.raises(ValueError):
+        windows.trend(T_WIN, x, rel_tol=0.02, sigma=3.0, min_points=2)
+
+
+def test_a_drift_above_the_tolerance_must_be_resolved_above_it():
+    """|change| above the tolerance but within 3 standard errors of it: undetermined, not drifting."""
+    base = 2000.0 - 1.2e-4 * T_WIN  # -48 over the last half, against a tolerance of 0.02 x 1910 = 38.2
+    wiggle = np.r_[np.zeros(5), 1.0, -1.0, 0.0, -1.0, 1.0]  # orthogonal to a line: the slope stays exact
+    out = windows.trend(T_WIN, base + 10.0 * wiggle, rel_tol=0.02, sigma=3.0)  # change -48 +- 14.6
+    assert out["change"] == pytest.approx(-48.0)
+    assert abs(out["change"]) > 0.02 * abs(out["mean"]) and out["verdict"] == windows.UNDETERMINED, out["reason"]
+    out = windows.trend(T_WIN, base + 0.5 * wiggle, rel_tol=0.02, sigma=3.0)  # change -48 +- 0.73
+    assert out["verdict"] == windows.DRIFTING, out["reason"]
 
 
 def test_windowed_orbit_gives_benettins_exponent_and_the_sampled_component():

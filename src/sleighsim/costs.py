@@ -498,9 +498,10 @@ def job_costs(benchmarks: dict) -> list[dict]:
     return sorted(jobs.values(), key=lambda j: -j["wall_s"])
 
 
-def plot_job_costs(jobs: list[dict], png, pdf, top: int = 25) -> None:
+def plot_job_costs(jobs: list[dict], png, pdf=None, top: int = 25) -> None:
     """Wall seconds per rule (left) and of the ``top`` costliest jobs (right), from
-    :func:`job_costs`; the title gives the total and the lower bound it sets on 2 cores."""
+    :func:`job_costs`, as PNG (and PDF when given); the title gives the total and the lower bound
+    it sets on 2 cores."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -530,7 +531,7 @@ def plot_job_costs(jobs: list[dict], png, pdf, top: int = 25) -> None:
                  fontsize=9)
     fig.tight_layout()
     try:
-        for path in (Path(png), Path(pdf)):
+        for path in [Path(png)] + ([Path(pdf)] if pdf else []):
             with atomic_path(path) as tmp:
                 fig.savefig(tmp, dpi=120, format=path.suffix[1:])
     finally:

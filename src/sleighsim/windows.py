@@ -23,37 +23,33 @@ log = logging.getLogger("sleighsim")
 SETTLED, DRIFTING, UNDETERMINED = "settled", "drifting", "undetermined"
 
 
-def windowed_orbit(ta, n: int, y0, *, n_windows: int, window: float, tau: float, component: int, seed: int = 0,
-                   label: str = "", progress_every: float = 30.0) -> Iterator[dict]:
+def windowed_orbit(ta, n: int, y0, *, n_windows: int, window: float, tau: float, component: int,
+                   t_align: float = 0.0, seed: int = 0, label: str = "", progress_every: float = 30.0) -> Iterator[dict]:
     """Yield, for each of ``n_windows`` consecutive windows of the orbit from y0 (model variables;
     ``ta`` is a one-vector tangent integrator with its pars set): ``index``, ``t_start``, ``t``
     and ``x`` (state[component] every tau), ``lambda_1`` (log growth of the tangent vector over the
     window / window), ``state`` (model variables at the window's end) and ``steps``. The tangent
-    vector starts as ``lyapunov.initial_directions(n, 1, seed)``, as in ``lyapunov.benettin``."""
+    vector starts as ``lyapunov.initial_directions(n, 1, seed)``, as in ``lyapunov.benettin``, and is
+    aligned over t_align (renormalised every tau, not recorded; the windows' clock starts after it)."""
     per = window / tau
     if not (tau > 0 and window > 0 and n_windows >= 1 and abs(per - round(per)) < 1e-9 and round(per) >= 2):
         raise ValueError(f"need tau > 0, n_windows >= 1 and window a multiple (>= 2) of tau "
                          f"(n_windows={n_windows}, window={window}, tau={tau})")
     per = int(round(per))
-    import heyoka as hy
-
     callback = integrators.bounded(ta)
     ta.time = 0.0
     integrators.load(ta, np.asarray(y0, float))
     ta.state[n:2 * n] = lyapunov.initial_directions(n, 1, seed).ravel()
+    for _ in range(int(math.ceil(t_align / tau))):
+        _step(ta, n, tau, callback, label)
     last = time.perf_counter()
     for w in range(n_windows):
         x = np.empty(per)
         growth, steps = 0.0, 0
         for i in range(per):
-            res = ta.propagate_for(tau, callback=callback)
-            if res[0] != hy.taylor_outcome.time_limit or not np.all(np.isfinite(ta.state)):
-                raise RuntimeError(f"{label}: run failed at t = {ta.time:.6g}: heyoka outcome {res[0].name}")
-            steps += res[3]
-            v = ta.state[n:2 * n]
-            norm = float(np.sqrt(v @ v))
-            ta.state[n:2 * n] = v / norm
-            growth += math.log(norm)
+            log_norm, nsteps = _step(ta, n, tau, callback, label)
+            steps += nsteps
+            growth += log_norm
             x[i] = ta.state[component]
         t_start = w * window
         if time.perf_counter() - last > progress_every:
@@ -64,21 +60,35 @@ def windowed_orbit(ta, n: int, y0, *, n_windows: int, window: float, tau: float,
                "lambda_1": growth / window, "state": integrators.read(ta, n), "steps": steps}
 
 
+def _step(ta, n: int, tau: float, callback, label: str) -> tuple[float, int]:
+    """Propagate for tau, renormalise the tangent vector; (log of its norm, steps taken)."""
+    import heyoka as hy
+
+    res = ta.propagate_for(tau, callback=callback)
+    if res[0] != hy.taylor_outcome.time_limit or not np.all(np.isfinite(ta.state)):
+        raise RuntimeError(f"{label}: run failed at t = {ta.time:.6g}: heyoka outcome {res[0].name}")
+    v = ta.state[n:2 * n]
+    norm = float(np.sqrt(v @ v))
+    ta.state[n:2 * n] = v / norm
+    return math.log(norm), res[3]
+
+
 def trend(t, x, *, rel_tol: float, sigma: float, last_fraction: float = 0.5, min_points: int = 4) -> dict:
     """Has x(t) (one value per window) stopped drifting? A straight line is fitted to the windows in
     the last ``last_fraction`` of the run (least squares; the windows are treated as independent,
     which holds when a window spans many correlation times); change = slope x span of those windows.
 
     settled: |change| + sigma * stderr(change) <= rel_tol * |mean| (any drift left is resolved below
-    the tolerance; the reason says when the slope itself is still resolved); drifting: the slope is resolved (|slope| > sigma * stderr) and |change| > rel_tol
-    * |mean|; undetermined otherwise, or with fewer than min_points finite windows. Returns verdict,
+    the tolerance; the reason says when the slope itself is still resolved); drifting:
+    |change| - sigma * stderr(change) > rel_tol * |mean| (a drift resolved above the tolerance);
+    undetermined otherwise, or with fewer than min_points (>= 3) finite windows. Returns verdict,
     reason, slope (per time), slope_stderr, change, change_stderr, mean, n."""
     t, x = np.asarray(t, float), np.asarray(x, float)
     if t.shape != x.shape:
         raise ValueError(f"t and x differ in shape ({t.shape}, {x.shape})")
-    if not (0 < last_fraction <= 1 and rel_tol > 0 and sigma >= 0):
-        raise ValueError(f"need 0 < last_fraction <= 1, rel_tol > 0, sigma >= 0 "
-                         f"(got {last_fraction}, {rel_tol}, {sigma})")
+    if not (0 < last_fraction <= 1 and rel_tol > 0 and sigma >= 0 and min_points >= 3):
+        raise ValueError(f"need 0 < last_fraction <= 1, rel_tol > 0, sigma >= 0, min_points >= 3 "
+                         f"(got {last_fraction}, {rel_tol}, {sigma}, {min_points})")
     keep = (t >= t.min() + (1 - last_fraction) * (t.max() - t.min())) if t.size else t.astype(bool)
     keep &= np.isfinite(x) & np.isfinite(t)
     tk, xk = t[keep], x[keep]
@@ -101,6 +111,6 @@ def trend(t, x, *, rel_tol: float, sigma: float, last_fraction: float = 0.5, min
     if abs(change) + sigma * change_err <= scale:
         still = "; the slope itself is resolved (a slow drift goes on)" if abs(slope) > sigma * slope_err else ""
         return {**out, "verdict": SETTLED, "reason": "drift resolved below the tolerance: " + text + still}
-    if abs(slope) > sigma * slope_err and abs(change) > scale:
+    if abs(change) - sigma * change_err > scale:
         return {**out, "verdict": DRIFTING, "reason": "drift resolved above the tolerance: " + text}
     return {**out, "verdict": UNDETERMINED, "reason": "neither resolved: " + text}

@@ -38,6 +38,8 @@ rule chunk:
     wildcard_constraints:
         scene=alternatives(CHUNKED),
         chunk=r"\d+",
+    # after the scheduled-first scenes, before the rest: the grid's small-eps chunks are long
+    priority: 40
     conda:
         "../envs/sleighsim.yaml"
     threads: 1

@@ -258,10 +258,11 @@ def build(rows: list[Row], *, out_dir, tex_path, labels: dict, figures: dict, da
     md += ["", "## Run cost", ""]
     jobs = costs.job_costs(benchmarks)
     if jobs:
-        costs.plot_job_costs(jobs, out_dir / "costs.png", out_dir / "costs.pdf")
+        costs.plot_job_costs(jobs, out_dir / "costs.png")
         h.append("<img src='costs.png' alt='costs'>")
         md.append("![costs](costs.png)")
     else:
+        (out_dir / "costs.png").unlink(missing_ok=True)  # no stale figure from an earlier run
         h.append("<p><b>not yet computed</b> (no benchmark records)</p>")
         md.append("**not yet computed** (no benchmark records)")
     h.append("<div id='image-check'></div><script>window.addEventListener('load',function(){var im=document.images,"

@@ -43,7 +43,7 @@ def drift_windows(cfg: dict, scene: str = "") -> xr.Dataset:
     E0 = model.energy(y, params)
     rows, steps = [], 0
     for w in windows.windowed_orbit(ta, 4, y, n_windows=n_windows, window=cfg["window"], tau=cfg["tau"],
-                                    component=1, label=scene):
+                                    component=1, t_align=cfg["t_align"], label=scene):
         mean, sd, count = _intervals(w["t"], w["x"], cfg["spike"])
         rows.append((w["t_start"], mean, sd, count, w["lambda_1"], float(model.energy(w["state"], params) / E0 - 1)))
         steps += w["steps"]
@@ -76,7 +76,10 @@ def drift_windows(cfg: dict, scene: str = "") -> xr.Dataset:
         spike_interval_overall=float(np.nanmean(interval)),
         energy_max_rel_drift=float(np.max(np.abs(drift))), rel_tol_spike_interval=cfg["rel_tol"]["spike_interval"],
         rel_tol_lambda_1=cfg["rel_tol"]["lambda_1"], last_fraction=cfg["last_fraction"], sigma=cfg["sigma"],
-        trend_rule=" ".join(windows.trend.__doc__.split()), spike_rule=transient.RULE,
+        trend_rule=" ".join(windows.trend.__doc__.split()), t_align=cfg["t_align"],
+        spike_rule=(f"spike: |Omega| (sampled every tau) block maximum ({cfg['spike']['block']:g} time units) above "
+                    f"{cfg['spike']['factor']:g} x the median block maximum of the window's second half; spikes "
+                    f"closer than {cfg['spike']['min_separation']:g} merged; interval: mean of the window's intervals"),
         uncertainty="lambda_1_stderr: spread of the per-window values / sqrt(windows) (windows of many spike cycles "
                     "taken as independent); trends: least squares over the windows of the last part of the run",
         precision="double: tangent-based exponents of this system are inflated by rounding amplified at the spikes "

@@ -107,6 +107,7 @@ def one_state(params, y0, cfg: dict, scene: str) -> dict:
     m = megno_run(params, replicas[0], cfg)
     values["megno"], errors["megno"] = 2 * m["slope"], 2 * m["slope_err"]
     verdicts["megno"] = megno_double = judge_megno_run(m, cfg["T_megno"], sigma)
+    megno_precision = "double"
     ld = {"lambda_1": math.nan, "stderr": math.nan, "check": "not run", "megno": None}
     if any(verdicts[k][0] == indicators.CHAOTIC for k in TANGENT_BASED):
         ld = precision_check(params, replicas[0], cfg, scene)
@@ -114,10 +115,10 @@ def one_state(params, y0, cfg: dict, scene: str) -> dict:
             for k in TANGENT_BASED:
                 if verdicts[k][0] == indicators.CHAOTIC:
                     verdicts[k] = (indicators.UNDECIDED, f"{ld['reason']}; in double precision: {verdicts[k][1]}")
-        v, r = judge_megno_run(ld["megno"], cfg["T_long_double"], sigma)
         values["megno"], errors["megno"] = 2 * ld["megno"]["slope"], 2 * ld["megno"]["slope_err"]
-        verdicts["megno"] = (v, f"in long double over T = {cfg['T_long_double']:.3g}: {r}; in double over "
-                                f"T = {cfg['T_megno']:.3g}: {megno_double[0]}")
+        megno_precision = "long double"
+        verdicts["megno"] = megno_in_long_double(judge_megno_run(ld["megno"], cfg["T_long_double"], sigma), ld,
+                                                 megno_double, cfg["T_long_double"], cfg["T_megno"])
     flow, _ = integrators.flow(False, tol)
     flow.pars[:] = params.values
     y_int = replicas[0].copy()
@@ -156,7 +157,9 @@ def one_state(params, y0, cfg: dict, scene: str) -> dict:
     return dict(verdict=verdict, reason=reason, klass=klass, values=values, errors=errors, verdicts=verdicts,
                 two_rates=[t["rate"] for t in tts], two_stderrs=[t["stderr"] for t in tts],
                 megno_t=m["t"], megno_Y_mean=m["Y_mean"], megno_final=m["final"],
-                megno_t_ld=_or_nan(ld["megno"], "t", m["t"].size), megno_Y_mean_ld=_or_nan(ld["megno"], "Y_mean", m["t"].size), loschmidt_T=L["T"],
+                megno_t_ld=_or_nan(ld["megno"], "t", m["t"].size), megno_Y_mean_ld=_or_nan(ld["megno"], "Y_mean", m["t"].size),
+                megno_rate_double=2 * m["slope"], megno_rate_double_err=2 * m["slope_err"],
+                megno_verdict_double=megno_double[0], megno_precision=megno_precision,
                 loschmidt_error=L["rel_error"], loschmidt_power=L["pow_exponent"],
                 loschmidt_power_err=L["pow_exponent_err"], ld_lambda_1=ld["lambda_1"], ld_stderr=ld["stderr"], ld_check=ld["check"],
                 exponents=lam, stderr=res["stderr"], T=float(res["T"]), status=res["status"], sum_all=s, sum_err=s_err,
@@ -176,6 +179,18 @@ def megno_run(params, y, cfg: dict, *, long_double: bool = False) -> dict:
     y_int[3] = (y_int[3] + integrators.DELTA_SHIFT) % (2 * math.pi)
     return indicators.megno(ta, 4, y_int, T=T, n_samples=cfg["megno_samples"], tau=cfg["tau"],
                             callback=integrators.bounded(ta))
+
+
+def megno_in_long_double(v_ld: tuple[str, str], ld: dict, v_double: tuple[str, str], T_ld: float,
+                         T_double: float) -> tuple[str, str]:
+    """The MEGNO indicator when the long-double precision check ran: the long-double run's verdict
+    (v_ld), under the same gate as every tangent-based verdict (chaotic stands only when the check
+    confirmed exponential growth; else undecided); the double run's verdict (v_double) named in the
+    reason."""
+    v, r = v_ld
+    if v == indicators.CHAOTIC and ld["check"] != "confirmed":
+        v, r = indicators.UNDECIDED, f"{ld['reason']}; MEGNO alone: {r}"
+    return v, f"in long double over T = {T_ld:.3g}: {r}; in double over T = {T_double:.3g}: {v_double[0]}"
 
 
 def judge_megno_run(m: dict, T: float, sigma: float) -> tuple[str, str]:
@@ -266,7 +281,13 @@ def verdict(cfg: dict, scene: str = "") -> xr.Dataset:
             "megno_Y_mean": (("state", "megno_sample"), per_state("megno_Y_mean"),
                              {"long_name": "MEGNO running mean <Y> (2: torus with shear, 0: periodic, ~lambda t / 2: chaos)"}),
             "megno_t": (("state", "megno_sample"), per_state("megno_t"), {"units": "time"}),
-            "megno_final": ("state", per_state("megno_final")),
+            "megno_final": ("state", per_state("megno_final"), {"long_name": "MEGNO <Y> at T_megno, double run"}),
+            "megno_rate_double": ("state", per_state("megno_rate_double"),
+                                  {"units": "1/time", "long_name": "2 x slope of <Y>, double run (~ lambda_1)"}),
+            "megno_rate_double_stderr": ("state", per_state("megno_rate_double_err"), {"units": "1/time"}),
+            "megno_verdict_double": ("state", per_state("megno_verdict_double").astype(object)),
+            "megno_precision": ("state", per_state("megno_precision").astype(object),
+                                {"long_name": "precision of the run the MEGNO indicator is judged from"}),
             "megno_Y_mean_long_double": (("state", "megno_sample"), per_state("megno_Y_mean_ld"),
                                          {"long_name": "MEGNO <Y> of the long-double precision check (NaN: not run)"}),
             "megno_t_long_double": (("state", "megno_sample"), per_state("megno_t_ld"), {"units": "time"}),
@@ -274,10 +295,12 @@ def verdict(cfg: dict, scene: str = "") -> xr.Dataset:
                                     {"long_name": "return error (forward T, R, forward T) / max |velocity|"}),
             "loschmidt_power": ("state", per_state("loschmidt_power"),
                                 {"long_name": "exponent p of the power fit error ~ T^p"}),
-            "loschmidt_power_stderr": ("state", per_state("loschmidt_power_err")),
+            "loschmidt_power_stderr": ("state", per_state("loschmidt_power_err"),
+                                       {"long_name": "least-squares error of that exponent"}),
             "lambda_1_long_double": ("state", per_state("ld_lambda_1"), {"units": "1/time"}),
             "lambda_1_long_double_stderr": ("state", per_state("ld_stderr"), {"units": "1/time"}),
-            "precision_check": ("state", per_state("ld_check").astype(object)),
+            "precision_check": ("state", per_state("ld_check").astype(object),
+                                {"long_name": "long-double check of tangent-based chaotic verdicts (precision_rule)"}),
         },
         coords={"state": names, "indicator": ind, "i": np.arange(1, 5), "d0": np.asarray(cfg["d0"], float),
                 "T_loschmidt": np.geomspace(*cfg["loschmidt_T"], cfg["loschmidt_n"]),

@@ -221,8 +221,8 @@ def drift(sources, png, pdf) -> None:
         a = ds.attrs
         slope, mean = a[f"{name}_trend_slope"], a[f"{name}_trend_mean"]
         if np.isfinite(slope):
-            sel = t >= t.min() + (1 - a["last_fraction"]) * (t.max() - t.min())
-            tt = t[sel]
+            sel = (t >= t.min() + (1 - a["last_fraction"]) * (t.max() - t.min())) & np.isfinite(x)
+            tt = t[sel]  # the windows the trend was fitted to
             ax.plot(tt, mean + slope * (tt - tt.mean()), "r-", lw=1.5, label="trend over the last part")
             ax.legend(fontsize=7)
         ax.set_ylabel(label)
