@@ -133,8 +133,7 @@ def benettin(ta, n: int, k: int, y0, *, t_align: float, T: float, tau: float, n_
 
     start = time.perf_counter()
     callback = integrators.bounded(ta)
-    fp = ta.state.dtype.type  # float, or np.longdouble for an extended-precision integrator
-    ta.time = fp(0)
+    ta.time = 0.0
     integrators.load(ta, np.asarray(y0, float))
     ta.state[n:] = initial_directions(n, k, seed).ravel()
     n_steps = int(round(T / tau))
@@ -148,22 +147,16 @@ def benettin(ta, n: int, k: int, y0, *, t_align: float, T: float, tau: float, n_
     r = 0
     last_log = time.perf_counter()
     for i in range(-n_align, n_steps):
-        res = ta.propagate_for(fp(tau), callback=callback)
+        res = ta.propagate_for(tau, callback=callback)
         if res[0] != hy.taylor_outcome.time_limit or not np.all(np.isfinite(ta.state)):
-            raise RuntimeError(f"{label}: Lyapunov run failed at t = {float(ta.time):.6g}: heyoka outcome {res[0].name}")
-        ta.time = fp(0)  # autonomous: keep the clock small
+            raise RuntimeError(f"{label}: Lyapunov run failed at t = {ta.time:.6g}: heyoka outcome {res[0].name}")
+        ta.time = 0.0  # autonomous: keep the clock small
         V = ta.state[n:].reshape(n, k)
-        if k == 1:  # a norm, in the integrator's precision (NumPy's QR is double only)
-            norm = np.sqrt(np.sum(V * V))
-            ta.state[n:] = (V / norm).ravel()
-            diag = np.array([norm])
-        else:
-            q, rr = np.linalg.qr(V)
-            ta.state[n:] = q.ravel()
-            diag = np.diag(rr)
+        q, rr = np.linalg.qr(V)
+        ta.state[n:] = q.ravel()
         if i < 0:
             continue
-        growth = np.log(np.abs(diag)).astype(float)
+        growth = np.log(np.abs(np.diag(rr)))
         log_growth[i] = growth
         total += growth
         blocks[block_of[i]] += growth

@@ -121,17 +121,14 @@ def one_state(params, y0, cfg: dict, scene: str) -> dict:
                                                  megno_double, cfg["T_long_double"], cfg["T_megno"])
     flow, _ = integrators.flow(False, tol)
     flow.pars[:] = params.values
-    y_int = replicas[0].copy()
-    y_int[3] = (y_int[3] + integrators.DELTA_SHIFT) % (2 * math.pi)
-    L = indicators.loschmidt(flow, y_int, np.geomspace(*cfg["loschmidt_T"], cfg["loschmidt_n"]), lambda z: R * z,
+    L = indicators.loschmidt(flow, _stored(replicas[0]), np.geomspace(*cfg["loschmidt_T"], cfg["loschmidt_n"]), lambda z: R * z,
                              callback=integrators.bounded(flow), difference=model.state_difference,
                              scale=float(np.max(np.abs(replicas[0][:3]))))
     values["loschmidt"], errors["loschmidt"] = L["exp_rate"], L["exp_rate_err"]
     verdicts["loschmidt"] = indicators.judge_loschmidt(L["n_used"], L["exp_rate"], L["exp_rate_err"], L["exp_rms"],
                                                        L["pow_exponent"], L["pow_exponent_err"], L["pow_rms"],
                                                        sigma=sigma)
-    y_int = replicas[-1].copy()
-    y_int[3] = (y_int[3] + integrators.DELTA_SHIFT) % (2 * math.pi)
+    y_int = _stored(replicas[-1])
     tts = [indicators.two_trajectory(flow, y_int, d0=d0, tau=tau, T=cfg["T_two"], t_align=cfg["t_align"],
                                      callback=integrators.bounded(flow), difference=model.state_difference,
                                      project=lambda ref, p: _on_level(ref, p, params)) for d0 in cfg["d0"]]
@@ -175,9 +172,7 @@ def megno_run(params, y, cfg: dict, *, long_double: bool = False) -> dict:
     tol, T = (cfg["tol_long_double"], cfg["T_long_double"]) if long_double else (cfg["tol"], cfg["T_megno"])
     ta, _ = lyapunov.sleigh_megno(tol, long_double)
     ta.pars[:] = np.array(params.values, dtype=ta.state.dtype)
-    y_int = np.array(y, float)
-    y_int[3] = (y_int[3] + integrators.DELTA_SHIFT) % (2 * math.pi)
-    return indicators.megno(ta, 4, y_int, T=T, n_samples=cfg["megno_samples"], tau=cfg["tau"],
+    return indicators.megno(ta, 4, _stored(y), T=T, n_samples=cfg["megno_samples"], tau=cfg["tau"],
                             callback=integrators.bounded(ta))
 
 
@@ -219,6 +214,14 @@ def precision_check(params, y, cfg: dict, scene: str) -> dict:
     log.info("%s: precision check: %s", scene, text)
     return {"lambda_1": lam, "stderr": err, "check": "confirmed" if ok else "not confirmed",
             "reason": ("confirmed in " if ok else "not confirmed in ") + text, "megno": m}
+
+
+def _stored(y) -> np.ndarray:
+    """A state in the model's variables as the compiled sleigh integrators store it (the engines
+    of ``indicators`` take stored states): delta + DELTA_SHIFT in [0, 2 pi)."""
+    out = np.array(y, float)
+    out[3] = (out[3] + integrators.DELTA_SHIFT) % (2 * math.pi)
+    return out
 
 
 def _or_nan(run, key, n):
