@@ -90,7 +90,7 @@ def _propagate(ta, dt, callback, t_label):
         raise RuntimeError(f"non-finite state at t = {t_label:.6g} (+{float(ta.time):.6g})")
 
 
-def _linfit(x, y):
+def linfit(x, y):
     """Least-squares line y = a + b x: (slope, slope stderr, rms residual, intercept).
 
     Stderr is the textbook one (independent residuals); NaN with fewer than 3 points."""
@@ -168,8 +168,8 @@ def finite_time_exponents(log_growth, tau, windows, *, t_skip=0.0, min_windows=1
     ok_s = np.isfinite(std) & (std > 0)
     ok_m = np.isfinite(mean) & (mean != 0)
     nan4 = (math.nan,) * 4
-    s_slope, s_err, _, _ = _linfit(np.log(W[ok_s]), np.log(std[ok_s])) if ok_s.sum() >= 2 else nan4
-    m_slope, m_err, _, _ = _linfit(np.log(W[ok_m]), np.log(np.abs(mean[ok_m]))) if ok_m.sum() >= 2 else nan4
+    s_slope, s_err, _, _ = linfit(np.log(W[ok_s]), np.log(std[ok_s])) if ok_s.sum() >= 2 else nan4
+    m_slope, m_err, _, _ = linfit(np.log(W[ok_m]), np.log(np.abs(mean[ok_m]))) if ok_m.sum() >= 2 else nan4
     T = g.size * tau
     trusted = np.flatnonzero((n_win >= min_windows) & np.isfinite(sem))
     rate_err = float(sem[trusted[np.argmax(W[trusted])]]) if trusted.size else math.nan
@@ -267,7 +267,7 @@ def two_trajectory(ta, y0, *, d0, tau, T, project=None, callback=None, seed=0, n
     running = np.cumsum(g)[k - 1] / T_grid
     sel = (T_grid >= T_grid[-1] / 10.0) & (running > 0)
     if sel.sum() >= 2:
-        slope, slope_err, _, _ = _linfit(np.log(T_grid[sel]), np.log(running[sel]))
+        slope, slope_err, _, _ = linfit(np.log(T_grid[sel]), np.log(running[sel]))
     else:
         slope, slope_err = math.nan, math.nan
     return {"rate": rate, "stderr": stderr, "block_rates": blocks, "log_growth": g, "tau": tau,
@@ -299,8 +299,8 @@ def loschmidt_fit(T_values, errors, scale, *, floor_factor=1e3, saturation=1e-2)
            "better": "undetermined"}
     if use.sum() >= 2:
         le = np.log(e[use])
-        out["exp_rate"], out["exp_rate_err"], out["exp_rms"], _ = _linfit(T[use], le)
-        out["pow_exponent"], out["pow_exponent_err"], out["pow_rms"], _ = _linfit(np.log(T[use]), le)
+        out["exp_rate"], out["exp_rate_err"], out["exp_rms"], _ = linfit(T[use], le)
+        out["pow_exponent"], out["pow_exponent_err"], out["pow_rms"], _ = linfit(np.log(T[use]), le)
     if use.sum() >= 3:
         out["better"] = "exponential" if out["exp_rms"] < out["pow_rms"] else "power"
     return out
@@ -445,7 +445,7 @@ def megno(ta, n, y0, *, T, n_samples, tau=None, callback=None, seed=0):
             r += 1
     t_s, Y, Ym = np.array(t_s), np.array(Y), np.array(Ym)
     half = t_s >= T / 2
-    slope, slope_err, resid, _ = _linfit(t_s[half], Ym[half])
+    slope, slope_err, resid, _ = linfit(t_s[half], Ym[half])
     return {"t": t_s, "Y": Y, "Y_mean": Ym, "final": float(Ym[-1]), "slope": slope, "slope_err": slope_err,
             "resid": resid, "log_growth": g, "tau": tau, "final_state": ta.state[:n].astype(float)}
 

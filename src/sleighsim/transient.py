@@ -58,6 +58,13 @@ def spike_times(t, Omega, *, factor=1.8, block=50.0, min_separation=300.0, t_min
     return times[keep]
 
 
+def interval_stats(spikes) -> tuple[float, float]:
+    """Mean and standard deviation (ddof 1) of the intervals between successive spike times (time
+    units); NaN when there are too few spikes (the mean needs two, the deviation three)."""
+    d = np.diff(np.asarray(spikes, float))
+    return (float(d.mean()) if d.size else float("nan")), (float(d.std(ddof=1)) if d.size > 1 else float("nan"))
+
+
 def settling_time(t, omega, *, window=2500.0, rtol=0.02) -> float:
     """Settling time of the block means of omega (see module docstring); NaN if never settled."""
     tb, xb = _blocks(t, omega, window)
@@ -79,9 +86,7 @@ def steady_state_report(t, Omega, omega, *, spike_factor=1.8, window=2500.0, rto
     out = {"settling_time": settle, "n_spikes": int(spikes.size),
            "first_spike": float(spikes[0]) if spikes.size else float("nan")}
     for half, sel in (("first", spikes < mid), ("second", spikes >= mid)):
-        d = np.diff(spikes[sel])
-        out[f"spike_interval_mean_{half}_half"] = float(d.mean()) if d.size else float("nan")
-        out[f"spike_interval_std_{half}_half"] = float(d.std(ddof=1)) if d.size > 1 else float("nan")
+        out[f"spike_interval_mean_{half}_half"], out[f"spike_interval_std_{half}_half"] = interval_stats(spikes[sel])
     return out
 
 
@@ -147,12 +152,11 @@ def phases(t, u, Omega, omega, *, mean_window=25.0, sleigh_frac=0.99, spike_fact
     early = um[: max(1, stop)]
     t_sleigh = float(tm[int(np.argmax(early >= sleigh_frac * early.max()))])
     spikes = spike_times(t, Omega, factor=spike_factor, t_min=4.0 * t_sleigh)
-    d = np.diff(spikes)
+    interval_mean, interval_std = interval_stats(spikes)
     try:
         settle = settling_time(t, omega, window=window, rtol=rtol)
     except ValueError:
         settle = float("nan")
     return {"sleigh_phase_end": t_sleigh, "first_spike": float(spikes[0]) if spikes.size else float("nan"),
-            "n_spikes": int(spikes.size), "spike_interval_mean": float(d.mean()) if d.size else float("nan"),
-            "spike_interval_std": float(d.std(ddof=1)) if d.size > 1 else float("nan"),
+            "n_spikes": int(spikes.size), "spike_interval_mean": interval_mean, "spike_interval_std": interval_std,
             "omega_settling_time": settle, "spikes": spikes}

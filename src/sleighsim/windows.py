@@ -16,7 +16,7 @@ from collections.abc import Iterator
 
 import numpy as np
 
-from . import integrators, lyapunov
+from . import indicators, integrators, lyapunov
 
 log = logging.getLogger("sleighsim")
 
@@ -97,11 +97,7 @@ def trend(t, x, *, rel_tol: float, sigma: float, last_fraction: float = 0.5, min
     if xk.size < min_points:
         return {**out, "verdict": UNDETERMINED,
                 "reason": f"{xk.size} finite windows in the last {last_fraction:g} of the run (need {min_points})"}
-    A = np.c_[np.ones_like(tk), tk - tk.mean()]
-    coef, *_ = np.linalg.lstsq(A, xk, rcond=None)
-    resid = xk - A @ coef
-    s2 = float(resid @ resid) / (xk.size - 2)
-    slope, slope_err = float(coef[1]), math.sqrt(s2 / float(((tk - tk.mean()) ** 2).sum()))
+    slope, slope_err, _, _ = indicators.linfit(tk, xk)
     span = float(tk.max() - tk.min())
     change, change_err = slope * span, slope_err * span
     out.update(slope=slope, slope_stderr=slope_err, change=change, change_stderr=change_err)

@@ -61,10 +61,9 @@ def run_to_steady(params: Params, y0, cfg: dict, label: str = "") -> dict:
     rec = integrate(params, y, sample_grid(0.0, cfg["T_measure"], cfg["dt_measure"]), tol=cfg["tol"],
                     scene=f"{label}.measure", progress=0)
     spikes = transient.spike_times(rec.time.values, rec.Omega.values, factor=cfg["transient"]["spike_factor"])
-    d = np.diff(spikes)
+    interval, interval_std = transient.interval_stats(spikes)
     return {"settled": int(over), "t_settled": rounds * cfg["t_round"] if over else np.nan,
-            "n_spikes": spikes.size, "interval": float(d.mean()) if d.size else np.nan,
-            "interval_std": float(d.std(ddof=1)) if d.size > 1 else np.nan,
+            "n_spikes": spikes.size, "interval": interval, "interval_std": interval_std,
             "omega_sign": float(np.sign(rec.omega.values.mean())),
             "energy_max_rel_drift": max(drift, rec.attrs["energy_max_rel_drift"]),
             "wall_time_s": time.perf_counter() - start}

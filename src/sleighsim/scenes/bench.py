@@ -85,10 +85,9 @@ def work_precision(cfg: dict) -> xr.Dataset:
         if with_long:
             long_ = integrate(params, y0, sample_grid(0.0, cfg["t_long"], cfg["dt_long"]), **kw)
             spikes = transient.spike_times(long_.time.values, long_.Omega.values, t_min=cfg["t_min"])
-            d = np.diff(spikes)
             row.update(drift_long=long_.attrs["energy_max_rel_drift"], wall_long=long_.attrs["wall_time_s"],
                        steps_long=long_.attrs["steps"], first_spike=float(spikes[0]) if spikes.size else np.nan,
-                       spike_interval=float(d.mean()) if d.size else np.nan, n_spikes=int(spikes.size))
+                       spike_interval=transient.interval_stats(spikes)[0], n_spikes=int(spikes.size))
         rows.append(row)
         log.info("bench %s %s %.0e: error %.2g in %.3g s; drift %.2g in %.3g s; spike interval %.5g", backend,
                  method, tol, err, wall_short, rows[-1]["drift_long"], rows[-1]["wall_long"], rows[-1]["spike_interval"])

@@ -23,8 +23,7 @@ def _intervals(t, Omega, spike: dict) -> tuple[float, float, int]:
     """Mean and standard deviation of the intervals between the window's Omega spikes, and their count."""
     s = transient.spike_times(t, Omega, factor=spike["factor"], block=spike["block"],
                               min_separation=spike["min_separation"])
-    d = np.diff(s)
-    return (float(d.mean()) if d.size else math.nan, float(d.std(ddof=1)) if d.size > 1 else math.nan, int(s.size))
+    return (*transient.interval_stats(s), int(s.size))
 
 
 def drift_windows(cfg: dict, scene: str = "") -> xr.Dataset:

@@ -69,8 +69,7 @@ def _replicas(params, y, cfg, s, label):
         spikes = transient.spike_times(run.time.values, run.Omega.values, factor=cfg["transient"]["spike_factor"])
     except ValueError:  # a record shorter than two spike-detection blocks
         spikes = np.array([])
-    d = np.diff(spikes)
-    return states, (float(d.mean()) if d.size else math.nan), (float(d.std(ddof=1)) if d.size > 1 else math.nan)
+    return (states, *transient.interval_stats(spikes))
 
 
 def _steadiness(states, n_blocks: int, rtol: float) -> tuple[float, bool]:
