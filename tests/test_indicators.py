@@ -66,7 +66,7 @@ def _hh_project(ref, partner):
 
 def _flip_momenta(s):
     """Time-reversal involution R(q, p) = (q, -p) of a natural Hamiltonian system."""
-    s = np.array(s, dtype=float)
+    s = np.array(s, dtype=np.result_type(np.asarray(s).dtype, float))  # long double stays long double
     s[len(s) // 2:] *= -1.0
     return s
 
@@ -127,8 +127,7 @@ def _two_verdict(r):
 
 
 def _losch_verdict(L):
-    return ind.judge_loschmidt(L["n_used"], L["exp_rate"], L["exp_rate_err"], L["exp_rms"], L["pow_exponent"],
-                               L["pow_exponent_err"], L["pow_rms"])[0]
+    return ind.judge_loschmidt_run(L)[0]
 
 
 # ----------------------------------------------------------------------------- MEGNO
@@ -313,12 +312,76 @@ def test_loschmidt_chaotic_error_grows_exponentially(runs):
 
 @pytest.mark.parametrize("name", ["hh_regular", "quartic"])
 def test_loschmidt_regular_error_grows_like_a_power(runs, name):
-    # T = 10..1e4 (10 values): error 1e-16 -> 1e-12 .. 1e-11, power fit T^1.4-1.5
+    # T = 100..1e5 (20 values): error 1e-15 -> 2e-10 (Henon-Heiles), 4e-9 (quartic); power fit
+    # T^1.4 (14 usable points), T^1.7 (16); in the tail (last half) T^1.4-1.8
     y0 = runs[name]["y0"]
-    L = ind.loschmidt(runs[name]["ta"], y0, np.geomspace(10, 1e4, 10), _flip_momenta)
-    assert np.max(L["rel_error"]) < 1e-9
-    assert L["n_used"] >= 3 and 0.5 < L["pow_exponent"] < 3.0
+    L = ind.loschmidt(runs[name]["ta"], y0, np.geomspace(100, 1e5, 20), _flip_momenta)
+    assert np.max(L["rel_error"]) < 1e-7
+    assert L["n_used"] >= 10 and 0.5 < L["pow_exponent"] < 3.0
+    assert L["tail_n"] == math.ceil(L["n_used"] / 2) and 0.5 < L["tail_pow_exponent"] < 3.0
     assert _losch_verdict(L) == REGULAR
+
+
+def test_loschmidt_sustained_growth_is_judged_in_the_tail():
+    # two jumps of the return error (e.g. amplification at two spikes) followed by T^2 growth:
+    # over all points faster than T^3, in the tail T^2: regular, not chaos
+    T = np.geomspace(100, 2e4, 30)
+    e = np.where(T < 300, 1e-12, np.where(T < 1200, 1e-9, 1e-6 * (T / 1200) ** 2))
+    fit = ind.loschmidt_fit(T, e, 1.0)
+    assert fit["tail_n"] == 15 and np.array_equal(np.flatnonzero(fit["tail_used"]), np.arange(15, 30))
+    assert fit["tail_pow_exponent"] == pytest.approx(2.0)
+    whole = ind.judge_loschmidt(*(fit[k] for k in ("n_used",) + ind._FIT_KEYS))
+    assert whole[0] == CHAOTIC
+    v, reason = ind.judge_loschmidt_run(fit)
+    assert v == REGULAR and "power-law growth in the tail" in reason
+    # exponential to saturation: chaotic over all points and in the tail
+    T = np.linspace(10, 300, 30)
+    fit = ind.loschmidt_fit(T, 1e-15 * np.exp(0.1 * T), 1.0)
+    assert fit["tail_exp_rate"] == pytest.approx(0.1)
+    assert ind.judge_loschmidt_run(fit)[0] == CHAOTIC
+    # the tail has at least tail_min points, at most all usable ones
+    fit = ind.loschmidt_fit(np.geomspace(10, 1e4, 5), 1e-12 * np.geomspace(10, 1e4, 5), 1.0)
+    assert fit["n_used"] == 5 and fit["tail_n"] == 4
+    fit = ind.loschmidt_fit(np.geomspace(10, 1e4, 5), 1e-12 * np.geomspace(10, 1e4, 5), 1.0, tail_min=9)
+    assert fit["tail_n"] == 5
+    with pytest.raises(ValueError, match="tail"):
+        ind.loschmidt_fit(T, 1e-15 * np.exp(0.1 * T), 1.0, tail=0.0)
+
+
+def _run_fits(whole, tail):
+    return {**whole, **{f"tail_{k}": tail[k] for k in ind._FIT_KEYS}, "tail_n": tail["n_used"]}
+
+
+def test_judge_loschmidt_run_branches():
+    mid = {**LOS_REG, "pow_exponent": 4.0}  # neither clearly exponential nor below T^3
+    assert ind.judge_loschmidt(**mid)[0] == UNDECIDED
+    cases = [((LOS_CHAOS, LOS_CHAOS), CHAOTIC, "sustained into the tail"),
+             ((LOS_CHAOS, LOS_REG), REGULAR, "power-law growth in the tail"),
+             ((LOS_REG, LOS_REG), REGULAR, "power-law growth in the tail"),
+             ((LOS_CHAOS, mid), UNDECIDED, "not sustained"),
+             ((LOS_REG, mid), UNDECIDED, "neither"),
+             ((LOS_REG, LOS_CHAOS), UNDECIDED, "neither")]
+    for (whole, tail), want, words in cases:
+        v, reason = ind.judge_loschmidt_run(_run_fits(whole, tail))
+        assert v == want and words in reason, (whole, tail, v, reason)
+    v, reason = ind.judge_loschmidt_run(_run_fits(LOS_CHAOS, {**LOS_CHAOS, "exp_rate": float("nan")}))
+    assert v == UNDECIDED and "not finite: exp_rate" in reason
+    v, reason = ind.judge_loschmidt_run(_run_fits(LOS_CHAOS, {**LOS_CHAOS, "n_used": 2}))
+    assert v == UNDECIDED and "2 return errors" in reason
+
+
+def test_loschmidt_shares_one_forward_run_and_uses_the_integrators_precision(runs):
+    import heyoka as hy
+
+    ta = runs["quartic"]["ta"]
+    a = ind.loschmidt(ta, OSC0, [30.0, 10.0, 20.0], _flip_momenta)
+    b = ind.loschmidt(ta, OSC0, [10.0, 20.0, 30.0], _flip_momenta)
+    np.testing.assert_array_equal(a["error"], b["error"][[2, 0, 1]])
+    assert a["floor"] == pytest.approx(1e3 * np.finfo(float).eps * np.max(np.abs(OSC0)))
+    ld = hy.taylor_adaptive(_oscillators(hy, True), np.array(OSC0, dtype=np.longdouble), fp_type=np.longdouble)
+    c = ind.loschmidt(ld, OSC0, [10.0, 20.0, 30.0], _flip_momenta)
+    assert c["floor"] == pytest.approx(1e3 * float(np.finfo(np.longdouble).eps) * np.max(np.abs(OSC0)))
+    assert np.all(c["error"] < 1e-3 * b["error"].max() + 1e-17)
 
 
 def test_loschmidt_fit_synthetic_and_bad_input(runs):

@@ -275,13 +275,30 @@ def two_trajectory(ta, y0, *, d0, tau, T, project=None, callback=None, seed=0, n
             "running_slope_err": slope_err, "final_state": ref}
 
 
-def loschmidt_fit(T_values, errors, scale, *, floor_factor=1e3, saturation=1e-2):
+_FIT_KEYS = ("exp_rate", "exp_rate_err", "exp_rms", "pow_exponent", "pow_exponent_err", "pow_rms")
+
+
+def _growth_fits(T, e) -> dict:
+    """Least-squares fits of log(e) = a + rate T and log(e) = a + p log T: slope, stderr and rms
+    residual (log units) of each; NaN with fewer than 2 points."""
+    out = dict.fromkeys(_FIT_KEYS, math.nan)
+    if T.size >= 2:
+        le = np.log(e)
+        out["exp_rate"], out["exp_rate_err"], out["exp_rms"], _ = linfit(T, le)
+        out["pow_exponent"], out["pow_exponent_err"], out["pow_rms"], _ = linfit(np.log(T), le)
+    return out
+
+
+def loschmidt_fit(T_values, errors, scale, *, floor_factor=1e3, saturation=1e-2, rounding=_EPS, tail=0.5,
+                  tail_min=4):
     """Classify return errors: exponential in T (chaos) or a power of T (regular).
 
-    Uses the points with floor_factor * eps * scale < error < saturation * scale, fits
-    log(error) = a + rate T and log(error) = a + p log T by least squares and reports
-    both (slope, stderr, rms residual in log units). ``better`` is "exponential" or
-    "power" (smaller rms), "undetermined" with fewer than 3 usable points.
+    Uses the points with floor_factor * rounding * scale < error < saturation * scale (rounding:
+    the integrator's machine epsilon), fits log(error) = a + rate T and log(error) = a + p log T by
+    least squares over all of them and again over the tail (the last ``tail`` fraction of them in
+    T, at least tail_min, nearest saturation) and reports both (slope, stderr, rms residual in
+    log units; the tail's under ``tail_``). ``better`` is "exponential" or "power"
+    (smaller rms over all points), "undetermined" with fewer than 3 usable points.
     """
     T = np.asarray(T_values, float).ravel()
     e = np.asarray(errors, float).ravel()
@@ -290,17 +307,18 @@ def loschmidt_fit(T_values, errors, scale, *, floor_factor=1e3, saturation=1e-2)
     if e.size != T.size:
         raise ValueError(f"errors has {e.size} entries, T_values {T.size}")
     scale = _positive("scale", scale)
-    floor = floor_factor * _EPS * scale
+    if not 0 < tail <= 1:
+        raise ValueError(f"tail must be in (0, 1], got {tail!r}")
+    floor = floor_factor * _positive("rounding", rounding) * scale
     sat = saturation * scale
     use = np.isfinite(e) & (e > floor) & (e < sat) & np.isfinite(T) & (T > 0)
-    out = {"floor": floor, "saturation": sat, "used": use, "n_used": int(use.sum()),
-           "exp_rate": math.nan, "exp_rate_err": math.nan, "exp_rms": math.nan,
-           "pow_exponent": math.nan, "pow_exponent_err": math.nan, "pow_rms": math.nan,
-           "better": "undetermined"}
-    if use.sum() >= 2:
-        le = np.log(e[use])
-        out["exp_rate"], out["exp_rate_err"], out["exp_rms"], _ = linfit(T[use], le)
-        out["pow_exponent"], out["pow_exponent_err"], out["pow_rms"], _ = linfit(np.log(T[use]), le)
+    out = {"floor": floor, "saturation": sat, "used": use, "n_used": int(use.sum()), "better": "undetermined"}
+    out.update(_growth_fits(T[use], e[use]))
+    idx = np.flatnonzero(use)[np.argsort(T[use], kind="stable")]
+    in_tail = np.zeros_like(use)
+    in_tail[idx[-max(tail_min, math.ceil(tail * idx.size)):]] = True
+    out["tail_used"], out["tail_n"] = in_tail, int(in_tail.sum())
+    out.update({f"tail_{k}": v for k, v in _growth_fits(T[in_tail], e[in_tail]).items()})
     if use.sum() >= 3:
         out["better"] = "exponential" if out["exp_rms"] < out["pow_rms"] else "power"
     return out
@@ -311,10 +329,11 @@ def loschmidt(ta, y0, T_values, involution, callback=None, *, difference=None, s
     """Loschmidt (time-reversal) test for a reversible flow with involution R.
 
     R maps a state to a state, and if y(t) solves the ODE so does R y(-t). For each T in
-    ``T_values``: propagate y0 forward T, apply R, propagate forward T again and compare
-    with R(y0). In exact arithmetic the return is exact; numerically the return error
-    grows like exp(lambda T) times the rounding level on a chaotic orbit and only like a
-    power of T on a regular one. ``difference(a, b)`` (default a - b) compares states.
+    ``T_values``: take y(T) on one forward run from y0, apply R, propagate forward T and compare
+    with R(y0). In exact arithmetic the return is exact; numerically the return error grows like
+    exp(lambda T) times the rounding level on a chaotic orbit and only like a power of T on a
+    regular one. ``difference(a, b)`` (default a - b) compares states. Runs in the integrator's
+    precision (double or long double); the rounding floor uses its machine epsilon.
 
     Returns dict: ``T``, ``error`` (infinity norm), ``rel_error`` (error / scale, scale =
     max|y0| unless given) and the classification of ``loschmidt_fit`` (floor
@@ -336,18 +355,26 @@ def loschmidt(ta, y0, T_values, involution, callback=None, *, difference=None, s
     scale = _positive("scale", scale)
     diff = difference if difference is not None else (lambda a, b: a - b)
     target = np.asarray(involution(y0.copy()), float)
-    err = np.empty(T_arr.size)
     fp = ta.state.dtype.type  # float, or np.longdouble for an extended-precision integrator
-    for i, Tk in enumerate(T_arr):
+    order = np.argsort(T_arr, kind="stable")
+    ahead = []  # y(T) for T in increasing order, from one forward run
+    ta.time = fp(0)
+    ta.state[:] = y0
+    t = 0.0
+    for i in order:
+        if T_arr[i] > t:
+            _propagate(ta, T_arr[i] - t, callback, t)
+            t = float(T_arr[i])
+        ahead.append(ta.state.copy())
+    err = np.empty(T_arr.size)
+    for i, y_T in zip(order, ahead):
         ta.time = fp(0)
-        ta.state[:] = y0
-        _propagate(ta, Tk, callback, 0.0)
-        ta.state[:] = involution(ta.state.copy())
-        ta.time = fp(0)
-        _propagate(ta, Tk, callback, Tk)
+        ta.state[:] = involution(y_T.copy())
+        _propagate(ta, T_arr[i], callback, T_arr[i])
         err[i] = float(np.max(np.abs(np.asarray(diff(ta.state.copy(), target), float))))
     out = {"T": T_arr, "error": err, "rel_error": err / scale, "scale": scale}
-    out.update(loschmidt_fit(T_arr, err, scale, floor_factor=floor_factor, saturation=saturation))
+    out.update(loschmidt_fit(T_arr, err, scale, floor_factor=floor_factor, saturation=saturation,
+                             rounding=float(np.finfo(ta.state.dtype).eps)))
     return out
 
 
@@ -616,6 +643,25 @@ def judge_loschmidt(n_used, exp_rate, exp_rate_err, exp_rms, pow_exponent, pow_e
     if pow_rms < exp_rms * fit_ratio and pow_exponent + sigma * pow_exponent_err < p_max:
         return REGULAR, f"return error grows at most like T^{_g(p_max)}; {nums}"
     return UNDECIDED, f"return error neither clearly exponential nor bounded by T^{_g(p_max)}; {nums}"
+
+
+def judge_loschmidt_run(L: dict, *, sigma=3.0) -> tuple[str, str]:
+    """``judge_loschmidt`` on a ``loschmidt`` run, over all usable points and over their tail (the
+    points nearest saturation, ``loschmidt_fit``'s tail_ fits). chaotic: chaotic over all points
+    and in the tail (the growth is still exponential, or faster than T^3, where the error
+    approaches saturation: a few early jumps of the error followed by power-law growth are not
+    chaos); regular: regular in the tail (early transient amplification does not hide the
+    power-law growth that follows); otherwise undecided, with both reasons."""
+    whole = judge_loschmidt(*(L[k] for k in ("n_used",) + _FIT_KEYS), sigma=sigma)
+    tail = judge_loschmidt(L["tail_n"], *(L[f"tail_{k}"] for k in _FIT_KEYS), sigma=sigma)
+    both = f"over all usable points: {whole[0]}: {whole[1]}; in the tail: {tail[0]}: {tail[1]}"
+    if whole[0] == CHAOTIC and tail[0] == CHAOTIC:
+        return CHAOTIC, f"exponential growth sustained into the tail; {both}"
+    if tail[0] == REGULAR:
+        return REGULAR, f"power-law growth in the tail; {both}"
+    if whole[0] == CHAOTIC:
+        return UNDECIDED, f"exponential growth not sustained into the tail; {both}"
+    return UNDECIDED, f"neither sustained exponential growth nor power-law growth in the tail; {both}"
 
 
 def d0_independent(d0s, rates, stderrs, *, sigma=3.0):
