@@ -187,7 +187,7 @@ def test_megno_in_long_double_matches_double_where_both_are_accurate():
     p = Params.paper(eps=0.1)
     y0 = state_at_label([0.0, 0.1, 1.0, 0.0], p, 0.1127)
     cfg = dict(tol=2.220446049250313e-16, tol_long_double=1.0842021724855044e-19, T_megno=200.0, T_long_double=200.0,
-               megno_samples=20, tau=10.0)
+               megno_samples=20, tau=10.0, compact_mode=True)
     a = verdict.megno_run(p, y0, cfg, long_double=True)
     b = verdict.megno_run(p, y0, cfg)
     ta, _ = lyapunov.sleigh_megno(cfg["tol_long_double"], True)

@@ -119,3 +119,43 @@ def test_megno_judged_in_long_double_under_the_same_gate(v_ld, check, want):
     assert reason.startswith("in long double over T = 2e+05") and reason.endswith("in double over T = 5e+04: chaotic")
     if (v_ld, want) == (C, U):
         assert "not confirmed in long double" in reason
+
+
+def _los(whole, tail):
+    keys = ("n_used", "exp_rate", "exp_rate_err", "exp_rms", "pow_exponent", "pow_exponent_err", "pow_rms")
+    return {**dict(zip(keys, whole)), **{f"tail_{k}": v for k, v in zip(keys[1:], tail[1:])}, "tail_n": tail[0]}
+
+
+# (n, rate, err, rms, p, p_err, p_rms): exponential to saturation, and T^2 growth
+_EXP = (12, 0.01, 1e-4, 0.5, 9.0, 0.5, 2.0)
+_POW = (8, 3e-4, 5e-5, 0.5, 2.0, 0.1, 0.2)
+
+
+@pytest.mark.parametrize("L, L_ld, want, precision", [
+    (_los(_EXP, _EXP), None, C, "double"),             # no long-double run: the double one judges
+    (_los(_EXP, _EXP), _los(_EXP, _POW), G, "long double"),  # the long-double run judges (tail T^2)
+    (_los(_POW, _POW), _los(_EXP, _EXP), C, "long double"),
+])
+def test_loschmidt_indicator_judged_in_long_double_when_it_ran(L, L_ld, want, precision):
+    from sleighsim.scenes.verdict import loschmidt_indicator
+
+    out = loschmidt_indicator(L, L_ld, 3.0)
+    assert out["verdict"][0] == want and out["precision"] == precision
+    assert out["verdict_double"] == indicators.judge_loschmidt_run(L)[0]
+    judged = L if L_ld is None else L_ld
+    assert (out["value"], out["error"]) == (judged["tail_exp_rate"], judged["tail_exp_rate_err"])
+    if L_ld is not None:
+        assert out["verdict"][1].startswith("in long double: ")
+        assert out["verdict"][1].endswith(f"in double: {out['verdict_double']}")
+
+
+def test_loschmidt_run_in_long_double_has_the_smaller_rounding():
+    from sleighsim.scenes.verdict import loschmidt_run
+
+    p = Params.paper(eps=0.1)
+    cfg = dict(tol=2.0**-52, tol_long_double=1.0842021724855044e-19, loschmidt_T=[10.0, 40.0], loschmidt_n=3)
+    y = np.array([0.05, 0.02, 0.8, 0.4])
+    d, ld = loschmidt_run(p, y, cfg), loschmidt_run(p, y, cfg, long_double=True)
+    np.testing.assert_allclose(d["T"], [10.0, 20.0, 40.0])
+    assert ld["floor"] == pytest.approx(d["floor"] * float(np.finfo(np.longdouble).eps) / float(np.finfo(float).eps))
+    assert np.all(d["rel_error"] < 1e-11) and np.all(ld["rel_error"] < 1e-3 * d["rel_error"].max())

@@ -106,8 +106,9 @@ def samples(ta, Y) -> np.ndarray:
     return Y
 
 
-def flow(kinematics: bool, tol: float):
-    """The sleigh (with (theta, x, y) when ``kinematics``). Returns (integrator, compile seconds)."""
+def flow(kinematics: bool, tol: float, long_double: bool = False):
+    """The sleigh (with (theta, x, y) when ``kinematics``), in double or long double (80-bit on
+    x86-64, machine epsilon 1.1e-19). Returns (integrator, compile seconds)."""
 
     def build():
         import heyoka as hy
@@ -116,10 +117,12 @@ def flow(kinematics: bool, tol: float):
         from .params import Params
 
         n = 7 if kinematics else 4
-        return hy.taylor_adaptive(heyoka_system(kinematics, DELTA_SHIFT), [0.0, 0.1, 1.0, DELTA_SHIFT] + [0.0] * (n - 4),
-                                  pars=list(Params.paper(eps=0.1).values), tol=tol)
+        fp = np.longdouble if long_double else float
+        y0 = np.array([0.0, 0.1, 1.0, DELTA_SHIFT] + [0.0] * (n - 4), dtype=fp)
+        return hy.taylor_adaptive(heyoka_system(kinematics, DELTA_SHIFT), y0, tol=fp(tol),
+                                  pars=np.array(Params.paper(eps=0.1).values, dtype=fp), fp_type=fp)
 
-    return compiled(("flow", kinematics, tol), build)
+    return compiled(("flow", kinematics, tol) + (("long double",) if long_double else ()), build)
 
 
 def rhs_function(kinematics: bool = False, k: int = 0):

@@ -53,10 +53,10 @@ def sleigh_tangent(k: int, tol: float, compact: bool):
     return integrators.compiled(("tangent", k, tol, compact), build)
 
 
-def sleigh_megno(tol: float, long_double: bool = False):
+def sleigh_megno(tol: float, long_double: bool = False, compact: bool = True):
     """The sleigh, one tangent vector and the MEGNO quadratures (``indicators.megno_integrator``,
-    compact mode), in double or long double (80-bit on x86-64: machine epsilon 1.1e-19, about 5x
-    the cost), compiled once per process. Returns (ta, compile_s)."""
+    in compact or full mode), in double or long double (80-bit on x86-64: machine epsilon 1.1e-19,
+    about 5x the cost), compiled once per process. Returns (ta, compile_s)."""
     from . import indicators, model
     from .params import Params
 
@@ -64,9 +64,10 @@ def sleigh_megno(tol: float, long_double: bool = False):
 
     def build():
         return indicators.megno_integrator(model.heyoka_system(delta_shift=integrators.DELTA_SHIFT),
-                                           pars=Params.paper(eps=0.1).values, tol=tol, fp_type=fp)[0]
+                                           pars=Params.paper(eps=0.1).values, tol=tol, fp_type=fp,
+                                           compact_mode=compact)[0]
 
-    return integrators.compiled(("megno", tol, long_double), build)
+    return integrators.compiled(("megno", tol, long_double, compact), build)
 
 
 def sleigh_tangent_batch(batch_size: int, tol: float, compact: bool, k: int = 1):

@@ -259,7 +259,7 @@ def formal_exponents(cfg: dict, scene: str = "") -> xr.Dataset:
         label = f"{scene}[eps={eps:g}]"
         y, pre = settle(params, y0, cfg["t_transient"], **cfg["transient"], tol=cfg["tol"], label=label, progress=1)
         replicas, _ = orbit_samples(params, y, cfg["replicas"], cfg["replica_spacing"], tol=cfg["tol"], scene=label)
-        ta, _ = lyapunov.sleigh_tangent_batch(cfg["replicas"], cfg["tol"], True, k=1)
+        ta, _ = lyapunov.sleigh_tangent_batch(cfg["replicas"], cfg["tol"], cfg["compact_mode"], k=1)
         ta.pars[:] = np.tile(np.array(params.values)[:, None], (1, cfg["replicas"]))
         res = lyapunov.replica_exponents(ta, 4, 1, replicas, cfg["tau"], T_round=cfg["T_round"],
                                          max_rounds=cfg["max_rounds"], target_rel=cfg["target_rel"],
@@ -280,6 +280,6 @@ def formal_exponents(cfg: dict, scene: str = "") -> xr.Dataset:
         scene=scene, backend="heyoka", method="Benettin over independent replicas (k = 1), formal system m_c = 1 - eps",
         param_b=cfg["b"], param_K2=cfg["K2"], energy_label=cfg["energy_label"], y0=cfg["y0"],
         tol=cfg["tol"], tau=cfg["tau"], replicas=cfg["replicas"], replica_spacing=cfg["replica_spacing"],
-        uncertainty="standard error over independent replicas", wall_time_s=time.perf_counter() - start,
+        compact_mode=int(cfg["compact_mode"]), uncertainty="standard error over independent replicas", wall_time_s=time.perf_counter() - start,
     )
     return ds

@@ -90,7 +90,7 @@ def one_state(params, y0, cfg: dict, scene: str) -> dict:
     replicas, record = orbit_samples(params, y, cfg["replicas"], cfg["replica_spacing"], tol=tol, scene=scene)
     mean_u_omega = np.array([record.u.values.mean(), record.omega.values.mean()])
     B = cfg["replicas"]
-    ta, _ = lyapunov.sleigh_tangent_batch(B, tol, True, k=4)
+    ta, _ = lyapunov.sleigh_tangent_batch(B, tol, cfg["compact_mode"], k=4)
     ta.pars[:] = np.tile(np.array(params.values)[:, None], (1, B))
     res = lyapunov.replica_exponents(ta, 4, 4, replicas, tau, T_round=cfg["T_round"], max_rounds=cfg["max_rounds"],
                                      target_rel=cfg["target_rel"], t_align=cfg["t_align"],
@@ -119,15 +119,14 @@ def one_state(params, y0, cfg: dict, scene: str) -> dict:
         megno_precision = "long double"
         verdicts["megno"] = megno_in_long_double(judge_megno_run(ld["megno"], cfg["T_long_double"], sigma), ld,
                                                  megno_double, cfg["T_long_double"], cfg["T_megno"])
+    L = loschmidt_run(params, replicas[0], cfg)
+    # when the precision check ran, the Loschmidt test runs in long double as well
+    L_ld = loschmidt_run(params, replicas[0], cfg, long_double=True) if ld["megno"] is not None else None
+    los = loschmidt_indicator(L, L_ld, sigma)
+    values["loschmidt"], errors["loschmidt"], verdicts["loschmidt"] = los["value"], los["error"], los["verdict"]
+    judged = L if L_ld is None else L_ld
     flow, _ = integrators.flow(False, tol)
     flow.pars[:] = params.values
-    L = indicators.loschmidt(flow, _stored(replicas[0]), np.geomspace(*cfg["loschmidt_T"], cfg["loschmidt_n"]), lambda z: R * z,
-                             callback=integrators.bounded(flow), difference=model.state_difference,
-                             scale=float(np.max(np.abs(replicas[0][:3]))))
-    values["loschmidt"], errors["loschmidt"] = L["exp_rate"], L["exp_rate_err"]
-    verdicts["loschmidt"] = indicators.judge_loschmidt(L["n_used"], L["exp_rate"], L["exp_rate_err"], L["exp_rms"],
-                                                       L["pow_exponent"], L["pow_exponent_err"], L["pow_rms"],
-                                                       sigma=sigma)
     y_int = _stored(replicas[-1])
     tts = [indicators.two_trajectory(flow, y_int, d0=d0, tau=tau, T=cfg["T_two"], t_align=cfg["t_align"],
                                      callback=integrators.bounded(flow), difference=model.state_difference,
@@ -157,12 +156,45 @@ def one_state(params, y0, cfg: dict, scene: str) -> dict:
                 megno_t_ld=_or_nan(ld["megno"], "t", m["t"].size), megno_Y_mean_ld=_or_nan(ld["megno"], "Y_mean", m["t"].size),
                 megno_rate_double=2 * m["slope"], megno_rate_double_err=2 * m["slope_err"],
                 megno_verdict_double=megno_double[0], megno_precision=megno_precision,
-                loschmidt_error=L["rel_error"], loschmidt_power=L["pow_exponent"],
-                loschmidt_power_err=L["pow_exponent_err"], ld_lambda_1=ld["lambda_1"], ld_stderr=ld["stderr"], ld_check=ld["check"],
+                loschmidt_error=L["rel_error"], loschmidt_error_ld=_or_nan(L_ld, "rel_error", L["T"].size),
+                loschmidt_power=judged["pow_exponent"], loschmidt_power_err=judged["pow_exponent_err"],
+                loschmidt_tail_power=judged["tail_pow_exponent"], loschmidt_tail_power_err=judged["tail_pow_exponent_err"],
+                loschmidt_precision=los["precision"], loschmidt_verdict_double=los["verdict_double"], ld_lambda_1=ld["lambda_1"], ld_stderr=ld["stderr"], ld_check=ld["check"],
                 exponents=lam, stderr=res["stderr"], T=float(res["T"]), status=res["status"], sum_all=s, sum_err=s_err,
                 r_image=image, r_image_distance=image_dist, mean_u=float(mean_u_omega[0]),
                 mean_omega=float(mean_u_omega[1]), transient_over=int(pre["transient_over"]), T_two=float(tt["T"]),
                 drift=float(abs(model.energy(integrators.read(flow, 4), params) / model.energy(y0, params) - 1)))
+
+
+def loschmidt_run(params, y, cfg: dict, *, long_double: bool = False) -> dict:
+    """``indicators.loschmidt`` from y (model variables) with the involution R at loschmidt_n
+    log-spaced T in loschmidt_T, relative to max |velocity|: in double at tol, or in long double at
+    tol_long_double (rounding 2^11 smaller, so the return error stays below saturation three
+    decades longer)."""
+    flow, _ = integrators.flow(False, cfg["tol_long_double"] if long_double else cfg["tol"], long_double)
+    flow.pars[:] = np.array(params.values, dtype=flow.state.dtype)
+    return indicators.loschmidt(flow, _stored(y), loschmidt_T(cfg), lambda z: R * z, callback=integrators.bounded(flow),
+                                difference=model.state_difference, scale=float(np.max(np.abs(np.asarray(y)[:3]))))
+
+
+def loschmidt_indicator(L: dict, L_ld: dict | None, sigma: float) -> dict:
+    """The Loschmidt indicator from the double run L and, when it was made, the long-double run
+    L_ld, which then judges (its unsaturated window is three decades longer); the double run's
+    verdict is named in the reason. Value and error: the tail's exponential rate and its
+    least-squares error. Returns value, error, verdict ((verdict, reason)), precision and
+    verdict_double."""
+    double = indicators.judge_loschmidt_run(L, sigma=sigma)
+    if L_ld is None:
+        return dict(value=L["tail_exp_rate"], error=L["tail_exp_rate_err"], verdict=double, precision="double",
+                    verdict_double=double[0])
+    v, r = indicators.judge_loschmidt_run(L_ld, sigma=sigma)
+    return dict(value=L_ld["tail_exp_rate"], error=L_ld["tail_exp_rate_err"], precision="long double",
+                verdict=(v, f"in long double: {r}; in double: {double[0]}"), verdict_double=double[0])
+
+
+def loschmidt_T(cfg: dict) -> np.ndarray:
+    """The Loschmidt horizons: loschmidt_n log-spaced in loschmidt_T."""
+    return np.geomspace(*cfg["loschmidt_T"], cfg["loschmidt_n"])
 
 
 def megno_run(params, y, cfg: dict, *, long_double: bool = False) -> dict:
@@ -170,7 +202,7 @@ def megno_run(params, y, cfg: dict, *, long_double: bool = False) -> dict:
     (``indicators.megno``): over T_megno in double, or over T_long_double at tol_long_double in long
     double."""
     tol, T = (cfg["tol_long_double"], cfg["T_long_double"]) if long_double else (cfg["tol"], cfg["T_megno"])
-    ta, _ = lyapunov.sleigh_megno(tol, long_double)
+    ta, _ = lyapunov.sleigh_megno(tol, long_double, cfg["compact_mode"])
     ta.pars[:] = np.array(params.values, dtype=ta.state.dtype)
     return indicators.megno(ta, 4, _stored(y), T=T, n_samples=cfg["megno_samples"], tau=cfg["tau"],
                             callback=integrators.bounded(ta))
@@ -296,32 +328,41 @@ def verdict(cfg: dict, scene: str = "") -> xr.Dataset:
             "megno_t_long_double": (("state", "megno_sample"), per_state("megno_t_ld"), {"units": "time"}),
             "loschmidt_rel_error": (("state", "T_loschmidt"), per_state("loschmidt_error"),
                                     {"long_name": "return error (forward T, R, forward T) / max |velocity|"}),
+            "loschmidt_rel_error_long_double": (("state", "T_loschmidt"), per_state("loschmidt_error_ld"),
+                                                {"long_name": "the same in long double (NaN: not run)"}),
+            "loschmidt_precision": ("state", per_state("loschmidt_precision").astype(object),
+                                    {"long_name": "precision of the run the Loschmidt indicator is judged from"}),
+            "loschmidt_verdict_double": ("state", per_state("loschmidt_verdict_double").astype(object)),
             "loschmidt_power": ("state", per_state("loschmidt_power"),
-                                {"long_name": "exponent p of the power fit error ~ T^p"}),
+                                {"long_name": "exponent p of the power fit error ~ T^p over all usable points (judged run)"}),
             "loschmidt_power_stderr": ("state", per_state("loschmidt_power_err"),
                                        {"long_name": "least-squares error of that exponent"}),
+            "loschmidt_tail_power": ("state", per_state("loschmidt_tail_power"),
+                                     {"long_name": "the same over the tail (the last half of the usable points)"}),
+            "loschmidt_tail_power_stderr": ("state", per_state("loschmidt_tail_power_err")),
             "lambda_1_long_double": ("state", per_state("ld_lambda_1"), {"units": "1/time"}),
             "lambda_1_long_double_stderr": ("state", per_state("ld_stderr"), {"units": "1/time"}),
             "precision_check": ("state", per_state("ld_check").astype(object),
                                 {"long_name": "long-double check of tangent-based chaotic verdicts (precision_rule)"}),
         },
         coords={"state": names, "indicator": ind, "i": np.arange(1, 5), "d0": np.asarray(cfg["d0"], float),
-                "T_loschmidt": np.geomspace(*cfg["loschmidt_T"], cfg["loschmidt_n"]),
+                "T_loschmidt": loschmidt_T(cfg),
                 "tangent_based": ("indicator", [int(i in TANGENT_BASED) for i in ind])},
     )
     ds.attrs.update(
         rule=indicators.DECISION_RULE + "; then " + " ".join(consistent.__doc__.split()), class_rule=" ".join(classify.__doc__.split()),
         precision_rule=" ".join(precision_check.__doc__.split()),
         d0_rule=" ".join(indicators.d0_independent.__doc__.split()), T_long_double=cfg["T_long_double"],
-        tol_long_double=cfg["tol_long_double"],
+        tol_long_double=cfg["tol_long_double"], compact_mode=int(cfg["compact_mode"]),
         benettin_rule=" ".join(judge_benettin.__doc__.split()), R_rule=" ".join(r_image.__doc__.split()),
         uncertainty="Benettin: standard error over independent replicas along the settled orbit; FTLE: window "
                     "standard error; MEGNO: 2 x (slope of <Y> over the second half, least-squares error, "
                     "correlated residuals: understated); two-trajectory: consecutive blocks (value at the middle d0); "
-                    "Loschmidt: least-squares error of the exponential fit; long double: consecutive blocks of one "
+                    "Loschmidt: least-squares error of the exponential fit over the tail; long double: consecutive blocks of one "
                     "replica's MEGNO run",
         megno_rule=" ".join(indicators.judge_megno.__doc__.split()),
-        loschmidt_rule=" ".join(indicators.judge_loschmidt.__doc__.split()), T_megno=cfg["T_megno"],
+        loschmidt_rule=" ".join((indicators.judge_loschmidt_run.__doc__ + " " + indicators.judge_loschmidt.__doc__
+                                 + " Tail: " + indicators.loschmidt_fit.__doc__).split()), T_megno=cfg["T_megno"],
         loschmidt_T=list(cfg["loschmidt_T"]), loschmidt_n=cfg["loschmidt_n"],
         param_eps=params.eps, param_b=params.b, param_K2=params.K2, energy_label=cfg["energy_label"], tol=cfg["tol"],
         tau=cfg["tau"], replicas=cfg["replicas"], replica_spacing=cfg["replica_spacing"],

@@ -157,8 +157,13 @@ def chaos(sources, png, pdf) -> None:
         if np.isfinite(ds.megno_Y_mean_long_double.values[k]).any():
             mx.plot(ds.megno_t_long_double.values[k], ds.megno_Y_mean_long_double.values[k], "--", color=line.get_color(),
                     label=f"{st}, long double")
-        lx.loglog(ds.T_loschmidt.values, ds.loschmidt_rel_error.values[k], "o-", ms=3,
-                  label=f"{st}: ~T^{ds.loschmidt_power.values[k]:.2g}, {ds.indicator_verdict.values[k, ind.index('loschmidt')]}")
+        verdict = ds.indicator_verdict.values[k, ind.index("loschmidt")]
+        fit = f"tail ~T^{ds.loschmidt_tail_power.values[k]:.2g}, {verdict} ({ds.loschmidt_precision.values[k]})"
+        line, = lx.loglog(ds.T_loschmidt.values, ds.loschmidt_rel_error.values[k], "o-", ms=3, label=f"{st}, double")
+        if np.isfinite(ds.loschmidt_rel_error_long_double.values[k]).any():
+            lx.loglog(ds.T_loschmidt.values, ds.loschmidt_rel_error_long_double.values[k], "s--", ms=3,
+                      color=line.get_color(), label=f"{st}, long double")
+        line.set_label(f"{line.get_label()}; judged: {fit}")
     mx.axhline(2.0, color="0.5", lw=0.8, ls="--")
     mx.set_xlabel("t")
     mx.set_ylabel("MEGNO <Y>")
@@ -166,7 +171,7 @@ def chaos(sources, png, pdf) -> None:
     mx.legend(fontsize=6)
     lx.set_xlabel("T (forward T, apply R, forward T)")
     lx.set_ylabel("return error (relative)")
-    lx.set_title("Loschmidt: a power of T when regular, exponential under chaos", fontsize=8)
+    lx.set_title("Loschmidt: a power of T when regular, exponential up to saturation under chaos", fontsize=8)
     lx.legend(fontsize=6)
     fig.suptitle("indicator verdicts: red chaotic, blue regular, grey undecided; (t) tangent-based; the two-trajectory "
                  "rate at each d0 beside it (it must not depend on d0)", fontsize=8)
