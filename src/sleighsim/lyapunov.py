@@ -23,8 +23,9 @@ from . import integrators
 log = logging.getLogger("sleighsim")
 
 
-def tangent_integrator(sys, k: int, tol: float = 2.0**-52, pars=(), compact_mode: bool = True):
-    """heyoka integrator for ``sys`` (list of (var, expr)) plus k tangent vectors.
+def tangent_integrator(sys, k: int, tol: float = 2.0**-52, pars=(), compact_mode: bool = True, fp_type=float):
+    """heyoka integrator for ``sys`` (list of (var, expr)) plus k tangent vectors, in double or
+    (fp_type np.longdouble) long double.
 
     Returns (ta, n, compile_s); the state is [y (n), V (n x k, row-major)]."""
     import heyoka as hy
@@ -35,22 +36,24 @@ def tangent_integrator(sys, k: int, tol: float = 2.0**-52, pars=(), compact_mode
         raise ValueError(f"k = {k} is outside the admissible range [1, {n}]")
     start = time.perf_counter()
     vsys = hy.var_ode_sys(sys, [v for v, _ in sys[:k]], order=1)
-    ta = hy.taylor_adaptive(vsys, [0.1] * n, tol=tol, pars=list(pars), compact_mode=compact_mode)
+    ta = hy.taylor_adaptive(vsys, np.full(n, 0.1, dtype=fp_type), tol=fp_type(tol), pars=np.array(pars, dtype=fp_type),
+                            compact_mode=compact_mode, fp_type=fp_type)
     return ta, n, time.perf_counter() - start
 
 
-def sleigh_tangent(k: int, tol: float, compact: bool):
-    """The sleigh plus k tangent vectors, compiled once per process. compact_mode compiles in
-    0.1 s but steps about 2.5x slower; full mode compiles in 11 s (k = 1) to 60 s (k = 4).
-    Returns (ta, compile_s)."""
+def sleigh_tangent(k: int, tol: float, compact: bool, long_double: bool = False):
+    """The sleigh plus k tangent vectors (in long double when asked), compiled once per process.
+    compact_mode compiles in 0.1 s but steps about 2.5x slower; full mode compiles in 11 s (k = 1)
+    to 60 s (k = 4). Returns (ta, compile_s)."""
     from . import model
     from .params import Params
 
     def build():
         return tangent_integrator(model.heyoka_system(delta_shift=integrators.DELTA_SHIFT), k, tol,
-                                  Params.paper(eps=0.1).values, compact_mode=compact)[0]
+                                  Params.paper(eps=0.1).values, compact_mode=compact,
+                                  fp_type=np.longdouble if long_double else float)[0]
 
-    return integrators.compiled(("tangent", k, tol, compact), build)
+    return integrators.compiled(("tangent", k, tol, compact) + (("long double",) if long_double else ()), build)
 
 
 def sleigh_megno(tol: float, long_double: bool = False, compact: bool = True):

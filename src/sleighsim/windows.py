@@ -37,7 +37,7 @@ def windowed_orbit(ta, n: int, y0, *, n_windows: int, window: float, tau: float,
                          f"(n_windows={n_windows}, window={window}, tau={tau})")
     per = int(round(per))
     callback = integrators.bounded(ta)
-    ta.time = 0.0
+    ta.time = ta.state.dtype.type(0)  # double, or long double for an extended-precision integrator
     integrators.load(ta, np.asarray(y0, float))
     ta.state[n:2 * n] = lyapunov.initial_directions(n, 1, seed).ravel()
     for _ in range(int(math.ceil(t_align / tau))):
@@ -64,7 +64,7 @@ def _step(ta, n: int, tau: float, callback, label: str) -> tuple[float, int]:
     """Propagate for tau, renormalise the tangent vector; (log of its norm, steps taken)."""
     import heyoka as hy
 
-    res = ta.propagate_for(tau, callback=callback)
+    res = ta.propagate_for(ta.state.dtype.type(tau), callback=callback)
     if res[0] != hy.taylor_outcome.time_limit or not np.all(np.isfinite(ta.state)):
         raise RuntimeError(f"{label}: run failed at t = {ta.time:.6g}: heyoka outcome {res[0].name}")
     v = ta.state[n:2 * n]

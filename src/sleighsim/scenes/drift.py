@@ -28,16 +28,18 @@ def _intervals(t, Omega, spike: dict) -> tuple[float, float, int]:
 
 def drift_windows(cfg: dict, scene: str = "") -> xr.Dataset:
     """From y0 (scaled to the label), after a checked transient: one orbit over T in windows of
-    ``window``, with one tangent vector renormalised every tau (compact or full heyoka mode). Per
-    window: the steady spike interval (mean, sd, spikes), lambda_1 of the window and the energy drift;
+    ``window``, with one tangent vector renormalised every tau (compact or full heyoka mode; in
+    double at tol, or with long_double in long double at tol_long_double; the transient in
+    double). Per window: the steady spike interval (mean, sd, spikes), lambda_1 of the window and the energy drift;
     the trend rule (``windows.trend``) on the spike interval and on lambda_1."""
     start = time.perf_counter()
     params = Params.from_config(cfg["params"])
     y0 = state_at_label(cfg["y0"], params, cfg["energy_label"])
     y, transient_attrs = settle(params, y0, cfg["t_transient"], **cfg["transient"], tol=cfg["tol"], label=scene,
                                 progress=1)
-    ta, compile_s = lyapunov.sleigh_tangent(1, cfg["tol"], cfg["compact_mode"])
-    ta.pars[:] = params.values
+    precision, tol = ("long double", cfg["tol_long_double"]) if cfg["long_double"] else ("double", cfg["tol"])
+    ta, compile_s = lyapunov.sleigh_tangent(1, tol, cfg["compact_mode"], cfg["long_double"])
+    ta.pars[:] = np.array(params.values, dtype=ta.state.dtype)
     n_windows = int(round(cfg["T"] / cfg["window"]))
     E0 = model.energy(y, params)
     rows, steps = [], 0
@@ -57,7 +59,7 @@ def drift_windows(cfg: dict, scene: str = "") -> xr.Dataset:
             "spike_interval_sd": ("window", interval_sd, {"units": "time"}),
             "n_spikes": ("window", n_spikes),
             "lambda_1": ("window", lam, {"units": "1/time",
-                                         "long_name": "finite-time lambda_1 of the window (one tangent vector, double)"}),
+                                         "long_name": f"finite-time lambda_1 of the window (one tangent vector, {precision})"}),
             "energy_rel_drift": ("window", drift, {"long_name": "E / E(settled) - 1 at the window's end"}),
         },
         coords={"window": np.arange(n_windows), "t_start": ("window", t_start, {"units": "time"}),
@@ -69,7 +71,8 @@ def drift_windows(cfg: dict, scene: str = "") -> xr.Dataset:
         ds.attrs.update({f"{name}_trend_{k}": v for k, v in j.items()})
     n = lam.size
     ds.attrs.update(
-        scene=scene, backend="heyoka", compact_mode=int(cfg["compact_mode"]), tol=cfg["tol"], tau=cfg["tau"],
+        scene=scene, backend="heyoka", compact_mode=int(cfg["compact_mode"]), precision=precision, tol=tol,
+        tol_transient=cfg["tol"], tau=cfg["tau"],
         T=float(n * cfg["window"]), window=cfg["window"], steps=int(steps), compile_s=compile_s,
         lambda_1_mean=float(lam.mean()), lambda_1_stderr=float(lam.std(ddof=1) / math.sqrt(n)) if n > 1 else math.nan,
         spike_interval_overall=float(np.nanmean(interval)),
