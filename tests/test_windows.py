@@ -87,3 +87,20 @@ def test_windowed_orbit_in_long_double_matches_double_where_both_are_accurate():
     np.testing.assert_allclose(lam[True], lam[False], rtol=0, atol=2e-10)
     # and the end states to 5e-9 (double's global error at t = 150)
     np.testing.assert_allclose(np.asarray(runs[True][-1]["state"], float), runs[False][-1]["state"], rtol=5e-8)
+
+
+@pytest.mark.parametrize("long_double", [False, True])
+def test_drift_scene_at_smoke_size_in_each_precision(long_double):
+    import yaml
+
+    from sleighsim.registry import scene_config
+    from sleighsim.scenes.drift import drift_windows
+
+    root = __import__("pathlib").Path(__file__).resolve().parents[1]
+    config = yaml.safe_load((root / "config" / "smoke.yaml").read_text())
+    cfg = {**scene_config(config, "main_drift"), "T": 100.0, "window": 50.0, "long_double": long_double}
+    ds = drift_windows(cfg, "main_drift")
+    assert ds.sizes["window"] == 2 and np.all(np.isfinite(ds.lambda_1.values))
+    assert ds.attrs["precision"] == ("long double" if long_double else "double")
+    assert ds.attrs["tol"] == (cfg["tol_long_double"] if long_double else cfg["tol"])
+    assert ds.lambda_1.attrs["long_name"].endswith(f", {ds.attrs['precision']})")

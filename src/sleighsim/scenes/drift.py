@@ -84,8 +84,9 @@ def drift_windows(cfg: dict, scene: str = "") -> xr.Dataset:
                     f"closer than {cfg['spike']['min_separation']:g} merged; interval: mean of the window's intervals"),
         uncertainty="lambda_1_stderr: spread of the per-window values / sqrt(windows) (windows of many spike cycles "
                     "taken as independent); trends: least squares over the windows of the last part of the run",
-        precision="double: tangent-based exponents of this system are inflated by rounding amplified at the spikes "
-                  "(see the chaos verdict's long-double check); the spike interval is an orbit statistic",
+        precision_note=("tangent-based exponents of this system are inflated by rounding amplified at the spikes in "
+                        "double (see the chaos verdict's long-double check); long double has 2^11 smaller rounding; "
+                        "the spike interval is an orbit statistic"),
         wall_time_s=time.perf_counter() - start,
     )
     log.info("%s: spike interval %s (%s), lambda_1 %s (%s)", scene, judged["spike_interval"]["verdict"],
