@@ -348,6 +348,28 @@ def test_loschmidt_sustained_growth_is_judged_in_the_tail():
         ind.loschmidt_fit(T, 1e-15 * np.exp(0.1 * T), 1.0, tail=0.0)
 
 
+def test_loschmidt_fit_stops_at_saturation_and_checks_its_settings():
+    # after the first saturated horizon nothing counts, even an error that dips back below it
+    T = np.geomspace(10, 1e4, 12)
+    e = 1e-12 * T ** 2
+    e[8], e[10] = 0.5, 1e-3
+    fit = ind.loschmidt_fit(T, e, 1.0)
+    assert fit["n_used"] == 8 and not fit["used"][9:].any()
+    with pytest.raises(ValueError, match="rounding"):
+        ind.loschmidt_fit(T, e, 1.0, rounding=0.0)
+    with pytest.raises(ValueError, match="tail_min"):
+        ind.loschmidt_fit(T, e, 1.0, tail_min=1)
+
+
+def test_judge_loschmidt_run_is_monotone_in_the_uncertainties():
+    errs = ["exp_rate_err", "pow_exponent_err"]
+    for whole, tail in ((LOS_CHAOS, LOS_CHAOS), (LOS_CHAOS, LOS_REG), (LOS_REG, LOS_REG)):
+        base = _run_fits(whole, tail)
+        for keys in (errs, [f"tail_{k}" for k in errs], errs + [f"tail_{k}" for k in errs]):
+            s = _monotone_in_errors(lambda **kw: ind.judge_loschmidt_run(kw), base, keys)
+            assert s[-1] == UNDECIDED or keys == errs, (whole is LOS_CHAOS, tail is LOS_CHAOS, keys, s)
+
+
 def _run_fits(whole, tail):
     return {**whole, **{f"tail_{k}": tail[k] for k in ind._FIT_KEYS}, "tail_n": tail["n_used"]}
 
@@ -382,6 +404,14 @@ def test_loschmidt_shares_one_forward_run_and_uses_the_integrators_precision(run
     c = ind.loschmidt(ld, OSC0, [10.0, 20.0, 30.0], _flip_momenta)
     assert c["floor"] == pytest.approx(1e3 * float(np.finfo(np.longdouble).eps) * np.max(np.abs(OSC0)))
     assert np.all(c["error"] < 1e-3 * b["error"].max() + 1e-17)
+    # horizons more than a factor 2 apart: the shared forward run still stops exactly at each T
+    # (the same errors as separate runs from y0, to long double's rounding)
+    Ts = [1.3, 7.77, 61.1]  # 61.1 - 7.77 is not exact in double: a relative step would miss T
+    shared = ind.loschmidt(ld, OSC0, Ts, _flip_momenta)["error"]
+    alone = [ind.loschmidt(ld, OSC0, [T], _flip_momenta)["error"][0] for T in Ts]
+    np.testing.assert_allclose(shared, alone, rtol=0, atol=1e-16)
+    with pytest.raises(ValueError, match="precision"):
+        ind.loschmidt(ld, OSC0, Ts, lambda z: np.asarray(_flip_momenta(z), float))
 
 
 def test_loschmidt_fit_synthetic_and_bad_input(runs):

@@ -81,6 +81,7 @@ def test_windowed_orbit_in_long_double_matches_double_where_both_are_accurate():
         ta.pars[:] = np.array(p.values, dtype=ta.state.dtype)
         runs[ld] = list(windows.windowed_orbit(ta, 4, y0, n_windows=3, window=50.0, tau=5.0, component=1, seed=7))
         assert ta.state.dtype == (np.longdouble if ld else np.float64)
+        assert all(w["state"].dtype == ta.state.dtype for w in runs[ld])  # the windows keep the precision
     lam = {ld: np.array([w["lambda_1"] for w in r]) for ld, r in runs.items()}
     assert np.abs(lam[False]).max() > 1e-3  # the vector changes length: the comparison is not vacuous
     # measured: the window exponents agree to 5e-11 / time (log growth 2.5e-9 over 50: double's rounding)
@@ -101,6 +102,7 @@ def test_drift_scene_at_smoke_size_in_each_precision(long_double):
     cfg = {**scene_config(config, "main_drift"), "T": 100.0, "window": 50.0, "long_double": long_double}
     ds = drift_windows(cfg, "main_drift")
     assert ds.sizes["window"] == 2 and np.all(np.isfinite(ds.lambda_1.values))
-    assert ds.attrs["precision"] == ("long double" if long_double else "double")
+    # the precision is read from the integrator's state, not from the config
+    assert ds.attrs["precision"] == ("long double (epsilon 1.1e-19)" if long_double else "double")
     assert ds.attrs["tol"] == (cfg["tol_long_double"] if long_double else cfg["tol"])
     assert ds.lambda_1.attrs["long_name"].endswith(f", {ds.attrs['precision']})")

@@ -294,9 +294,10 @@ def loschmidt_fit(T_values, errors, scale, *, floor_factor=1e3, saturation=1e-2,
     """Classify return errors: exponential in T (chaos) or a power of T (regular).
 
     Uses the points with floor_factor * rounding * scale < error < saturation * scale (rounding:
-    the integrator's machine epsilon), fits log(error) = a + rate T and log(error) = a + p log T by
-    least squares over all of them and again over the tail (the last ``tail`` fraction of them in
-    T, at least tail_min, nearest saturation) and reports both (slope, stderr, rms residual in
+    the integrator's machine epsilon) before the first horizon whose error reached saturation,
+    fits log(error) = a + rate T and log(error) = a + p log T by least squares over all of them and
+    again over the tail (the last ``tail`` fraction of them in T, at least tail_min: the longest
+    horizons before saturation) and reports both (slope, stderr, rms residual in
     log units; the tail's under ``tail_``). ``better`` is "exponential" or "power"
     (smaller rms over all points), "undetermined" with fewer than 3 usable points.
     """
@@ -309,9 +310,13 @@ def loschmidt_fit(T_values, errors, scale, *, floor_factor=1e3, saturation=1e-2,
     scale = _positive("scale", scale)
     if not 0 < tail <= 1:
         raise ValueError(f"tail must be in (0, 1], got {tail!r}")
+    if not (isinstance(tail_min, int) and tail_min >= 2):
+        raise ValueError(f"tail_min must be an integer >= 2, got {tail_min!r}")
     floor = floor_factor * _positive("rounding", rounding) * scale
     sat = saturation * scale
-    use = np.isfinite(e) & (e > floor) & (e < sat) & np.isfinite(T) & (T > 0)
+    saturated = np.isfinite(e) & (e >= sat)
+    before = T < (T[saturated].min() if saturated.any() else np.inf)
+    use = np.isfinite(e) & (e > floor) & (e < sat) & np.isfinite(T) & (T > 0) & before
     out = {"floor": floor, "saturation": sat, "used": use, "n_used": int(use.sum()), "better": "undetermined"}
     out.update(_growth_fits(T[use], e[use]))
     idx = np.flatnonzero(use)[np.argsort(T[use], kind="stable")]
@@ -333,11 +338,13 @@ def loschmidt(ta, y0, T_values, involution, callback=None, *, difference=None, s
     with R(y0). In exact arithmetic the return is exact; numerically the return error grows like
     exp(lambda T) times the rounding level on a chaotic orbit and only like a power of T on a
     regular one. ``difference(a, b)`` (default a - b) compares states. Runs in the integrator's
-    precision (double or long double); the rounding floor uses its machine epsilon.
+    precision (double or long double; ``involution`` must keep the state's dtype, else ValueError);
+    the rounding floor uses its machine epsilon.
 
     Returns dict: ``T``, ``error`` (infinity norm), ``rel_error`` (error / scale, scale =
     max|y0| unless given) and the classification of ``loschmidt_fit`` (floor
-    floor_factor * eps * scale, saturation saturation * scale).
+    floor_factor * eps * scale with eps the integrator's machine epsilon, saturation
+    saturation * scale).
     """
     dim = len(ta.state)
     y0 = _state("y0", y0, dim)
@@ -360,16 +367,17 @@ def loschmidt(ta, y0, T_values, involution, callback=None, *, difference=None, s
     ahead = []  # y(T) for T in increasing order, from one forward run
     ta.time = fp(0)
     ta.state[:] = y0
-    t = 0.0
     for i in order:
-        if T_arr[i] > t:
-            _propagate(ta, T_arr[i] - t, callback, t)
-            t = float(T_arr[i])
+        if T_arr[i] > ta.time:
+            _propagate_until(ta, fp(T_arr[i]), callback)  # the absolute time: each leg ends exactly at T
         ahead.append(ta.state.copy())
     err = np.empty(T_arr.size)
     for i, y_T in zip(order, ahead):
         ta.time = fp(0)
-        ta.state[:] = involution(y_T.copy())
+        back = np.asarray(involution(y_T.copy()))
+        if back.dtype != y_T.dtype:
+            raise ValueError(f"involution changed the state's precision ({y_T.dtype} -> {back.dtype})")
+        ta.state[:] = back
         _propagate(ta, T_arr[i], callback, T_arr[i])
         err[i] = float(np.max(np.abs(np.asarray(diff(ta.state.copy(), target), float))))
     out = {"T": T_arr, "error": err, "rel_error": err / scale, "scale": scale}
@@ -621,7 +629,8 @@ def judge_loschmidt(n_used, exp_rate, exp_rate_err, exp_rms, pow_exponent, pow_e
     (pow_exponent + sigma * pow_exponent_err < p_max; rounding on a torus gives about T^1
     to T^1.5, Brouwer's law). Otherwise undecided. The chaotic return errors scatter by
     about a factor e around the exponential, so use many T values (tens) across the window
-    between floor and saturation, which spans about ln(1e-2 / 1e-13) / lambda = 25 / lambda.
+    between floor and saturation, which spans about ln(1e-2 / 1e-13) / lambda = 25 / lambda in
+    double (32 / lambda in long double).
     """
     if not _is_finite(n_used):
         return UNDECIDED, "not finite: n_used"
@@ -647,7 +656,7 @@ def judge_loschmidt(n_used, exp_rate, exp_rate_err, exp_rms, pow_exponent, pow_e
 
 def judge_loschmidt_run(L: dict, *, sigma=3.0) -> tuple[str, str]:
     """``judge_loschmidt`` on a ``loschmidt`` run, over all usable points and over their tail (the
-    points nearest saturation, ``loschmidt_fit``'s tail_ fits). chaotic: chaotic over all points
+    longest horizons before saturation, ``loschmidt_fit``'s tail_ fits). chaotic: chaotic over all points
     and in the tail (the growth is still exponential, or faster than T^3, where the error
     approaches saturation: a few early jumps of the error followed by power-law growth are not
     chaos); regular: regular in the tail (early transient amplification does not hide the

@@ -28,7 +28,8 @@ def windowed_orbit(ta, n: int, y0, *, n_windows: int, window: float, tau: float,
     """Yield, for each of ``n_windows`` consecutive windows of the orbit from y0 (model variables;
     ``ta`` is a one-vector tangent integrator with its pars set): ``index``, ``t_start``, ``t``
     and ``x`` (state[component] every tau), ``lambda_1`` (log growth of the tangent vector over the
-    window / window), ``state`` (model variables at the window's end) and ``steps``. The tangent
+    window / window), ``state`` (model variables at the window's end, in the integrator's precision)
+    and ``steps``. The tangent
     vector starts as ``lyapunov.initial_directions(n, 1, seed)``, as in ``lyapunov.benettin``, and is
     aligned over t_align (renormalised every tau, not recorded; the windows' clock starts after it)."""
     per = window / tau
@@ -38,7 +39,7 @@ def windowed_orbit(ta, n: int, y0, *, n_windows: int, window: float, tau: float,
     per = int(round(per))
     callback = integrators.bounded(ta)
     ta.time = ta.state.dtype.type(0)  # double, or long double for an extended-precision integrator
-    integrators.load(ta, np.asarray(y0, float))
+    integrators.load(ta, y0)
     ta.state[n:2 * n] = lyapunov.initial_directions(n, 1, seed).ravel()
     for _ in range(int(math.ceil(t_align / tau))):
         _step(ta, n, tau, callback, label)

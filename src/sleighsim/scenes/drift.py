@@ -37,9 +37,10 @@ def drift_windows(cfg: dict, scene: str = "") -> xr.Dataset:
     y0 = state_at_label(cfg["y0"], params, cfg["energy_label"])
     y, transient_attrs = settle(params, y0, cfg["t_transient"], **cfg["transient"], tol=cfg["tol"], label=scene,
                                 progress=1)
-    precision, tol = ("long double", cfg["tol_long_double"]) if cfg["long_double"] else ("double", cfg["tol"])
+    tol = cfg["tol_long_double"] if cfg["long_double"] else cfg["tol"]
     ta, compile_s = lyapunov.sleigh_tangent(1, tol, cfg["compact_mode"], cfg["long_double"])
     ta.pars[:] = np.array(params.values, dtype=ta.state.dtype)
+    precision = "double" if ta.state.dtype == np.float64 else f"long double (epsilon {float(np.finfo(ta.state.dtype).eps):.2g})"
     n_windows = int(round(cfg["T"] / cfg["window"]))
     E0 = model.energy(y, params)
     rows, steps = [], 0

@@ -3,6 +3,7 @@ class of each state in the reversible system (the report's first answer)."""
 
 from __future__ import annotations
 
+import inspect
 import logging
 import math
 import time
@@ -119,12 +120,9 @@ def one_state(params, y0, cfg: dict, scene: str) -> dict:
         megno_precision = "long double"
         verdicts["megno"] = megno_in_long_double(judge_megno_run(ld["megno"], cfg["T_long_double"], sigma), ld,
                                                  megno_double, cfg["T_long_double"], cfg["T_megno"])
-    L = loschmidt_run(params, replicas[0], cfg)
-    # when the precision check ran, the Loschmidt test runs in long double as well
-    L_ld = loschmidt_run(params, replicas[0], cfg, long_double=True) if ld["megno"] is not None else None
+    L, L_ld = loschmidt_run(params, replicas[0], cfg), loschmidt_run(params, replicas[0], cfg, long_double=True)
     los = loschmidt_indicator(L, L_ld, sigma)
     values["loschmidt"], errors["loschmidt"], verdicts["loschmidt"] = los["value"], los["error"], los["verdict"]
-    judged = L if L_ld is None else L_ld
     flow, _ = integrators.flow(False, tol)
     flow.pars[:] = params.values
     y_int = _stored(replicas[-1])
@@ -156,10 +154,12 @@ def one_state(params, y0, cfg: dict, scene: str) -> dict:
                 megno_t_ld=_or_nan(ld["megno"], "t", m["t"].size), megno_Y_mean_ld=_or_nan(ld["megno"], "Y_mean", m["t"].size),
                 megno_rate_double=2 * m["slope"], megno_rate_double_err=2 * m["slope_err"],
                 megno_verdict_double=megno_double[0], megno_precision=megno_precision,
-                loschmidt_error=L["rel_error"], loschmidt_error_ld=_or_nan(L_ld, "rel_error", L["T"].size),
-                loschmidt_power=judged["pow_exponent"], loschmidt_power_err=judged["pow_exponent_err"],
-                loschmidt_tail_power=judged["tail_pow_exponent"], loschmidt_tail_power_err=judged["tail_pow_exponent_err"],
-                loschmidt_precision=los["precision"], loschmidt_verdict_double=los["verdict_double"], ld_lambda_1=ld["lambda_1"], ld_stderr=ld["stderr"], ld_check=ld["check"],
+                loschmidt_error=L["rel_error"], loschmidt_error_ld=L_ld["rel_error"],
+                loschmidt_power=L_ld["pow_exponent"], loschmidt_power_err=L_ld["pow_exponent_err"],
+                loschmidt_tail_power=L_ld["tail_pow_exponent"], loschmidt_tail_power_err=L_ld["tail_pow_exponent_err"],
+                loschmidt_n_used=[L["n_used"], L_ld["n_used"]], loschmidt_tail_n=[L["tail_n"], L_ld["tail_n"]],
+                loschmidt_floor=[L["floor"] / L["scale"], L_ld["floor"] / L_ld["scale"]],
+                loschmidt_verdict_double=los["verdict_double"], ld_lambda_1=ld["lambda_1"], ld_stderr=ld["stderr"], ld_check=ld["check"],
                 exponents=lam, stderr=res["stderr"], T=float(res["T"]), status=res["status"], sum_all=s, sum_err=s_err,
                 r_image=image, r_image_distance=image_dist, mean_u=float(mean_u_omega[0]),
                 mean_omega=float(mean_u_omega[1]), transient_over=int(pre["transient_over"]), T_two=float(tt["T"]),
@@ -169,27 +169,31 @@ def one_state(params, y0, cfg: dict, scene: str) -> dict:
 def loschmidt_run(params, y, cfg: dict, *, long_double: bool = False) -> dict:
     """``indicators.loschmidt`` from y (model variables) with the involution R at loschmidt_n
     log-spaced T in loschmidt_T, relative to max |velocity|: in double at tol, or in long double at
-    tol_long_double (rounding 2^11 smaller, so the return error stays below saturation three
-    decades longer)."""
+    tol_long_double (rounding 2^11 smaller: the rounding floor is 3.3 decades lower)."""
     flow, _ = integrators.flow(False, cfg["tol_long_double"] if long_double else cfg["tol"], long_double)
     flow.pars[:] = np.array(params.values, dtype=flow.state.dtype)
     return indicators.loschmidt(flow, _stored(y), loschmidt_T(cfg), lambda z: R * z, callback=integrators.bounded(flow),
                                 difference=model.state_difference, scale=float(np.max(np.abs(np.asarray(y)[:3]))))
 
 
-def loschmidt_indicator(L: dict, L_ld: dict | None, sigma: float) -> dict:
-    """The Loschmidt indicator from the double run L and, when it was made, the long-double run
-    L_ld, which then judges (its unsaturated window is three decades longer); the double run's
-    verdict is named in the reason. Value and error: the tail's exponential rate and its
-    least-squares error. Returns value, error, verdict ((verdict, reason)), precision and
-    verdict_double."""
+def loschmidt_indicator(L: dict, L_ld: dict, sigma: float) -> dict:
+    """The Loschmidt indicator, judged (``indicators.judge_loschmidt_run``) from the long-double run
+    L_ld, whose rounding floor is 2^11 lower, so its error stays unsaturated up to longer T; the
+    double run L's verdict is named in the reason and kept. Value and error: the long-double tail's
+    exponential rate and its least-squares error. Returns value, error, verdict ((verdict,
+    reason)) and verdict_double."""
     double = indicators.judge_loschmidt_run(L, sigma=sigma)
-    if L_ld is None:
-        return dict(value=L["tail_exp_rate"], error=L["tail_exp_rate_err"], verdict=double, precision="double",
-                    verdict_double=double[0])
     v, r = indicators.judge_loschmidt_run(L_ld, sigma=sigma)
-    return dict(value=L_ld["tail_exp_rate"], error=L_ld["tail_exp_rate_err"], precision="long double",
+    return dict(value=L_ld["tail_exp_rate"], error=L_ld["tail_exp_rate_err"],
                 verdict=(v, f"in long double: {r}; in double: {double[0]}"), verdict_double=double[0])
+
+
+def _loschmidt_settings() -> dict:
+    """The Loschmidt engine's fixed settings (its defaults), as dataset attributes."""
+    run = inspect.signature(indicators.loschmidt).parameters
+    fit = inspect.signature(indicators.loschmidt_fit).parameters
+    return {"loschmidt_floor_factor": run["floor_factor"].default, "loschmidt_saturation": run["saturation"].default,
+            "loschmidt_tail_fraction": fit["tail"].default, "loschmidt_tail_min": fit["tail_min"].default}
 
 
 def loschmidt_T(cfg: dict) -> np.ndarray:
@@ -232,8 +236,11 @@ def precision_check(params, y, cfg: dict, scene: str) -> dict:
     2 ln(T / tau) / T.
     On the sleigh, rounding noise off the leading direction is amplified by many orders at every
     spike, which inflates double-precision exponents and MEGNO. The run's MEGNO replaces the
-    double-precision one as the MEGNO indicator. Returns lambda_1, stderr, check ("confirmed" |
-    "not confirmed"), the reason and the run (``megno``)."""
+    double-precision one as the MEGNO indicator. The check runs only when a tangent-based indicator
+    says chaotic in double (it costs about 4 min), so MEGNO's precision depends on the other
+    tangent-based verdicts: the one place where a larger uncertainty elsewhere (a Benettin rate
+    no longer resolved) can change which MEGNO run is judged. Returns lambda_1, stderr, check
+    ("confirmed" | "not confirmed"), the reason and the run (``megno``)."""
     tau, sigma, T = cfg["tau"], cfg["sigma"], cfg["T_long_double"]
     m = megno_run(params, y, cfg, long_double=True)
     g = m["log_growth"][int(math.ceil(cfg["t_align"] / tau)):]  # the alignment of the vector left out
@@ -327,26 +334,32 @@ def verdict(cfg: dict, scene: str = "") -> xr.Dataset:
                                          {"long_name": "MEGNO <Y> of the long-double precision check (NaN: not run)"}),
             "megno_t_long_double": (("state", "megno_sample"), per_state("megno_t_ld"), {"units": "time"}),
             "loschmidt_rel_error": (("state", "T_loschmidt"), per_state("loschmidt_error"),
-                                    {"long_name": "return error (forward T, R, forward T) / max |velocity|"}),
+                                    {"long_name": "return error (forward T, R, forward T) / max |velocity|, double at tol"}),
             "loschmidt_rel_error_long_double": (("state", "T_loschmidt"), per_state("loschmidt_error_ld"),
-                                                {"long_name": "the same in long double (NaN: not run)"}),
-            "loschmidt_precision": ("state", per_state("loschmidt_precision").astype(object),
-                                    {"long_name": "precision of the run the Loschmidt indicator is judged from"}),
-            "loschmidt_verdict_double": ("state", per_state("loschmidt_verdict_double").astype(object)),
+                                                {"long_name": "the same in long double at tol_long_double (judged)"}),
+            "loschmidt_verdict_double": ("state", per_state("loschmidt_verdict_double").astype(object),
+                                         {"long_name": "the Loschmidt verdict of the double run (reported, not judged)"}),
             "loschmidt_power": ("state", per_state("loschmidt_power"),
-                                {"long_name": "exponent p of the power fit error ~ T^p over all usable points (judged run)"}),
+                                {"long_name": "exponent p of the power fit error ~ T^p over all usable points, long double"}),
             "loschmidt_power_stderr": ("state", per_state("loschmidt_power_err"),
                                        {"long_name": "least-squares error of that exponent"}),
             "loschmidt_tail_power": ("state", per_state("loschmidt_tail_power"),
                                      {"long_name": "the same over the tail (the last half of the usable points)"}),
-            "loschmidt_tail_power_stderr": ("state", per_state("loschmidt_tail_power_err")),
+            "loschmidt_tail_power_stderr": ("state", per_state("loschmidt_tail_power_err"),
+                                            {"long_name": "least-squares error of the tail's exponent"}),
+            "loschmidt_n_used": (("state", "precision"), per_state("loschmidt_n_used"),
+                                 {"long_name": "return errors between rounding floor and saturation"}),
+            "loschmidt_tail_n": (("state", "precision"), per_state("loschmidt_tail_n"),
+                                 {"long_name": "of which in the tail"}),
+            "loschmidt_floor": (("state", "precision"), per_state("loschmidt_floor"),
+                                {"long_name": "rounding floor (relative): floor_factor x machine epsilon"}),
             "lambda_1_long_double": ("state", per_state("ld_lambda_1"), {"units": "1/time"}),
             "lambda_1_long_double_stderr": ("state", per_state("ld_stderr"), {"units": "1/time"}),
             "precision_check": ("state", per_state("ld_check").astype(object),
                                 {"long_name": "long-double check of tangent-based chaotic verdicts (precision_rule)"}),
         },
         coords={"state": names, "indicator": ind, "i": np.arange(1, 5), "d0": np.asarray(cfg["d0"], float),
-                "T_loschmidt": loschmidt_T(cfg),
+                "T_loschmidt": loschmidt_T(cfg), "precision": ["double", "long double"],
                 "tangent_based": ("indicator", [int(i in TANGENT_BASED) for i in ind])},
     )
     ds.attrs.update(
@@ -358,11 +371,12 @@ def verdict(cfg: dict, scene: str = "") -> xr.Dataset:
         uncertainty="Benettin: standard error over independent replicas along the settled orbit; FTLE: window "
                     "standard error; MEGNO: 2 x (slope of <Y> over the second half, least-squares error, "
                     "correlated residuals: understated); two-trajectory: consecutive blocks (value at the middle d0); "
-                    "Loschmidt: least-squares error of the exponential fit over the tail; long double: consecutive blocks of one "
+                    "Loschmidt: least-squares error of the exponential fit over the long-double run's tail; long double: consecutive blocks of one "
                     "replica's MEGNO run",
         megno_rule=" ".join(indicators.judge_megno.__doc__.split()),
-        loschmidt_rule=" ".join((indicators.judge_loschmidt_run.__doc__ + " " + indicators.judge_loschmidt.__doc__
-                                 + " Tail: " + indicators.loschmidt_fit.__doc__).split()), T_megno=cfg["T_megno"],
+        loschmidt_rule=" ".join((loschmidt_indicator.__doc__ + " " + indicators.judge_loschmidt_run.__doc__ + " "
+                                 + indicators.judge_loschmidt.__doc__).split()),
+        loschmidt_fit=" ".join(indicators.loschmidt_fit.__doc__.split()), **_loschmidt_settings(), T_megno=cfg["T_megno"],
         loschmidt_T=list(cfg["loschmidt_T"]), loschmidt_n=cfg["loschmidt_n"],
         param_eps=params.eps, param_b=params.b, param_K2=params.K2, energy_label=cfg["energy_label"], tol=cfg["tol"],
         tau=cfg["tau"], replicas=cfg["replicas"], replica_spacing=cfg["replica_spacing"],

@@ -158,12 +158,9 @@ def chaos(sources, png, pdf) -> None:
             mx.plot(ds.megno_t_long_double.values[k], ds.megno_Y_mean_long_double.values[k], "--", color=line.get_color(),
                     label=f"{st}, long double")
         verdict = ds.indicator_verdict.values[k, ind.index("loschmidt")]
-        fit = f"tail ~T^{ds.loschmidt_tail_power.values[k]:.2g}, {verdict} ({ds.loschmidt_precision.values[k]})"
-        line, = lx.loglog(ds.T_loschmidt.values, ds.loschmidt_rel_error.values[k], "o-", ms=3, label=f"{st}, double")
-        if np.isfinite(ds.loschmidt_rel_error_long_double.values[k]).any():
-            lx.loglog(ds.T_loschmidt.values, ds.loschmidt_rel_error_long_double.values[k], "s--", ms=3,
-                      color=line.get_color(), label=f"{st}, long double")
-        line.set_label(f"{line.get_label()}; judged: {fit}")
+        line, = lx.loglog(ds.T_loschmidt.values, ds.loschmidt_rel_error.values[k], "o:", ms=2, label=f"{st}, double")
+        lx.loglog(ds.T_loschmidt.values, ds.loschmidt_rel_error_long_double.values[k], "s-", ms=3, color=line.get_color(),
+                  label=f"{st}, long double: tail ~T^{ds.loschmidt_tail_power.values[k]:.2g}, {verdict}")
     mx.axhline(2.0, color="0.5", lw=0.8, ls="--")
     mx.set_xlabel("t")
     mx.set_ylabel("MEGNO <Y>")
