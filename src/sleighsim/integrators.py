@@ -106,6 +106,11 @@ def samples(ta, Y) -> np.ndarray:
     return Y
 
 
+def fp_type(long_double: bool):
+    """The floating-point type of a compiled integrator: np.longdouble when ``long_double``, else float."""
+    return np.longdouble if long_double else float
+
+
 def flow(kinematics: bool, tol: float, long_double: bool = False):
     """The sleigh (with (theta, x, y) when ``kinematics``), in double or long double (80-bit on
     x86-64, machine epsilon 1.1e-19). Returns (integrator, compile seconds)."""
@@ -117,12 +122,12 @@ def flow(kinematics: bool, tol: float, long_double: bool = False):
         from .params import Params
 
         n = 7 if kinematics else 4
-        fp = np.longdouble if long_double else float
+        fp = fp_type(long_double)
         y0 = np.array([0.0, 0.1, 1.0, DELTA_SHIFT] + [0.0] * (n - 4), dtype=fp)
         return hy.taylor_adaptive(heyoka_system(kinematics, DELTA_SHIFT), y0, tol=fp(tol),
                                   pars=np.array(Params.paper(eps=0.1).values, dtype=fp), fp_type=fp)
 
-    return compiled(("flow", kinematics, tol) + (("long double",) if long_double else ()), build)
+    return compiled(("flow", kinematics, tol, long_double), build)
 
 
 def rhs_function(kinematics: bool = False, k: int = 0):

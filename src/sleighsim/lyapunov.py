@@ -52,9 +52,9 @@ def sleigh_tangent(k: int, tol: float, compact: bool, long_double: bool = False)
     def build():
         return tangent_integrator(model.heyoka_system(delta_shift=integrators.DELTA_SHIFT), k, tol,
                                   Params.paper(eps=0.1).values, compact_mode=compact,
-                                  fp_type=np.longdouble if long_double else float)[0]
+                                  fp_type=integrators.fp_type(long_double))[0]
 
-    return integrators.compiled(("tangent", k, tol, compact) + (("long double",) if long_double else ()), build)
+    return integrators.compiled(("tangent", k, tol, compact, long_double), build)
 
 
 def sleigh_megno(tol: float, long_double: bool = False, compact: bool = True):
@@ -64,7 +64,7 @@ def sleigh_megno(tol: float, long_double: bool = False, compact: bool = True):
     from . import indicators, model
     from .params import Params
 
-    fp = np.longdouble if long_double else float
+    fp = integrators.fp_type(long_double)
 
     def build():
         return indicators.megno_integrator(model.heyoka_system(delta_shift=integrators.DELTA_SHIFT),
