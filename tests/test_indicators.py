@@ -709,3 +709,16 @@ def test_d0_independence_needs_two_separations():
     assert ok is False and "not checked" in why
     with pytest.raises(ValueError):
         ind.d0_independent([1e-9, 1e-7], [1e-3], [1e-5])
+
+
+def test_two_trajectory_runs_in_the_integrators_precision(runs):
+    import heyoka as hy
+
+    ta = runs["quartic"]["ta"]
+    ld = hy.taylor_adaptive(_oscillators(hy, True), np.array(OSC0, dtype=np.longdouble), fp_type=np.longdouble)
+    a = ind.two_trajectory(ta, OSC0, d0=1e-8, tau=1.0, T=50.0, seed=1)
+    b = ind.two_trajectory(ld, OSC0, d0=1e-8, tau=1.0, T=50.0, seed=1)
+    assert b["final_state"].dtype == np.longdouble and a["final_state"].dtype == np.float64
+    # the same orbit and partner, to double's rounding amplified over T = 50
+    np.testing.assert_allclose(np.asarray(b["final_state"], float), a["final_state"], rtol=0, atol=1e-9)
+    assert b["rate"] == pytest.approx(a["rate"], abs=1e-6)

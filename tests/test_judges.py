@@ -215,27 +215,35 @@ def test_c19_paper_against_our_converged_spectrum_not_the_protocol_spread(lam, w
 def _energy(smallest, low_value, with_low=True):
     labels = [1e-4, 1e-3, 1e-1, 1e1, 1e3] if with_low else [1e-3, 1e-1, 1e1, 1e3]
     lam = ([low_value] if with_low else []) + [smallest, 1e-3, 1e-2, 1e-1]
-    return xr.Dataset({"lambda_1": ("label", lam), "stderr": ("label", [1e-6] * len(lam))}, coords={"label": labels},
-                      attrs={"fitted_exponent": 0.5})
+    # T / tau = 1e4 at every label: polynomial growth fakes 1.84e-4 at T = 1e5, 1.84e-6 at T = 1e7 (the low label)
+    T = [1e7 if lab < 1e-3 else 1e5 for lab in labels]
+    return xr.Dataset({"lambda_1": ("label", lam), "stderr": ("label", [1e-6] * len(lam)), "T": ("label", T),
+                       "tau": ("label", [t / 1e4 for t in T])}, coords={"label": labels}, attrs={"fitted_exponent": 0.5})
 
 
 @pytest.mark.parametrize("smallest, low, with_low, want", [(1.1e-4, 5e-5, True, REPRODUCED), (4e-3, 5e-5, True, DIFFERS),
                                                            (1.1e-4, -5e-5, True, DIFFERS),
                                                            (1.1e-4, 1e-7, True, NOT_YET),
+                                                           # resolved > 0 but below what polynomial growth fakes
+                                                           (1.1e-4, 3.5e-6, True, NOT_YET),
                                                            (1.1e-4, 0, False, NOT_YET)])
 def test_c20_judged_at_the_papers_lowest_energy(smallest, low, with_low, want):
     assert judges.c20(PAPER["C20"], _energy(smallest, low, with_low)).verdict == want
 
 
-def _grid(lam, err, status, steady=1):
+def _grid(lam, err, status, steady=1, T=1e5):
+    # tau = 10: polynomial growth fakes 2 ln(T / tau) / T, 1.84e-4 at T = 1e5, 1.2e-3 at T = 1e4
     n = len(lam)
     return xr.Dataset({"lambda_1": ("eps", lam), "stderr": ("eps", err), "status": ("eps", status),
-                       "transient_over": ("eps", [1] * n), "steady": ("eps", [steady] * n)},
+                       "transient_over": ("eps", [1] * n), "steady": ("eps", [steady] * n), "T": ("eps", [T] * n),
+                       "tau": ("eps", [10.0] * n)},
                       coords={"eps": np.linspace(0.02, 0.5, n)}, attrs={"n_rows": n})
 
 
 @pytest.mark.parametrize("grid, want", [
     (_grid([1e-3, 2e-3], [1e-5, 1e-5], ["converged", "converged"]), REPRODUCED),
+    # the same values over a horizon too short: below the rate polynomial growth fakes, not resolved
+    (_grid([1e-3, 2e-3], [1e-5, 1e-5], ["converged", "converged"], T=1e4), CANNOT),
     (_grid([1e-3, 1e-5], [1e-5, 1e-6], ["converged", "converged"]), DIFFERS),
     (_grid([1e-3, 1e-5], [1e-5, 1e-6], ["converged", "regular"]), DIFFERS),
     (_grid([1e-3, 2e-4], [1e-5, 1e-4], ["converged", "capped"]), CANNOT),
@@ -307,11 +315,12 @@ def test_c26_without_eps_above_the_threshold():
     assert judges.c26(PAPER["C26"], ds).verdict == NOT_YET
 
 
-def _regimes(status, lam, thick):
+def _regimes(status, lam, thick, T=1e5):
     n = len(status)
     return xr.Dataset({"lambda_1": ("eps", lam), "stderr": ("eps", [1e-6] * n), "status": ("eps", status),
-                       "transient_over": ("eps", [1] * n), "steady": ("eps", [1] * n),
-                       "curve_thickness": ("eps", thick)}, coords={"eps": np.geomspace(0.02, 0.5, n)})
+                       "transient_over": ("eps", [1] * n), "steady": ("eps", [1] * n), "T": ("eps", [T] * n),
+                       "tau": ("eps", [10.0] * n), "curve_thickness": ("eps", thick)},
+                      coords={"eps": np.geomspace(0.02, 0.5, n)})
 
 
 @pytest.mark.parametrize("status, lam, thick, want", [
@@ -324,6 +333,16 @@ def _regimes(status, lam, thick):
 ])
 def test_c27_route_to_chaos_near_eps_zero(status, lam, thick, want):
     assert judges.c27(PAPER["C27"], _regimes(status, lam, thick)).verdict == want
+
+
+def test_c27_counts_as_chaotic_only_rates_above_what_polynomial_growth_fakes():
+    # converged rows with lambda_1 - 2 stderr > 0 but below 2 ln(T / tau) / T (1.84e-4 at T = 1e5): not chaotic
+    rows = _regimes(["regular", "converged", "converged", "converged"], [1e-6, 1e-4, 1.5e-4, 5e-4], [0.001] * 4)
+    j = judges.c27(PAPER["C27"], rows)
+    assert j.verdict == REPRODUCED and "chaotic (lambda_1 resolved above the polynomial rate) at eps 0.5;" in j.measured
+    # the same rows over T = 1e4 (the fake rate 1.2e-3): none is chaotic
+    assert judges.c27(PAPER["C27"], _regimes(["regular", "converged", "converged", "converged"],
+                                             [1e-6, 1e-4, 1.5e-4, 5e-4], [0.001] * 4, T=1e4)).verdict == NOT_YET
 
 
 def _audit(**over):

@@ -206,7 +206,8 @@ def two_trajectory(ta, y0, *, d0, tau, T, project=None, callback=None, seed=0, n
     interval, length n), ``tau``, ``T_grid`` / ``running`` (running rate on a log grid),
     ``running_slope`` / ``running_slope_err`` (log-log slope of |running| against T over
     the last decade of the grid, textbook stderr ignoring serial correlation: about 0 for
-    chaos, about -1 + 1/ln T for regular orbits), ``final_state`` (reference).
+    chaos, about -1 + 1/ln T for regular orbits), ``final_state`` (reference, in the
+    integrator's precision: double or long double).
     """
     d0 = _positive("d0", d0)
     tau = _positive("tau", tau)
@@ -221,7 +222,7 @@ def two_trajectory(ta, y0, *, d0, tau, T, project=None, callback=None, seed=0, n
         raise ValueError(f"t_align must be >= 0, got {t_align!r}")
     n_align = 0 if t_align == 0 else _n_intervals(t_align, tau, "t_align")
     dim = len(ta.state)
-    ref = _state("y0", y0, dim)
+    ref = _state("y0", y0, dim).astype(ta.state.dtype)
     diff = difference if difference is not None else (lambda a, b: a - b)
 
     def rescale(ref, partner, t):
@@ -244,7 +245,7 @@ def two_trajectory(ta, y0, *, d0, tau, T, project=None, callback=None, seed=0, n
     t = 0.0
     for k in range(-n_align, n):
         for which in (0, 1):
-            ta.time = 0.0
+            ta.time = ta.state.dtype.type(0)  # double, or long double for an extended-precision integrator
             ta.state[:] = ref if which == 0 else partner
             _propagate(ta, tau, callback, t)
             if which == 0:

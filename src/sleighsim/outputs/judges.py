@@ -9,6 +9,7 @@ import re
 
 import numpy as np
 
+from ..indicators import polynomial_rate_bound
 from ..model import rhs
 from ..params import Params
 from ..transient import phases
@@ -336,6 +337,16 @@ def c19(paper, protocol, spectrum) -> Judgement:
                          in enumerate(zip(want, lam, err, parts)) if v == DIFFERS))
 
 
+def fake_rates(rows) -> np.ndarray:
+    """Per row of lambda_1 rows (T, tau per row): the rate polynomial growth fakes over the row's
+    horizon, 2 ln(T / tau) / T (indicators.polynomial_rate_bound). A finite-time lambda_1 below
+    it does not show chaos: a regular orbit's tangent vector grows like a power of t."""
+    return np.array([polynomial_rate_bound(T, tau) for T, tau in zip(rows["T"].values, rows["tau"].values)])
+
+
+_FAKE = "2 ln(T / tau) / T, the rate polynomial growth fakes over the row's horizon"
+
+
 def c20(paper, energy) -> Judgement:
     labels, lam, err = energy.label.values, energy.lambda_1.values, energy.stderr.values
     inside = (labels >= paper["label_min"] * (1 - 1e-9)) & (labels <= paper["label_max"] * (1 + 1e-9))
@@ -344,8 +355,10 @@ def c20(paper, energy) -> Judgement:
     low = np.flatnonzero(np.isclose(labels, paper["positive_down_to"], rtol=1e-9))
     if low.size:
         j = int(low[0])
-        positive = REPRODUCED if lam[j] - K_SIGMA * err[j] > 0 else DIFFERS if lam[j] + K_SIGMA * err[j] < 0 else NOT_YET
-        low_text = f"at E label {labels[j]:g}: lambda_1 = {lam[j]:.2g} +- {err[j]:.1g}"
+        fake = fake_rates(energy)[j]
+        positive = REPRODUCED if lam[j] - K_SIGMA * err[j] > fake else DIFFERS if lam[j] + K_SIGMA * err[j] < 0 else NOT_YET
+        low_text = (f"at E label {labels[j]:g}: lambda_1 = {lam[j]:.2g} +- {err[j]:.1g} (polynomial growth fakes up to "
+                    f"{fake:.2g} over its horizon)")
     else:
         positive, low_text = NOT_YET, f"E label {paper['positive_down_to']:g} not computed"
     return Judgement(
@@ -355,7 +368,7 @@ def c20(paper, energy) -> Judgement:
                   f"{labels[k]:g})" if k is not None else "no label in the paper's range") + f"; {low_text}; fitted "
                  f"exponent of lambda_1 against E {energy.attrs['fitted_exponent']:.4f} (law: 0.5)",
         rule=f"the smallest value within {REL_TOL:.0%} or {K_SIGMA:g} standard errors of the paper's, and lambda_1 resolved "
-             f"positive ({K_SIGMA:g} standard errors) at the lowest energy the paper names",
+             f"positive at the lowest energy the paper names (lambda_1 - {K_SIGMA:g} stderr > {_FAKE})",
         reason=(f"the smallest value is {lam[k]:.2g}, not {paper['smallest']:g}; " if smallest == DIFFERS else "")
         + ("lambda_1 is not resolved positive at the lowest energy" if positive != REPRODUCED else ""))
 
@@ -364,7 +377,7 @@ def c21(paper, grid) -> Judgement:
     floor = paper["smallest_above"]
     eps, lam, err, status = grid.eps.values, grid.lambda_1.values, grid.stderr.values, grid.status.values
     steady = (grid.transient_over.values == 1) & (grid.steady.values == 1)
-    above = (status == "converged") & steady & (lam - K_SIGMA * err > floor)
+    above = (status == "converged") & steady & (lam - K_SIGMA * err > np.maximum(floor, fake_rates(grid)))
     below = steady & ((status == "regular") | ((status == "converged") & (lam + K_SIGMA * err < floor)))
     unresolved = ~above & ~below
     verdict = DIFFERS if below.any() else (CANNOT if unresolved.any() else REPRODUCED)
@@ -374,16 +387,18 @@ def c21(paper, grid) -> Judgement:
 
     return Judgement(
         verdict, units="1/time",
-        measured=f"{grid.attrs['n_rows']} eps rows (b is a symmetry): resolved above {floor:g} at eps {listed(above)}; "
-                 f"below or regular at eps {listed(below)}; unresolved within the run's budget (capped or not steady) "
-                 f"at eps {listed(unresolved)}; smallest resolved lambda_1 "
+        measured=f"{grid.attrs['n_rows']} eps rows (b is a symmetry): resolved above {floor:g} and above the polynomial "
+                 f"rate at eps {listed(above)}; below or regular at eps {listed(below)}; unresolved within the run's "
+                 f"horizon (below the polynomial rate, capped or not steady) at eps {listed(unresolved)}; smallest resolved "
+                 "lambda_1 "
                  f"{np.min(lam[above]) if above.any() else math.nan:.2g}",
-        rule=f"reproduced when every row resolves lambda_1 - {K_SIGMA:g} stderr > {floor:g}; differs when a steady row is "
-             f"resolved below it or regular; cannot be reproduced when the rest reach the configured cap (max_rounds) or "
-             "are not steady",
+        rule=f"reproduced when every row resolves lambda_1 - {K_SIGMA:g} stderr above {floor:g} and above {_FAKE}; differs "
+             f"when a steady row is resolved below {floor:g} or regular; cannot be reproduced when the rest are not resolved "
+             "within the configured horizon (max_rounds) or are not steady",
         reason="" if verdict == REPRODUCED else
         (f"lambda_1 is resolved below {floor:g} or regular at eps {listed(below)}" if below.any() else
-         f"the budget did not resolve eps {listed(unresolved)}"))
+         f"lambda_1 is not resolved above {floor:g} and the polynomial rate (or the row is capped or not steady) at eps "
+         f"{listed(unresolved)}"))
 
 
 def c22(paper, ref) -> Judgement:
@@ -472,7 +487,7 @@ def c27(paper, rows) -> Judgement:
     eps, lam, err, status = rows.eps.values, rows.lambda_1.values, rows.stderr.values, rows.status.values
     steady = (rows.transient_over.values == 1) & (rows.steady.values == 1)
     thin = np.asarray(rows.curve_thickness.values) < 0.01
-    chaotic = steady & (status == "converged") & (lam - K_SIGMA * err > 0)
+    chaotic = steady & (status == "converged") & (lam - K_SIGMA * err > fake_rates(rows))
     regular = steady & (status == "regular")
     order = np.argsort(eps)
     eps, chaotic, regular, thin = eps[order], chaotic[order], regular[order], thin[order]
@@ -495,10 +510,11 @@ def c27(paper, rows) -> Judgement:
                                     f"curve (not a torus) at eps {listed(resolved_below & ~thin)}")
     return Judgement(
         verdict,
-        measured=f"{eps.size} eps rows in [{eps.min():.3g}, {eps.max():.3g}]: chaotic (lambda_1 resolved > 0) at eps "
+        measured=f"{eps.size} eps rows in [{eps.min():.3g}, {eps.max():.3g}]: chaotic (lambda_1 resolved above the "
+                 f"polynomial rate) at eps "
                  f"{listed(chaotic)}; regular at eps {listed(regular)}; regular with a thin P_2pi curve at eps "
                  f"{listed(regular & thin)}",
-        rule=f"below the smallest chaotic eps (lambda_1 - {K_SIGMA:g} stderr > 0), the rows resolved regular must have "
+        rule=f"below the smallest chaotic eps (lambda_1 - {K_SIGMA:g} stderr > {_FAKE}), the rows resolved regular must have "
              "a thin P_2pi curve (thickness < 0.01: a torus): reproduced when at least one such row exists and all "
              "have it, differs when one does not, not yet computed when none is resolved regular (unresolved rows "
              "are not counted)",

@@ -190,7 +190,9 @@ def energy_sweep(cfg: dict, scene: str = "") -> xr.Dataset:
     slope, _, slope_err = fits.loglog(labels[ok], lam[ok], err[ok], min_points=3)
     ds = xr.Dataset(
         {"lambda_1": ("label", lam, {"units": "1/time"}), "stderr": ("label", err, {"units": "1/time"}),
-         "law": ("label", law, {"long_name": "time-scaling law from the reference label", "units": "1/time"})},
+         "law": ("label", law, {"long_name": "time-scaling law from the reference label", "units": "1/time"}),
+         "T": ("label", steps * cfg["tau"] * scale, {"long_name": "horizon per label", "units": "time"}),
+         "tau": ("label", cfg["tau"] * scale, {"long_name": "renormalisation interval per label", "units": "time"})},
         coords={"label": ("label", labels, {"long_name": "paper energy label"})},
     )
     ds.attrs.update(_common_attrs(params, y0, cfg, scene))

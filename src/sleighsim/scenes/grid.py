@@ -26,7 +26,7 @@ from ..transient import settle
 
 log = logging.getLogger("sleighsim")
 
-ROW_VARIABLES = ("lambda_1", "stderr", "T", "status_code", "transient_over", "omega_block_drift", "steady",
+ROW_VARIABLES = ("lambda_1", "stderr", "T", "tau", "status_code", "transient_over", "omega_block_drift", "steady",
                  "settling_time", "t_pre", "spike_interval", "spike_interval_std", "rotation_number",
                  "curve_thickness", "b_check_max_diff", "b_check_bound", "wall_time_s")
 STATUS = ("converged", "regular", "capped")
@@ -100,7 +100,7 @@ def row(cfg: dict, eps: float, label: str = "", check_b: bool = False) -> dict:
               regular_floor=cfg["regular_floor"] / s, t_align=cfg["t_align"] * s, sigma=cfg["sigma"], label=label)
     r = lyapunov.replica_exponents(ta, 4, 1, replicas, cfg["tau"] * s, **kw)
     drift, steady = _steadiness(r["states"], cfg["steady_blocks"], cfg["transient"]["rtol"])
-    out = {"lambda_1": float(r["exponents"][0]), "stderr": float(r["stderr"][0]), "T": r["T"],
+    out = {"lambda_1": float(r["exponents"][0]), "stderr": float(r["stderr"][0]), "T": r["T"], "tau": cfg["tau"] * s,
            "status_code": STATUS.index(r["status"]), "transient_over": pre["transient_over"],
            "omega_block_drift": drift, "steady": int(steady), "settling_time": pre["transient_settling_time"],
            "t_pre": t_pre, "spike_interval": interval, "spike_interval_std": interval_std,
