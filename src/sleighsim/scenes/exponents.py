@@ -177,12 +177,13 @@ def energy_sweep(cfg: dict, scene: str = "") -> xr.Dataset:
     ta, compile_s = lyapunov.sleigh_tangent_batch(labels.size, cfg["tol"], cfg["compact_mode"])
     ta.pars[:] = np.tile(np.array(params.values)[:, None], (1, labels.size))
     steps = int(round(cfg["T"] / cfg["tau"]))
-    r = lyapunov.batch_benettin(ta, 4, 1, lanes, cfg["tau"] * scale, n_steps=steps,
+    tau, T = cfg["tau"] * scale, steps * cfg["tau"] * scale  # per label
+    r = lyapunov.batch_benettin(ta, 4, 1, lanes, tau, n_steps=steps,
                                 t_align_steps=int(math.ceil(cfg["t_align"] / cfg["tau"])), label=scene)
     g = r["log_growth"][:, 0, :]  # (steps, lanes)
     blocks = g[: (steps // cfg["n_blocks"]) * cfg["n_blocks"]].reshape(cfg["n_blocks"], -1, labels.size).sum(axis=1)
     block_est = blocks / (steps // cfg["n_blocks"] * cfg["tau"] * scale)
-    lam = g.sum(axis=0) / (steps * cfg["tau"] * scale)
+    lam = g.sum(axis=0) / T
     err = block_est.std(axis=0, ddof=1) / math.sqrt(cfg["n_blocks"])
     ref = int(np.argmin(np.abs(np.log(labels / cfg["reference_label"]))))
     law = lam[ref] * np.sqrt(labels / labels[ref])
@@ -191,8 +192,8 @@ def energy_sweep(cfg: dict, scene: str = "") -> xr.Dataset:
     ds = xr.Dataset(
         {"lambda_1": ("label", lam, {"units": "1/time"}), "stderr": ("label", err, {"units": "1/time"}),
          "law": ("label", law, {"long_name": "time-scaling law from the reference label", "units": "1/time"}),
-         "T": ("label", steps * cfg["tau"] * scale, {"long_name": "horizon per label", "units": "time"}),
-         "tau": ("label", cfg["tau"] * scale, {"long_name": "renormalisation interval per label", "units": "time"})},
+         "T": ("label", T, {"long_name": "horizon per label", "units": "time"}),
+         "tau": ("label", tau, {"long_name": "renormalisation interval per label", "units": "time"})},
         coords={"label": ("label", labels, {"long_name": "paper energy label"})},
     )
     ds.attrs.update(_common_attrs(params, y0, cfg, scene))

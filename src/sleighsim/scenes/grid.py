@@ -89,6 +89,7 @@ def row(cfg: dict, eps: float, label: str = "", check_b: bool = False) -> dict:
     symmetry (one round)."""
     start = time.perf_counter()
     s, t_pre = slow_time(cfg, eps), pre_run(cfg, eps)
+    tau = cfg["tau"] * s
     p = Params.paper(eps=eps, b=1.0)
     y, pre = settle(p, state_at_label(cfg["y0"], p, cfg["energy_label"]), t_pre, **_row_transient(cfg, t_pre),
                     tol=cfg["tol"], label=label, progress=1)
@@ -98,9 +99,9 @@ def row(cfg: dict, eps: float, label: str = "", check_b: bool = False) -> dict:
     ta.pars[:] = np.tile(np.array(p.values)[:, None], (1, B))
     kw = dict(T_round=cfg["T_round"] * s, max_rounds=cfg["max_rounds"], target_rel=cfg["target_rel"],
               regular_floor=cfg["regular_floor"] / s, t_align=cfg["t_align"] * s, sigma=cfg["sigma"], label=label)
-    r = lyapunov.replica_exponents(ta, 4, 1, replicas, cfg["tau"] * s, **kw)
+    r = lyapunov.replica_exponents(ta, 4, 1, replicas, tau, **kw)
     drift, steady = _steadiness(r["states"], cfg["steady_blocks"], cfg["transient"]["rtol"])
-    out = {"lambda_1": float(r["exponents"][0]), "stderr": float(r["stderr"][0]), "T": r["T"], "tau": cfg["tau"] * s,
+    out = {"lambda_1": float(r["exponents"][0]), "stderr": float(r["stderr"][0]), "T": r["T"], "tau": tau,
            "status_code": STATUS.index(r["status"]), "transient_over": pre["transient_over"],
            "omega_block_drift": drift, "steady": int(steady), "settling_time": pre["transient_settling_time"],
            "t_pre": t_pre, "spike_interval": interval, "spike_interval_std": interval_std,
@@ -119,7 +120,7 @@ def row(cfg: dict, eps: float, label: str = "", check_b: bool = False) -> dict:
             pb = Params.paper(eps=eps, b=b)
             ta.pars[:] = np.tile(np.array(pb.values)[:, None], (1, B))
             rb = lyapunov.replica_exponents(ta, 4, 1, np.array([b_image(x, 1.0, b) for x in replicas]),
-                                            cfg["tau"] * s, **dict(kw, max_rounds=1, label=f"{label}[b={b:g}]"))
+                                            tau, **dict(kw, max_rounds=1, label=f"{label}[b={b:g}]"))
             T1, first = r["history"][0][0], r["history"][0][1]  # the b = 1 estimate after the same single round
             diffs.append(abs(rb["exponents"][0] - first))
             # the same orbit in other coordinates (u scaled by b): the tangent norms differ by at most a
