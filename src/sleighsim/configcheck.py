@@ -158,8 +158,12 @@ def _records(kind: str, cfg: dict) -> list[tuple[str, float, int]]:
                 span(cfg["check_duration"], cfg["check_dt"], "check_duration / check_dt")]
     if kind in ("lyapunov_spectrum", "chaos_verdict", "formal_exponents"):
         steps = cfg["T_round"] * cfg["max_rounds"] / cfg["tau"] * cfg["replicas"]
-        return [span(cfg["t_transient"], tc["dt"], "t_transient / transient.dt"),
-                ("T_round x max_rounds / tau x replicas", steps, 8)]
+        out = [span(cfg["t_transient"], tc["dt"], "t_transient / transient.dt"),
+               ("T_round x max_rounds / tau x replicas", steps, 8)]
+        if kind == "chaos_verdict":
+            fc = cfg["frequency"]
+            out.append(span(fc["T"], fc["dt"], "frequency.T / frequency.dt", 8 * max(fc["splits"])))
+        return out
     if kind == "lyapunov_grid":
         steps = cfg["T_round"] * cfg["max_rounds"] / cfg["tau"] * cfg["replicas"]
         return [span(cfg["t_pre"], tc["dt"], "t_pre / transient.dt"),

@@ -9,6 +9,8 @@ Engines (all times in the flow's own time unit, exponents lambda in 1/time, natu
 * ``loschmidt``: reversibility test: forward T, apply the involution R, forward T again.
 * ``megno_integrator`` / ``megno``: MEGNO (Cincotta & Simo 2000, A&AS 147, 205) computed
   exactly as extra quadratures of heyoka's variational equations.
+* ``frequency_drift``: frequency analysis of one component of the orbit (Laskar 1993; no
+  tangent dynamics): how its leading frequency changes from window to window.
 
 Conventions: engines take a compiled heyoka integrator (parameters already set) and an
 optional ``callback`` (e.g. ``heyoka.callback.angle_reducer``) passed to every propagate
@@ -387,6 +389,35 @@ def loschmidt(ta, y0, T_values, involution, callback=None, *, difference=None, s
     return out
 
 
+def frequency_drift(ta, y0, *, T, dt, component, splits=(2, 4, 8, 16), min_cycles=8.0, callback=None):
+    """Frequency analysis of the orbit from y0 (no tangent dynamics): component ``component``
+    sampled every dt over T (one propagate_grid run in the integrator's precision), then
+    ``frequencies.drift`` over windows T / K, K in ``splits``. Returns that dict with ``T``,
+    ``dt`` and ``final_state``."""
+    from . import frequencies
+
+    dim = len(ta.state)
+    y0 = _state("y0", y0, dim)
+    T, dt = _positive("T", T), _positive("dt", dt)
+    if not (isinstance(component, (int, np.integer)) and 0 <= component < dim):
+        raise ValueError(f"component must be an index into the state (0..{dim - 1}), got {component!r}")
+    fp = ta.state.dtype.type
+    n = round(T / dt)
+    if n < 8 * max(splits):
+        raise ValueError(f"T / dt = {n} samples: too few for {max(splits)} windows of at least 8")
+    import heyoka as hy
+
+    ta.time = fp(0)
+    ta.state[:] = y0
+    grid = np.arange(n + 1, dtype=fp) * fp(dt)
+    res = ta.propagate_grid(grid) if callback is None else ta.propagate_grid(grid, callback=callback)
+    if res[0] != hy.taylor_outcome.time_limit or not np.all(np.isfinite(np.asarray(res[-1], float))):
+        raise RuntimeError(f"integration stopped at t = {float(ta.time):.6g} (target {T:.6g}): heyoka outcome {res[0]}")
+    out = frequencies.drift(np.asarray(res[-1], float)[:, component], dt, splits, min_cycles=min_cycles)
+    out.update(T=float(n * dt), dt=float(dt), final_state=ta.state.copy())
+    return out
+
+
 def megno_integrator(sys, pars=(), tol=None, compact_mode=True, fp_type=float):
     """heyoka integrator for ``sys`` (list of (var, expr)), one tangent vector and the MEGNO
     quadratures.
@@ -614,6 +645,69 @@ def judge_megno(y_mean, y_err, slope, slope_err, T, *, sigma=3.0, y_chaotic_min=
         return REGULAR, (f"<Y> below {_g(y_regular_max)} without growth over T (lambda below about "
                          f"{_g(2 * y_regular_max / T)}); {nums}")
     return UNDECIDED, f"<Y> neither resolved above {_g(y_chaotic_min)} and growing nor settled below {_g(y_regular_max)}; {nums}"
+
+
+def judge_frequency(slope, slope_err, *, slope_ld=math.nan, slope_ld_err=math.nan, log_ratio=math.nan,
+                    log_ratio_err=math.nan, rounding_ratio=math.nan, sigma=3.0, converged_max=-1.0):
+    """Verdict from frequency analysis (``frequency_drift``): the convergence exponent of the
+    window-to-window spread D ~ W^slope of the leading frequency in double (slope, slope_err)
+    and, when the long-double run was made, in long double (slope_ld, slope_ld_err), with
+    ln(D_double / D_long_double) (log_ratio +- log_ratio_err) against the ratio of the two runs'
+    rounding (rounding_ratio: tolerance double / long double).
+
+    regular: the window frequencies converge faster than 1/W in double or in long double (slope +
+    sigma err < converged_max: a torus's refined frequency converges like W^-2 or faster, while a
+    frequency that wanders on a chaotic orbit spreads like W^-1/2 or more slowly), or the drift
+    shrinks with the rounding (log_ratio - sigma err > ln(rounding_ratio) / 2: a drift driven by
+    integration error shrinks with it, a drift of the exact dynamics does not); otherwise
+    undecided. This test never says chaotic: a spread that neither converges nor depends on the
+    rounding also appears on a torus whose windows are shorter than one of its slow periods (the
+    smoke config's rotor states: D about 5e-3 at every window, equal in both precisions). A
+    slope of -inf (the spread at the longest window at the refinement's precision) is converged."""
+    if not (math.isfinite(sigma) and sigma >= 0):
+        raise ValueError(f"sigma must be >= 0, got {sigma!r}")
+    for k, v in (("slope_err", slope_err), ("slope_ld_err", slope_ld_err), ("log_ratio_err", log_ratio_err)):
+        if _is_finite(v) and float(v) < 0:
+            raise ValueError(f"{k} must be >= 0, got {v!r}")
+
+    def converged(p, e):
+        return p == -math.inf or (_is_finite(p) and _is_finite(e) and p + sigma * e < converged_max)
+
+    nums = f"slope in double {_g(slope)} +- {_g(slope_err)}"
+    if converged(slope, slope_err):
+        return REGULAR, (f"the leading frequency converges faster than 1/W in double (D ~ W^slope, slope + "
+                         f"sigma err < {_g(converged_max)}); {nums}, sigma {_g(sigma)}")
+    if not (_is_finite(slope_ld) or slope_ld == -math.inf):
+        return UNDECIDED, f"not converged in double; no long-double slope (run not made, or too few usable windows); {nums}"
+    nums += f", in long double {_g(slope_ld)} +- {_g(slope_ld_err)}"
+    if converged(slope_ld, slope_ld_err):
+        return REGULAR, f"the leading frequency converges faster than 1/W in long double; {nums}, sigma {_g(sigma)}"
+    if not all(_is_finite(v) for v in (log_ratio, log_ratio_err, rounding_ratio)) or rounding_ratio <= 1:
+        return UNDECIDED, f"not converged, and not finite: log_ratio, log_ratio_err or rounding_ratio (> 1); {nums}"
+    half = 0.5 * math.log(rounding_ratio)
+    nums += (f"; drift double / long double = {_g(math.exp(log_ratio))} (ln {_g(log_ratio)} +- {_g(log_ratio_err)}), "
+             f"rounding ratio {_g(rounding_ratio)}; sigma {_g(sigma)}")
+    if log_ratio - sigma * log_ratio_err > half:
+        return REGULAR, (f"the frequency drift shrinks with the rounding (by more than its square root): driven by "
+                         f"integration error, not by the dynamics; {nums}")
+    return UNDECIDED, f"the frequency neither converges nor drifts by less at smaller rounding; {nums}"
+
+
+def frequency_log_ratio(double: dict, long_double: dict) -> tuple[float, float]:
+    """ln(D_double / D_long_double) over the splits both ``frequency_drift`` runs used, weighted by
+    K - 1 (the windows behind each D), and its standard error 1 / sqrt(K_max - 1): that of the
+    finest split alone (the splits share the data, so they do not add information as independent
+    splits would; the ratio of two independent sample standard deviations of K values has ln-error
+    about 1 / sqrt(K - 1)). (NaN, NaN) when no split is shared or a D is not positive."""
+    common = np.intersect1d(double["splits"], long_double["splits"])
+    if common.size == 0:
+        return math.nan, math.nan
+    da = np.array([double["D"][list(double["splits"]).index(k)] for k in common])
+    db = np.array([long_double["D"][list(long_double["splits"]).index(k)] for k in common])
+    if np.any(da <= 0) or np.any(db <= 0):
+        return math.nan, math.nan
+    w = common - 1.0
+    return float(np.sum(w * np.log(da / db)) / np.sum(w)), float(1.0 / math.sqrt(common.max() - 1.0))
 
 
 def judge_loschmidt(n_used, exp_rate, exp_rate_err, exp_rms, pow_exponent, pow_exponent_err, pow_rms, *,

@@ -11,7 +11,7 @@ import time
 import numpy as np
 import xarray as xr
 
-from .. import indicators, integrators, lyapunov, model
+from .. import frequencies, indicators, integrators, lyapunov, model
 from ..integrate import integrate, orbit_samples, sample_grid
 from ..params import Params
 from ..symmetries import state_at_label
@@ -20,7 +20,7 @@ from ..transient import settle
 log = logging.getLogger("sleighsim")
 
 N_BLOCKS = 10  # consecutive blocks of the long-double run for its standard error
-INDICATORS = ("benettin", "ftle", "megno", "two_trajectory", "loschmidt")
+INDICATORS = ("benettin", "ftle", "megno", "two_trajectory", "loschmidt", "frequency")
 TANGENT_BASED = ("benettin", "ftle", "megno")
 R = np.array([-1.0, -1.0, -1.0, 1.0])  # the reversing involution: (u, Omega, omega, delta) -> (-u, -Omega, -omega, delta)
 
@@ -120,6 +120,8 @@ def one_state(params, y0, cfg: dict, scene: str) -> dict:
         megno_precision = "long double"
         verdicts["megno"] = megno_in_long_double(judge_megno_run(ld["megno"], cfg["T_long_double"], sigma), ld,
                                                  megno_double, cfg["T_long_double"], cfg["T_megno"])
+    freq = frequency_indicator(params, replicas[0], cfg, sigma)
+    values["frequency"], errors["frequency"], verdicts["frequency"] = freq["value"], freq["error"], freq["verdict"]
     L, L_ld = loschmidt_run(params, replicas[0], cfg), loschmidt_run(params, replicas[0], cfg, long_double=True)
     los = loschmidt_indicator(L, L_ld, sigma)
     values["loschmidt"], errors["loschmidt"], verdicts["loschmidt"] = los["value"], los["error"], los["verdict"]
@@ -159,7 +161,7 @@ def one_state(params, y0, cfg: dict, scene: str) -> dict:
                 loschmidt_tail_power=L_ld["tail_pow_exponent"], loschmidt_tail_power_err=L_ld["tail_pow_exponent_err"],
                 loschmidt_n_used=[L["n_used"], L_ld["n_used"]], loschmidt_tail_n=[L["tail_n"], L_ld["tail_n"]],
                 loschmidt_floor=[L["floor"] / L["scale"], L_ld["floor"] / L_ld["scale"]],
-                loschmidt_verdict_double=los["verdict_double"], ld_lambda_1=ld["lambda_1"], ld_stderr=ld["stderr"], ld_check=ld["check"],
+                loschmidt_verdict_double=los["verdict_double"], frequency=freq, ld_lambda_1=ld["lambda_1"], ld_stderr=ld["stderr"], ld_check=ld["check"],
                 exponents=lam, stderr=res["stderr"], T=float(res["T"]), status=res["status"], sum_all=s, sum_err=s_err,
                 r_image=image, r_image_distance=image_dist, mean_u=float(mean_u_omega[0]),
                 mean_omega=float(mean_u_omega[1]), transient_over=int(pre["transient_over"]), T_two=float(tt["T"]),
@@ -186,6 +188,61 @@ def loschmidt_indicator(L: dict, L_ld: dict, sigma: float) -> dict:
     v, r = indicators.judge_loschmidt_run(L_ld, sigma=sigma)
     return dict(value=L_ld["tail_exp_rate"], error=L_ld["tail_exp_rate_err"],
                 verdict=(v, f"in long double: {r}; in double: {double[0]}"), verdict_double=double[0])
+
+
+def frequency_run(params, y, cfg: dict, *, long_double: bool = False) -> dict:
+    """``indicators.frequency_drift`` of the component frequency.component (a model variable) from y
+    over frequency.T, sampled every frequency.dt: in double at tol, or in long double at
+    tol_long_double."""
+    fc = cfg["frequency"]
+    flow, _ = integrators.flow(False, cfg["tol_long_double"] if long_double else cfg["tol"], long_double)
+    flow.pars[:] = np.array(params.values, dtype=flow.state.dtype)
+    return indicators.frequency_drift(flow, _stored(y), T=fc["T"], dt=fc["dt"],
+                                      component=model.STATE_NAMES.index(fc["component"]), splits=fc["splits"],
+                                      min_cycles=fc["min_cycles"], callback=integrators.bounded(flow))
+
+
+def frequency_indicator(params, y, cfg: dict, sigma: float) -> dict:
+    """The frequency-analysis indicator (``indicators.judge_frequency``): the double run first; when
+    its leading frequency has not converged (but at least two splits were usable), the same run in long double, whose drift is compared
+    with the double one's against the ratio of their tolerances. Value: the relative frequency
+    drift per unit time, D / W at the longest window of the judged run (1/time); error: that times
+    D's ln-error. Returns value, error, verdict ((verdict, reason)), double and long_double (the
+    runs; long_double None when not made)."""
+    double = frequency_run(params, y, cfg)
+    verdict = indicators.judge_frequency(double["slope"], double["slope_err"], sigma=sigma)
+    ld = None
+    if verdict[0] != indicators.REGULAR and double["splits"].size >= 2:
+        ld = frequency_run(params, y, cfg, long_double=True)
+        log_ratio, log_ratio_err = indicators.frequency_log_ratio(double, ld)
+        verdict = indicators.judge_frequency(double["slope"], double["slope_err"], slope_ld=ld["slope"],
+                                             slope_ld_err=ld["slope_err"], log_ratio=log_ratio,
+                                             log_ratio_err=log_ratio_err,
+                                             rounding_ratio=cfg["tol"] / cfg["tol_long_double"], sigma=sigma)
+    judged = double if ld is None else ld
+    if judged["D"].size:
+        value = float(judged["D"][0] / judged["W"][0])
+        error = value * float(judged["D_log_err"][0])
+    else:
+        value = error = math.nan
+    return {"value": value, "error": error, "verdict": verdict, "double": double, "long_double": ld}
+
+
+def frequency_table(runs: list, splits) -> dict:
+    """Per state and precision (double, long double), the spread D of the window frequencies at each
+    configured split (NaN where the split was left out or the run not made), the convergence
+    slope and its error, and the mean frequency."""
+    splits = list(splits)
+    D = np.full((len(runs), 2, len(splits)), math.nan)
+    slope, slope_err, f = (np.full((len(runs), 2), math.nan) for _ in range(3))
+    for i, fr in enumerate(runs):
+        for j, run in enumerate((fr["double"], fr["long_double"])):
+            if run is None:
+                continue
+            for k, d in zip(run["splits"], run["D"]):
+                D[i, j, splits.index(int(k))] = d
+            slope[i, j], slope_err[i, j], f[i, j] = run["slope"], run["slope_err"], run["f"]
+    return {"D": D, "slope": slope, "slope_err": slope_err, "f": f}
 
 
 def _loschmidt_settings() -> dict:
@@ -280,7 +337,8 @@ def _on_level(ref, partner, params):
 def verdict(cfg: dict, scene: str = "") -> xr.Dataset:
     """The chaos verdict per steady state of cfg["states"] (name -> start state, scaled to the
     energy label): indicators (Benettin over independent replicas, the finite-time-exponent
-    spread, MEGNO; two nearby orbits and the Loschmidt return error without tangent dynamics),
+    spread, MEGNO; two nearby orbits, the Loschmidt return error and frequency analysis without
+    tangent dynamics),
     combined by indicators.DECISION_RULE;
     the sum of exponents over replicas and the R-image test give the class."""
     start = time.perf_counter()
@@ -292,6 +350,8 @@ def verdict(cfg: dict, scene: str = "") -> xr.Dataset:
         out.append(one_state(params, y0, cfg, f"{scene}[{name}]"))
         log.info("%s: %s: %s (%s); %s", scene, name, out[-1]["verdict"], out[-1]["klass"], out[-1]["reason"])
     ind = list(INDICATORS)
+    fc = cfg["frequency"]
+    ft = frequency_table([o["frequency"] for o in out], fc["splits"])
 
     def per_state(key):
         return np.array([o[key] for o in out])
@@ -353,6 +413,13 @@ def verdict(cfg: dict, scene: str = "") -> xr.Dataset:
                                  {"long_name": "of which in the tail"}),
             "loschmidt_floor": (("state", "precision"), per_state("loschmidt_floor"),
                                 {"long_name": "rounding floor (relative): floor_factor x machine epsilon"}),
+            "frequency_drift": (("state", "precision", "split"), ft["D"],
+                                {"long_name": "spread of the leading frequency over the windows T / split, relative to "
+                                              "its mean (NaN: split left out, or run not made)"}),
+            "frequency_slope": (("state", "precision"), ft["slope"],
+                                {"long_name": "convergence exponent of that spread, D ~ W^slope, longest to shortest window"}),
+            "frequency_slope_stderr": (("state", "precision"), ft["slope_err"]),
+            "frequency_leading": (("state", "precision"), ft["f"], {"units": "1/time", "long_name": "leading frequency"}),
             "lambda_1_long_double": ("state", per_state("ld_lambda_1"), {"units": "1/time"}),
             "lambda_1_long_double_stderr": ("state", per_state("ld_stderr"), {"units": "1/time"}),
             "precision_check": ("state", per_state("ld_check").astype(object),
@@ -360,6 +427,8 @@ def verdict(cfg: dict, scene: str = "") -> xr.Dataset:
         },
         coords={"state": names, "indicator": ind, "i": np.arange(1, 5), "d0": np.asarray(cfg["d0"], float),
                 "T_loschmidt": loschmidt_T(cfg), "precision": ["double", "long double"],
+                "split": np.asarray(fc["splits"], int),
+                "frequency_window": ("split", fc["T"] / np.asarray(fc["splits"], float), {"units": "time"}),
                 "tangent_based": ("indicator", [int(i in TANGENT_BASED) for i in ind])},
     )
     ds.attrs.update(
@@ -371,9 +440,14 @@ def verdict(cfg: dict, scene: str = "") -> xr.Dataset:
         uncertainty="Benettin: standard error over independent replicas along the settled orbit; FTLE: window "
                     "standard error; MEGNO: 2 x (slope of <Y> over the second half, least-squares error, "
                     "correlated residuals: understated); two-trajectory: consecutive blocks (value at the middle d0); "
-                    "Loschmidt: least-squares error of the exponential fit over the long-double run's tail; long double: consecutive blocks of one "
-                    "replica's MEGNO run",
+                    "Loschmidt: least-squares error of the exponential fit over the long-double run's tail; frequency: D's "
+                    "ln-error 1/sqrt(2 (K - 1)) for K windows (sample standard deviation of K values); long double: "
+                    "consecutive blocks of one replica's MEGNO run",
         megno_rule=" ".join(indicators.judge_megno.__doc__.split()),
+        frequency_rule=" ".join((frequency_indicator.__doc__ + " " + indicators.judge_frequency.__doc__ + " "
+                                 + indicators.frequency_log_ratio.__doc__).split()),
+        frequency_method=" ".join(frequencies.drift.__doc__.split()), frequency_T=fc["T"], frequency_dt=fc["dt"],
+        frequency_component=fc["component"], frequency_min_cycles=fc["min_cycles"],
         loschmidt_rule=" ".join((loschmidt_indicator.__doc__ + " " + indicators.judge_loschmidt_run.__doc__ + " "
                                  + indicators.judge_loschmidt.__doc__).split()),
         loschmidt_fit=" ".join(indicators.loschmidt_fit.__doc__.split()), **_loschmidt_settings(), T_megno=cfg["T_megno"],

@@ -122,13 +122,13 @@ VERDICT_COLOURS = {"chaotic": "tab:red", "regular": "tab:blue", "undecided": "0.
 
 def chaos(sources, png, pdf) -> None:
     """Per steady state: each indicator's rate with its uncertainty (colour: the indicator's verdict),
-    the verdict and the class; below, MEGNO's running mean <Y>(t) and the Loschmidt return error
-    against T for every state."""
+    the verdict and the class; below, MEGNO's running mean <Y>(t), the Loschmidt return error
+    against T and the spread of the leading frequency against the window length for every state."""
     (ds,) = (read_dataset(s) for s in sources)
     states, ind = list(ds.state.values), list(ds.indicator.values)
     n = len(states)
-    fig, axd = plt.subplot_mosaic([[f"s{k}" for k in range(n) for _ in (0, 1)], ["m"] * n + ["l"] * n],
-                                  figsize=(4.2 * max(n, 2), 7.5), height_ratios=(1.2, 1))
+    fig, axd = plt.subplot_mosaic([[f"s{k}" for k in range(n) for _ in range(3)], ["m"] * n + ["l"] * n + ["f"] * n],
+                                  figsize=(4.2 * max(n, 3), 7.5), height_ratios=(1.2, 1))
     axes = [axd[f"s{k}"] for k in range(n)]
     for k, (ax, st) in enumerate(zip(axes, states)):
         v, e = ds.indicator_value.values[k], ds.indicator_uncertainty.values[k]
@@ -151,8 +151,15 @@ def chaos(sources, png, pdf) -> None:
         ax.set_title(f"{st}: {ds.verdict.values[k]}\n{ds.state_class.values[k]}; sum of exponents "
                      f"{ds.sum_exponents.values[k]:.2g} +- {ds.sum_exponents_stderr.values[k]:.1g}", fontsize=8)
     axes[0].set_ylabel("rate (1/time), bars: 3 standard errors")
-    mx, lx = axd["m"], axd["l"]
+    mx, lx, fx = axd["m"], axd["l"], axd["f"]
     for k, st in enumerate(states):
+        colour = None
+        for j, (prec, style) in enumerate((("double", "o:"), ("long double", "s-"))):
+            D = ds.frequency_drift.values[k, j]
+            if np.isfinite(D).any():
+                line, = fx.loglog(ds.frequency_window.values, D, style, ms=3, color=colour,
+                                  label=f"{st}, {prec}: slope {ds.frequency_slope.values[k, j]:.2g}")
+                colour = line.get_color()
         line, = mx.plot(ds.megno_t.values[k], ds.megno_Y_mean.values[k], label=f"{st}, double")
         if np.isfinite(ds.megno_Y_mean_long_double.values[k]).any():
             mx.plot(ds.megno_t_long_double.values[k], ds.megno_Y_mean_long_double.values[k], "--", color=line.get_color(),
@@ -170,6 +177,11 @@ def chaos(sources, png, pdf) -> None:
     lx.set_ylabel("return error (relative)")
     lx.set_title("Loschmidt: a power of T when regular, exponential up to saturation under chaos", fontsize=8)
     lx.legend(fontsize=6)
+    fx.set_xlabel("window W (time)")
+    fx.set_ylabel("spread of the leading frequency (relative)")
+    fx.set_title("frequency analysis: falls like W^-2 or faster on a torus;\n"
+                 "a drift that shrinks with the rounding is integration error", fontsize=8)
+    fx.legend(fontsize=6)
     fig.suptitle("indicator verdicts: red chaotic, blue regular, grey undecided; (t) tangent-based; the two-trajectory "
                  "rate at each d0 beside it (it must not depend on d0)", fontsize=8)
     finish(fig, ds.attrs, png, pdf)

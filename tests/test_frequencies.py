@@ -1,0 +1,201 @@
+"""Frequency analysis (sleighsim.frequencies), its engine and judge (indicators.frequency_drift,
+judge_frequency, frequency_log_ratio) and the chaos verdict's use of it, on synthetic signals,
+on the textbook orbits of test_indicators and on every branch of the judge.
+
+Measured with splits (2, 4, 8, 16), double / long double (heyoka, compact mode), x(t) sampled
+every 0.25 (Lorenz 0.02): Henon-Heiles E = 1/12 slope -3.2 (T = 1e4) and -4.0 (T = 2e4), quartic
+oscillators at the refinement's precision (-inf); Henon-Heiles E = 1/6 slope 0.0 to 0.25, Lorenz
+(T = 4e3) -0.2 to -0.6, with drift ratios double / long double of 1.0 to 1.3. The sleigh's main
+state (eps = 0.1, label 0.1127, T = 2e5): slope about 0 in both precisions, drift ratio 326 (ln
+5.79 +- 0.38) against the rounding ratio 2048; rotor start a: slope -3.5 +- 0.55 in double.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from sleighsim import frequencies as fq
+from sleighsim import indicators as ind
+from sleighsim.indicators import REGULAR, UNDECIDED
+
+G, U = REGULAR, UNDECIDED
+ROUNDING = 2.220446049250313e-16 / 1.0842021724855044e-19  # 2048
+
+
+def _torus(T, dt):
+    """Three lines at 0.1, 0.1 sqrt(2) and their sum: a 2-torus."""
+    f1, f2 = 0.1, 0.1 * math.sqrt(2)
+    t = np.arange(0.0, T, dt)
+    return np.cos(2 * math.pi * f1 * t) + 0.4 * np.cos(2 * math.pi * f2 * t + 0.3) + 0.1 * np.cos(2 * math.pi * (f1 + f2) * t)
+
+
+def test_leading_frequency_recovers_a_quasi_periodic_line_and_follows_the_band():
+    x = _torus(4000.0, 0.25)
+    assert fq.leading_frequency(x, 0.25) == pytest.approx(0.1, rel=1e-9)
+    assert fq.leading_frequency(x, 0.25, band=(0.12, 0.2)) == pytest.approx(0.1 * math.sqrt(2), rel=1e-8)
+    # a band that holds only the flank of a line: no local maximum inside, no frequency
+    assert math.isnan(fq.leading_frequency(x, 0.25, band=(0.101, 0.12)))
+    with pytest.raises(ValueError, match="no DFT bin"):
+        fq.leading_frequency(x, 0.25, band=(0.1001, 0.10011))
+    with pytest.raises(ValueError, match="non-finite"):
+        fq.leading_frequency(np.r_[x[:100], np.nan], 0.25)
+    with pytest.raises(ValueError, match="dt"):
+        fq.leading_frequency(x, 0.0)
+
+
+def test_drift_converges_on_a_torus_and_not_on_a_wandering_frequency():
+    rng = np.random.default_rng(3)
+    torus = fq.drift(_torus(16000.0, 0.25), 0.25)
+    assert list(torus["splits"]) == [2, 4, 8, 16] and torus["slope"] == -math.inf
+    assert torus["f_ref"] == pytest.approx(0.1, rel=1e-6)
+    # a phase diffusing like a random walk: the window frequency scatters like W^-1/2
+    dt, T = 0.25, 16000.0
+    n = int(T / dt)
+    phase = 2 * math.pi * 0.1 * dt * np.arange(n) + np.cumsum(rng.normal(scale=0.02, size=n))
+    wander = fq.drift(np.cos(phase), dt)
+    assert wander["slope"] + 3 * wander["slope_err"] > -1.0
+    assert -1.2 < wander["slope"] < 0.2
+    # windows shorter than min_cycles periods are left out
+    few = fq.drift(_torus(1000.0, 0.25), 0.25, min_cycles=15.0)
+    assert list(few["splits"]) == [2, 4] and few["W"][-1] == pytest.approx(250.0)
+    none = fq.drift(_torus(1000.0, 0.25), 0.25, min_cycles=60.0)
+    assert none["splits"].size == 0 and math.isnan(none["slope"]) and math.isnan(none["f"])
+    with pytest.raises(ValueError, match="splits"):
+        fq.drift(_torus(1000.0, 0.25), 0.25, splits=(1, 4))
+
+
+@pytest.mark.parametrize("kw, want, says", [
+    (dict(slope=-3.5, slope_err=0.55), G, "converges faster than 1/W in double"),
+    (dict(slope=-math.inf, slope_err=0.0), G, "in double"),
+    (dict(slope=-2.0, slope_err=0.55), U, "no long-double slope"),  # -2 + 1.65 > -1: not resolved
+    (dict(slope=0.0, slope_err=0.55, slope_ld=-3.5, slope_ld_err=0.5, log_ratio=0.0, log_ratio_err=0.3,
+          rounding_ratio=ROUNDING), G, "in long double"),
+    (dict(slope=0.0, slope_err=0.55, slope_ld=0.1, slope_ld_err=0.55, log_ratio=5.79, log_ratio_err=0.38,
+          rounding_ratio=ROUNDING), G, "shrinks with the rounding"),  # the sleigh's main state
+    (dict(slope=0.0, slope_err=0.55, slope_ld=0.1, slope_ld_err=0.55, log_ratio=4.5, log_ratio_err=0.38,
+          rounding_ratio=ROUNDING), U, "neither converges"),  # 4.5 - 3 x 0.38 < ln(2048) / 2 = 3.81
+    (dict(slope=0.2, slope_err=0.35, slope_ld=0.1, slope_ld_err=0.35, log_ratio=0.2, log_ratio_err=0.26,
+          rounding_ratio=ROUNDING), U, "neither converges"),  # Henon-Heiles E = 1/6
+    (dict(slope=0.0, slope_err=0.55, slope_ld=0.1, slope_ld_err=0.55, log_ratio=math.nan, log_ratio_err=0.38,
+          rounding_ratio=ROUNDING), U, "not finite"),
+    (dict(slope=0.0, slope_err=0.55, slope_ld=0.1, slope_ld_err=0.55, log_ratio=5.0, log_ratio_err=0.3,
+          rounding_ratio=1.0), U, "not finite"),
+    (dict(slope=math.nan, slope_err=math.nan), U, "no long-double slope"),
+])
+def test_judge_frequency_on_each_branch(kw, want, says):
+    v, reason = ind.judge_frequency(**kw)
+    assert v == want and says in reason
+
+
+def test_judge_frequency_rejects_negative_errors_and_sigma():
+    with pytest.raises(ValueError, match="slope_err"):
+        ind.judge_frequency(-3.0, -0.1)
+    with pytest.raises(ValueError, match="sigma"):
+        ind.judge_frequency(-3.0, 0.1, sigma=-1.0)
+
+
+def test_frequency_log_ratio_uses_the_shared_splits_and_the_finest_splits_error():
+    a = {"splits": np.array([2, 4, 8]), "D": np.array([1e-2, 1e-2, 1e-2])}
+    b = {"splits": np.array([2, 4]), "D": np.array([1e-4, 1e-3])}
+    lr, err = ind.frequency_log_ratio(a, b)
+    assert lr == pytest.approx((1 * math.log(100) + 3 * math.log(10)) / 4)
+    assert err == pytest.approx(1 / math.sqrt(3))
+    assert all(map(math.isnan, ind.frequency_log_ratio(a, {"splits": np.array([16]), "D": np.array([1.0])})))
+    assert all(map(math.isnan, ind.frequency_log_ratio(a, {"splits": np.array([2]), "D": np.array([0.0])})))
+
+
+# ----------------------------------------------------------------------------- textbook orbits
+
+@pytest.fixture(scope="module")
+def textbook():
+    """Double and long-double frequency_drift of x(t) on the textbook orbits."""
+    hy = pytest.importorskip("heyoka")
+    from test_indicators import (
+        HH_CHAOS,
+        HH_REG,
+        LORENZ0,
+        OSC0,
+        _hh_sys,
+        _lorenz_sys,
+        _oscillators,
+    )
+
+    cases = {"hh_chaos": (_hh_sys(hy), HH_CHAOS, 0.25, 1e4), "hh_regular": (_hh_sys(hy), HH_REG, 0.25, 1e4),
+             "quartic": (_oscillators(hy, True), OSC0, 0.25, 1e4), "lorenz": (_lorenz_sys(hy), LORENZ0, 0.02, 4e3)}
+    out = {}
+    for name, (sys, y0, dt, T) in cases.items():
+        runs = []
+        for fp in (float, np.longdouble):
+            ta = hy.taylor_adaptive(sys, np.array(y0, dtype=fp), fp_type=fp, compact_mode=True)
+            runs.append(ind.frequency_drift(ta, np.array(y0, dtype=fp), T=T, dt=dt, component=0))
+        out[name] = runs
+    return out
+
+
+def _judge(runs):
+    d, ld = runs
+    lr, lr_err = ind.frequency_log_ratio(d, ld)
+    return ind.judge_frequency(d["slope"], d["slope_err"], slope_ld=ld["slope"], slope_ld_err=ld["slope_err"],
+                               log_ratio=lr, log_ratio_err=lr_err, rounding_ratio=ROUNDING)
+
+
+@pytest.mark.parametrize("name, want", [("hh_regular", G), ("quartic", G), ("hh_chaos", U), ("lorenz", U)])
+def test_frequency_indicator_on_textbook_orbits(textbook, name, want):
+    d, ld = textbook[name]
+    v, reason = _judge(textbook[name])
+    assert v == want, reason
+    if want == G:
+        assert d["slope"] < -2.5 and ind.judge_frequency(d["slope"], d["slope_err"])[0] == G
+    else:  # chaos: the frequency wanders by as much at the smaller rounding, and does not converge
+        assert d["slope"] > -1.0 and ld["slope"] > -1.0
+        assert abs(ind.frequency_log_ratio(d, ld)[0]) < 1.0
+
+
+def test_frequency_drift_checks_its_arguments(textbook):
+    import heyoka as hy
+    from test_indicators import OSC0, _oscillators
+
+    ta = hy.taylor_adaptive(_oscillators(hy, True), OSC0, compact_mode=True)
+    with pytest.raises(ValueError, match="component"):
+        ind.frequency_drift(ta, OSC0, T=100.0, dt=0.25, component=4)
+    with pytest.raises(ValueError, match="too few"):
+        ind.frequency_drift(ta, OSC0, T=10.0, dt=0.25, component=0)
+    out = ind.frequency_drift(ta, OSC0, T=200.0, dt=0.25, component=1, splits=(2, 4), min_cycles=4.0)
+    assert out["T"] == 200.0 and out["f_ref"] == pytest.approx(math.sqrt(2) / (2 * math.pi), rel=0.05)
+
+
+# ----------------------------------------------------------------------------- the chaos verdict's use
+
+@pytest.mark.parametrize("double_slope, n_splits, ld_slope, ratio_D, want, ld_made", [
+    (-3.5, 3, None, None, G, False),       # converged in double: no long-double run
+    (0.0, 3, 0.1, 326.0, G, True),         # the main state: drift shrinks with the rounding
+    (0.0, 3, 0.1, 1.2, U, True),           # drift independent of the rounding: not judged chaotic
+    (math.nan, 1, None, None, U, False),   # too few usable windows: no long-double run either
+])
+def test_frequency_indicator_runs_long_double_only_when_needed(monkeypatch, double_slope, n_splits, ld_slope,
+                                                               ratio_D, want, ld_made):
+    from sleighsim.params import Params
+    from sleighsim.scenes import verdict
+
+    splits = np.array([2, 4, 8][:n_splits])
+    D = np.full(n_splits, 1e-2)
+    W = 2e5 / splits
+
+    def run(params, y, cfg, *, long_double=False):
+        calls.append(long_double)
+        if long_double:
+            return dict(splits=splits, D=D / ratio_D, W=W, D_log_err=1 / np.sqrt(2 * (splits - 1.0)), slope=ld_slope,
+                        slope_err=0.55)
+        return dict(splits=splits, D=D, W=W, D_log_err=1 / np.sqrt(2 * (splits - 1.0)), slope=double_slope,
+                    slope_err=0.55)
+
+    calls = []
+    monkeypatch.setattr(verdict, "frequency_run", run)
+    cfg = dict(tol=2.220446049250313e-16, tol_long_double=1.0842021724855044e-19)
+    out = verdict.frequency_indicator(Params.paper(eps=0.1), [0.0, 0.1, 1.0, 0.0], cfg, 3.0)
+    assert out["verdict"][0] == want and calls == ([False, True] if ld_made else [False])
+    assert (out["long_double"] is not None) == ld_made
+    judged = out["long_double"] or out["double"]
+    assert out["value"] == pytest.approx(judged["D"][0] / judged["W"][0])
+    assert out["error"] == pytest.approx(out["value"] / math.sqrt(2))
