@@ -6,8 +6,9 @@ Measured with splits (2, 4, 8, 16), double / long double (heyoka, compact mode),
 every 0.25 (Lorenz 0.02): Henon-Heiles E = 1/12 slope -3.2 (T = 1e4) and -4.0 (T = 2e4), quartic
 oscillators at the refinement's precision (-inf); Henon-Heiles E = 1/6 slope 0.0 to 0.25, Lorenz
 (T = 4e3) -0.2 to -0.6, with drift ratios double / long double of 1.0 to 1.3. The sleigh's main
-state (eps = 0.1, label 0.1127, T = 2e5): slope about 0 in both precisions, drift ratio 326 (ln
-5.79 +- 0.38) against the rounding ratio 2048; rotor start a: slope -3.5 +- 0.55 in double.
+state (eps = 0.1, label 0.1127, T = 2e5, the paper config's chaos_verdict): slope about 0 in both
+precisions, drift ratio 300 (ln 5.70 +- 0.38) against the rounding ratio 2048; rotor start a:
+slope -4.43 +- 0.35 in double.
 """
 
 import math
@@ -38,10 +39,23 @@ def test_leading_frequency_recovers_a_quasi_periodic_line_and_follows_the_band()
     assert math.isnan(fq.leading_frequency(x, 0.25, band=(0.101, 0.12)))
     with pytest.raises(ValueError, match="no DFT bin"):
         fq.leading_frequency(x, 0.25, band=(0.1001, 0.10011))
+    # a line below the first bin is not resolved from zero frequency
+    t = np.arange(4000) * 0.25
+    assert math.isnan(fq.leading_frequency(np.cos(2 * math.pi * 0.3 / 1000.0 * t), 0.25))
     with pytest.raises(ValueError, match="non-finite"):
         fq.leading_frequency(np.r_[x[:100], np.nan], 0.25)
     with pytest.raises(ValueError, match="dt"):
         fq.leading_frequency(x, 0.0)
+    for bad in (0, 2.5):
+        with pytest.raises(ValueError, match="n_windows"):
+            fq.window_frequencies(x, 0.25, bad)
+
+
+def test_refined_frequency_reaches_the_stated_precision():
+    f = 0.1 * math.sqrt(2)
+    for T in (2000.0, 32000.0):
+        t = np.arange(0.0, T, 0.25)
+        assert abs(fq.leading_frequency(np.cos(2 * math.pi * f * t + 0.3), 0.25) / f - 1) < fq.PRECISION
 
 
 def test_drift_converges_on_a_torus_and_not_on_a_wandering_frequency():
@@ -63,46 +77,77 @@ def test_drift_converges_on_a_torus_and_not_on_a_wandering_frequency():
     assert none["splits"].size == 0 and math.isnan(none["slope"]) and math.isnan(none["f"])
     with pytest.raises(ValueError, match="splits"):
         fq.drift(_torus(1000.0, 0.25), 0.25, splits=(1, 4))
+    with pytest.raises(ValueError, match="splits"):
+        fq.drift(_torus(1000.0, 0.25), 0.25, splits=())
+    with pytest.raises(ValueError, match="min_cycles"):
+        fq.drift(_torus(1000.0, 0.25), 0.25, min_cycles=0.0)
 
 
-@pytest.mark.parametrize("kw, want, says", [
-    (dict(slope=-3.5, slope_err=0.55), G, "converges faster than 1/W in double"),
-    (dict(slope=-math.inf, slope_err=0.0), G, "in double"),
-    (dict(slope=-2.0, slope_err=0.55), U, "no long-double slope"),  # -2 + 1.65 > -1: not resolved
-    (dict(slope=0.0, slope_err=0.55, slope_ld=-3.5, slope_ld_err=0.5, log_ratio=0.0, log_ratio_err=0.3,
-          rounding_ratio=ROUNDING), G, "in long double"),
-    (dict(slope=0.0, slope_err=0.55, slope_ld=0.1, slope_ld_err=0.55, log_ratio=5.79, log_ratio_err=0.38,
-          rounding_ratio=ROUNDING), G, "shrinks with the rounding"),  # the sleigh's main state
-    (dict(slope=0.0, slope_err=0.55, slope_ld=0.1, slope_ld_err=0.55, log_ratio=4.5, log_ratio_err=0.38,
-          rounding_ratio=ROUNDING), U, "neither converges"),  # 4.5 - 3 x 0.38 < ln(2048) / 2 = 3.81
-    (dict(slope=0.2, slope_err=0.35, slope_ld=0.1, slope_ld_err=0.35, log_ratio=0.2, log_ratio_err=0.26,
-          rounding_ratio=ROUNDING), U, "neither converges"),  # Henon-Heiles E = 1/6
-    (dict(slope=0.0, slope_err=0.55, slope_ld=0.1, slope_ld_err=0.55, log_ratio=math.nan, log_ratio_err=0.38,
-          rounding_ratio=ROUNDING), U, "not finite"),
-    (dict(slope=0.0, slope_err=0.55, slope_ld=0.1, slope_ld_err=0.55, log_ratio=5.0, log_ratio_err=0.3,
-          rounding_ratio=1.0), U, "not finite"),
-    (dict(slope=math.nan, slope_err=math.nan), U, "no long-double slope"),
+def test_drift_leaves_out_a_split_with_a_window_without_the_line():
+    # the line at 0.1 stops half way (0.3 from then on, outside the band around f_ref = 0.1): the
+    # split into 2 has a window without it; the finer splits' first halves hold it, their second
+    # halves not, so only splits whose every window has the line remain
+    t = np.arange(0.0, 8000.0, 0.25)
+    x = np.where(t < 4000.0, np.cos(2 * math.pi * 0.1 * t), 0.0) + 0.01 * np.cos(2 * math.pi * 0.3 * t)
+    d = fq.drift(x, 0.25, splits=(2, 4, 8, 16))
+    assert d["splits"].size == 0 and math.isnan(d["slope"])
+    # no line anywhere (white noise has no stable leading line, but f_ref exists): spreads are large
+    noise = np.random.default_rng(0).normal(size=t.size)
+    dn = fq.drift(noise, 0.25, splits=(2, 4, 8, 16), min_cycles=1.0)
+    assert np.all(dn["D"] > 1e-3)
+
+
+def _run(precision, slope, slope_err=0.55, D=1e-2, **ratio):
+    return {"precision": precision, "slope": slope, "slope_err": slope_err, "D": D, **ratio}
+
+
+_MAIN_LD = {"log_ratio": 5.70, "log_ratio_err": 0.38, "rounding_ratio": ROUNDING}  # the sleigh's main state
+
+
+@pytest.mark.parametrize("runs, want, says", [
+    ([_run("double", -3.5)], G, "converges faster than 1/W in double"),
+    ([_run("double", -math.inf, math.nan)], G, "in double"),
+    ([_run("double", -2.0)], U, "converges in no run"),  # -2 + 3 x 0.55 > -1: not resolved
+    ([_run("double", 0.0), _run("long double", -3.5, 0.5, 1e-9, log_ratio=0.0, log_ratio_err=0.3,
+                                rounding_ratio=ROUNDING)], G, "in long double"),
+    ([_run("double", 0.0), _run("long double", -math.inf, math.nan, 1e-12)], G, "in long double"),
+    # the main state: the double drift is integration error, the long-double one unexplained
+    ([_run("double", 0.0), _run("long double", 0.05, 0.55, 4.4e-5, **_MAIN_LD)], U,
+     "the double drift is integration error, the exact dynamics' below 4.4e-05"),
+    # Henon-Heiles E = 1/6: the same drift in both precisions
+    ([_run("double", 0.2, 0.35, 0.3), _run("long double", 0.1, 0.35, 0.3, log_ratio=0.2, log_ratio_err=0.26,
+                                           rounding_ratio=ROUNDING)], U, "shrinks by 1.22"),
+    ([_run("double", math.nan, math.nan), _run("long double", math.nan, math.nan, log_ratio=math.nan)], U,
+     "converges in no run"),
 ])
-def test_judge_frequency_on_each_branch(kw, want, says):
-    v, reason = ind.judge_frequency(**kw)
-    assert v == want and says in reason
+def test_judge_frequency_on_each_branch(runs, want, says):
+    v, reason = ind.judge_frequency(runs)
+    assert v == want and says in reason, reason
+    if want == U:
+        assert ("integration error" in reason) == ("exact dynamics" in says)
 
 
-def test_judge_frequency_rejects_negative_errors_and_sigma():
+def test_judge_frequency_rejects_bad_input():
     with pytest.raises(ValueError, match="slope_err"):
-        ind.judge_frequency(-3.0, -0.1)
+        ind.judge_frequency([_run("double", -3.0, -0.1)])
+    with pytest.raises(ValueError, match="log_ratio_err"):
+        ind.judge_frequency([_run("double", 0.0), _run("long double", 0.0, log_ratio=1.0, log_ratio_err=-1.0)])
     with pytest.raises(ValueError, match="sigma"):
-        ind.judge_frequency(-3.0, 0.1, sigma=-1.0)
+        ind.judge_frequency([_run("double", -3.0)], sigma=-1.0)
+    with pytest.raises(ValueError, match="empty"):
+        ind.judge_frequency([])
 
 
-def test_frequency_log_ratio_uses_the_shared_splits_and_the_finest_splits_error():
+def test_frequency_log_ratio_uses_the_shared_splits_and_a_correlated_error():
     a = {"splits": np.array([2, 4, 8]), "D": np.array([1e-2, 1e-2, 1e-2])}
     b = {"splits": np.array([2, 4]), "D": np.array([1e-4, 1e-3])}
     lr, err = ind.frequency_log_ratio(a, b)
     assert lr == pytest.approx((1 * math.log(100) + 3 * math.log(10)) / 4)
-    assert err == pytest.approx(1 / math.sqrt(3))
+    assert err == pytest.approx((1 + math.sqrt(3)) / 4)  # fully correlated splits: no averaging down
     assert all(map(math.isnan, ind.frequency_log_ratio(a, {"splits": np.array([16]), "D": np.array([1.0])})))
-    assert all(map(math.isnan, ind.frequency_log_ratio(a, {"splits": np.array([2]), "D": np.array([0.0])})))
+    # a spread below the refinement's precision counts as that precision
+    zero = ind.frequency_log_ratio(a, {"splits": np.array([2]), "D": np.array([0.0])})
+    assert zero[0] == pytest.approx(math.log(1e-2 / fq.PRECISION)) and zero[1] == pytest.approx(1.0)
 
 
 # ----------------------------------------------------------------------------- textbook orbits
@@ -136,8 +181,9 @@ def textbook():
 def _judge(runs):
     d, ld = runs
     lr, lr_err = ind.frequency_log_ratio(d, ld)
-    return ind.judge_frequency(d["slope"], d["slope_err"], slope_ld=ld["slope"], slope_ld_err=ld["slope_err"],
-                               log_ratio=lr, log_ratio_err=lr_err, rounding_ratio=ROUNDING)
+    return ind.judge_frequency([_run("double", d["slope"], d["slope_err"], d["D"][0]),
+                                _run("long double", ld["slope"], ld["slope_err"], ld["D"][0], log_ratio=lr,
+                                     log_ratio_err=lr_err, rounding_ratio=ROUNDING)])
 
 
 @pytest.mark.parametrize("name, want", [("hh_regular", G), ("quartic", G), ("hh_chaos", U), ("lorenz", U)])
@@ -146,7 +192,7 @@ def test_frequency_indicator_on_textbook_orbits(textbook, name, want):
     v, reason = _judge(textbook[name])
     assert v == want, reason
     if want == G:
-        assert d["slope"] < -2.5 and ind.judge_frequency(d["slope"], d["slope_err"])[0] == G
+        assert d["slope"] < -2.5 and ind.judge_frequency([_run("double", d["slope"], d["slope_err"])])[0] == G
     else:  # chaos: the frequency wanders by as much at the smaller rounding, and does not converge
         assert d["slope"] > -1.0 and ld["slope"] > -1.0
         assert abs(ind.frequency_log_ratio(d, ld)[0]) < 1.0
@@ -169,9 +215,11 @@ def test_frequency_drift_checks_its_arguments(textbook):
 
 @pytest.mark.parametrize("double_slope, n_splits, ld_slope, ratio_D, want, ld_made", [
     (-3.5, 3, None, None, G, False),       # converged in double: no long-double run
-    (0.0, 3, 0.1, 326.0, G, True),         # the main state: drift shrinks with the rounding
+    (0.0, 3, -3.5, 1.0, G, True),          # converged in long double
+    (0.0, 3, 0.1, 300.0, U, True),         # the main state: the double drift is integration error; undecided
     (0.0, 3, 0.1, 1.2, U, True),           # drift independent of the rounding: not judged chaotic
     (math.nan, 1, None, None, U, False),   # too few usable windows: no long-double run either
+    (math.nan, 0, None, None, U, False),   # none at all: no value either
 ])
 def test_frequency_indicator_runs_long_double_only_when_needed(monkeypatch, double_slope, n_splits, ld_slope,
                                                                ratio_D, want, ld_made):
@@ -196,6 +244,10 @@ def test_frequency_indicator_runs_long_double_only_when_needed(monkeypatch, doub
     out = verdict.frequency_indicator(Params.paper(eps=0.1), [0.0, 0.1, 1.0, 0.0], cfg, 3.0)
     assert out["verdict"][0] == want and calls == ([False, True] if ld_made else [False])
     assert (out["long_double"] is not None) == ld_made
-    judged = out["long_double"] or out["double"]
-    assert out["value"] == pytest.approx(judged["D"][0] / judged["W"][0])
-    assert out["error"] == pytest.approx(out["value"] / math.sqrt(2))
+    assert ("integration error" in out["verdict"][1]) == (ratio_D == 300.0)
+    last = out["long_double"] or out["double"]
+    if n_splits:
+        assert out["value"] == pytest.approx(last["D"][0] / last["W"][0])
+        assert out["error"] == pytest.approx(out["value"] / math.sqrt(2))
+    else:
+        assert math.isnan(out["value"]) and math.isnan(out["error"])

@@ -161,8 +161,10 @@ def _records(kind: str, cfg: dict) -> list[tuple[str, float, int]]:
         out = [span(cfg["t_transient"], tc["dt"], "t_transient / transient.dt"),
                ("T_round x max_rounds / tau x replicas", steps, 8)]
         if kind == "chaos_verdict":
+            from .frequencies import MIN_SAMPLES
+
             fc = cfg["frequency"]
-            out.append(span(fc["T"], fc["dt"], "frequency.T / frequency.dt", 8 * max(fc["splits"])))
+            out.append(span(fc["T"], fc["dt"], "frequency.T / frequency.dt", MIN_SAMPLES * max(fc["splits"])))
         return out
     if kind == "lyapunov_grid":
         steps = cfg["T_round"] * cfg["max_rounds"] / cfg["tau"] * cfg["replicas"]

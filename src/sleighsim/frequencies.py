@@ -10,11 +10,23 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.optimize import minimize_scalar
 
-# relative precision of a refined frequency: 100 x the Brent tolerance (1e-13); a spread of the
-# window frequencies at or below it is converged
+# relative precision of a refined frequency: measured 3e-12 to 6e-12 on a pure cosine over 280 to
+# 4500 periods (the amplitude is flat to rounding within about 1e-8 of a DFT bin of its maximum);
+# a spread of the window frequencies at or below PRECISION is converged
 PRECISION = 1e-11
+MIN_SAMPLES = 8  # samples a window needs at least
+
+
+def check_splits(splits) -> list[int]:
+    """The window counts K, sorted; ValueError unless there is at least one and each is an integer >= 2."""
+    try:
+        out = sorted({int(k) for k in splits if int(k) == k})
+    except (TypeError, ValueError):
+        raise ValueError(f"splits must be integers >= 2, got {splits!r}") from None
+    if not out or out[0] < 2 or len(out) != len(set(splits)):
+        raise ValueError(f"splits must be integers >= 2, got {splits!r}")
+    return out
 
 
 def _check(x, dt, n_min):
@@ -31,10 +43,13 @@ def _check(x, dt, n_min):
 def leading_frequency(x, dt: float, band=None) -> float:
     """Frequency of the largest line of x (sampled every dt, mean removed): the largest bin of the
     Hann-windowed DFT (zero excluded; within band = (f_lo, f_hi) if given), refined by maximising
-    |sum_k x_k w_k exp(-2 pi i f t_k)| over f within one bin either side (bounded Brent, to
-    PRECISION / 100 relative). NaN when that bin is not a local maximum of the spectrum (the line
-    lies outside the band) or the refined maximum sits on the edge of its bracket."""
-    x = _check(x, dt, 8)
+    |sum_k x_k w_k exp(-2 pi i f t_k)| over f within one bin either side (bounded Brent on the
+    offset from the bin's centre, to 1e-6 PRECISION relative). NaN when that bin is not a local
+    maximum of the spectrum (the line lies outside the band) or is the first bin (a line not
+    resolved from zero frequency)."""
+    from scipy.optimize import minimize_scalar
+
+    x = _check(x, dt, MIN_SAMPLES)
     x = x - x.mean()
     n = x.size
     w = np.hanning(n)
@@ -48,23 +63,22 @@ def leading_frequency(x, dt: float, band=None) -> float:
         if not allowed.any():
             raise ValueError(f"no DFT bin in band {band} (resolution {df:.3g})")
     k = int(np.flatnonzero(allowed)[np.argmax(F[allowed])])
-    if (k > 1 and F[k - 1] > F[k]) or (k + 1 < F.size and F[k + 1] > F[k]):
+    if k == 1 or F[k - 1] > F[k] or (k + 1 < F.size and F[k + 1] > F[k]):
         return math.nan
     f0 = k * df
     t = np.arange(n) * dt
 
-    def minus_amplitude(f):
-        return -abs(np.dot(xw, np.exp(-2j * math.pi * f * t)))
+    def minus_amplitude(s):  # s: offset from the bin centre f0 (Brent's relative tolerance acts on s, not f)
+        return -abs(np.dot(xw, np.exp(-2j * math.pi * (f0 + s) * t)))
 
-    lo, hi = max(f0 - df, 0.5 * df), f0 + df
-    r = minimize_scalar(minus_amplitude, bounds=(lo, hi), method="bounded", options={"xatol": 1e-2 * PRECISION * f0})
-    return float(r.x) if lo + 1e-6 * df < r.x < hi - 1e-6 * df else math.nan
+    r = minimize_scalar(minus_amplitude, bounds=(-df, df), method="bounded", options={"xatol": 1e-6 * PRECISION * f0})
+    return float(f0 + r.x)
 
 
 def window_frequencies(x, dt: float, n_windows: int, band=None) -> np.ndarray:
     """``leading_frequency`` (within band, if given) of each of n_windows consecutive equal windows
     of x (a remainder of fewer than n_windows samples at the end is dropped)."""
-    x = _check(x, dt, 8 * n_windows)
+    x = _check(x, dt, MIN_SAMPLES * n_windows)
     if int(n_windows) != n_windows or n_windows < 1:
         raise ValueError(f"n_windows must be a positive integer, got {n_windows}")
     m = x.size // n_windows
@@ -76,7 +90,8 @@ def drift(x, dt: float, splits=(2, 4, 8, 16), *, min_cycles: float = 8.0) -> dic
     K in ``splits`` (T = the series' length): D(W) = sample standard deviation of the K window
     frequencies / their mean, and its convergence exponent between the longest and the shortest
     windows, slope = ln(D(W_max) / D(W_min)) / ln(W_max / W_min) (D ~ W^slope; a torus gives about
-    -4 with the Hann window, a wandering frequency -1/2 or more).
+    -4 with the Hann window; a wandering frequency about -1/2: measured -0.6 to +0.3 on the chaotic
+    textbook orbits).
 
     One line is followed in every window: f_ref is the median of the leading frequencies of the
     finest split's windows, and each window's line is the largest within (f_ref / 2, 3 f_ref / 2),
@@ -90,15 +105,13 @@ def drift(x, dt: float, splits=(2, 4, 8, 16), *, min_cycles: float = 8.0) -> dic
     independent once W exceeds its correlation time; on a torus D is deterministic, so the error
     is an upper bound there); the slope's error combines the two ends' errors. When D(W_max) is at
     or below PRECISION the frequency has converged as far as the refinement resolves: slope is
-    then -inf. Returns splits (those used), W, D, D_log_err, slope, slope_err, f_ref, f (the mean
+    then -inf and slope_err NaN. Returns splits (those used), W, D, D_log_err, slope, slope_err, f_ref, f (the mean
     window frequency of the finest split used; NaN if none) and frequencies (one array per split
     used)."""
-    splits = sorted({int(k) for k in splits})
-    if not splits or splits[0] < 2:
-        raise ValueError(f"splits must be window counts >= 2, got {splits}")
+    splits = check_splits(splits)
     if not (math.isfinite(min_cycles) and min_cycles > 0):
         raise ValueError(f"min_cycles must be positive, got {min_cycles}")
-    x = _check(x, dt, 8 * splits[-1])
+    x = _check(x, dt, MIN_SAMPLES * splits[-1])
     T = x.size * dt
     f_ref = window_frequencies(x, dt, splits[-1])
     f_ref = float(np.nanmedian(f_ref)) if np.isfinite(f_ref).any() else math.nan
@@ -112,7 +125,7 @@ def drift(x, dt: float, splits=(2, 4, 8, 16), *, min_cycles: float = 8.0) -> dic
     if len(splits) < 2:
         slope, slope_err = math.nan, math.nan
     elif D[0] <= PRECISION:
-        slope, slope_err = -math.inf, 0.0
+        slope, slope_err = -math.inf, math.nan
     else:
         lever = math.log(W[0] / W[-1])
         slope = math.log(D[0] / max(D[-1], PRECISION)) / lever

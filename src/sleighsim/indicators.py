@@ -399,17 +399,18 @@ def frequency_drift(ta, y0, *, T, dt, component, splits=(2, 4, 8, 16), min_cycle
     dim = len(ta.state)
     y0 = _state("y0", y0, dim)
     T, dt = _positive("T", T), _positive("dt", dt)
+    splits = frequencies.check_splits(splits)
     if not (isinstance(component, (int, np.integer)) and 0 <= component < dim):
         raise ValueError(f"component must be an index into the state (0..{dim - 1}), got {component!r}")
     fp = ta.state.dtype.type
     n = round(T / dt)
-    if n < 8 * max(splits):
-        raise ValueError(f"T / dt = {n} samples: too few for {max(splits)} windows of at least 8")
+    if n < frequencies.MIN_SAMPLES * splits[-1]:
+        raise ValueError(f"T / dt = {n} samples: too few for {splits[-1]} windows of at least {frequencies.MIN_SAMPLES}")
     import heyoka as hy
 
     ta.time = fp(0)
     ta.state[:] = y0
-    grid = np.arange(n + 1, dtype=fp) * fp(dt)
+    grid = np.arange(n, dtype=fp) * fp(dt)  # n samples: T = n dt
     res = ta.propagate_grid(grid) if callback is None else ta.propagate_grid(grid, callback=callback)
     if res[0] != hy.taylor_outcome.time_limit or not np.all(np.isfinite(np.asarray(res[-1], float))):
         raise RuntimeError(f"integration stopped at t = {float(ta.time):.6g} (target {T:.6g}): heyoka outcome {res[0]}")
@@ -647,67 +648,67 @@ def judge_megno(y_mean, y_err, slope, slope_err, T, *, sigma=3.0, y_chaotic_min=
     return UNDECIDED, f"<Y> neither resolved above {_g(y_chaotic_min)} and growing nor settled below {_g(y_regular_max)}; {nums}"
 
 
-def judge_frequency(slope, slope_err, *, slope_ld=math.nan, slope_ld_err=math.nan, log_ratio=math.nan,
-                    log_ratio_err=math.nan, rounding_ratio=math.nan, sigma=3.0, converged_max=-1.0):
-    """Verdict from frequency analysis (``frequency_drift``): the convergence exponent of the
-    window-to-window spread D ~ W^slope of the leading frequency in double (slope, slope_err)
-    and, when the long-double run was made, in long double (slope_ld, slope_ld_err), with
-    ln(D_double / D_long_double) (log_ratio +- log_ratio_err) against the ratio of the two runs'
-    rounding (rounding_ratio: tolerance double / long double).
+def judge_frequency(runs, *, sigma=3.0, converged_max=-1.0):
+    """Verdict from frequency analysis (``frequency_drift``) of one orbit in one or more
+    precisions, in order of decreasing rounding: ``runs`` is a list of dicts with ``precision``
+    (a name), ``slope`` and ``slope_err`` (the convergence exponent of the spread D ~ W^slope of
+    the leading frequency), ``D`` (the spread at the longest window) and, from the second run on,
+    ``log_ratio`` +- ``log_ratio_err`` (ln of the previous run's D over this one's,
+    ``frequency_log_ratio``) and ``rounding_ratio`` (the previous run's tolerance over this one's).
 
-    regular: the window frequencies converge faster than 1/W in double or in long double (slope +
-    sigma err < converged_max: a torus's refined frequency converges like W^-2 or faster, while a
-    frequency that wanders on a chaotic orbit spreads like W^-1/2 or more slowly), or the drift
-    shrinks with the rounding (log_ratio - sigma err > ln(rounding_ratio) / 2: a drift driven by
-    integration error shrinks with it, a drift of the exact dynamics does not); otherwise
-    undecided. This test never says chaotic: a spread that neither converges nor depends on the
-    rounding also appears on a torus whose windows are shorter than one of its slow periods (the
-    smoke config's rotor states: D about 5e-3 at every window, equal in both precisions). A
-    slope of -inf (the spread at the longest window at the refinement's precision) is converged."""
+    regular: the window frequencies converge faster than 1/W in some run (slope + sigma err <
+    converged_max, or slope = -inf: at the refinement's precision): a torus's refined frequency
+    converges like W^-2 or faster, while a frequency that wanders on a chaotic orbit spreads like
+    W^-1/2 or more slowly. Otherwise undecided. The test never says chaotic: a spread that
+    neither converges nor depends on the rounding also appears on a torus whose windows are
+    shorter than one of its slow periods (the smoke config's rotor states: D about 5e-3 at every
+    window, equal in both precisions). When the drift shrinks with the rounding by more than the
+    square root of the rounding ratio (log_ratio - sigma err > ln(rounding_ratio) / 2), the
+    reason says so: the previous run's drift is then integration error, and the exact dynamics'
+    drift is bounded by the last run's D, but that run's own drift is not explained, so the
+    verdict stays undecided."""
     if not (math.isfinite(sigma) and sigma >= 0):
         raise ValueError(f"sigma must be >= 0, got {sigma!r}")
-    for k, v in (("slope_err", slope_err), ("slope_ld_err", slope_ld_err), ("log_ratio_err", log_ratio_err)):
-        if _is_finite(v) and float(v) < 0:
-            raise ValueError(f"{k} must be >= 0, got {v!r}")
-
-    def converged(p, e):
-        return p == -math.inf or (_is_finite(p) and _is_finite(e) and p + sigma * e < converged_max)
-
-    nums = f"slope in double {_g(slope)} +- {_g(slope_err)}"
-    if converged(slope, slope_err):
-        return REGULAR, (f"the leading frequency converges faster than 1/W in double (D ~ W^slope, slope + "
-                         f"sigma err < {_g(converged_max)}); {nums}, sigma {_g(sigma)}")
-    if not (_is_finite(slope_ld) or slope_ld == -math.inf):
-        return UNDECIDED, f"not converged in double; no long-double slope (run not made, or too few usable windows); {nums}"
-    nums += f", in long double {_g(slope_ld)} +- {_g(slope_ld_err)}"
-    if converged(slope_ld, slope_ld_err):
-        return REGULAR, f"the leading frequency converges faster than 1/W in long double; {nums}, sigma {_g(sigma)}"
-    if not all(_is_finite(v) for v in (log_ratio, log_ratio_err, rounding_ratio)) or rounding_ratio <= 1:
-        return UNDECIDED, f"not converged, and not finite: log_ratio, log_ratio_err or rounding_ratio (> 1); {nums}"
-    half = 0.5 * math.log(rounding_ratio)
-    nums += (f"; drift double / long double = {_g(math.exp(log_ratio))} (ln {_g(log_ratio)} +- {_g(log_ratio_err)}), "
-             f"rounding ratio {_g(rounding_ratio)}; sigma {_g(sigma)}")
-    if log_ratio - sigma * log_ratio_err > half:
-        return REGULAR, (f"the frequency drift shrinks with the rounding (by more than its square root): driven by "
-                         f"integration error, not by the dynamics; {nums}")
-    return UNDECIDED, f"the frequency neither converges nor drifts by less at smaller rounding; {nums}"
+    if not runs:
+        raise ValueError("runs is empty")
+    for r in runs:
+        for k in ("slope_err", "log_ratio_err"):
+            if _is_finite(r.get(k, math.nan)) and float(r[k]) < 0:
+                raise ValueError(f"{r['precision']}: {k} must be >= 0, got {r[k]!r}")
+    parts, notes = [], []
+    for prev, r in zip([None, *runs[:-1]], runs):
+        p, e = r["slope"], r["slope_err"]
+        parts.append(f"{r['precision']}: slope {_g(p)} +- {_g(e)}, D {_g(r['D'])}")
+        if p == -math.inf or (_is_finite(p) and _is_finite(e) and p + sigma * e < converged_max):
+            return REGULAR, (f"the leading frequency converges faster than 1/W in {r['precision']} (D ~ W^slope, "
+                             f"slope + sigma err < {_g(converged_max)}); {'; '.join(parts)}; sigma {_g(sigma)}")
+        lr, le, rr = (r.get(k, math.nan) for k in ("log_ratio", "log_ratio_err", "rounding_ratio"))
+        if prev is not None and all(_is_finite(v) for v in (lr, le, rr)) and rr > 1:
+            shrinks = lr - sigma * le > 0.5 * math.log(rr)
+            notes.append(f"from {prev['precision']} to {r['precision']} the drift shrinks by {_g(math.exp(lr))} "
+                         f"(ln {_g(lr)} +- {_g(le)}) at {_g(rr)} times smaller rounding"
+                         + (f": the {prev['precision']} drift is integration error, the exact dynamics' below "
+                            f"{_g(r['D'])}" if shrinks else ""))
+    return UNDECIDED, ("the leading frequency converges in no run; " + "; ".join(parts + notes)
+                       + f"; sigma {_g(sigma)}")
 
 
 def frequency_log_ratio(double: dict, long_double: dict) -> tuple[float, float]:
     """ln(D_double / D_long_double) over the splits both ``frequency_drift`` runs used, weighted by
-    K - 1 (the windows behind each D), and its standard error 1 / sqrt(K_max - 1): that of the
-    finest split alone (the splits share the data, so they do not add information as independent
-    splits would; the ratio of two independent sample standard deviations of K values has ln-error
-    about 1 / sqrt(K - 1)). (NaN, NaN) when no split is shared or a D is not positive."""
+    K - 1 (the windows behind each D; a D below the refinement's precision counts as that
+    precision), and its standard error: the same weighted mean of the splits' errors
+    1 / sqrt(K - 1) (that of the ratio of two independent sample standard deviations of K values),
+    the error of the mean if the splits were fully correlated (they share the data).
+    (NaN, NaN) when no split is shared."""
+    from .frequencies import PRECISION
+
     common = np.intersect1d(double["splits"], long_double["splits"])
     if common.size == 0:
         return math.nan, math.nan
-    da = np.array([double["D"][list(double["splits"]).index(k)] for k in common])
-    db = np.array([long_double["D"][list(long_double["splits"]).index(k)] for k in common])
-    if np.any(da <= 0) or np.any(db <= 0):
-        return math.nan, math.nan
+    da, db = (np.maximum([run["D"][list(run["splits"]).index(k)] for k in common], PRECISION)
+              for run in (double, long_double))
     w = common - 1.0
-    return float(np.sum(w * np.log(da / db)) / np.sum(w)), float(1.0 / math.sqrt(common.max() - 1.0))
+    return float(np.sum(w * np.log(da / db)) / np.sum(w)), float(np.sum(np.sqrt(w)) / np.sum(w))
 
 
 def judge_loschmidt(n_used, exp_rate, exp_rate_err, exp_rms, pow_exponent, pow_exponent_err, pow_rms, *,

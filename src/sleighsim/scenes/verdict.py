@@ -191,7 +191,7 @@ def loschmidt_indicator(L: dict, L_ld: dict, sigma: float) -> dict:
 
 
 def frequency_run(params, y, cfg: dict, *, long_double: bool = False) -> dict:
-    """``indicators.frequency_drift`` of the component frequency.component (a model variable) from y
+    """``indicators.frequency_drift`` of the velocity frequency.component (u, Omega or omega) from y
     over frequency.T, sampled every frequency.dt: in double at tol, or in long double at
     tol_long_double."""
     fc = cfg["frequency"]
@@ -204,28 +204,34 @@ def frequency_run(params, y, cfg: dict, *, long_double: bool = False) -> dict:
 
 def frequency_indicator(params, y, cfg: dict, sigma: float) -> dict:
     """The frequency-analysis indicator (``indicators.judge_frequency``): the double run first; when
-    its leading frequency has not converged (but at least two splits were usable), the same run in long double, whose drift is compared
-    with the double one's against the ratio of their tolerances. Value: the relative frequency
-    drift per unit time, D / W at the longest window of the judged run (1/time); error: that times
-    D's ln-error. Returns value, error, verdict ((verdict, reason)), double and long_double (the
-    runs; long_double None when not made)."""
+    its leading frequency has not converged (but at least two splits were usable), the same run in
+    long double, its drift compared with the double one's against the ratio of their tolerances.
+    Value: the relative frequency drift per unit time, D / W at the longest window of the last
+    run (1/time); error: that times D's ln-error. Returns value, error, verdict ((verdict,
+    reason)), double and long_double (the runs; long_double None when not made)."""
     double = frequency_run(params, y, cfg)
-    verdict = indicators.judge_frequency(double["slope"], double["slope_err"], sigma=sigma)
+    runs = [_judged_run("double", double)]
+    verdict = indicators.judge_frequency(runs, sigma=sigma)
     ld = None
     if verdict[0] != indicators.REGULAR and double["splits"].size >= 2:
         ld = frequency_run(params, y, cfg, long_double=True)
         log_ratio, log_ratio_err = indicators.frequency_log_ratio(double, ld)
-        verdict = indicators.judge_frequency(double["slope"], double["slope_err"], slope_ld=ld["slope"],
-                                             slope_ld_err=ld["slope_err"], log_ratio=log_ratio,
-                                             log_ratio_err=log_ratio_err,
-                                             rounding_ratio=cfg["tol"] / cfg["tol_long_double"], sigma=sigma)
-    judged = double if ld is None else ld
-    if judged["D"].size:
-        value = float(judged["D"][0] / judged["W"][0])
-        error = value * float(judged["D_log_err"][0])
+        runs.append(_judged_run("long double", ld, log_ratio=log_ratio, log_ratio_err=log_ratio_err,
+                                rounding_ratio=cfg["tol"] / cfg["tol_long_double"]))
+        verdict = indicators.judge_frequency(runs, sigma=sigma)
+    last = double if ld is None else ld
+    if last["D"].size:
+        value = float(last["D"][0] / last["W"][0])
+        error = value * float(last["D_log_err"][0])
     else:
         value = error = math.nan
     return {"value": value, "error": error, "verdict": verdict, "double": double, "long_double": ld}
+
+
+def _judged_run(precision: str, run: dict, **ratio) -> dict:
+    """A ``frequency_drift`` run as ``indicators.judge_frequency`` takes it."""
+    return {"precision": precision, "slope": run["slope"], "slope_err": run["slope_err"],
+            "D": float(run["D"][0]) if run["D"].size else math.nan, **ratio}
 
 
 def frequency_table(runs: list, splits) -> dict:

@@ -134,6 +134,9 @@ def chaos(sources, png, pdf) -> None:
         v, e = ds.indicator_value.values[k], ds.indicator_uncertainty.values[k]
         for j, name in enumerate(ind):
             c = VERDICT_COLOURS.get(str(ds.indicator_verdict.values[k, j]), "k")
+            if name == "frequency":  # a relative drift, not an exponent: shown in its own panel below
+                ax.annotate("see below", (j, 0), color=c, fontsize=6, ha="center", va="bottom", rotation=90)
+                continue
             ax.errorbar(j, v[j], yerr=3 * e[j] if np.isfinite(e[j]) else None, fmt="o", color=c, capsize=4)
             if name == "benettin" and np.isfinite(ds.lambda_1_long_double.values[k]):
                 ax.errorbar(j + 0.25, ds.lambda_1_long_double.values[k], yerr=3 * ds.lambda_1_long_double_stderr.values[k],
