@@ -213,41 +213,68 @@ def test_frequency_drift_checks_its_arguments(textbook):
 
 # ----------------------------------------------------------------------------- the chaos verdict's use
 
-@pytest.mark.parametrize("double_slope, n_splits, ld_slope, ratio_D, want, ld_made", [
-    (-3.5, 3, None, None, G, False),       # converged in double: no long-double run
-    (0.0, 3, -3.5, 1.0, G, True),          # converged in long double
-    (0.0, 3, 0.1, 300.0, U, True),         # the main state: the double drift is integration error; undecided
-    (0.0, 3, 0.1, 1.2, U, True),           # drift independent of the rounding: not judged chaotic
-    (math.nan, 1, None, None, U, False),   # too few usable windows: no long-double run either
-    (math.nan, 0, None, None, U, False),   # none at all: no value either
-])
-def test_frequency_indicator_runs_long_double_only_when_needed(monkeypatch, double_slope, n_splits, ld_slope,
-                                                               ratio_D, want, ld_made):
+# (slope, usable splits, D) of the double, long-double and quad runs; None: that run must not be made
+_RUNS = {
+    "converged in double": ([(-3.5, 3, 1e-9), None, None], G),
+    "converged in long double": ([(0.0, 3, 1e-2), (-3.5, 3, 1e-9), None], G),
+    # the main state: the long-double drift is 300 times smaller, then quad converges
+    "converged in quad": ([(0.0, 3, 1e-2), (0.05, 3, 4e-5), (-6.5, 2, 9e-8)], G),
+    "converged in none": ([(0.0, 3, 1e-2), (0.05, 3, 4e-5), (0.1, 2, 4e-5)], U),
+    "too few windows in double": ([(math.nan, 1, 1e-2), None, None], U),
+    "no window at all": ([(math.nan, 0, 1e-2), None, None], U),
+}
+
+
+@pytest.mark.parametrize("case", list(_RUNS))
+@pytest.mark.parametrize("quad_T", [0.0, 1e5])
+def test_frequency_indicator_runs_each_precision_only_when_needed(monkeypatch, case, quad_T):
     from sleighsim.params import Params
     from sleighsim.scenes import verdict
 
-    splits = np.array([2, 4, 8][:n_splits])
-    D = np.full(n_splits, 1e-2)
-    W = 2e5 / splits
+    specs, want = _RUNS[case]
+    names = ("double", "long double", "quad")
 
-    def run(params, y, cfg, *, long_double=False):
-        calls.append(long_double)
-        if long_double:
-            return dict(splits=splits, D=D / ratio_D, W=W, D_log_err=1 / np.sqrt(2 * (splits - 1.0)), slope=ld_slope,
-                        slope_err=0.55)
-        return dict(splits=splits, D=D, W=W, D_log_err=1 / np.sqrt(2 * (splits - 1.0)), slope=double_slope,
-                    slope_err=0.55)
+    def run(params, y, cfg, precision="double"):
+        calls.append(precision)
+        slope, n, D = specs[names.index(precision)]
+        splits = np.array([2, 4, 8][:n])
+        return dict(splits=splits, D=np.full(n, D), W=2e5 / splits, D_log_err=1 / np.sqrt(2 * (splits - 1.0)),
+                    slope=slope, slope_err=0.55 if n > 2 else 1.18, T=2e5, f=4e-4)
 
     calls = []
     monkeypatch.setattr(verdict, "frequency_run", run)
-    cfg = dict(tol=2.220446049250313e-16, tol_long_double=1.0842021724855044e-19)
+    cfg = dict(tol=2.220446049250313e-16, tol_long_double=1.0842021724855044e-19,
+               frequency={"quad_T": quad_T, "tol_quad": 1.925929944387235853e-34})
     out = verdict.frequency_indicator(Params.paper(eps=0.1), [0.0, 0.1, 1.0, 0.0], cfg, 3.0)
-    assert out["verdict"][0] == want and calls == ([False, True] if ld_made else [False])
-    assert (out["long_double"] is not None) == ld_made
-    assert ("integration error" in out["verdict"][1]) == (ratio_D == 300.0)
-    last = out["long_double"] or out["double"]
-    if n_splits:
+    expected = [p for p, spec in zip(names, specs) if spec is not None and (p != "quad" or quad_T > 0)]
+    assert calls == expected and list(out["runs"]) == expected
+    assert out["verdict"][0] == (want if "quad" in expected or case != "converged in quad" else U), out["verdict"][1]
+    last = out["runs"][expected[-1]]
+    if last["D"].size:
         assert out["value"] == pytest.approx(last["D"][0] / last["W"][0])
         assert out["error"] == pytest.approx(out["value"] / math.sqrt(2))
     else:
         assert math.isnan(out["value"]) and math.isnan(out["error"])
+    table = verdict.frequency_table([out], [2, 4, 8, 16])
+    made = np.isfinite(table["slope"][0]) | np.isinf(table["slope"][0])
+    assert [p for p, m in zip(names, made) if m] == [p for p in expected if not math.isnan(specs[names.index(p)][0])]
+
+
+def test_the_sleighs_flow_runs_in_quad_precision():
+    pytest.importorskip("heyoka")
+    from sleighsim import integrators
+    from sleighsim.params import Params
+    from sleighsim.scenes import verdict
+
+    cfg = dict(tol=2.220446049250313e-16, tol_long_double=1.0842021724855044e-19,
+               frequency={"T": 200.0, "quad_T": 200.0, "dt": 0.5, "component": "u", "splits": [2, 4],
+                          "min_cycles": 4.0, "tol_quad": 1.925929944387235853e-34})
+    y = np.array([0.05, 0.02, 0.8, 0.4])
+    runs = {p: verdict.frequency_run(Params.paper(eps=0.1), y, cfg, p) for p in ("double", "long double", "quad")}
+    flow, _ = integrators.flow(False, 1.925929944387235853e-34, quad=True)
+    assert "real128" in str(flow.state.dtype)
+    # the same orbit: window frequencies agree to the double run's integration error
+    for p in ("long double", "quad"):
+        np.testing.assert_allclose(runs[p]["frequencies"][0], runs["double"]["frequencies"][0], rtol=1e-9)
+    with pytest.raises(ValueError, match="exclude"):
+        integrators.flow(False, 1e-20, long_double=True, quad=True)

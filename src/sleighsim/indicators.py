@@ -391,7 +391,8 @@ def loschmidt(ta, y0, T_values, involution, callback=None, *, difference=None, s
 
 def frequency_drift(ta, y0, *, T, dt, component, splits=(2, 4, 8, 16), min_cycles=8.0, callback=None):
     """Frequency analysis of the orbit from y0 (no tangent dynamics): component ``component``
-    sampled every dt over T (one propagate_grid run in the integrator's precision), then
+    sampled every dt over T (one propagate_grid run in the integrator's precision: double, long
+    double or real128), then
     ``frequencies.drift`` over windows T / K, K in ``splits``. Returns that dict with ``T``,
     ``dt`` and ``final_state``."""
     from . import frequencies
@@ -409,12 +410,13 @@ def frequency_drift(ta, y0, *, T, dt, component, splits=(2, 4, 8, 16), min_cycle
     import heyoka as hy
 
     ta.time = fp(0)
-    ta.state[:] = y0
-    grid = np.arange(n, dtype=fp) * fp(dt)  # n samples: T = n dt
+    ta.state[:] = np.asarray(y0).astype(ta.state.dtype)
+    grid = np.arange(n).astype(ta.state.dtype) * fp(dt)  # n samples: T = n dt (any precision, real128 too)
     res = ta.propagate_grid(grid) if callback is None else ta.propagate_grid(grid, callback=callback)
-    if res[0] != hy.taylor_outcome.time_limit or not np.all(np.isfinite(np.asarray(res[-1], float))):
+    samples = np.asarray(res[-1]).astype(float)
+    if res[0] != hy.taylor_outcome.time_limit or not np.all(np.isfinite(samples)):
         raise RuntimeError(f"integration stopped at t = {float(ta.time):.6g} (target {T:.6g}): heyoka outcome {res[0]}")
-    out = frequencies.drift(np.asarray(res[-1], float)[:, component], dt, splits, min_cycles=min_cycles)
+    out = frequencies.drift(samples[:, component], dt, splits, min_cycles=min_cycles)
     out.update(T=float(n * dt), dt=float(dt), final_state=ta.state.copy())
     return out
 

@@ -190,42 +190,55 @@ def loschmidt_indicator(L: dict, L_ld: dict, sigma: float) -> dict:
                 verdict=(v, f"in long double: {r}; in double: {double[0]}"), verdict_double=double[0])
 
 
-def frequency_run(params, y, cfg: dict, *, long_double: bool = False) -> dict:
-    """``indicators.frequency_drift`` of the velocity frequency.component (u, Omega or omega) from y
-    over frequency.T, sampled every frequency.dt: in double at tol, or in long double at
-    tol_long_double."""
+PRECISIONS = ("double", "long double", "quad")  # the frequency indicator's runs, in order
+
+
+def frequency_run(params, y, cfg: dict, precision: str = "double") -> dict:
+    """``indicators.frequency_drift`` of the velocity frequency.component (u, Omega or omega) from y,
+    sampled every frequency.dt: in double at tol over frequency.T, in long double at
+    tol_long_double over frequency.T, or in quad at frequency.tol_quad over frequency.quad_T."""
     fc = cfg["frequency"]
-    flow, _ = integrators.flow(False, cfg["tol_long_double"] if long_double else cfg["tol"], long_double)
-    flow.pars[:] = np.array(params.values, dtype=flow.state.dtype)
-    return indicators.frequency_drift(flow, _stored(y), T=fc["T"], dt=fc["dt"],
+    tol, T = {"double": (cfg["tol"], fc["T"]), "long double": (cfg["tol_long_double"], fc["T"]),
+              "quad": (fc["tol_quad"], fc["quad_T"])}[precision]
+    flow, _ = integrators.flow(False, tol, precision == "long double", precision == "quad")
+    flow.pars[:] = np.array(params.values).astype(flow.state.dtype)
+    return indicators.frequency_drift(flow, _stored(y), T=T, dt=fc["dt"],
                                       component=model.STATE_NAMES.index(fc["component"]), splits=fc["splits"],
                                       min_cycles=fc["min_cycles"], callback=integrators.bounded(flow))
 
 
 def frequency_indicator(params, y, cfg: dict, sigma: float) -> dict:
-    """The frequency-analysis indicator (``indicators.judge_frequency``): the double run first; when
-    its leading frequency has not converged (but at least two splits were usable), the same run in
-    long double, its drift compared with the double one's against the ratio of their tolerances.
-    Value: the relative frequency drift per unit time, D / W at the longest window of the last
-    run (1/time); error: that times D's ln-error. Returns value, error, verdict ((verdict,
-    reason)), double and long_double (the runs; long_double None when not made)."""
-    double = frequency_run(params, y, cfg)
-    runs = [_judged_run("double", double)]
-    verdict = indicators.judge_frequency(runs, sigma=sigma)
-    ld = None
-    if verdict[0] != indicators.REGULAR and double["splits"].size >= 2:
-        ld = frequency_run(params, y, cfg, long_double=True)
-        log_ratio, log_ratio_err = indicators.frequency_log_ratio(double, ld)
-        runs.append(_judged_run("long double", ld, log_ratio=log_ratio, log_ratio_err=log_ratio_err,
-                                rounding_ratio=cfg["tol"] / cfg["tol_long_double"]))
-        verdict = indicators.judge_frequency(runs, sigma=sigma)
-    last = double if ld is None else ld
+    """The frequency-analysis indicator (``indicators.judge_frequency``): the double run first; while
+    the leading frequency has not converged (and the last run had at least two usable splits),
+    the next precision: long double, then quad when frequency.quad_T > 0 (about 20 times the cost
+    of long double per time unit; the cluster config makes it). Each run's drift is compared with
+    the previous one's against the ratio of their tolerances. Value: the relative frequency drift
+    per unit time, D / W at the longest window of the last run (1/time); error: that times D's
+    ln-error. Returns value, error, verdict ((verdict, reason)) and runs (precision -> run, for
+    the runs made)."""
+    fc = cfg["frequency"]
+    tols = {"double": cfg["tol"], "long double": cfg["tol_long_double"], "quad": fc["tol_quad"]}
+    made, judged = {}, []
+    verdict = (indicators.UNDECIDED, "no run")
+    for prev, precision in zip((None, *PRECISIONS[:-1]), PRECISIONS):
+        if prev is not None and (verdict[0] == indicators.REGULAR or made[prev]["splits"].size < 2):
+            break
+        if precision == "quad" and fc["quad_T"] <= 0:
+            break
+        run = made[precision] = frequency_run(params, y, cfg, precision)
+        ratio = {}
+        if prev is not None:
+            log_ratio, log_ratio_err = indicators.frequency_log_ratio(made[prev], run)
+            ratio = {"log_ratio": log_ratio, "log_ratio_err": log_ratio_err, "rounding_ratio": tols[prev] / tols[precision]}
+        judged.append(_judged_run(precision, run, **ratio))
+        verdict = indicators.judge_frequency(judged, sigma=sigma)
+    last = made[list(made)[-1]]
     if last["D"].size:
         value = float(last["D"][0] / last["W"][0])
         error = value * float(last["D_log_err"][0])
     else:
         value = error = math.nan
-    return {"value": value, "error": error, "verdict": verdict, "double": double, "long_double": ld}
+    return {"value": value, "error": error, "verdict": verdict, "runs": made}
 
 
 def _judged_run(precision: str, run: dict, **ratio) -> dict:
@@ -235,20 +248,22 @@ def _judged_run(precision: str, run: dict, **ratio) -> dict:
 
 
 def frequency_table(runs: list, splits) -> dict:
-    """Per state and precision (double, long double), the spread D of the window frequencies at each
-    configured split (NaN where the split was left out or the run not made), the convergence
-    slope and its error, and the mean frequency."""
+    """Per state and precision (PRECISIONS), the window lengths and the spread D of the window
+    frequencies at each configured split (NaN where the split was left out or the run not made),
+    the convergence slope and its error, and the mean frequency."""
     splits = list(splits)
-    D = np.full((len(runs), 2, len(splits)), math.nan)
-    slope, slope_err, f = (np.full((len(runs), 2), math.nan) for _ in range(3))
+    D, W = (np.full((len(runs), len(PRECISIONS), len(splits)), math.nan) for _ in range(2))
+    slope, slope_err, f = (np.full((len(runs), len(PRECISIONS)), math.nan) for _ in range(3))
     for i, fr in enumerate(runs):
-        for j, run in enumerate((fr["double"], fr["long_double"])):
+        for j, precision in enumerate(PRECISIONS):
+            run = fr["runs"].get(precision)
             if run is None:
                 continue
+            W[i, j] = run["T"] / np.asarray(splits, float)
             for k, d in zip(run["splits"], run["D"]):
                 D[i, j, splits.index(int(k))] = d
             slope[i, j], slope_err[i, j], f[i, j] = run["slope"], run["slope_err"], run["f"]
-    return {"D": D, "slope": slope, "slope_err": slope_err, "f": f}
+    return {"D": D, "W": W, "slope": slope, "slope_err": slope_err, "f": f}
 
 
 def _loschmidt_settings() -> dict:
@@ -419,13 +434,15 @@ def verdict(cfg: dict, scene: str = "") -> xr.Dataset:
                                  {"long_name": "of which in the tail"}),
             "loschmidt_floor": (("state", "precision"), per_state("loschmidt_floor"),
                                 {"long_name": "rounding floor (relative): floor_factor x machine epsilon"}),
-            "frequency_drift": (("state", "precision", "split"), ft["D"],
+            "frequency_drift": (("state", "frequency_precision", "split"), ft["D"],
                                 {"long_name": "spread of the leading frequency over the windows T / split, relative to "
                                               "its mean (NaN: split left out, or run not made)"}),
-            "frequency_slope": (("state", "precision"), ft["slope"],
+            "frequency_window": (("state", "frequency_precision", "split"), ft["W"], {"units": "time"}),
+            "frequency_slope": (("state", "frequency_precision"), ft["slope"],
                                 {"long_name": "convergence exponent of that spread, D ~ W^slope, longest to shortest window"}),
-            "frequency_slope_stderr": (("state", "precision"), ft["slope_err"]),
-            "frequency_leading": (("state", "precision"), ft["f"], {"units": "1/time", "long_name": "leading frequency"}),
+            "frequency_slope_stderr": (("state", "frequency_precision"), ft["slope_err"]),
+            "frequency_leading": (("state", "frequency_precision"), ft["f"],
+                                  {"units": "1/time", "long_name": "leading frequency"}),
             "lambda_1_long_double": ("state", per_state("ld_lambda_1"), {"units": "1/time"}),
             "lambda_1_long_double_stderr": ("state", per_state("ld_stderr"), {"units": "1/time"}),
             "precision_check": ("state", per_state("ld_check").astype(object),
@@ -433,8 +450,7 @@ def verdict(cfg: dict, scene: str = "") -> xr.Dataset:
         },
         coords={"state": names, "indicator": ind, "i": np.arange(1, 5), "d0": np.asarray(cfg["d0"], float),
                 "T_loschmidt": loschmidt_T(cfg), "precision": ["double", "long double"],
-                "split": np.asarray(fc["splits"], int),
-                "frequency_window": ("split", fc["T"] / np.asarray(fc["splits"], float), {"units": "time"}),
+                "split": np.asarray(fc["splits"], int), "frequency_precision": list(PRECISIONS),
                 "tangent_based": ("indicator", [int(i in TANGENT_BASED) for i in ind])},
     )
     ds.attrs.update(
@@ -453,7 +469,8 @@ def verdict(cfg: dict, scene: str = "") -> xr.Dataset:
         frequency_rule=" ".join((frequency_indicator.__doc__ + " " + indicators.judge_frequency.__doc__ + " "
                                  + indicators.frequency_log_ratio.__doc__).split()),
         frequency_method=" ".join(frequencies.drift.__doc__.split()), frequency_T=fc["T"], frequency_dt=fc["dt"],
-        frequency_component=fc["component"], frequency_min_cycles=fc["min_cycles"],
+        frequency_component=fc["component"], frequency_min_cycles=fc["min_cycles"], frequency_quad_T=fc["quad_T"],
+        frequency_tol_quad=fc["tol_quad"],
         loschmidt_rule=" ".join((loschmidt_indicator.__doc__ + " " + indicators.judge_loschmidt_run.__doc__ + " "
                                  + indicators.judge_loschmidt.__doc__).split()),
         loschmidt_fit=" ".join(indicators.loschmidt_fit.__doc__.split()), **_loschmidt_settings(), T_megno=cfg["T_megno"],

@@ -157,10 +157,10 @@ def chaos(sources, png, pdf) -> None:
     mx, lx, fx = axd["m"], axd["l"], axd["f"]
     for k, st in enumerate(states):
         colour = None
-        for j, (prec, style) in enumerate((("double", "o:"), ("long double", "s-"))):
+        for j, prec in enumerate(ds.frequency_precision.values):
             D = ds.frequency_drift.values[k, j]
             if np.isfinite(D).any():
-                line, = fx.loglog(ds.frequency_window.values, D, style, ms=3, color=colour,
+                line, = fx.loglog(ds.frequency_window.values[k, j], D, ("o:", "s-", "^--")[j % 3], ms=3, color=colour,
                                   label=f"{st}, {prec}: slope {ds.frequency_slope.values[k, j]:.2g}")
                 colour = line.get_color()
         line, = mx.plot(ds.megno_t.values[k], ds.megno_Y_mean.values[k], label=f"{st}, double")
