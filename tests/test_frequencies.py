@@ -249,6 +249,9 @@ def test_frequency_indicator_runs_each_precision_only_when_needed(monkeypatch, c
     expected = [p for p, spec in zip(names, specs) if spec is not None and (p != "quad" or quad_T > 0)]
     assert calls == expected and list(out["runs"]) == expected
     assert out["verdict"][0] == (want if "quad" in expected or case != "converged in quad" else U), out["verdict"][1]
+    not_made = "quad run not made" in out["verdict"][1]
+    assert not_made == (quad_T == 0 and "long double" in expected and out["verdict"][0] == U
+                        and out["runs"]["long double"]["splits"].size >= 2)
     last = out["runs"][expected[-1]]
     if last["D"].size:
         assert out["value"] == pytest.approx(last["D"][0] / last["W"][0])

@@ -224,6 +224,7 @@ def frequency_indicator(params, y, cfg: dict, sigma: float) -> dict:
         if prev is not None and (verdict[0] == indicators.REGULAR or made[prev]["splits"].size < 2):
             break
         if precision == "quad" and fc["quad_T"] <= 0:
+            verdict = (verdict[0], verdict[1] + "; quad run not made (frequency.quad_T = 0; config/cluster.yaml makes it)")
             break
         run = made[precision] = frequency_run(params, y, cfg, precision)
         ratio = {}
