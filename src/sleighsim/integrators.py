@@ -114,8 +114,8 @@ def fp_type(long_double: bool):
 def flow(kinematics: bool, tol: float, long_double: bool = False, quad: bool = False):
     """The sleigh (with (theta, x, y) when ``kinematics``), in double, long double (80-bit on
     x86-64, machine epsilon 1.1e-19) or, with ``quad``, quadruple precision (heyoka's real128,
-    machine epsilon 1.9e-34; about 20 times the cost of long double per time unit here). Returns
-    (integrator, compile seconds)."""
+    machine epsilon 1.9e-34; on the main state here 12.6 ms per time unit against 0.3 ms in long
+    double). Returns (integrator, compile seconds)."""
     if long_double and quad:
         raise ValueError("long_double and quad exclude each other")
 
