@@ -81,13 +81,18 @@ def test_changing_one_scene_reruns_only_what_depends_on_it(smoke_run, tmp_path):
 
 @pytest.mark.workflow
 def test_changing_the_grid_runtime_resource_reruns_nothing(smoke_run, tmp_path):
-    """chunk_runtime_min schedules the chunk jobs; it is not part of what they compute."""
+    """chunk_runtime_min schedules the chunk jobs and runtime_min a scene's job; neither is part of
+    what they compute."""
     cfg = yaml.safe_load(SMOKE.read_text())
     cfg["scenes"]["fig11_grid"]["chunk_runtime_min"] += 60
+    cfg["scenes"]["chaos_verdict"]["runtime_min"] = 500
     changed = tmp_path / "changed.yaml"
     changed.write_text(yaml.safe_dump(cfg))
-    dry = snakemake(smoke_run, changed, "-n", GRID, timeout=120)
+    dry = snakemake(smoke_run, changed, "-n", GRID, "results/data/chaos_verdict.nc", timeout=120)
     assert dry.returncode == 0 and "Nothing to be done" in dry.stdout + dry.stderr, (dry.stdout + dry.stderr)[-2000:]
+    forced = snakemake(smoke_run, changed, "-n", "--forcerun", "scene_first", "--", "results/data/chaos_verdict.nc",
+                       timeout=120)
+    assert "runtime=500" in forced.stdout + forced.stderr, (forced.stdout + forced.stderr)[-2000:]
     cfg["scenes"]["fig11_grid"]["T_round"] *= 2  # what the grid computes does force a rerun
     changed.write_text(yaml.safe_dump(cfg))
     dry = snakemake(smoke_run, changed, "-n", GRID, timeout=120)

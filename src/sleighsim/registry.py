@@ -188,7 +188,7 @@ CAUSES: dict[str, tuple[str, ...]] = {
 
 
 #: Keys of a scene block that schedule its jobs and do not change what it computes.
-SCHEDULING = ("on_request", "schedule_first", "chunk_runtime_min")
+SCHEDULING = ("on_request", "schedule_first", "chunk_runtime_min", "runtime_min")
 
 
 def scene_config(config: dict, scene: str) -> dict:

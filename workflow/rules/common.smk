@@ -16,6 +16,8 @@ FIRST = [
     if n not in CHUNKED and SCENES[n].get("schedule_first", False)
 ]
 PLAIN = [n for n in ALL_DATASETS if n not in CHUNKED and n not in FIRST]
+# Runtime resource (minutes) of a scene job whose block sets no runtime_min (the SLURM profile's default).
+SCENE_RUNTIME_MIN = 60
 # What the report reads: the datasets of the figures shown and of the tables built.
 REPORT_DATA = sorted(
     {d for f in FIGURES_BUILT for d in registry.FIGURES[f].data}

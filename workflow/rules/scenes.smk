@@ -14,6 +14,8 @@ rule scene:
         scene=alternatives(PLAIN),
     conda:
         "../envs/sleighsim.yaml"
+    resources:
+        runtime=lambda w: SCENES[w.scene].get("runtime_min", SCENE_RUNTIME_MIN),
     params:
         cfg=lambda w: SCENE_CFG[w.scene],
     script:
