@@ -2,7 +2,7 @@
 67, 257): the frequency of the signal's largest line per window, and how much it changes from
 window to window. On a torus the lines are fixed and the refined frequency converges fast as the
 window grows (Hann window: error falling like W^-2 or faster); on a chaotic orbit it wanders
-(spread falling no faster than W^-1/2). Frequencies in cycles per time unit; dt, W in time units.
+(spread falling about like W^-1/2, or not at all). Frequencies in cycles per time unit; dt, W in time units.
 """
 
 from __future__ import annotations
@@ -105,9 +105,9 @@ def drift(x, dt: float, splits=(2, 4, 8, 16), *, min_cycles: float = 8.0) -> dic
     independent once W exceeds its correlation time; on a torus D is deterministic, so the error
     is an upper bound there); the slope's error combines the two ends' errors. When D(W_max) is at
     or below PRECISION the frequency has converged as far as the refinement resolves: slope is
-    then -inf and slope_err NaN. Returns splits (those used), W, D, D_log_err, slope, slope_err, f_ref, f (the mean
-    window frequency of the finest split used; NaN if none) and frequencies (one array per split
-    used)."""
+    then -inf and slope_err NaN. Returns splits (those used), W, D, D_log_err, slope, slope_err,
+    f_ref, f (the mean window frequency of the finest split used; NaN if none) and frequencies
+    (one array per split used)."""
     splits = check_splits(splits)
     if not (math.isfinite(min_cycles) and min_cycles > 0):
         raise ValueError(f"min_cycles must be positive, got {min_cycles}")
@@ -131,4 +131,5 @@ def drift(x, dt: float, splits=(2, 4, 8, 16), *, min_cycles: float = 8.0) -> dic
         slope = math.log(D[0] / max(D[-1], PRECISION)) / lever
         slope_err = math.hypot(D_log_err[0], D_log_err[-1]) / lever
     return {"splits": np.array(splits, int), "W": W, "D": D, "D_log_err": D_log_err, "slope": float(slope),
-            "slope_err": float(slope_err), "f_ref": f_ref, "f": float(freqs[-1].mean()) if freqs else math.nan, "frequencies": freqs}
+            "slope_err": float(slope_err), "f_ref": f_ref, "f": float(freqs[-1].mean()) if freqs else math.nan,
+            "frequencies": freqs}

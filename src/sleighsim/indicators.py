@@ -392,9 +392,8 @@ def loschmidt(ta, y0, T_values, involution, callback=None, *, difference=None, s
 def frequency_drift(ta, y0, *, T, dt, component, splits=(2, 4, 8, 16), min_cycles=8.0, callback=None):
     """Frequency analysis of the orbit from y0 (no tangent dynamics): component ``component``
     sampled every dt over T (one propagate_grid run in the integrator's precision: double, long
-    double or real128), then
-    ``frequencies.drift`` over windows T / K, K in ``splits``. Returns that dict with ``T``,
-    ``dt`` and ``final_state``."""
+    double or real128), then ``frequencies.drift`` over windows T / K, K in ``splits``. Returns
+    that dict with ``T``, ``dt`` and ``final_state``."""
     from . import frequencies
 
     dim = len(ta.state)
@@ -695,20 +694,20 @@ def judge_frequency(runs, *, sigma=3.0, converged_max=-1.0):
                        + f"; sigma {_g(sigma)}")
 
 
-def frequency_log_ratio(double: dict, long_double: dict) -> tuple[float, float]:
-    """ln(D_double / D_long_double) over the splits both ``frequency_drift`` runs used, weighted by
-    K - 1 (the windows behind each D; a D below the refinement's precision counts as that
-    precision), and its standard error: the same weighted mean of the splits' errors
-    1 / sqrt(K - 1) (that of the ratio of two independent sample standard deviations of K values),
-    the error of the mean if the splits were fully correlated (they share the data).
-    (NaN, NaN) when no split is shared."""
+def frequency_log_ratio(coarse: dict, fine: dict) -> tuple[float, float]:
+    """ln(D_coarse / D_fine) of two ``frequency_drift`` runs of one orbit (coarse: the larger
+    rounding, e.g. double against long double) over the splits both used, weighted by K - 1 (the
+    windows behind each D; a D below the refinement's precision counts as that precision), and
+    its standard error: the same weighted mean of the splits' errors 1 / sqrt(K - 1) (that of the
+    ratio of two independent sample standard deviations of K values), the error of the mean if
+    the splits were fully correlated (they share the data). (NaN, NaN) when no split is shared."""
     from .frequencies import PRECISION
 
-    common = np.intersect1d(double["splits"], long_double["splits"])
+    common = np.intersect1d(coarse["splits"], fine["splits"])
     if common.size == 0:
         return math.nan, math.nan
     da, db = (np.maximum([run["D"][list(run["splits"]).index(k)] for k in common], PRECISION)
-              for run in (double, long_double))
+              for run in (coarse, fine))
     w = common - 1.0
     return float(np.sum(w * np.log(da / db)) / np.sum(w)), float(np.sum(np.sqrt(w)) / np.sum(w))
 

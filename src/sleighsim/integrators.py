@@ -106,8 +106,15 @@ def samples(ta, Y) -> np.ndarray:
     return Y
 
 
-def fp_type(long_double: bool):
-    """The floating-point type of a compiled integrator: np.longdouble when ``long_double``, else float."""
+def fp_type(long_double: bool, quad: bool = False):
+    """The floating-point type of a compiled integrator: heyoka's real128 when ``quad``,
+    np.longdouble when ``long_double``, else float."""
+    if long_double and quad:
+        raise ValueError("long_double and quad exclude each other")
+    if quad:
+        import heyoka as hy
+
+        return hy.real128
     return np.longdouble if long_double else float
 
 
@@ -116,8 +123,7 @@ def flow(kinematics: bool, tol: float, long_double: bool = False, quad: bool = F
     x86-64, machine epsilon 1.1e-19) or, with ``quad``, quadruple precision (heyoka's real128,
     machine epsilon 1.9e-34; on the main state here 12.6 ms per time unit against 0.3 ms in long
     double). Returns (integrator, compile seconds)."""
-    if long_double and quad:
-        raise ValueError("long_double and quad exclude each other")
+    fp = fp_type(long_double, quad)
 
     def build():
         import heyoka as hy
@@ -126,7 +132,6 @@ def flow(kinematics: bool, tol: float, long_double: bool = False, quad: bool = F
         from .params import Params
 
         n = 7 if kinematics else 4
-        fp = hy.real128 if quad else fp_type(long_double)
         y0 = np.array([0.0, 0.1, 1.0, DELTA_SHIFT] + [0.0] * (n - 4)).astype(fp)
         return hy.taylor_adaptive(heyoka_system(kinematics, DELTA_SHIFT), y0, tol=fp(tol),
                                   pars=np.array(Params.paper(eps=0.1).values).astype(fp), fp_type=fp)

@@ -193,14 +193,18 @@ def loschmidt_indicator(L: dict, L_ld: dict, sigma: float) -> dict:
 PRECISIONS = ("double", "long double", "quad")  # the frequency indicator's runs, in order
 
 
+def _frequency_tol(cfg: dict, precision: str) -> float:
+    """The Taylor tolerance of the frequency run in ``precision`` (one of PRECISIONS)."""
+    return {"double": cfg["tol"], "long double": cfg["tol_long_double"], "quad": cfg["frequency"]["tol_quad"]}[precision]
+
+
 def frequency_run(params, y, cfg: dict, precision: str = "double") -> dict:
     """``indicators.frequency_drift`` of the velocity frequency.component (u, Omega or omega) from y,
     sampled every frequency.dt: in double at tol over frequency.T, in long double at
     tol_long_double over frequency.T, or in quad at frequency.tol_quad over frequency.quad_T."""
     fc = cfg["frequency"]
-    tol, T = {"double": (cfg["tol"], fc["T"]), "long double": (cfg["tol_long_double"], fc["T"]),
-              "quad": (fc["tol_quad"], fc["quad_T"])}[precision]
-    flow, _ = integrators.flow(False, tol, precision == "long double", precision == "quad")
+    T = fc["quad_T"] if precision == "quad" else fc["T"]
+    flow, _ = integrators.flow(False, _frequency_tol(cfg, precision), precision == "long double", precision == "quad")
     flow.pars[:] = np.array(params.values).astype(flow.state.dtype)
     return indicators.frequency_drift(flow, _stored(y), T=T, dt=fc["dt"],
                                       component=model.STATE_NAMES.index(fc["component"]), splits=fc["splits"],
@@ -216,21 +220,19 @@ def frequency_indicator(params, y, cfg: dict, sigma: float) -> dict:
     per unit time, D / W at the longest window of the last run (1/time); error: that times D's
     ln-error. Returns value, error, verdict ((verdict, reason)) and runs (precision -> run, for
     the runs made)."""
-    fc = cfg["frequency"]
-    tols = {"double": cfg["tol"], "long double": cfg["tol_long_double"], "quad": fc["tol_quad"]}
     made, judged = {}, []
-    verdict = (indicators.UNDECIDED, "no run")
     for prev, precision in zip((None, *PRECISIONS[:-1]), PRECISIONS):
         if prev is not None and (verdict[0] == indicators.REGULAR or made[prev]["splits"].size < 2):
             break
-        if precision == "quad" and fc["quad_T"] <= 0:
+        if precision == "quad" and cfg["frequency"]["quad_T"] <= 0:
             verdict = (verdict[0], verdict[1] + "; quad run not made (frequency.quad_T = 0; config/cluster.yaml makes it)")
             break
         run = made[precision] = frequency_run(params, y, cfg, precision)
         ratio = {}
         if prev is not None:
             log_ratio, log_ratio_err = indicators.frequency_log_ratio(made[prev], run)
-            ratio = {"log_ratio": log_ratio, "log_ratio_err": log_ratio_err, "rounding_ratio": tols[prev] / tols[precision]}
+            ratio = {"log_ratio": log_ratio, "log_ratio_err": log_ratio_err,
+                     "rounding_ratio": _frequency_tol(cfg, prev) / _frequency_tol(cfg, precision)}
         judged.append(_judged_run(precision, run, **ratio))
         verdict = indicators.judge_frequency(judged, sigma=sigma)
     last = made[list(made)[-1]]
@@ -360,8 +362,7 @@ def verdict(cfg: dict, scene: str = "") -> xr.Dataset:
     """The chaos verdict per steady state of cfg["states"] (name -> start state, scaled to the
     energy label): indicators (Benettin over independent replicas, the finite-time-exponent
     spread, MEGNO; two nearby orbits, the Loschmidt return error and frequency analysis without
-    tangent dynamics),
-    combined by indicators.DECISION_RULE;
+    tangent dynamics), combined by indicators.DECISION_RULE;
     the sum of exponents over replicas and the R-image test give the class."""
     start = time.perf_counter()
     params = Params.from_config(cfg["params"])
