@@ -276,8 +276,9 @@ def test_the_sleighs_flow_runs_in_quad_precision():
     runs = {p: verdict.frequency_run(Params.paper(eps=0.1), y, cfg, p) for p in ("double", "long double", "quad")}
     flow, _ = integrators.flow(False, 1.925929944387235853e-34, quad=True)
     assert "real128" in str(flow.state.dtype)
-    # the same orbit: window frequencies agree to the double run's integration error
+    # the same orbit (end states agree to 1e-13 here): window frequencies agree to the refinement's
+    # precision, which for windows of only 100 (13 periods, bins of 0.01) is about 1e-9 relative
     for p in ("long double", "quad"):
-        np.testing.assert_allclose(runs[p]["frequencies"][0], runs["double"]["frequencies"][0], rtol=1e-9)
+        np.testing.assert_allclose(runs[p]["frequencies"][0], runs["double"]["frequencies"][0], rtol=5e-9)
     with pytest.raises(ValueError, match="exclude"):
         integrators.flow(False, 1e-20, long_double=True, quad=True)

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from sleighsim import fits, lyapunov, model
+from sleighsim import fits, integrators, lyapunov, model
 from sleighsim.params import Params
 from sleighsim.scenes import grid, verdict
 from sleighsim.symmetries import REFERENCE_STATE, b_image, state_at_label
@@ -81,7 +81,7 @@ def test_sleigh_exponents_sum_to_the_mean_divergence():
     p = Params.paper(eps=0.1)
     y = REFERENCE_STATE
     ta, _ = lyapunov.sleigh_tangent(4, 1e-13, True)
-    ta.pars[:] = p.values
+    integrators.set_pars(ta, p)
     r = lyapunov.benettin(ta, 4, 4, y, t_align=0.0, T=2000.0, tau=5.0)
     lam = r["exponents"]
     div = lyapunov.mean_divergence(p, y, 2000.0, 1e-13)
@@ -109,12 +109,12 @@ def test_batch_lanes_match_the_scalar_benettin_run(k):
     ps = [Params.paper(eps=0.1, b=1.0), Params.paper(eps=0.2, b=0.5)]
     ys = np.array([state_at_label([0.0, 0.1, 1.0, 0.0], p, 0.1127) for p in ps])
     taus = np.array([5.0, 3.0])
-    ta, n, _ = lyapunov.tangent_integrator_batch(model.heyoka_system(), 2, npars=6, compact_mode=True, k=k)
-    ta.pars[:] = np.array([p.values for p in ps]).T
+    ta, n, _ = lyapunov.tangent_integrator_batch(model.heyoka_system(), 2, npars=model.n_heyoka_pars(), compact_mode=True, k=k)
+    ta.pars[:] = np.array([model.heyoka_pars(p) for p in ps]).T
     batch = lyapunov.batch_benettin(ta, n, k, ys, taus, t_align_steps=4, n_steps=40)
     lam = batch["log_growth"].sum(axis=0) / (40 * taus)  # (k, lanes)
     for j, p in enumerate(ps):
-        ts, _, _ = lyapunov.tangent_integrator(model.heyoka_system(), k, pars=p.values, compact_mode=True)
+        ts, _, _ = lyapunov.tangent_integrator(model.heyoka_system(), k, pars=model.heyoka_pars(p), compact_mode=True)
         one = lyapunov.benettin(ts, 4, k, ys[j], t_align=4 * taus[j], T=40 * taus[j], tau=taus[j], n_blocks=4)
         assert lam[:, j] == pytest.approx(one["exponents"], rel=1e-9, abs=1e-12)
         assert batch["log_growth"][:, :, j] == pytest.approx(one["log_growth"], rel=1e-9, abs=1e-12)

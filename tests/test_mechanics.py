@@ -120,3 +120,32 @@ def test_the_derivation_is_kept_on_disk_and_a_bad_cache_file_is_derived_afresh(t
         assert pickle.loads(path.read_bytes()).rhs == first.rhs  # the bad file was replaced
     finally:
         mech.derive.cache_clear()
+
+
+PARAM_SETS = [Params.paper(eps=0.1), Params.paper(eps=0.02, b=3.0, K2=1.3), Params.paper(eps=25.0, K2=1.1, formal=True),
+              Params.physical(m_c=2.0, m_r=0.0, I_c=0.5, I_r=0.3, a=0.0, b=1.0)]
+
+
+@pytest.mark.parametrize("params", PARAM_SETS)
+def test_polynomial_form_is_the_derived_vector_field(params, rng):
+    """N_i / D with S = sin delta, C = cos delta and K_j = its coefficients is the explicit rhs
+    (random states; the paper's form, a formal eps >= 1 and a rotor without mass at the centre)."""
+    form = mech.derive().polynomial
+    back = {mech.S: sp.sin(mech.delta), mech.C: sp.cos(mech.delta), **dict(zip(form.K, form.coefficients))}
+    args = (*mech.STATE, *mech.PHYSICAL)
+    poly = sp.lambdify(args, [(n / form.denominator).subs(back) for n in form.numerators])
+    explicit = sp.lambdify(args, list(mech.derive().rhs[:3]))
+    for y in rng.normal(size=(20, 4)):
+        want = np.array(explicit(*y, *params.values), float)
+        assert np.allclose(poly(*y, *params.values), want, rtol=1e-12, atol=1e-14 * np.abs(want).max())
+
+
+def test_polynomial_form_names_each_parameter_coefficient_once_and_needs_a_common_denominator():
+    D = 2 + mech.m_r * sp.sin(mech.delta) ** 2
+    form = mech._polynomial_form((mech.m_c * mech.u / D, -mech.m_c * mech.Omega * sp.cos(mech.delta) ** 2 / D,
+                                  3 * mech.omega / D))
+    assert len(form.K) == 3  # m_c, -m_c (C^2 -> 1 - S^2 gives -m_c and +m_c S^2), m_r; the 3 stays a number
+    assert set(form.coefficients) == {mech.m_c, -mech.m_c, mech.m_r}
+    assert form.numerators[2] == 3 * mech.omega
+    with pytest.raises(ValueError, match="denominators"):
+        mech._polynomial_form((mech.u / D, mech.Omega / (1 + D)))

@@ -167,3 +167,34 @@ def test_sleigh0_field_is_the_derived_model_with_a_decoupled_rotor(rng):
     p = Params.sleigh0(b=b, K2=K2)
     Y = np.c_[rng.uniform(-2, 2, (50, 2)), rng.uniform(-2, 2, 50), rng.uniform(-7, 7, 50)]
     assert np.allclose(sleigh0.rhs(Y[:, :2], b, K2), model.rhs(Y, p)[:, :2], rtol=1e-13, atol=1e-14)
+
+
+@pytest.mark.parametrize("params", [Params.paper(eps=0.1), Params.paper(eps=50.0, formal=True),
+                                    Params.paper(eps=0.3, b=0.25, K2=1.5)])
+def test_the_compiled_sleigh_is_the_lambdified_derivation(params, rng):
+    """heyoka's system (polynomial form, coefficients as runtime parameters) against the explicit
+    rhs lambdified by SymPy, to rounding relative to the field's size."""
+    from sleighsim import integrators
+
+    f = integrators.rhs_function()
+    Y = rng.normal(size=(4, 200))
+    got = f(Y, pars=np.tile(model.heyoka_pars(params)[:, None], (1, 200)))
+    want = model.rhs(Y.T, params).T
+    assert np.max(np.abs(got - want)) <= 1e-13 * np.max(np.abs(want))
+
+
+def test_set_pars_fills_every_lane_in_the_integrators_precision_and_a_stale_vector_is_refused():
+    from sleighsim import integrators, lyapunov
+
+    p = Params.paper(eps=0.2, b=0.5)
+    ta, _ = lyapunov.sleigh_tangent_batch(2, DEFAULT_TOL, True)
+    integrators.set_pars(ta, p)
+    assert ta.pars.shape == (model.n_heyoka_pars(), 2)
+    assert np.array_equal(ta.pars[:, 0], model.heyoka_pars(p)) and np.array_equal(ta.pars[:, 1], ta.pars[:, 0])
+    ld, _ = integrators.flow(False, 1e-19, long_double=True)
+    integrators.set_pars(ld, p)
+    assert ld.pars.dtype == np.longdouble
+    assert np.array_equal(ld.pars, model.heyoka_pars(p, np.longdouble))
+    assert not np.array_equal(ld.pars, model.heyoka_pars(p).astype(np.longdouble))  # K computed in long double
+    with pytest.raises(ValueError):  # the physical parameters alone would leave the coefficients stale
+        ld.pars[:] = p.values

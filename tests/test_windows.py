@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from sleighsim import lyapunov, windows
+from sleighsim import integrators, lyapunov, windows
 from sleighsim.params import Params
 from sleighsim.symmetries import state_at_label
 
@@ -56,7 +56,7 @@ def test_windowed_orbit_gives_benettins_exponent_and_the_sampled_component():
     p = Params.paper(eps=0.3)
     y0 = state_at_label([0.0, 0.1, 1.0, 0.0], p, 1.0)
     ta, _ = lyapunov.sleigh_tangent(1, 1e-14, True)
-    ta.pars[:] = p.values
+    integrators.set_pars(ta, p)
     got = list(windows.windowed_orbit(ta, 4, y0, n_windows=4, window=50.0, tau=5.0, component=1, seed=7))
     assert [w["index"] for w in got] == [0, 1, 2, 3] and got[1]["t_start"] == 50.0
     assert all(w["x"].size == 10 and w["x"][-1] == w["state"][1] for w in got)
@@ -78,7 +78,7 @@ def test_windowed_orbit_in_long_double_matches_double_where_both_are_accurate():
     runs = {}
     for ld in (False, True):
         ta, _ = lyapunov.sleigh_tangent(1, 1.0842021724855044e-19 if ld else 2.0**-52, True, ld)
-        ta.pars[:] = np.array(p.values, dtype=ta.state.dtype)
+        integrators.set_pars(ta, p)
         runs[ld] = list(windows.windowed_orbit(ta, 4, y0, n_windows=3, window=50.0, tau=5.0, component=1, seed=7))
         assert ta.state.dtype == (np.longdouble if ld else np.float64)
         assert all(w["state"].dtype == ta.state.dtype for w in runs[ld])  # the windows keep the precision

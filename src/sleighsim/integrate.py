@@ -103,7 +103,7 @@ def _run_heyoka(params, y0, t0, times, kinematics, tol, scene, progress, max_ste
 
     ta, compile_s = integrators.flow(kinematics, tol)
     callback = integrators.bounded(ta)
-    ta.pars[:] = params.values
+    integrators.set_pars(ta, params)
     state, shift = bound(y0, kinematics)
     integrators.load(ta, state)
     ta.time, origin = 0.0, t0  # the local clock restarts at every chunk; origin is its absolute time
@@ -163,7 +163,7 @@ def _run_scipy(params, y0, t0, times, method, rtol, atol, kinematics, compiled, 
         raise ValueError(f"unknown SciPy method {method!r}; choose one of {sorted(solvers)}")
 
     if compiled:
-        f, pars = integrators.rhs_function(kinematics), np.array(params.values)
+        f, pars = integrators.rhs_function(kinematics), model.heyoka_pars(params)
         rhs = lambda _, z: f(z, pars=pars)  # noqa: E731
     else:
         rhs = lambda _, z: model.full_rhs(z, params)  # noqa: E731

@@ -106,6 +106,15 @@ def samples(ta, Y) -> np.ndarray:
     return Y
 
 
+def set_pars(ta, params) -> None:
+    """Give the compiled sleigh ``ta`` the runtime parameters of ``params`` (model.heyoka_pars, in
+    ta's floating-point type; the same in every lane of a batch integrator)."""
+    from .model import heyoka_pars
+
+    values = heyoka_pars(params, ta.pars.dtype)
+    ta.pars[:] = values[:, None] if ta.pars.ndim == 2 else values
+
+
 def fp_type(long_double: bool, quad: bool = False):
     """The floating-point type of a compiled integrator: heyoka's real128 when ``quad``,
     np.longdouble when ``long_double``, else float."""
@@ -128,13 +137,13 @@ def flow(kinematics: bool, tol: float, long_double: bool = False, quad: bool = F
     def build():
         import heyoka as hy
 
-        from .model import heyoka_system
+        from .model import heyoka_pars, heyoka_system
         from .params import Params
 
         n = 7 if kinematics else 4
         y0 = np.array([0.0, 0.1, 1.0, DELTA_SHIFT] + [0.0] * (n - 4)).astype(fp)
         return hy.taylor_adaptive(heyoka_system(kinematics, DELTA_SHIFT), y0, tol=fp(tol),
-                                  pars=np.array(Params.paper(eps=0.1).values).astype(fp), fp_type=fp)
+                                  pars=heyoka_pars(Params.paper(eps=0.1), fp), fp_type=fp)
 
     return compiled(("flow", kinematics, tol, long_double, quad), build)
 

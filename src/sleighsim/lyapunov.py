@@ -50,9 +50,9 @@ def sleigh_tangent(k: int, tol: float, compact: bool, long_double: bool = False)
     from .params import Params
 
     def build():
+        fp = integrators.fp_type(long_double)
         return tangent_integrator(model.heyoka_system(delta_shift=integrators.DELTA_SHIFT), k, tol,
-                                  Params.paper(eps=0.1).values, compact_mode=compact,
-                                  fp_type=integrators.fp_type(long_double))[0]
+                                  model.heyoka_pars(Params.paper(eps=0.1), fp), compact_mode=compact, fp_type=fp)[0]
 
     return integrators.compiled(("tangent", k, tol, compact, long_double), build)
 
@@ -68,7 +68,7 @@ def sleigh_megno(tol: float, long_double: bool = False, compact: bool = True):
 
     def build():
         return indicators.megno_integrator(model.heyoka_system(delta_shift=integrators.DELTA_SHIFT),
-                                           pars=Params.paper(eps=0.1).values, tol=tol, fp_type=fp,
+                                           pars=model.heyoka_pars(Params.paper(eps=0.1), fp), tol=tol, fp_type=fp,
                                            compact_mode=compact)[0]
 
     return integrators.compiled(("megno", tol, long_double, compact), build)
@@ -78,11 +78,10 @@ def sleigh_tangent_batch(batch_size: int, tol: float, compact: bool, k: int = 1)
     """The sleigh plus k tangent vectors in ``batch_size`` SIMD lanes, compiled once per process.
     Returns (ta, compile_s)."""
     from . import model
-    from .params import PARAM_NAMES
 
     def build():
         return tangent_integrator_batch(model.heyoka_system(delta_shift=integrators.DELTA_SHIFT), batch_size, tol,
-                                        npars=len(PARAM_NAMES), compact_mode=compact, k=k)[0]
+                                        npars=model.n_heyoka_pars(), compact_mode=compact, k=k)[0]
 
     return integrators.compiled(("tangent_batch", batch_size, tol, compact, k), build)
 
@@ -97,10 +96,9 @@ def _divergence_integrator(tol):
         import heyoka as hy
 
         sys = model.heyoka_system(delta_shift=integrators.DELTA_SHIFT)
-        smap = model.heyoka_symbols([v for v, _ in sys], integrators.DELTA_SHIFT)
-        D = hy.make_vars("D")
-        return hy.taylor_adaptive(sys + [(D, hy.from_sympy(model.divergence_expr(), smap))],
-                                  [0.0, 0.1, 1.0, 0.0, 0.0], tol=tol, pars=list(Params.paper(eps=0.1).values))
+        trace = hy.sum([hy.diff(e, v) for v, e in sys])
+        return hy.taylor_adaptive(sys + [(hy.make_vars("D"), trace)], [0.0, 0.1, 1.0, 0.0, 0.0], tol=tol,
+                                  pars=model.heyoka_pars(Params.paper(eps=0.1)))
 
     return integrators.compiled(("divergence", tol), build)[0]
 
@@ -112,7 +110,7 @@ def mean_divergence(params, y0, T, tol) -> float:
     y = np.array([*np.asarray(y0, float), 0.0])
     y[3] %= 2.0 * math.pi
     integrators.load(ta, y)
-    ta.pars[:] = params.values
+    integrators.set_pars(ta, params)
     ta.propagate_until(float(T), callback=integrators.bounded(ta))
     return float(ta.state[4] / T)
 
@@ -314,7 +312,7 @@ def scipy_benettin(params, y0, k: int, *, T: float, tau: float, method: str, rto
 
     from . import model
 
-    pars = np.array(params.values)
+    pars = model.heyoka_pars(params)
     if compiled:
         f = integrators.rhs_function(k=k)
         rhs = lambda t, z: f(z, pars=pars)  # noqa: E731

@@ -42,6 +42,21 @@ STATE = (u, Omega, omega, delta)
 theta = sp.Symbol("theta", real=True)
 eps, K2 = sp.symbols("epsilon K2", positive=True)
 _udot, _Omegadot, _omegadot = sp.symbols("udot Omegadot omegadot")
+#: sin(delta) and cos(delta) in the polynomial form of the equations.
+S, C = sp.symbols("S C", real=True)
+
+
+@dataclass(frozen=True)
+class PolynomialForm:
+    """The velocity equations as vdot_i = N_i / D: N_i polynomials in (u, Omega, omega, S, C) and D
+    in S (S = sin delta, C = cos delta; C^2 reduced to 1 - S^2) whose coefficients are the symbols
+    K[j]; ``coefficients[j]`` is K[j] as a polynomial in the physical parameters. The coefficients
+    are evaluated once per parameter set instead of at every step of an integrator."""
+
+    numerators: tuple
+    denominator: sp.Expr
+    K: tuple
+    coefficients: tuple
 
 
 @dataclass(frozen=True)
@@ -50,7 +65,7 @@ class Derivation:
 
     M: 3x3 locked inertia, f: right-hand side of M vdot = f,
     rhs: explicit (udot, Omegadot, omegadot, deltadot) = (adj(M) f / det M, Omega - omega),
-    energy: 1/2 v^T M v.
+    energy: 1/2 v^T M v, polynomial: the same vdot as a :class:`PolynomialForm`.
     """
 
     M: sp.Matrix
@@ -58,6 +73,7 @@ class Derivation:
     rhs: tuple
     energy: sp.Expr
     lagrangian: sp.Expr
+    polynomial: PolynomialForm
 
 
 def _lagrangian():
@@ -146,7 +162,35 @@ def _derive() -> Derivation:
     v = sp.Matrix([u, Omega, omega])
     energy = (v.T * M * v)[0, 0] / 2
     _, _, L = _lagrangian()
-    return Derivation(M=M, f=f, rhs=(*vdot, Omega - omega), energy=energy, lagrangian=L)
+    return Derivation(M=M, f=f, rhs=(*vdot, Omega - omega), energy=energy, lagrangian=L,
+                      polynomial=_polynomial_form(vdot))
+
+
+def _polynomial_form(vdot) -> PolynomialForm:
+    """vdot (explicit, in sin and cos of delta) as a :class:`PolynomialForm`: each component over
+    a common denominator, sin and cos named S and C, C^2 reduced to 1 - S^2, every coefficient of a
+    monomial in (u, Omega, omega, S, C) that is not a number named K[j] (equal coefficients share
+    one name)."""
+    trig = {sp.sin(delta): S, sp.cos(delta): C}
+    names: dict = {}
+
+    def reduced(p):
+        p = sp.expand(sp.rem(sp.expand(p.subs(trig)), C**2 + S**2 - 1, C))
+        out = sp.S.Zero
+        for powers, c in sp.Poly(p, u, Omega, omega, S, C).terms():
+            c = sp.factor(c)
+            if not c.is_Number:
+                c = names.setdefault(c, sp.Symbol(f"K{len(names)}"))
+            out += c * sp.Mul(*(g**m for g, m in zip((u, Omega, omega, S, C), powers)))
+        return out
+
+    parts = [sp.fraction(sp.together(e)) for e in vdot]
+    dens = {sp.expand(d) for _, d in parts}
+    if len(dens) != 1:
+        raise ValueError(f"the velocity equations have {len(dens)} different denominators, expected one")
+    nums = tuple(reduced(n) for n, _ in parts)
+    den = reduced(dens.pop())
+    return PolynomialForm(numerators=nums, denominator=den, K=tuple(names.values()), coefficients=tuple(names))
 
 
 def paper_substitution():

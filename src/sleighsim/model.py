@@ -91,28 +91,55 @@ def heyoka_vars(kinematics: bool = False):
     return hy.make_vars(*(STATE_NAMES + (KINEMATIC_NAMES if kinematics else ())))
 
 
-def heyoka_symbols(variables, delta_shift: float = 0.0) -> dict:
-    """SymPy state and parameter symbols -> heyoka expressions: the state variables (the 4th
-    storing delta + delta_shift) and par[0..5] (PARAM_NAMES order)."""
+@lru_cache(maxsize=None)
+def _coefficients():
+    return sp.lambdify(mech.PHYSICAL, list(mech.derive().polynomial.coefficients), modules="numpy")
+
+
+def heyoka_pars(params: Params, dtype=float) -> np.ndarray:
+    """The runtime parameters of the compiled sleigh: par[0..5] the physical ones (PARAM_NAMES
+    order), then the coefficients K[j] of the polynomial form (mechanics.PolynomialForm), computed
+    in ``dtype`` (the integrator's floating-point type)."""
+    values = np.array(params.values, dtype=dtype)
+    return np.array([*values, *_coefficients()(*values)], dtype=dtype)
+
+
+def n_heyoka_pars() -> int:
+    """How many runtime parameters the compiled sleigh takes (:func:`heyoka_pars`)."""
+    return len(PARAM_NAMES) + len(mech.derive().polynomial.K)
+
+
+def _heyoka_polynomial(p, symbols: dict):
+    """The SymPy polynomial ``p`` in (u, Omega, omega, S, C) as a heyoka expression: a sum of
+    products (powers written as repeated factors) of ``symbols`` (SymPy symbol -> heyoka expression)."""
     import heyoka as hy
 
-    smap = {s: v for s, v in zip(mech.STATE, variables)}
-    if delta_shift:
-        smap[mech.delta] = variables[DELTA] - delta_shift
-    smap.update({s: hy.par[i] for i, s in enumerate(mech.PHYSICAL)})
-    return smap
+    gens = (mech.u, mech.Omega, mech.omega, mech.S, mech.C)
+    terms = []
+    for powers, c in sp.Poly(p, *gens).terms():
+        factors = [symbols[c]] if c.is_Symbol else ([] if c == 1 else [float(c)])
+        factors += [symbols[g] for g, m in zip(gens, powers) for _ in range(m)]
+        terms.append(hy.prod(factors) if len(factors) > 1 else factors[0])
+    return hy.sum(terms) if len(terms) > 1 else terms[0]
 
 
 def heyoka_system(kinematics: bool = False, delta_shift: float = 0.0):
-    """[(var, expr), ...] for heyoka; parameters are par[0..5] in PARAM_NAMES order. The variable
-    ``delta`` stores delta + delta_shift (sleighsim.integrators keeps it in [0, 2 pi))."""
+    """[(var, expr), ...] for heyoka, from the polynomial form of the derivation (about a third of
+    the operations per Taylor order of the explicit rhs); parameters as :func:`heyoka_pars` orders
+    them. The variable ``delta`` stores delta + delta_shift (sleighsim.integrators keeps it in
+    [0, 2 pi))."""
     import heyoka as hy
 
     hv = heyoka_vars(kinematics)
-    smap = heyoka_symbols(hv, delta_shift)
-    sys = [(v, hy.from_sympy(e, smap)) for v, e in zip(hv, mech.derive().rhs)]
+    u_, Om_, om_, de_ = hv[:4]
+    d = de_ - delta_shift if delta_shift else de_
+    form = mech.derive().polynomial
+    symbols = {mech.u: u_, mech.Omega: Om_, mech.omega: om_, mech.S: hy.sin(d), mech.C: hy.cos(d)}
+    symbols.update({k: hy.par[len(PARAM_NAMES) + j] for j, k in enumerate(form.K)})
+    den = _heyoka_polynomial(form.denominator, symbols)
+    sys = [(v, _heyoka_polynomial(n, symbols) / den) for v, n in zip(hv[:3], form.numerators)]
+    sys.append((de_, Om_ - om_))
     if kinematics:
-        u_, Om_ = hv[0], hv[1]
         th_ = hv[4]
         b_ = hy.par[PARAM_NAMES.index("b")]
         sys += [
@@ -131,9 +158,3 @@ def state_difference(a, b) -> np.ndarray:
     for i in (DELTA, THETA)[: 2 if d.shape[-1] > THETA else 1]:
         d[..., i] = (d[..., i] + np.pi) % (2.0 * np.pi) - np.pi
     return d
-
-
-def divergence_expr():
-    """trace of d rhs / d y as a SymPy expression (the local phase-space contraction rate)."""
-    d = mech.derive()
-    return sum(sp.diff(d.rhs[i], s) for i, s in enumerate(mech.STATE))

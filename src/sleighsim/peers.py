@@ -91,10 +91,17 @@ def timed(fn: Callable[[], object], repeats: int = 5, warmup: int = 1):
 
 
 def _derivation():
-    from . import mechanics
+    """The sleigh's rhs in the polynomial form heyoka integrates (mechanics.PolynomialForm, its
+    coefficients written out in the physical parameters), so every peer evaluates the same formula."""
+    import sympy as sp
 
-    d = mechanics.derive()
-    return list(d.rhs), (*mechanics.STATE, *mechanics.PHYSICAL), len(mechanics.STATE), len(mechanics.PHYSICAL)
+    from . import mechanics as m
+
+    d = m.derive()
+    form = d.polynomial
+    back = {m.S: sp.sin(m.delta), m.C: sp.cos(m.delta), **dict(zip(form.K, form.coefficients))}
+    exprs = [(n / form.denominator).subs(back) for n in form.numerators] + [d.rhs[3]]
+    return exprs, (*m.STATE, *m.PHYSICAL), len(m.STATE), len(m.PHYSICAL)
 
 
 @cache

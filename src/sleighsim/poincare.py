@@ -46,7 +46,7 @@ def event_integrator(tol: float):
 
         sys = model.heyoka_system(delta_shift=integrators.DELTA_SHIFT)
         stored = sys[3][0]  # delta + pi: sin(2 (delta + pi)) = sin(2 delta)
-        return hy.taylor_adaptive(sys, [0.0, 0.1, 1.0, integrators.DELTA_SHIFT], pars=list(Params.paper(eps=0.1).values),
+        return hy.taylor_adaptive(sys, [0.0, 0.1, 1.0, integrators.DELTA_SHIFT], pars=model.heyoka_pars(Params.paper(eps=0.1)),
                                   tol=tol, nt_events=[hy.nt_event(hy.sin(2.0 * stored), _Recorder())])
 
     return integrators.compiled(("events", tol), build)
@@ -70,7 +70,7 @@ def crossings(params: Params, y0, t0: float, t_end: float, *, tol: float = 2.0**
     y0 = np.array(y0, dtype=float)
     y0[3] %= TWO_PI
     integrators.load(ta, y0)
-    ta.pars[:] = params.values
+    integrators.set_pars(ta, params)
     start, steps, next_report = time.perf_counter(), 0, t0
     report_every = (t_end - t0) / max(1, progress)
     while rec.offset < t_end:

@@ -122,7 +122,7 @@ def energy_drift(params: Params, y0, times, tol: float = 2.0**-52) -> xr.Dataset
     derived, _ = integrators.flow(False, tol)
     derived.time = float(times[0])
     integrators.load(derived, y0)
-    derived.pars[:] = params.values
+    integrators.set_pars(derived, params)
     out_d = derived.propagate_grid(times, callback=integrators.bounded(derived))
     rel = {k: energy(Y, params) / E0 - 1.0 for k, Y in (("printed", printed_states),
                                                           ("derived", integrators.samples(derived, out_d[5])))}

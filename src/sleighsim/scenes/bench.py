@@ -41,7 +41,7 @@ def reference(params, y0, t_end, tol):
 
     start = time.perf_counter()
     ta = hy.taylor_adaptive(model.heyoka_system(delta_shift=integrators.DELTA_SHIFT), np.zeros(4, np.longdouble),
-                            pars=np.asarray(params.values, np.longdouble), fp_type=np.longdouble,
+                            pars=model.heyoka_pars(params, np.longdouble), fp_type=np.longdouble,
                             tol=np.longdouble(tol))
     integrators.register(ta, integrators.SLEIGH_ANGLES)
     integrators.load(ta, np.asarray(y0, np.longdouble))
@@ -118,7 +118,7 @@ def observables_vs_tol(cfg: dict) -> xr.Dataset:
     lam, wall, rot = [], [], []
     for tol in cfg["heyoka_tols"]:
         ta, _ = lyapunov.sleigh_tangent(1, tol, True)
-        ta.pars[:] = params.values
+        integrators.set_pars(ta, params)
         r = lyapunov.benettin(ta, 4, 1, y, t_align=0.0, T=cfg["T_lyapunov"], tau=LYAPUNOV_TAU)
         lam.append(r["exponents"][0])
         wall.append(r["wall_time_s"])
@@ -208,7 +208,7 @@ def heyoka_end_state(params, y0, t_end, tol):
     def run():
         ta.time = 0.0
         integrators.load(ta, y0)
-        ta.pars[:] = params.values
+        integrators.set_pars(ta, params)
         ta.propagate_until(float(t_end), callback=integrators.bounded(ta))
         return integrators.read(ta, 4)
 

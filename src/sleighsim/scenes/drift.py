@@ -10,7 +10,7 @@ import time
 import numpy as np
 import xarray as xr
 
-from .. import lyapunov, model, transient, windows
+from .. import integrators, lyapunov, model, transient, windows
 from ..attrs import state_attrs
 from ..params import Params
 from ..symmetries import state_at_label
@@ -39,7 +39,7 @@ def drift_windows(cfg: dict, scene: str = "") -> xr.Dataset:
                                 progress=1)
     tol = cfg["tol_long_double"] if cfg["long_double"] else cfg["tol"]
     ta, compile_s = lyapunov.sleigh_tangent(1, tol, cfg["compact_mode"], cfg["long_double"])
-    ta.pars[:] = np.array(params.values, dtype=ta.state.dtype)
+    integrators.set_pars(ta, params)
     precision = "double" if ta.state.dtype == np.float64 else f"long double (epsilon {float(np.finfo(ta.state.dtype).eps):.2g})"
     n_windows = int(round(cfg["T"] / cfg["window"]))
     E0 = model.energy(y, params)

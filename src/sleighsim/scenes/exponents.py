@@ -11,7 +11,7 @@ import time
 import numpy as np
 import xarray as xr
 
-from .. import fits, lyapunov, model, transient
+from .. import fits, integrators, lyapunov, model, transient
 from ..attrs import state_attrs
 from ..integrate import final_state, integrate, orbit_samples, sample_grid
 from ..params import Params
@@ -23,7 +23,7 @@ log = logging.getLogger("sleighsim")
 
 def _run(params, y, *, k, cfg, compact, label, T=None, seed=0):
     ta, compile_s = lyapunov.sleigh_tangent(k, cfg["tol"], compact)
-    ta.pars[:] = params.values
+    integrators.set_pars(ta, params)
     out = lyapunov.benettin(ta, 4, k, y, t_align=cfg["t_align"], T=cfg["T"] if T is None else T, tau=cfg["tau"],
                             n_blocks=cfg["n_blocks"], seed=seed, label=label)
     out["compile_time_s"] = compile_s
@@ -58,7 +58,7 @@ def spectrum(cfg: dict, scene: str = "") -> xr.Dataset:
     replicas, _ = orbit_samples(params, y, cfg["replicas"], cfg["replica_spacing"], tol=cfg["tol"], scene=scene)
     B = cfg["replicas"]
     ta, compile_s = lyapunov.sleigh_tangent_batch(B, cfg["tol"], cfg["compact_mode"], k=4)
-    ta.pars[:] = np.tile(np.array(params.values)[:, None], (1, B))
+    integrators.set_pars(ta, params)
     res = lyapunov.replica_exponents(ta, 4, 4, replicas, cfg["tau"], T_round=cfg["T_round"],
                                      max_rounds=cfg["max_rounds"], target_rel=cfg["target_rel"], t_align=cfg["t_align"],
                                      regular_floor=cfg["regular_floor"], sigma=cfg["sigma"], label=scene)
@@ -175,7 +175,7 @@ def energy_sweep(cfg: dict, scene: str = "") -> xr.Dataset:
                                 progress=1)
     lanes = np.array([np.r_[y[:3] / s, y[3]] for s in scale])  # the time-scaling images of the settled state
     ta, compile_s = lyapunov.sleigh_tangent_batch(labels.size, cfg["tol"], cfg["compact_mode"])
-    ta.pars[:] = np.tile(np.array(params.values)[:, None], (1, labels.size))
+    integrators.set_pars(ta, params)
     steps = int(round(cfg["T"] / cfg["tau"]))
     tau, T = cfg["tau"] * scale, steps * cfg["tau"] * scale  # per label
     r = lyapunov.batch_benettin(ta, 4, 1, lanes, tau, n_steps=steps,
@@ -263,7 +263,7 @@ def formal_exponents(cfg: dict, scene: str = "") -> xr.Dataset:
         y, pre = settle(params, y0, cfg["t_transient"], **cfg["transient"], tol=cfg["tol"], label=label, progress=1)
         replicas, _ = orbit_samples(params, y, cfg["replicas"], cfg["replica_spacing"], tol=cfg["tol"], scene=label)
         ta, _ = lyapunov.sleigh_tangent_batch(cfg["replicas"], cfg["tol"], cfg["compact_mode"], k=1)
-        ta.pars[:] = np.tile(np.array(params.values)[:, None], (1, cfg["replicas"]))
+        integrators.set_pars(ta, params)
         res = lyapunov.replica_exponents(ta, 4, 1, replicas, cfg["tau"], T_round=cfg["T_round"],
                                          max_rounds=cfg["max_rounds"], target_rel=cfg["target_rel"],
                                          t_align=cfg["t_align"], regular_floor=cfg["regular_floor"],

@@ -17,7 +17,7 @@ import time
 import numpy as np
 import xarray as xr
 
-from .. import lyapunov, poincare, transient
+from .. import integrators, lyapunov, poincare, transient
 from ..integrate import orbit_samples
 from ..io import read_dataset
 from ..params import Params
@@ -96,7 +96,7 @@ def row(cfg: dict, eps: float, label: str = "", check_b: bool = False) -> dict:
     replicas, interval, interval_std = _replicas(p, y, cfg, s, label)
     B = cfg["replicas"]
     ta, _ = lyapunov.sleigh_tangent_batch(B, cfg["tol"], cfg["compact_mode"])
-    ta.pars[:] = np.tile(np.array(p.values)[:, None], (1, B))
+    integrators.set_pars(ta, p)
     kw = dict(T_round=cfg["T_round"] * s, max_rounds=cfg["max_rounds"], target_rel=cfg["target_rel"],
               regular_floor=cfg["regular_floor"] / s, t_align=cfg["t_align"] * s, sigma=cfg["sigma"], label=label)
     r = lyapunov.replica_exponents(ta, 4, 1, replicas, tau, **kw)
@@ -118,7 +118,7 @@ def row(cfg: dict, eps: float, label: str = "", check_b: bool = False) -> dict:
         diffs, bounds = [], []
         for b in cfg["b_check"]:
             pb = Params.paper(eps=eps, b=b)
-            ta.pars[:] = np.tile(np.array(pb.values)[:, None], (1, B))
+            integrators.set_pars(ta, pb)
             rb = lyapunov.replica_exponents(ta, 4, 1, np.array([b_image(x, 1.0, b) for x in replicas]),
                                             tau, **dict(kw, max_rounds=1, label=f"{label}[b={b:g}]"))
             T1, first = r["history"][0][0], r["history"][0][1]  # the b = 1 estimate after the same single round

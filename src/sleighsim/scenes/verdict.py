@@ -92,7 +92,7 @@ def one_state(params, y0, cfg: dict, scene: str) -> dict:
     mean_u_omega = np.array([record.u.values.mean(), record.omega.values.mean()])
     B = cfg["replicas"]
     ta, _ = lyapunov.sleigh_tangent_batch(B, tol, cfg["compact_mode"], k=4)
-    ta.pars[:] = np.tile(np.array(params.values)[:, None], (1, B))
+    integrators.set_pars(ta, params)
     res = lyapunov.replica_exponents(ta, 4, 4, replicas, tau, T_round=cfg["T_round"], max_rounds=cfg["max_rounds"],
                                      target_rel=cfg["target_rel"], t_align=cfg["t_align"],
                                      regular_floor=cfg["regular_floor"], sigma=sigma, label=scene)
@@ -126,7 +126,7 @@ def one_state(params, y0, cfg: dict, scene: str) -> dict:
     los = loschmidt_indicator(L, L_ld, sigma)
     values["loschmidt"], errors["loschmidt"], verdicts["loschmidt"] = los["value"], los["error"], los["verdict"]
     flow, _ = integrators.flow(False, tol)
-    flow.pars[:] = params.values
+    integrators.set_pars(flow, params)
     y_int = _stored(replicas[-1])
     tts = [indicators.two_trajectory(flow, y_int, d0=d0, tau=tau, T=cfg["T_two"], t_align=cfg["t_align"],
                                      callback=integrators.bounded(flow), difference=model.state_difference,
@@ -173,7 +173,7 @@ def loschmidt_run(params, y, cfg: dict, *, long_double: bool = False) -> dict:
     log-spaced T in loschmidt_T, relative to max |velocity|: in double at tol, or in long double at
     tol_long_double (rounding 2^11 smaller: the rounding floor is 3.3 decades lower)."""
     flow, _ = integrators.flow(False, cfg["tol_long_double"] if long_double else cfg["tol"], long_double)
-    flow.pars[:] = np.array(params.values, dtype=flow.state.dtype)
+    integrators.set_pars(flow, params)
     return indicators.loschmidt(flow, _stored(y), loschmidt_T(cfg), lambda z: R * z, callback=integrators.bounded(flow),
                                 difference=model.state_difference, scale=float(np.max(np.abs(np.asarray(y)[:3]))))
 
@@ -205,7 +205,7 @@ def frequency_run(params, y, cfg: dict, precision: str = "double") -> dict:
     fc = cfg["frequency"]
     T = fc["quad_T"] if precision == "quad" else fc["T"]
     flow, _ = integrators.flow(False, _frequency_tol(cfg, precision), precision == "long double", precision == "quad")
-    flow.pars[:] = np.array(params.values).astype(flow.state.dtype)
+    integrators.set_pars(flow, params)
     return indicators.frequency_drift(flow, _stored(y), T=T, dt=fc["dt"],
                                       component=model.STATE_NAMES.index(fc["component"]), splits=fc["splits"],
                                       min_cycles=fc["min_cycles"], callback=integrators.bounded(flow))
@@ -288,7 +288,7 @@ def megno_run(params, y, cfg: dict, *, long_double: bool = False) -> dict:
     double."""
     tol, T = (cfg["tol_long_double"], cfg["T_long_double"]) if long_double else (cfg["tol"], cfg["T_megno"])
     ta, _ = lyapunov.sleigh_megno(tol, long_double, cfg["compact_mode"])
-    ta.pars[:] = np.array(params.values, dtype=ta.state.dtype)
+    integrators.set_pars(ta, params)
     return indicators.megno(ta, 4, _stored(y), T=T, n_samples=cfg["megno_samples"], tau=cfg["tau"],
                             callback=integrators.bounded(ta))
 
