@@ -44,7 +44,8 @@ def tangent_integrator(sys, k: int, tol: float = 2.0**-52, pars=(), compact_mode
 def sleigh_tangent(k: int, tol: float, compact: bool, long_double: bool = False):
     """The sleigh plus k tangent vectors (in long double when asked), compiled once per process.
     compact_mode compiles in 0.1-1 s; full mode steps 1.3-2.3x faster here but its first
-    compilation takes 7 s to 3 min (later ones come from heyoka's on-disk cache). Returns
+    compilation takes seconds to about a minute (45 s for 8 lanes and 4 vectors; later ones come
+    from heyoka's on-disk cache). Returns
     (ta, compile_s)."""
     from . import model
     from .params import Params

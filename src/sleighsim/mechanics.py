@@ -17,7 +17,7 @@ with delta = theta - beta. The projected equations are invariant under
 rotations of the plane, so they are evaluated at theta = 0 (beta = -delta);
 a test checks that invariance at random headings.
 
-Everything is cached: the derivation (about half a second of CPU, no blanket ``simplify``)
+Everything is cached: the derivation (about 1.5 s of CPU with the polynomial form, no blanket ``simplify``)
 runs once per process, and its result is kept on disk between processes (``$SLEIGHSIM_CACHE``,
 default ``~/.cache/sleighsim``), under a name made from a hash of this module's source and the
 SymPy version, so any change to the derivation derives afresh.
