@@ -17,8 +17,10 @@ variables.
 
 JIT cache. heyoka's on-disk cache is on by default (~/.cache/heyoka); ``SLEIGHSIM_JIT_CACHE``
 points it elsewhere, e.g. node-local storage on a cluster (the cache does not support network
-file systems). Measured per process on this machine (CPU seconds, median of 3): compiling the
-plain flow 1.00 s without the cache, 0.07 s with it; the 4-lane tangent batch 0.61 s, 0.04 s. (Measured over 1e6 time units from the reference state at tol 2.2e-16: energy
+file systems). Measured per process on this machine (CPU seconds, median of 3,
+benchmarks/startup.py): building the plain flow 0.76 s without the cache, 0.22 s with it (0.09 s
+of that lambdifies the polynomial form's coefficients, once per process); the 4-lane tangent
+batch 0.59 s, 0.04 s. (Measured over 1e6 time units from the reference state at tol 2.2e-16: energy
 drift 1.0e-12 with delta in [0, 2 pi), 5.9e-13 with delta in [-pi, pi); 2.3e-12 within 1e4
 time units when delta is left to grow.)
 """
