@@ -130,10 +130,8 @@ PARAM_SETS = [Params.paper(eps=0.1), Params.paper(eps=0.02, b=3.0, K2=1.3), Para
 def test_polynomial_form_is_the_derived_vector_field(params, rng):
     """N_i / D with S = sin delta, C = cos delta and K_j = its coefficients is the explicit rhs
     (random states; the paper's form, a formal eps >= 1 and a rotor without mass at the centre)."""
-    form = mech.derive().polynomial
-    back = {mech.S: sp.sin(mech.delta), mech.C: sp.cos(mech.delta), **dict(zip(form.K, form.coefficients))}
     args = (*mech.STATE, *mech.PHYSICAL)
-    poly = sp.lambdify(args, [(n / form.denominator).subs(back) for n in form.numerators])
+    poly = sp.lambdify(args, mech.derive().polynomial.explicit())
     explicit = sp.lambdify(args, list(mech.derive().rhs[:3]))
     for y in rng.normal(size=(20, 4)):
         want = np.array(explicit(*y, *params.values), float)

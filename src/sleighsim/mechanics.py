@@ -58,6 +58,12 @@ class PolynomialForm:
     K: tuple
     coefficients: tuple
 
+    def explicit(self) -> list:
+        """The three N_i / D with S, C and every K[j] written out (sin delta, cos delta and the
+        coefficients in the physical parameters)."""
+        back = {S: sp.sin(delta), C: sp.cos(delta), **dict(zip(self.K, self.coefficients))}
+        return [(n / self.denominator).subs(back) for n in self.numerators]
+
 
 @dataclass(frozen=True)
 class Derivation:

@@ -93,15 +93,10 @@ def timed(fn: Callable[[], object], repeats: int = 5, warmup: int = 1):
 def _derivation():
     """The sleigh's rhs in the polynomial form heyoka integrates (mechanics.PolynomialForm, its
     coefficients written out in the physical parameters), so every peer evaluates the same formula."""
-    import sympy as sp
-
     from . import mechanics as m
 
     d = m.derive()
-    form = d.polynomial
-    back = {m.S: sp.sin(m.delta), m.C: sp.cos(m.delta), **dict(zip(form.K, form.coefficients))}
-    exprs = [(n / form.denominator).subs(back) for n in form.numerators] + [d.rhs[3]]
-    return exprs, (*m.STATE, *m.PHYSICAL), len(m.STATE), len(m.PHYSICAL)
+    return d.polynomial.explicit() + [d.rhs[3]], (*m.STATE, *m.PHYSICAL), len(m.STATE), len(m.PHYSICAL)
 
 
 @cache
