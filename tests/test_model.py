@@ -198,3 +198,21 @@ def test_set_pars_fills_every_lane_in_the_integrators_precision_and_a_stale_vect
     assert not np.array_equal(ld.pars, model.heyoka_pars(p).astype(np.longdouble))  # K computed in long double
     with pytest.raises(ValueError):  # the physical parameters alone would leave the coefficients stale
         ld.pars[:] = p.values
+
+
+def test_heyoka_polynomial_writes_numbers_units_and_powers():
+    """Every kind of term _heyoka_polynomial meets: a named coefficient, a plain number, a unit
+    coefficient and a power (as repeated factors), checked by evaluating the compiled expression."""
+    import heyoka as hy
+    import sympy as sp
+
+    from sleighsim import mechanics as mech
+
+    k = sp.Symbol("K0")
+    u, Om, om, de = hy.make_vars("u", "Omega", "omega", "delta")
+    symbols = {mech.u: u, mech.Omega: Om, mech.omega: om, mech.S: hy.sin(de), mech.C: hy.cos(de), k: hy.par[0]}
+    expr = model._heyoka_polynomial(k * mech.Omega + 3 * mech.omega * mech.S**3 + mech.u, symbols)
+    f = hy.cfunc([expr], vars=[u, Om, om, de])
+    y, K0 = np.array([0.3, -1.2, 0.7, 0.9]), 2.5
+    want = K0 * y[1] + 3 * y[2] * math.sin(y[3]) ** 3 + y[0]
+    assert f(y, pars=[K0])[0] == pytest.approx(want, rel=1e-14)

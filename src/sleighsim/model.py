@@ -117,7 +117,7 @@ def _heyoka_polynomial(p, symbols: dict):
     gens = (mech.u, mech.Omega, mech.omega, mech.S, mech.C)
     terms = []
     for powers, c in sp.Poly(p, *gens).terms():
-        factors = [symbols[c]] if c.is_Symbol else ([] if c == 1 else [float(c)])
+        factors = [symbols[c]] if c.is_Symbol else ([] if c == 1 else [hy.expression(float(c))])
         factors += [symbols[g] for g, m in zip(gens, powers) for _ in range(m)]
         terms.append(hy.prod(factors) if len(factors) > 1 else factors[0])
     return hy.sum(terms) if len(terms) > 1 else terms[0]
