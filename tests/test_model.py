@@ -183,6 +183,23 @@ def test_the_compiled_sleigh_is_the_lambdified_derivation(params, rng):
     assert np.max(np.abs(got - want)) <= 1e-13 * np.max(np.abs(want))
 
 
+@pytest.mark.parametrize("kinematics, k", [(False, 0), (True, 0), (False, 2)])
+def test_the_rhs_with_its_parameters_compiled_in_is_the_one_with_runtime_parameters(kinematics, k, rng):
+    """SciPy's fast rhs (parameter values compiled in as numbers) against the runtime-parameter cfunc,
+    and one compilation per parameter set."""
+    from sleighsim import integrators
+
+    p = Params.paper(eps=0.3, b=0.25, K2=1.5)
+    g = integrators.rhs_function(kinematics, k, params=p)
+    n = 7 if kinematics else 4 + 4 * k
+    Y = rng.normal(size=(n, 50))
+    want = integrators.rhs_function(kinematics, k)(Y, pars=np.tile(model.heyoka_pars(p)[:, None], (1, 50)))
+    assert np.max(np.abs(g(Y) - want)) <= 1e-14 * np.max(np.abs(want))
+    other = integrators.rhs_function(kinematics, k, params=Params.paper(eps=0.1))
+    assert np.max(np.abs(other(Y) - want)) > 1e-3 * np.max(np.abs(want))
+    assert integrators.rhs_function(kinematics, k, params=Params.paper(eps=0.3, b=0.25, K2=1.5)) is g
+
+
 def test_set_pars_fills_every_lane_in_the_integrators_precision_and_a_stale_vector_is_refused():
     from sleighsim import integrators, lyapunov
 

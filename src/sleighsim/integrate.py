@@ -163,8 +163,8 @@ def _run_scipy(params, y0, t0, times, method, rtol, atol, kinematics, compiled, 
         raise ValueError(f"unknown SciPy method {method!r}; choose one of {sorted(solvers)}")
 
     if compiled:
-        f, pars = integrators.rhs_function(kinematics), model.heyoka_pars(params)
-        rhs = lambda _, z: f(z, pars=pars)  # noqa: E731
+        f = integrators.rhs_function(kinematics, params=params)
+        rhs = lambda _, z: f(z)  # noqa: E731
     else:
         rhs = lambda _, z: model.full_rhs(z, params)  # noqa: E731
 

@@ -313,10 +313,9 @@ def scipy_benettin(params, y0, k: int, *, T: float, tau: float, method: str, rto
 
     from . import model
 
-    pars = model.heyoka_pars(params)
     if compiled:
-        f = integrators.rhs_function(k=k)
-        rhs = lambda t, z: f(z, pars=pars)  # noqa: E731
+        f = integrators.rhs_function(k=k, params=params)
+        rhs = lambda t, z: f(z)  # noqa: E731
     else:
         def rhs(t, z):
             V = z[4:].reshape(4, k)
