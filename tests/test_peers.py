@@ -52,6 +52,20 @@ def test_compiled_rhs_agrees_with_numpy_rhs(how, states):
         assert np.max(np.abs(b - a)) <= 1e-14 * np.max(np.abs(a)), (how, y)
 
 
+def test_the_heyoka_lyapunov_peer_is_our_compiled_system_with_its_parameters(states):
+    """The heyoka row of the Lyapunov peers integrates the engine's system (coefficients as runtime
+    parameters computed from the physical ones), which equals the peers' NumPy rhs."""
+    hy = pytest.importorskip("heyoka")
+    sys_ = peers.sleigh_heyoka()
+    f = hy.cfunc([e for _, e in sys_], vars=[v for v, _ in sys_])
+    pars = np.tile(np.array(peers.sleigh_heyoka_pars(PARAMS))[:, None], (1, len(states)))
+    got = f(states.T.copy(), pars=pars).T
+    want = np.array([_rhs("numpy")(0.0, y) for y in states])
+    assert np.max(np.abs(got - want)) <= 1e-13 * np.max(np.abs(want))
+    with pytest.raises(ValueError, match="6 parameter values"):
+        peers.sleigh_heyoka_pars(PARAMS[:5])
+
+
 def test_compiled_rhs_rejects_unknown_kind():
     with pytest.raises(ValueError, match="numba"):
         peers.compiled_rhs(PARAMS, how="cython")

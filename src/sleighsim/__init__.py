@@ -8,14 +8,25 @@ params, model, symmetries, integrate, poincare, lyapunov, transient, spectra, fi
 workflow builds is declared once in :mod:`sleighsim.registry`.
 """
 
-from .integrate import IntegrationError, final_state, integrate, sample_grid
-from .lyapunov import benettin, mean_divergence, tangent_integrator
-from .mechanics import derive
-from .model import energy, jacobian, rhs
-from .params import Params
-from .symmetries import REFERENCE_LABEL, REFERENCE_STATE, energy_label, reverse, state_at_label
+import importlib
+
+#: The package-level names and the module each comes from, imported on first use (PEP 562), so a
+#: job that only draws or reads datasets does not import SymPy (0.6 s). The integrator is
+#: sleighsim.integrate.integrate (the package attribute ``integrate`` is its module).
+_EXPORTS = {
+    "IntegrationError": "integrate", "final_state": "integrate", "sample_grid": "integrate",
+    "benettin": "lyapunov", "mean_divergence": "lyapunov", "tangent_integrator": "lyapunov", "derive": "mechanics",
+    "energy": "model", "jacobian": "model", "rhs": "model", "Params": "params", "REFERENCE_LABEL": "symmetries",
+    "REFERENCE_STATE": "symmetries", "energy_label": "symmetries", "reverse": "symmetries",
+    "state_at_label": "symmetries",
+}
+
+
+def __getattr__(name: str):
+    if name in _EXPORTS:
+        return getattr(importlib.import_module(f".{_EXPORTS[name]}", __name__), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
 
 __version__ = "0.1.0"
-__all__ = ["IntegrationError", "Params", "REFERENCE_LABEL", "REFERENCE_STATE", "benettin", "derive", "energy",
-           "energy_label", "final_state", "integrate", "jacobian", "mean_divergence", "reverse", "rhs",
-           "sample_grid", "state_at_label", "tangent_integrator"]
+__all__ = sorted(_EXPORTS)

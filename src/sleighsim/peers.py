@@ -427,14 +427,19 @@ def lorenz_heyoka(sigma: float = 10.0, rho: float = 28.0, beta: float = 8.0 / 3.
 
 
 def sleigh_heyoka():
-    """The sleigh's system for heyoka: [(var, expr), ...], parameters par[0..5] in
-    ``mechanics.PHYSICAL`` order."""
-    hy = _require("heyoka")
-    exprs, symbols, n_state, _ = _derivation()
-    hv = [hy.make_vars(str(s)) for s in symbols[:n_state]]
-    smap = {s: v for s, v in zip(symbols[:n_state], hv)}
-    smap.update({s: hy.par[i] for i, s in enumerate(symbols[n_state:])})
-    return [(v, hy.from_sympy(e, smap)) for v, e in zip(hv, exprs)]
+    """The sleigh's system as our engine compiles it (model.heyoka_system: the polynomial form, its
+    coefficients K_j runtime parameters after the physical ones; :func:`sleigh_heyoka_pars`)."""
+    from .model import heyoka_system
+
+    return heyoka_system()
+
+
+def sleigh_heyoka_pars(param_values) -> list:
+    """The runtime parameters of :func:`sleigh_heyoka` from the physical ones (mechanics.PHYSICAL order)."""
+    from .model import heyoka_pars
+    from .params import PARAM_NAMES, Params
+
+    return list(heyoka_pars(Params.physical(**dict(zip(PARAM_NAMES, _params(param_values, len(PARAM_NAMES)))))))
 
 
 LORENZ_Y0 = (1.0, 1.0, 1.0)
@@ -463,7 +468,7 @@ def lyapax_sleigh(param_values, y0=Y0_REFERENCE, T: float = 1000.0, tau: float =
 def heyoka_sleigh(param_values, y0=Y0_REFERENCE, T: float = 1000.0, tau: float = 1.0, t_transient: float = 100.0,
                   **kw) -> LyapunovRun:
     """heyoka's variational Benettin on the sleigh, delta reduced modulo 2 pi every tau."""
-    return heyoka_max_le(sleigh_heyoka(), y0, T, tau, pars=list(param_values), t_transient=t_transient,
+    return heyoka_max_le(sleigh_heyoka(), y0, T, tau, pars=sleigh_heyoka_pars(param_values), t_transient=t_transient,
                          angle_index=DELTA, **kw)
 
 
