@@ -139,13 +139,12 @@ def flow(kinematics: bool, tol: float, long_double: bool = False, quad: bool = F
     def build():
         import heyoka as hy
 
-        from .model import heyoka_pars, heyoka_system
-        from .params import Params
+        from .model import compile_pars, heyoka_system
 
         n = 7 if kinematics else 4
         y0 = np.array([0.0, 0.1, 1.0, DELTA_SHIFT] + [0.0] * (n - 4)).astype(fp)
         return hy.taylor_adaptive(heyoka_system(kinematics, DELTA_SHIFT), y0, tol=fp(tol),
-                                  pars=heyoka_pars(Params.paper(eps=0.1), fp), fp_type=fp)
+                                  pars=compile_pars(fp), fp_type=fp)
 
     return compiled(("flow", kinematics, tol, long_double, quad), build)
 

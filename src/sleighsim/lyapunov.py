@@ -48,12 +48,11 @@ def sleigh_tangent(k: int, tol: float, compact: bool, long_double: bool = False)
     from heyoka's on-disk cache). Returns
     (ta, compile_s)."""
     from . import model
-    from .params import Params
 
     def build():
         fp = integrators.fp_type(long_double)
         return tangent_integrator(model.heyoka_system(delta_shift=integrators.DELTA_SHIFT), k, tol,
-                                  model.heyoka_pars(Params.paper(eps=0.1), fp), compact_mode=compact, fp_type=fp)[0]
+                                  model.compile_pars(fp), compact_mode=compact, fp_type=fp)[0]
 
     return integrators.compiled(("tangent", k, tol, compact, long_double), build)
 
@@ -63,13 +62,12 @@ def sleigh_megno(tol: float, long_double: bool = False, compact: bool = True):
     in compact or full mode), in double or long double (80-bit on x86-64: machine epsilon 1.1e-19,
     about 5x the cost), compiled once per process. Returns (ta, compile_s)."""
     from . import indicators, model
-    from .params import Params
 
     fp = integrators.fp_type(long_double)
 
     def build():
         return indicators.megno_integrator(model.heyoka_system(delta_shift=integrators.DELTA_SHIFT),
-                                           pars=model.heyoka_pars(Params.paper(eps=0.1), fp), tol=tol, fp_type=fp,
+                                           pars=model.compile_pars(fp), tol=tol, fp_type=fp,
                                            compact_mode=compact)[0]
 
     return integrators.compiled(("megno", tol, long_double, compact), build)
@@ -91,7 +89,6 @@ def _divergence_integrator(tol):
     """The flow plus a quadrature D' = trace J(y): D(T)/T is the mean phase-space
     contraction, computed without tangent vectors."""
     from . import model
-    from .params import Params
 
     def build():
         import heyoka as hy
@@ -99,7 +96,7 @@ def _divergence_integrator(tol):
         sys = model.heyoka_system(delta_shift=integrators.DELTA_SHIFT)
         trace = hy.sum([hy.diff(e, v) for v, e in sys])
         return hy.taylor_adaptive(sys + [(hy.make_vars("D"), trace)], [0.0, 0.1, 1.0, 0.0, 0.0], tol=tol,
-                                  pars=model.heyoka_pars(Params.paper(eps=0.1)))
+                                  pars=model.compile_pars())
 
     return integrators.compiled(("divergence", tol), build)[0]
 

@@ -104,6 +104,12 @@ def heyoka_pars(params: Params, dtype=float) -> np.ndarray:
     return np.array([*values, *_coefficients()(*values)], dtype=dtype)
 
 
+def compile_pars(dtype=float) -> np.ndarray:
+    """Runtime parameters to build a compiled sleigh with (the paper's form at eps = 0.1, in
+    ``dtype``); each run sets its own with sleighsim.integrators.set_pars."""
+    return heyoka_pars(Params.paper(eps=0.1), dtype)
+
+
 def n_heyoka_pars() -> int:
     """How many runtime parameters the compiled sleigh takes (:func:`heyoka_pars`)."""
     return len(PARAM_NAMES) + len(mech.derive().polynomial.K)

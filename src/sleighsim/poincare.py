@@ -46,7 +46,7 @@ def event_integrator(tol: float):
 
         sys = model.heyoka_system(delta_shift=integrators.DELTA_SHIFT)
         stored = sys[3][0]  # delta + pi: sin(2 (delta + pi)) = sin(2 delta)
-        return hy.taylor_adaptive(sys, [0.0, 0.1, 1.0, integrators.DELTA_SHIFT], pars=model.heyoka_pars(Params.paper(eps=0.1)),
+        return hy.taylor_adaptive(sys, [0.0, 0.1, 1.0, integrators.DELTA_SHIFT], pars=model.compile_pars(),
                                   tol=tol, nt_events=[hy.nt_event(hy.sin(2.0 * stored), _Recorder())])
 
     return integrators.compiled(("events", tol), build)
