@@ -7,7 +7,7 @@
 Runs ``python -m snakemake -s <repo>/Snakefile -d <fresh workdir> -c<cores> [--configfile ...]``,
 timing the whole command, then saves the run's job graph beside it (``<workdir>/costs/dag.dot`` from
 ``--forceall -n --dag`` and ``<workdir>/costs/dryrun.txt`` from ``--forceall -n``, same workdir and
-config) and writes the summary of sleighsim.costs.summarize: wall and CPU seconds in total, per rule,
+config) and writes the summary of sleighsim.ops.summary.summarize: wall and CPU seconds in total, per rule,
 per scene and per job, jobs per rule, the critical path, machine facts, git commit, date and config.
 
 ``--reuse DIR`` analyses a finished run in DIR instead of running the workflow (its wall time is
@@ -16,7 +16,7 @@ The workdir is kept (pass it to --reuse to re-analyse). Progress goes to stderr;
 exits non-zero with the log to read.
 
 The committed summary (benchmarks/full_run.yaml) is measured at paper fidelity (no --configfile);
-``python -m sleighsim.costs estimate`` scales it to other configs.
+``python -m sleighsim.ops.costs estimate`` scales it to other configs.
 """
 
 from __future__ import annotations
@@ -34,7 +34,8 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO / "src"))
 
-from sleighsim import costs
+from sleighsim.ops import facts, jobgraph, plots
+from sleighsim.ops import summary as costsummary
 
 
 def say(msg: str) -> None:
@@ -66,17 +67,17 @@ def run_workflow(cmd: list[str], workdir: Path) -> float:
 
 def save_job_graph(workdir: Path, cores: int, configfiles: list[str]) -> None:
     """The run's DAG (dot) and its dry-run job listing, for the critical path."""
-    out = workdir / costs.COSTS_DIR
+    out = workdir / jobgraph.COSTS_DIR
     out.mkdir(parents=True, exist_ok=True)
-    for extra, name, merge in ((["--forceall", "-n", "--dag"], costs.DAG_FILE, False),
-                               (["--forceall", "-n"], costs.DRYRUN_FILE, True)):
+    for extra, name, merge in ((["--forceall", "-n", "--dag"], jobgraph.DAG_FILE, False),
+                               (["--forceall", "-n"], jobgraph.DRYRUN_FILE, True)):
         cmd = snakemake_cmd(workdir, cores, configfiles, *extra)
         say(f"job graph: {shlex.join(cmd[2:])}")
         proc = subprocess.run(cmd, capture_output=True, text=True, check=False)
         if proc.returncode != 0:
             sys.exit(f"full_run: `{shlex.join(cmd)}` failed (exit {proc.returncode}):\n{proc.stderr[-3000:]}")
         text = proc.stdout + (proc.stderr if merge else "")
-        if name == costs.DAG_FILE and "digraph" not in text:
+        if name == jobgraph.DAG_FILE and "digraph" not in text:
             sys.exit(f"full_run: no dot graph in the output of `{shlex.join(cmd)}`")
         (out / name).write_text(text)
 
@@ -116,7 +117,7 @@ def main(argv=None) -> int:
 
     if args.reuse:
         workdir = Path(args.reuse).resolve()
-        record = workdir / costs.COSTS_DIR / "run.yaml"
+        record = workdir / jobgraph.COSTS_DIR / "run.yaml"
         recorded = yaml.safe_load(record.read_text()) if record.exists() else None
         if recorded is not None:
             if args.configfile and configfiles != recorded["configfiles"]:
@@ -128,7 +129,7 @@ def main(argv=None) -> int:
             if wall is None:
                 sys.exit(f"full_run: {workdir} holds no finished run (no costs/run.yaml, no .snakemake log)")
         say(f"reusing {workdir} (wall {wall:.1f} s, {source})")
-        if not (workdir / costs.COSTS_DIR / costs.DAG_FILE).exists():
+        if not (workdir / jobgraph.COSTS_DIR / jobgraph.DAG_FILE).exists():
             save_job_graph(workdir, args.cores, configfiles)
     else:
         if args.workdir:
@@ -144,28 +145,28 @@ def main(argv=None) -> int:
         wall = run_workflow(cmd, workdir)
         source = "measured by full_run.py"
         cmd = shlex.join(cmd)
-        (workdir / costs.COSTS_DIR).mkdir(exist_ok=True)
-        (workdir / costs.COSTS_DIR / "run.yaml").write_text(yaml.safe_dump(
+        (workdir / jobgraph.COSTS_DIR).mkdir(exist_ok=True)
+        (workdir / jobgraph.COSTS_DIR / "run.yaml").write_text(yaml.safe_dump(
             {"wall_s": wall, "command": cmd, "configfiles": configfiles, "cores": args.cores}, sort_keys=False))
         save_job_graph(workdir, args.cores, configfiles)
 
     say("reading the benchmark files")
     label = " + ".join(str(Path(f).relative_to(REPO)) if Path(f).is_relative_to(REPO) else f
                        for f in configfiles) or None
-    config = costs.merged_config(configfiles)
-    summary = costs.summarize(workdir, wall, label, config=config)
-    summary["config"]["files"] = [str(costs.BASE_CONFIG), *configfiles]
+    config = facts.merged_config(configfiles)
+    summary = costsummary.summarize(workdir, wall, label, config=config)
+    summary["config"]["files"] = [str(facts.BASE_CONFIG), *configfiles]
     sum_wall = sum(j["wall_s"] for j in summary["jobs"])
     crit = (summary["critical_path"] or {}).get("wall_s") or 0.0
     summary["run"] = {"command": cmd, "cores": args.cores, "workdir": str(workdir), "wall_source": source,
                       # no schedule on these cores can beat the longer of these two
                       "lower_bound_s": round(max(crit, sum_wall / args.cores), 3),
                       "job_wall_sum_s": round(sum_wall, 3)}
-    costs.write_summary(summary, args.out)
+    costsummary.write_summary(summary, args.out)
     say(f"wrote {args.out}")
     if args.plot:
         png = Path(args.plot)
-        costs.plot_costs(summary, png, png.with_suffix(".pdf"))
+        plots.plot_costs(summary, png, png.with_suffix(".pdf"))
         say(f"wrote {png} and {png.with_suffix('.pdf')}")
     top = list(summary["rules"].items())[:3]
     say(f"wall {summary['wall_s']:.1f} s, CPU {summary['cpu_s']:.1f} s in {summary['jobs_total']} jobs; top rules: "

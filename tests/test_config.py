@@ -168,7 +168,7 @@ def test_shipped_configs_are_valid_merged_as_snakemake_merges_them(name):
 
 
 def test_config_readme_is_generated_from_the_schema_and_documents_every_key():
-    from sleighsim import configdoc
+    from sleighsim.ops import configdoc
 
     assert configdoc.main(["--schema", str(SCHEMA_PATH), "--out", str(ROOT / "config" / "README.md"), "--check"]) == 0
     undocumented = []

@@ -1,6 +1,6 @@
-"""Run costs (sleighsim.costs, benchmarks/full_run.py) on synthetic benchmark trees and configs:
-per-rule sums, the critical path through a hand-made DAG, the cost figure, the estimator's scaling
-and chunk-runtime warning, and the refusals. No Snakemake run."""
+"""Run costs (the cost modules of sleighsim.ops, benchmarks/full_run.py) on synthetic benchmark
+trees and configs: per-rule sums, the critical path through a hand-made DAG, the cost figure, the
+estimator's scaling and chunk-runtime warning, and the refusals. No Snakemake run."""
 
 import importlib.util
 import subprocess
@@ -10,7 +10,11 @@ from pathlib import Path
 import pytest
 import yaml
 
-from sleighsim import costs
+from sleighsim import registry
+from sleighsim.ops import costs, jobgraph, plots, workmodel
+from sleighsim.ops.benchmark_files import read_benchmark
+from sleighsim.ops.estimate import estimate
+from sleighsim.ops.summary import SCHEMA, summarize
 
 ROOT = Path(__file__).resolve().parents[1]
 HEADER = "s\th:m:s\tmax_rss\tmax_vms\tmax_uss\tmax_pss\tio_in\tio_out\tmean_load\tcpu_time\n"
@@ -108,8 +112,8 @@ def fake_run(tmp_path, times=TIMES, graph=True):
 
 
 def test_summary_sums_per_rule_and_job(tmp_path):
-    s = costs.summarize(fake_run(tmp_path), 61.5, "synthetic", config=SYNTH_CONFIG)
-    assert s["schema"] == costs.SCHEMA and s["wall_s"] == 61.5
+    s = summarize(fake_run(tmp_path), 61.5, "synthetic", config=SYNTH_CONFIG)
+    assert s["schema"] == SCHEMA and s["wall_s"] == 61.5
     assert s["cpu_s"] == pytest.approx(9 + 30 + 28 + 1.5 + 2.5 + 0.5 + 3.5)
     assert s["jobs_total"] == 8 and s["cpu_not_sampled"] == ["chunk/g/1"]
     assert s["rules"]["chunk"] == {"jobs": 2, "cpu_s": 28.0, "wall_s": 35.0}
@@ -127,7 +131,7 @@ def test_summary_sums_per_rule_and_job(tmp_path):
 
 
 def test_critical_path_follows_the_dag_not_the_longest_job(tmp_path):
-    s = costs.summarize(fake_run(tmp_path), 61.5, "synthetic", config=SYNTH_CONFIG)
+    s = summarize(fake_run(tmp_path), 61.5, "synthetic", config=SYNTH_CONFIG)
     crit = s["critical_path"]
     # chunk 0 -> gather -> figure -> claims -> report: 30 + 2 + 3 + 1 + 4 = 40 > scene b's 33 + 1 + 4 = 38
     assert [j["job"] for j in crit["jobs"]] == ["chunk/g/0", "gather/g", "figure/f", "report/claims", "report/report"]
@@ -135,13 +139,13 @@ def test_critical_path_follows_the_dag_not_the_longest_job(tmp_path):
     assert crit["dag_jobs"] == 9
     # make scene b 3 s longer: the path moves to it
     times = dict(TIMES, **{"scene/b": (36.0, 30.0)})
-    s = costs.summarize(fake_run(tmp_path / "other", times), 61.5, "synthetic", config=SYNTH_CONFIG)
+    s = summarize(fake_run(tmp_path / "other", times), 61.5, "synthetic", config=SYNTH_CONFIG)
     assert [j["job"] for j in s["critical_path"]["jobs"]] == ["scene/b", "report/claims", "report/report"]
     assert s["critical_path"]["wall_s"] == pytest.approx(41.0)
 
 
 def test_job_graph_recovers_hidden_wildcards():
-    graph, notes = costs.job_graph(DOT, DRYRUN)
+    graph, notes = jobgraph.job_graph(DOT, DRYRUN)
     assert not notes
     assert graph[14]["wildcards"] == {"scene": "g"} and graph[14]["benchmark"] == "results/benchmarks/gather/g.tsv"
     assert graph[16]["benchmark"].endswith("chunk/g/1.tsv") and graph[10]["benchmark"] is None
@@ -149,11 +153,11 @@ def test_job_graph_recovers_hidden_wildcards():
 
 def test_summary_without_a_job_graph_and_with_a_stray_file(tmp_path):
     times = dict(TIMES, **{"scene/old": (7.0, 6.0)})
-    s = costs.summarize(fake_run(tmp_path, times, graph=False), 50.0, "synthetic", config=SYNTH_CONFIG)
+    s = summarize(fake_run(tmp_path, times, graph=False), 50.0, "synthetic", config=SYNTH_CONFIG)
     assert s["critical_path"] is None
     assert s["rules"]["scene"]["jobs"] == 3  # scene_first is named by its benchmark directory here
     assert s["rules"]["claims"]["jobs"] == 1 and s["rules"]["report"]["jobs"] == 1
-    s = costs.summarize(fake_run(tmp_path / "g", times), 50.0, "synthetic", config=SYNTH_CONFIG)
+    s = summarize(fake_run(tmp_path / "g", times), 50.0, "synthetic", config=SYNTH_CONFIG)
     stray = next(j for j in s["jobs"] if j["job"] == "scene/old")
     assert stray["in_dag"] is False and any("scene/old" in n for n in s["notes"])
     assert s["critical_path"]["wall_s"] == pytest.approx(40.0)
@@ -162,15 +166,15 @@ def test_summary_without_a_job_graph_and_with_a_stray_file(tmp_path):
 def test_read_benchmark_sums_repeats_and_reads_na(tmp_path):
     p = tmp_path / "x.tsv"
     p.write_text(HEADER + "1.5\t0:00:01\t1\t1\t1\t1\t0\t0\t50\t1.25\n2.5\t0:00:02\t1\t1\t1\t1\t0\t0\t50\t2.0\n")
-    assert costs.read_benchmark(p) == {"wall_s": 4.0, "cpu_s": 3.25}
+    assert read_benchmark(p) == {"wall_s": 4.0, "cpu_s": 3.25}
     p.write_text(HEADER + "0.2\t0:00:00\tNA\tNA\tNA\tNA\tNA\tNA\tNA\tNA\n")
-    assert costs.read_benchmark(p) == {"wall_s": 0.2, "cpu_s": None}
+    assert read_benchmark(p) == {"wall_s": 0.2, "cpu_s": None}
 
 
 def test_plot_costs_writes_png_and_pdf(tmp_path):
-    s = costs.summarize(fake_run(tmp_path), 61.5, "synthetic", config=SYNTH_CONFIG)
+    s = summarize(fake_run(tmp_path), 61.5, "synthetic", config=SYNTH_CONFIG)
     png, pdf = tmp_path / "out" / "costs.png", tmp_path / "out" / "costs.pdf"
-    costs.plot_costs(s, png, pdf)
+    plots.plot_costs(s, png, pdf)
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 5000
     assert pdf.read_bytes()[:5] == b"%PDF-" and pdf.stat().st_size > 1000
     assert sorted(p.name for p in png.parent.iterdir()) == ["costs.pdf", "costs.png"]  # no temporary left
@@ -181,16 +185,16 @@ def test_job_costs_from_the_reports_benchmark_files_and_their_figure(tmp_path):
     files = {"data/a": [bench / "scene" / "a.tsv"], "data/g": [bench / "gather" / "g.tsv", bench / "chunk" / "g" / "0.tsv",
                                                               bench / "chunk" / "g" / "1.tsv"],
              "figure/f": [bench / "figure" / "f.tsv"], "data/again": [bench / "scene" / "a.tsv"]}
-    jobs = costs.job_costs(files)
+    jobs = plots.job_costs(files)
     assert [j["job"] for j in jobs] == ["chunk/g/0", "scene/a", "chunk/g/1", "figure/f", "gather/g"]  # once each
     assert [j["rule"] for j in jobs] == ["chunk", "scene", "chunk", "figure", "gather"]
     assert jobs[0]["wall_s"] == 30.0 and jobs[2]["cpu_s"] is None
     png, pdf = tmp_path / "out" / "c.png", tmp_path / "out" / "c.pdf"
     png.parent.mkdir()
-    costs.plot_job_costs(jobs, png, pdf, top=3)
+    plots.plot_job_costs(jobs, png, pdf, top=3)
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and pdf.read_bytes()[:5] == b"%PDF-"
     with pytest.raises(ValueError, match="no benchmark"):
-        costs.plot_job_costs([], png, pdf)
+        plots.plot_job_costs([], png, pdf)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -225,7 +229,7 @@ def measured_summary():
         # a job that does nothing: the startup cost is zero here, so scaling is by the plain work ratio
         {"job": "report/report", "rule": "report", "scene": None, "wildcards": {}, "cpu_s": 0.0, "wall_s": 0.1},
     ]
-    return {"schema": costs.SCHEMA, "date": "2026-01-01T00:00:00+00:00", "git_commit": "abc",
+    return {"schema": SCHEMA, "date": "2026-01-01T00:00:00+00:00", "git_commit": "abc",
             "config": {"label": None, "files": [], "values": BASE}, "machine": {"nproc": 2, "cpu_model": "test"},
             "wall_s": 140.0, "cpu_s": 129.0, "jobs_total": len(jobs), "cpu_not_sampled": [], "jobs": jobs}
 
@@ -239,8 +243,8 @@ def target(overlay=OVERLAY):
 
 
 def test_estimator_scales_the_grid_by_its_work_ratio():
-    assert costs.work("lyapunov_grid", costs.registry.scene_config(BASE, "gr")) == pytest.approx(2 * 220)
-    est = costs.estimate(target(), measured_summary())
+    assert workmodel.work("lyapunov_grid", registry.scene_config(BASE, "gr")) == pytest.approx(2 * 220)
+    est = estimate(target(), measured_summary())
     ratio = (4 * 520) / (2 * 220)
     scaled = {s["scene"]: s for s in est["scaled"]}
     assert scaled["gr"]["ratio"] == pytest.approx(ratio)
@@ -263,7 +267,7 @@ def test_estimator_scales_the_grid_by_its_work_ratio():
 def test_estimator_keeps_a_fixed_startup_unscaled():
     summary = measured_summary()
     summary["jobs"][-1]["cpu_s"] = 1.0  # every job pays 1 s that does not grow with the work
-    est = costs.estimate(target(), summary)
+    est = estimate(target(), summary)
     by_job = {j["job"]: j["cpu_s"] for j in est["jobs"]}
     assert by_job["scene/tr"] == pytest.approx(1.0 + 9.0 * 3)
     assert by_job["chunk/gr/0"] == pytest.approx(1.0 + (49 + 59) / 440 * 520)
@@ -271,12 +275,12 @@ def test_estimator_keeps_a_fixed_startup_unscaled():
 
 def test_estimator_warns_when_a_chunk_would_exceed_its_runtime(tmp_path, capsys):
     # largest chunk: 110 / 440 x 520 = 130 s = 2.17 min
-    est = costs.estimate(target(), measured_summary())
+    est = estimate(target(), measured_summary())
     assert est["chunks"][0]["largest_s"] == pytest.approx(130.0)
     assert not est["chunks"][0]["exceeds"] and not any("chunk_runtime_min" in w for w in est["warnings"])
     overlay = yaml.safe_load(yaml.safe_dump(OVERLAY))
     overlay["scenes"]["gr"]["chunk_runtime_min"] = 2
-    est = costs.estimate(target(overlay), measured_summary())
+    est = estimate(target(overlay), measured_summary())
     assert est["chunks"][0]["exceeds"] and est["chunks"][0]["limit_s"] == 120
     assert any("chunk_runtime_min = 2 min" in w for w in est["warnings"])
     # the command line, with files
@@ -296,7 +300,7 @@ def test_estimator_warns_when_a_chunk_would_exceed_its_runtime(tmp_path, capsys)
 
 def test_estimate_without_a_measured_summary_exits_nonzero(tmp_path):
     missing = tmp_path / "full_run.yaml"
-    res = subprocess.run([sys.executable, "-m", "sleighsim.costs", "estimate", "--configfile",
+    res = subprocess.run([sys.executable, "-m", "sleighsim.ops.costs", "estimate", "--configfile",
                           str(ROOT / "config" / "cluster.yaml"), "--measured", str(missing)],
                          capture_output=True, text=True, timeout=60, check=False)
     assert res.returncode != 0

@@ -5,7 +5,7 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from sleighsim import stability
+from sleighsim.ops import stability
 from sleighsim.outputs import claims
 
 from conftest import snakemake

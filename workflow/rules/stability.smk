@@ -1,5 +1,5 @@
 # On request (`snakemake -c2 stability`): the ledger rerun with perturbed initial states and a
-# looser tolerance (sleighsim.stability), and the table of verdicts that change.
+# looser tolerance (sleighsim.ops.stability), and the table of verdicts that change.
 
 
 rule stability:

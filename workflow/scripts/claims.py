@@ -2,8 +2,8 @@
 
 from pathlib import Path
 
+from sleighsim.ops.runlog import logging_to
 from sleighsim.outputs import claims
-from sleighsim.runlog import logging_to
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logging_to(sm.log[0]) as log:

@@ -1,7 +1,7 @@
 """A chunked scene's dataset from its chunks (Snakemake script)."""
 
 from sleighsim import io, scenes
-from sleighsim.runlog import logging_to
+from sleighsim.ops.runlog import logging_to
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logging_to(sm.log[0]):

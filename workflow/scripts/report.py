@@ -2,9 +2,9 @@
 
 from pathlib import Path
 
+from sleighsim.ops.runlog import logging_to
 from sleighsim.outputs import claims, report
 from sleighsim.registry import FIGURES
-from sleighsim.runlog import logging_to
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logging_to(sm.log[0]):

@@ -1,7 +1,7 @@
 """Rerun the ledger's scenes perturbed and at a looser tolerance; tabulate verdict changes (Snakemake script)."""
 
-from sleighsim import stability
-from sleighsim.runlog import logging_to
+from sleighsim.ops import stability
+from sleighsim.ops.runlog import logging_to
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logging_to(sm.log[0]) as log:

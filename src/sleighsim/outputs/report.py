@@ -18,7 +18,7 @@ from pathlib import Path
 import latex2mathml.converter
 import numpy as np
 
-from .. import costs
+from ..ops import plots
 from ..io import read_dataset
 from ..registry import FIGURES, TABLES
 from .claims import Row
@@ -163,6 +163,17 @@ def _answers(rows: list[Row], datasets: dict, n_largest: int = 5) -> tuple[list[
     return h, md
 
 
+_STYLE = ("<style>body{font-family:sans-serif;max-width:1100px;margin:auto;padding:1em}img{max-width:100%;"
+          "border:1px solid #ccc}table{border-collapse:collapse;font-size:12px}td,th{border:1px solid #bbb;"
+          "padding:3px;vertical-align:top}.cap{font-style:italic;color:#444}.facts{font-size:12px;color:#333}"
+          ".badge{padding:1px 6px;border-radius:8px;border:1px solid #999;font-size:12px;white-space:nowrap}</style>")
+
+#: A script that counts the page's images that did not load (read by the rendered-report test).
+_IMAGE_CHECK = ("<div id='image-check'></div><script>window.addEventListener('load',function(){var im=document.images,"
+                "bad=0;for(var i=0;i<im.length;i++){if(!(im[i].complete&&im[i].naturalWidth>0))bad++;}"
+                "document.getElementById('image-check').textContent='images: '+im.length+' broken: '+bad;});</script>")
+
+
 def build(rows: list[Row], *, out_dir, tex_path, labels: dict, figures: dict, datasets: dict,
           benchmarks: dict) -> None:
     """Write index.html and README.md into ``out_dir`` with the figures copied beside them: the
@@ -174,27 +185,43 @@ def build(rows: list[Row], *, out_dir, tex_path, labels: dict, figures: dict, da
     benchmark files]}."""
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    caps = captions(tex_path)
-    by_id = {r.id: r for r in rows}
     paper_figs = [f for f in figures if FIGURES[f].paper]
     other_figs = [f for f in figures if not FIGURES[f].paper]
     h = ["<!doctype html><html><head><meta charset='utf-8'><title>sleighsim reproduction report</title>",
-         "<style>body{font-family:sans-serif;max-width:1100px;margin:auto;padding:1em}img{max-width:100%;"
-         "border:1px solid #ccc}table{border-collapse:collapse;font-size:12px}td,th{border:1px solid #bbb;"
-         "padding:3px;vertical-align:top}.cap{font-style:italic;color:#444}.facts{font-size:12px;color:#333}"
-         ".badge{padding:1px 6px;border-radius:8px;border:1px solid #999;font-size:12px;white-space:nowrap}</style>",
-         "</head><body><h1>sleighsim: reproduction of Fedonyuk &amp; Tallapragada</h1>"]
+         _STYLE, "</head><body><h1>sleighsim: reproduction of Fedonyuk &amp; Tallapragada</h1>"]
     md = ["# sleighsim reproduction report", ""]
     ah, am = _answers(rows, datasets)
     h += ah
     md += am + [""]
+    for section in (_contents(paper_figs, other_figs),
+                    _paper_figures(paper_figs, rows, out_dir=out_dir, tex_path=tex_path, labels=labels,
+                                   figures=figures, datasets=datasets, benchmarks=benchmarks),
+                    _ledger(rows), _other_figures(other_figs, out_dir, figures, datasets), _tables(datasets),
+                    _run_cost(benchmarks, out_dir)):
+        h += section[0]
+        md += section[1]
+    h += [_IMAGE_CHECK, "</body></html>"]
+    (out_dir / "index.html").write_text("\n".join(h))
+    (out_dir / "README.md").write_text("\n".join(md) + "\n")
+
+
+def _contents(paper_figs: list, other_figs: list) -> tuple[list[str], list[str]]:
+    """The table of contents, in the order the sections follow."""
     toc = [("answers", "Answers"), *((f, f"{FIGURES[f].paper}: {f}") for f in paper_figs), ("ledger", "Claims ledger"),
            *((f, FIGURES[f].title) for f in other_figs), *((f"table{i}", t) for i, t in enumerate(TABLES)),
            ("costs", "Run cost")]
-    h.append("<nav id='contents'><h2>Contents</h2><ol>" + "".join(
-        f"<li><a href='#{a}'>{html.escape(t)}</a></li>" for a, t in toc) + "</ol></nav>")
-    md += ["## Contents", ""] + [f"- {t}" for _, t in toc] + ["", "## Figures", ""]
-    h.append("<h2>Figures</h2>")
+    h = ["<nav id='contents'><h2>Contents</h2><ol>" + "".join(
+        f"<li><a href='#{a}'>{html.escape(t)}</a></li>" for a, t in toc) + "</ol></nav>"]
+    return h, ["## Contents", ""] + [f"- {t}" for _, t in toc] + ["", "## Figures", ""]
+
+
+def _paper_figures(paper_figs: list, rows: list[Row], *, out_dir, tex_path, labels, figures, datasets,
+                   benchmarks) -> tuple[list[str], list[str]]:
+    """The paper's figures, each with the paper's caption, its verdict, the claims it illustrates,
+    the facts of its datasets and its run time."""
+    caps = captions(tex_path)
+    by_id = {r.id: r for r in rows}
+    h, md = ["<h2>Figures</h2>"], []
     for fig in paper_figs:
         names = list(FIGURES[fig].data)
         cap = caps.get(labels.get(fig, ""), "(no counterpart in the paper)")
@@ -215,10 +242,15 @@ def build(rows: list[Row], *, out_dir, tex_path, labels: dict, figures: dict, da
         h.append("<ul class='facts'>" + "".join(f"<li>{html.escape(f)}</li>" for f in facts)
                  + f"<li>run time (Snakemake benchmarks): {run:.1f} s</li></ul>")
         md += [""] + [f"- {f}" for f in facts] + [f"- run time (Snakemake benchmarks): {run:.1f} s", ""]
-    h.append("<h2 id='ledger'>Claims ledger</h2><table><tr><th>id</th><th>claim</th><th>paper</th><th>ours</th>"
-             "<th>uncertainty</th><th>units</th><th>verdict</th><th>evidence</th><th>reason</th><th>cause</th>"
-             "<th>rule</th></tr>")
-    md += ["## Claims ledger", "", "| id | paper | ours | verdict | reason | cause |", "|---|---|---|---|---|---|"]
+    return h, md
+
+
+def _ledger(rows: list[Row]) -> tuple[list[str], list[str]]:
+    """The claims ledger, one row per claim, coloured by verdict."""
+    h = ["<h2 id='ledger'>Claims ledger</h2><table><tr><th>id</th><th>claim</th><th>paper</th><th>ours</th>"
+         "<th>uncertainty</th><th>units</th><th>verdict</th><th>evidence</th><th>reason</th><th>cause</th>"
+         "<th>rule</th></tr>"]
+    md = ["## Claims ledger", "", "| id | paper | ours | verdict | reason | cause |", "|---|---|---|---|---|---|"]
     for r in rows:
         cells = [r.id, r.statement, r.paper_value, r.measured, r.uncertainty, r.units, r.verdict, r.evidence,
                  r.reason, r.cause, r.rule]
@@ -227,6 +259,12 @@ def build(rows: list[Row], *, out_dir, tex_path, labels: dict, figures: dict, da
         md.append("| " + " | ".join(str(c).replace("|", "/") for c in (r.id, r.paper_value, r.measured, r.verdict,
                                                                           r.reason, r.cause)) + " |")
     h.append("</table>")
+    return h, md
+
+
+def _other_figures(other_figs: list, out_dir, figures, datasets) -> tuple[list[str], list[str]]:
+    """The figures with no counterpart in the paper, with the speed tables of the datasets that have them."""
+    h, md = [], []
     for fig in other_figs:
         title = FIGURES[fig].title
         h.append(f"<h2 id='{fig}'>{html.escape(title)}</h2>")
@@ -241,6 +279,12 @@ def build(rows: list[Row], *, out_dir, tex_path, labels: dict, figures: dict, da
             th, tm = _peer_table(ds)
             h += th
             md += tm
+    return h, md
+
+
+def _tables(datasets) -> tuple[list[str], list[str]]:
+    """The registry's tables, or where each would be computed."""
+    h, md = [], []
     for i, (title, table) in enumerate(TABLES.items()):
         h.append(f"<h2 id='table{i}'>{html.escape(title)}</h2>")
         md += ["", f"## {title}", ""]
@@ -254,23 +298,22 @@ def build(rows: list[Row], *, out_dir, tex_path, labels: dict, figures: dict, da
         else:
             h.append(f"<p><b>not yet computed</b> (on request: <code>snakemake -c2 {table.data}</code>)</p>")
             md.append(f"**not yet computed** (on request: `snakemake -c2 {table.data}`)")
-    h.append("<h2 id='costs'>Run cost</h2>")
-    md += ["", "## Run cost", ""]
-    jobs = costs.job_costs(benchmarks)
+    return h, md
+
+
+def _run_cost(benchmarks: dict, out_dir: Path) -> tuple[list[str], list[str]]:
+    """The run's cost per job from Snakemake's benchmark records (the figure written beside the page)."""
+    h, md = ["<h2 id='costs'>Run cost</h2>"], ["", "## Run cost", ""]
+    jobs = plots.job_costs(benchmarks)
     if jobs:
-        costs.plot_job_costs(jobs, out_dir / "costs.png")
+        plots.plot_job_costs(jobs, out_dir / "costs.png")
         h.append("<img src='costs.png' alt='costs'>")
         md.append("![costs](costs.png)")
     else:
         (out_dir / "costs.png").unlink(missing_ok=True)  # no stale figure from an earlier run
         h.append("<p><b>not yet computed</b> (no benchmark records)</p>")
         md.append("**not yet computed** (no benchmark records)")
-    h.append("<div id='image-check'></div><script>window.addEventListener('load',function(){var im=document.images,"
-             "bad=0;for(var i=0;i<im.length;i++){if(!(im[i].complete&&im[i].naturalWidth>0))bad++;}"
-             "document.getElementById('image-check').textContent='images: '+im.length+' broken: '+bad;});</script>")
-    h.append("</body></html>")
-    (out_dir / "index.html").write_text("\n".join(h))
-    (out_dir / "README.md").write_text("\n".join(md) + "\n")
+    return h, md
 
 
 def _fastest_table(ds) -> tuple[list[str], list[str]]:

@@ -9,7 +9,13 @@ Variants (each a whole config, its results under ``<results>/stability/<variant>
 
 Command line (also the on-request Snakemake target ``stability``)::
 
-    python -m sleighsim.stability --base results/claims.nc --out results/stability/verdicts.csv
+    python -m sleighsim.ops.stability --base results/claims.nc --out results/stability/verdicts.csv
+
+Why a nested ``snakemake`` inside the ``stability`` rule: a variant is a different config for the
+whole DAG, and Snakemake builds one DAG per config. Folding the variants into the calling DAG would
+need a variant wildcard on every rule, doubling every rule's signature. So each variant is its own
+run, with its own results directory (``<results>/stability/<variant>``, disjoint from the calling
+run's outputs) and ``--nolock``, since the calling run holds the working directory's lock.
 """
 
 from __future__ import annotations
@@ -24,8 +30,8 @@ import numpy as np
 import xarray as xr
 import yaml
 
-from .io import read_dataset, write_dataset, write_text
-from .outputs import claims
+from ..io import write_dataset, write_text
+from ..outputs import claims
 
 STATE_KEYS = ("y0", "states")
 REL = 1e-12
@@ -105,7 +111,7 @@ def write_table(ds: xr.Dataset, csv_path) -> None:
 def run(config: dict, base_nc, out_csv, *, cores: int = 2, snakefile=None) -> xr.Dataset:
     """Run every variant's ledger with Snakemake (its own results directory; no lock, since the
     outputs differ from the calling run's) and write the table."""
-    snakefile = snakefile or Path(__file__).resolve().parents[2] / "Snakefile"
+    snakefile = snakefile or Path(__file__).resolve().parents[3] / "Snakefile"
     out_csv = Path(out_csv)
     ncs = {}
     for name, cfg in variants(config).items():
@@ -123,7 +129,7 @@ def run(config: dict, base_nc, out_csv, *, cores: int = 2, snakefile=None) -> xr
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m sleighsim.stability", description=__doc__.split("\n\n")[0])
+    ap = argparse.ArgumentParser(prog="python -m sleighsim.ops.stability", description=__doc__.split("\n\n")[0])
     ap.add_argument("--configfile", nargs="*", default=["config/config.yaml"],
                     help="config files, merged in order (default config/config.yaml)")
     ap.add_argument("--base", default="results/claims.nc", help="the ledger of the unperturbed run")

@@ -1,6 +1,6 @@
 """config/README.md from the config schema's descriptions: every key of every kind.
 
-``python -m sleighsim.configdoc [--schema workflow/schemas/config.schema.yaml] [--out config/README.md]``;
+``python -m sleighsim.ops.configdoc [--schema workflow/schemas/config.schema.yaml] [--out config/README.md]``;
 ``--check`` exits 1 when the file differs from what the schema gives (a test runs it).
 """
 
@@ -14,7 +14,7 @@ import yaml
 
 HEADER = """# Configuration
 
-Generated from `workflow/schemas/config.schema.yaml` by `python -m sleighsim.configdoc`;
+Generated from `workflow/schemas/config.schema.yaml` by `python -m sleighsim.ops.configdoc`;
 edit the schema's descriptions, not this file. `config/config.yaml` is the paper at full
 fidelity, `config/smoke.yaml` the same scenes tiny (CI), `config/cluster.yaml` an overlay
 for a SLURM cluster. Snakemake merges a `--configfile` onto `config/config.yaml`.
@@ -79,8 +79,8 @@ def render(schema: dict) -> str:
     for name in ("params", "transient"):
         lines += [f"### `{name}`", "", " ".join(defs[name]["description"].split()), "", *table, *_rows(schema, defs[name]), ""]
     lines += ["## Scene kinds", "",
-              "Each block under `scenes` names its `kind`; the keys below are those of each kind "
-              "(besides `kind` and `on_request`).", ""]
+              ("Each block under `scenes` names its `kind`; the keys below are those of each kind "
+               "(besides `kind` and `on_request`)."), ""]
     for kind in defs["scene"]["properties"]["kind"]["enum"]:
         d = defs[kind]
         rows = [r for r in _rows(schema, d) if not r.startswith(("| `kind` ", "| `on_request` "))]
@@ -97,7 +97,7 @@ def main(argv=None) -> int:
     text = render(yaml.safe_load(args.schema.read_text()))
     if args.check:
         same = args.out.exists() and args.out.read_text() == text
-        print(f"{args.out}: {'up to date' if same else 'differs from the schema; run python -m sleighsim.configdoc'}")
+        print(f"{args.out}: {'up to date' if same else 'differs from the schema; run python -m sleighsim.ops.configdoc'}")
         return 0 if same else 1
     args.out.write_text(text)
     return 0

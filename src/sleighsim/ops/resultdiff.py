@@ -1,0 +1,89 @@
+"""Compare two result trees dataset by dataset: ``python -m sleighsim.resultdiff OLD NEW``.
+
+For every netCDF file under ``data/`` (and ``claims.nc``) present in either tree: the data
+variables and coordinates must be equal bit for bit (NaN equal to NaN), the attributes equal
+apart from those that record when, where and how fast a run happened (times, the commit,
+package versions); attributes or variables present in only one tree are listed. Exit status 0
+when every dataset is identical in that sense, 1 otherwise. A check for a restructure: results
+must not move.
+"""
+
+from __future__ import annotations
+
+import argparse
+import re
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from ..io import read_dataset
+
+#: Names of attributes and variables that measure the run, not its result.
+VOLATILE = re.compile(r"wall|compile_time|created_utc|git_commit|^version_|python_version|seconds_per_step"
+                      r"|^cost_|_estimate_s$|^overhead_|speedup|fastest_at|^lambda_1_wall|^lyap_scipy_wall")
+
+
+def _equal(a, b) -> bool:
+    a, b = np.asarray(a), np.asarray(b)
+    if a.shape != b.shape or a.dtype.kind != b.dtype.kind:
+        return False
+    if a.dtype.kind in "fc":
+        return bool(np.array_equal(a, b, equal_nan=True))
+    return bool(np.array_equal(a, b))
+
+
+def compare_datasets(old, new) -> list[str]:
+    """Differences between two datasets, one line each (empty when identical)."""
+    out = []
+    for kind, a, b in (("variable", old.variables, new.variables),):
+        for name in sorted(set(a) | set(b)):
+            if VOLATILE.search(name):
+                continue
+            if name not in a or name not in b:
+                out.append(f"{kind} {name} only in {'new' if name in b else 'old'}")
+            elif not _equal(a[name].values, b[name].values):
+                out.append(f"{kind} {name} differs")
+    for name in sorted(set(old.attrs) | set(new.attrs)):
+        if VOLATILE.search(name):
+            continue
+        if name not in old.attrs or name not in new.attrs:
+            out.append(f"attribute {name} only in {'new' if name in new.attrs else 'old'}")
+        elif not _equal(old.attrs[name], new.attrs[name]):
+            out.append(f"attribute {name} differs: {old.attrs[name]!r} -> {new.attrs[name]!r}")
+    return out
+
+
+def compare_trees(old: Path, new: Path) -> dict[str, list[str]]:
+    """{relative path: differences} for every dataset of data/ and claims.nc in either tree."""
+    names = set()
+    for root in (old, new):
+        names |= {p.relative_to(root) for p in (root / "data").glob("*.nc")}
+        names |= {p.relative_to(root) for p in root.glob("claims.nc")}
+    out = {}
+    for rel in sorted(names):
+        a, b = old / rel, new / rel
+        if not a.exists() or not b.exists():
+            out[str(rel)] = [f"only in {'new' if b.exists() else 'old'} tree"]
+            continue
+        out[str(rel)] = compare_datasets(read_dataset(a), read_dataset(b))
+    return out
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("old", type=Path, help="results directory before the change")
+    parser.add_argument("new", type=Path, help="results directory after the change")
+    args = parser.parse_args(argv)
+    diffs = compare_trees(args.old, args.new)
+    for rel, lines in diffs.items():
+        print(f"{rel}: {'identical' if not lines else str(len(lines)) + ' difference(s)'}")
+        for line in lines:
+            print(f"    {line}")
+    n = sum(bool(v) for v in diffs.values())
+    print(f"{len(diffs)} datasets compared, {n} differ")
+    return 1 if n else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
