@@ -1,43 +1,20 @@
-"""The per-state chaos verdict's rules on each branch, and the reversibility they rest on."""
+"""The chaos verdict scene (sleighsim.scenes.verdict): the runs it makes for the indicators (the
+long-double precision check, the Loschmidt runs, the frequency runs and the precisions the frequency
+indicator asks for), the R-image test, and the reversibility the Loschmidt test rests on. The
+indicators and judges themselves: test_chaos_*.py."""
 
 import math
 
 import numpy as np
 import pytest
 
-from sleighsim import indicators, model
+from sleighsim import model
+from sleighsim.chaos.verdicts import CHAOTIC, REGULAR, UNDECIDED
 from sleighsim.integrate import integrate, sample_grid
 from sleighsim.params import Params
-from sleighsim.scenes.verdict import R, classify, consistent, judge_benettin, r_image
+from sleighsim.scenes.verdict import R, r_image
 
-C, G, U = indicators.CHAOTIC, indicators.REGULAR, indicators.UNDECIDED
-
-
-def _res(lam1, err1, status, T=1e5):
-    return {"exponents": np.array([lam1, 0, 0, -lam1]), "stderr": np.array([err1] * 4), "T": T, "status": status}
-
-
-@pytest.mark.parametrize("lam, err, status, want", [
-    (5e-4, 1e-5, "converged", C),   # bound 2 ln(1e4) / 1e5 = 1.8e-4
-    (1e-5, 1e-6, "regular", G),
-    (2e-4, 1e-4, "capped", U),
-    (math.nan, 1e-5, "capped", U),
-])
-def test_judge_benettin_on_each_branch(lam, err, status, want):
-    assert judge_benettin(_res(lam, err, status), 10.0, 3.0)[0] == want
-
-
-@pytest.mark.parametrize("verdict, s, s_err, l1, l4, image, want", [
-    (G, 0.0, 1e-6, 1e-6, -1e-6, "leaves", "regular"),
-    (C, -1e-3, 1e-5, 5e-4, -1.5e-3, "leaves", "strange attractor"),
-    (C, 1e-7, 1e-6, 5e-4, -5e-4, "stays", "conservative-type chaos"),
-    (C, 1e-7, 1e-6, 5e-4, -5e-4, "leaves", "mixed dynamics"),
-    (C, 1e-3, 1e-5, 5e-4, 5e-4, "leaves", "undetermined"),  # expanding on average: no class
-    (U, -1e-3, 1e-5, 5e-4, -1.5e-3, "leaves", "undetermined"),
-    (C, math.nan, 1e-5, 5e-4, -1.5e-3, "leaves", "undetermined"),
-])
-def test_classify_on_each_branch(verdict, s, s_err, l1, l4, image, want):
-    assert classify(verdict, s, s_err, l1, l4, image, 3.0) == want
+C, G, U = CHAOTIC, REGULAR, UNDECIDED
 
 
 def test_r_image_stays_and_leaves():
@@ -67,21 +44,6 @@ def test_the_flow_is_reversible_under_R():
     assert np.max(np.abs(model.state_difference(R * np.array([back[v].values[-1] for v in model.STATE_NAMES]), y0))) < 1e-9
 
 
-@pytest.mark.parametrize("verdict, a, others, want", [
-    (C, (7.3e-4, 5.6e-5), {"two_trajectory": (8.5e-3, 3.2e-4)}, U),   # chaotic by both, rates 11x apart
-    (C, (7.3e-4, 5.6e-5), {"two_trajectory": (8.0e-4, 9.0e-5)}, C),   # consistent rates
-    (C, (7.3e-4, 1e-6), {"two_trajectory": (9.0e-4, 1e-6)}, C),       # resolved apart but within a factor 2
-    (C, (7.3e-4, 5.6e-5), {"two_trajectory": (8.0e-4, 9.0e-5), "loschmidt": (5.9e-3, 1e-4)}, U),  # one of two off
-    (C, (7.3e-4, 5.6e-5), {}, C),                                      # nothing to compare with
-    (G, (7.3e-4, 5.6e-5), {"two_trajectory": (8.5e-3, 3.2e-4)}, G),   # only a chaotic verdict is checked
-])
-def test_chaotic_indicators_must_agree_on_the_rate(verdict, a, others, want):
-    out = consistent(verdict, "r", *a, others, 3.0)
-    assert out[0] == want
-    if want == U:
-        assert "disagree on the rate" in out[1]
-
-
 @pytest.mark.parametrize("lam, spread, want", [
     (5e-4, 2e-5, "confirmed"),  # bound 2 ln(2e4) / 2e5 = 9.9e-5
     (4e-5, 1e-4, "not confirmed"),  # below the bound
@@ -104,49 +66,6 @@ def test_precision_check_on_each_branch(monkeypatch, lam, spread, want):
         assert out["lambda_1"] == pytest.approx(lam, abs=4 * out["stderr"])
 
 
-@pytest.mark.parametrize("v_ld, check, want", [
-    (C, "confirmed", C),        # long double confirms exponential growth: MEGNO may say chaotic
-    (C, "not confirmed", U),    # the gate applies to the long-double MEGNO as well
-    (G, "not confirmed", G),    # a regular long-double MEGNO stands
-    (U, "confirmed", U),
-])
-def test_megno_judged_in_long_double_under_the_same_gate(v_ld, check, want):
-    from sleighsim.scenes.verdict import megno_in_long_double
-
-    ld = {"check": check, "reason": f"{check} in long double"}
-    v, reason = megno_in_long_double((v_ld, "r"), ld, (C, "double says chaotic"), 2e5, 5e4)
-    assert v == want
-    assert reason.startswith("in long double over T = 2e+05") and reason.endswith("in double over T = 5e+04: chaotic")
-    if (v_ld, want) == (C, U):
-        assert "not confirmed in long double" in reason
-
-
-def _los(whole, tail):
-    keys = ("n_used", "exp_rate", "exp_rate_err", "exp_rms", "pow_exponent", "pow_exponent_err", "pow_rms")
-    return {**dict(zip(keys, whole)), **{f"tail_{k}": v for k, v in zip(keys[1:], tail[1:])}, "tail_n": tail[0]}
-
-
-# (n, rate, err, rms, p, p_err, p_rms): exponential to saturation, and T^2 growth
-_EXP = (12, 0.01, 1e-4, 0.5, 9.0, 0.5, 2.0)
-_POW = (8, 3e-4, 5e-5, 0.5, 2.0, 0.1, 0.2)
-
-
-@pytest.mark.parametrize("L, L_ld, want", [
-    (_los(_EXP, _EXP), _los(_EXP, _POW), G),   # the long-double run judges (tail T^2), whatever double says
-    (_los(_POW, _POW), _los(_EXP, _EXP), C),
-    (_los(_EXP, _EXP), _los(_EXP, _EXP), C),
-])
-def test_loschmidt_indicator_is_judged_in_long_double(L, L_ld, want):
-    from sleighsim.scenes.verdict import loschmidt_indicator
-
-    out = loschmidt_indicator(L, L_ld, 3.0)
-    assert out["verdict"][0] == want == indicators.judge_loschmidt_run(L_ld)[0]
-    assert out["verdict_double"] == indicators.judge_loschmidt_run(L)[0]
-    assert (out["value"], out["error"]) == (L_ld["tail_exp_rate"], L_ld["tail_exp_rate_err"])
-    assert out["verdict"][1].startswith("in long double: ")
-    assert out["verdict"][1].endswith(f"in double: {out['verdict_double']}")
-
-
 def test_loschmidt_run_in_long_double_has_the_smaller_rounding():
     from sleighsim.scenes.verdict import loschmidt_run
 
@@ -157,3 +76,76 @@ def test_loschmidt_run_in_long_double_has_the_smaller_rounding():
     np.testing.assert_allclose(d["T"], [10.0, 20.0, 40.0])
     assert ld["floor"] == pytest.approx(d["floor"] * float(np.finfo(np.longdouble).eps) / float(np.finfo(float).eps))
     assert np.all(d["rel_error"] < 1e-11) and np.all(ld["rel_error"] < 1e-3 * d["rel_error"].max())
+
+
+# ----------------------------------------------------------------------------- the frequency indicator's runs
+
+# (slope, usable splits, D) of the double, long-double and quad runs; None: that run must not be made
+_RUNS = {
+    "converged in double": ([(-3.5, 3, 1e-9), None, None], G),
+    "converged in long double": ([(0.0, 3, 1e-2), (-3.5, 3, 1e-9), None], G),
+    # the main state: the long-double drift is 300 times smaller, then quad converges
+    "converged in quad": ([(0.0, 3, 1e-2), (0.05, 3, 4e-5), (-6.5, 2, 9e-8)], G),
+    "converged in none": ([(0.0, 3, 1e-2), (0.05, 3, 4e-5), (0.1, 2, 4e-5)], U),
+    "too few windows in double": ([(math.nan, 1, 1e-2), None, None], U),
+    "no window at all": ([(math.nan, 0, 1e-2), None, None], U),
+}
+
+
+@pytest.mark.parametrize("case", list(_RUNS))
+@pytest.mark.parametrize("quad_T", [0.0, 1e5])
+def test_frequency_indicator_runs_each_precision_only_when_needed(monkeypatch, case, quad_T):
+    from sleighsim.params import Params
+    from sleighsim.scenes import verdict
+
+    specs, want = _RUNS[case]
+    names = ("double", "long double", "quad")
+
+    def run(params, y, cfg, precision="double"):
+        calls.append(precision)
+        slope, n, D = specs[names.index(precision)]
+        splits = np.array([2, 4, 8][:n])
+        return dict(splits=splits, D=np.full(n, D), W=2e5 / splits, D_log_err=1 / np.sqrt(2 * (splits - 1.0)),
+                    slope=slope, slope_err=0.55 if n > 2 else 1.18, T=2e5, f=4e-4)
+
+    calls = []
+    monkeypatch.setattr(verdict, "frequency_run", run)
+    cfg = dict(tol=2.220446049250313e-16, tol_long_double=1.0842021724855044e-19,
+               frequency={"quad_T": quad_T, "tol_quad": 1.925929944387235853e-34})
+    out = verdict.frequency_indicator(Params.paper(eps=0.1), [0.0, 0.1, 1.0, 0.0], cfg, 3.0)
+    expected = [p for p, spec in zip(names, specs) if spec is not None and (p != "quad" or quad_T > 0)]
+    assert calls == expected and list(out["runs"]) == expected
+    assert out["verdict"][0] == (want if "quad" in expected or case != "converged in quad" else U), out["verdict"][1]
+    not_made = "quad run not made" in out["verdict"][1]
+    assert not_made == (quad_T == 0 and "long double" in expected and out["verdict"][0] == U
+                        and out["runs"]["long double"]["splits"].size >= 2)
+    last = out["runs"][expected[-1]]
+    if last["D"].size:
+        assert out["value"] == pytest.approx(last["D"][0] / last["W"][0])
+        assert out["error"] == pytest.approx(out["value"] / math.sqrt(2))
+    else:
+        assert math.isnan(out["value"]) and math.isnan(out["error"])
+    table = verdict.frequency_table([out], [2, 4, 8, 16])
+    made = np.isfinite(table["slope"][0]) | np.isinf(table["slope"][0])
+    assert [p for p, m in zip(names, made) if m] == [p for p in expected if not math.isnan(specs[names.index(p)][0])]
+
+
+def test_the_sleighs_flow_runs_in_quad_precision():
+    pytest.importorskip("heyoka")
+    from sleighsim import integrators
+    from sleighsim.params import Params
+    from sleighsim.scenes import verdict
+
+    cfg = dict(tol=2.220446049250313e-16, tol_long_double=1.0842021724855044e-19,
+               frequency={"T": 200.0, "quad_T": 200.0, "dt": 0.5, "component": "u", "splits": [2, 4],
+                          "min_cycles": 4.0, "tol_quad": 1.925929944387235853e-34})
+    y = np.array([0.05, 0.02, 0.8, 0.4])
+    runs = {p: verdict.frequency_run(Params.paper(eps=0.1), y, cfg, p) for p in ("double", "long double", "quad")}
+    flow, _ = integrators.flow(False, 1.925929944387235853e-34, quad=True)
+    assert "real128" in str(flow.state.dtype)
+    # the same orbit (end states agree to 1e-13 here): window frequencies agree to the refinement's
+    # precision, which for windows of only 100 (13 periods, bins of 0.01) is about 1e-9 relative
+    for p in ("long double", "quad"):
+        np.testing.assert_allclose(runs[p]["frequencies"][0], runs["double"]["frequencies"][0], rtol=5e-9)
+    with pytest.raises(ValueError, match="exclude"):
+        integrators.flow(False, 1e-20, long_double=True, quad=True)

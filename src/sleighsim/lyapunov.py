@@ -58,17 +58,17 @@ def sleigh_tangent(k: int, tol: float, compact: bool, long_double: bool = False)
 
 
 def sleigh_megno(tol: float, long_double: bool = False, compact: bool = True):
-    """The sleigh, one tangent vector and the MEGNO quadratures (``indicators.megno_integrator``,
+    """The sleigh, one tangent vector and the MEGNO quadratures (``chaos.tangent.megno_integrator``,
     in compact or full mode), in double or long double (80-bit on x86-64: machine epsilon 1.1e-19,
     about 5x the cost), compiled once per process. Returns (ta, compile_s)."""
-    from . import indicators, model
+    from . import model
+    from .chaos.tangent import megno_integrator
 
     fp = integrators.fp_type(long_double)
 
     def build():
-        return indicators.megno_integrator(model.heyoka_system(delta_shift=integrators.DELTA_SHIFT),
-                                           pars=model.compile_pars(fp), tol=tol, fp_type=fp,
-                                           compact_mode=compact)[0]
+        return megno_integrator(model.heyoka_system(delta_shift=integrators.DELTA_SHIFT),
+                                pars=model.compile_pars(fp), tol=tol, fp_type=fp, compact_mode=compact)[0]
 
     return integrators.compiled(("megno", tol, long_double, compact), build)
 
@@ -261,7 +261,7 @@ def replica_exponents(ta, n: int, k: int, y0s, tau: float, *, T_round: float, ma
     the horizon per replica, the status and rule, the history per round (T, lambdas, stderrs),
     the log growth per step, vector and lane (steps, k, B; for finite-time statistics), the
     states at the renormalisations (for steadiness checks), the final states and the wall time."""
-    from .indicators import polynomial_rate_bound
+    from .chaos.verdicts import polynomial_rate_bound
 
     B = ta.batch_size
     if B < 2:

@@ -16,7 +16,8 @@ from collections.abc import Iterator
 
 import numpy as np
 
-from . import indicators, integrators, lyapunov
+from . import integrators, lyapunov
+from .chaos.common import linfit
 
 log = logging.getLogger("sleighsim")
 
@@ -98,7 +99,7 @@ def trend(t, x, *, rel_tol: float, sigma: float, last_fraction: float = 0.5, min
     if xk.size < min_points:
         return {**out, "verdict": UNDETERMINED,
                 "reason": f"{xk.size} finite windows in the last {last_fraction:g} of the run (need {min_points})"}
-    slope, slope_err, _, _ = indicators.linfit(tk, xk)
+    slope, slope_err, _, _ = linfit(tk, xk)
     span = float(tk.max() - tk.min())
     change, change_err = slope * span, slope_err * span
     out.update(slope=slope, slope_stderr=slope_err, change=change, change_stderr=change_err)

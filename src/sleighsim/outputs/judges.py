@@ -5,11 +5,10 @@ returns a :class:`~sleighsim.outputs.rules.Judgement` whose texts are composed f
 from __future__ import annotations
 
 import math
-import re
 
 import numpy as np
 
-from ..indicators import polynomial_rate_bound
+from ..chaos.verdicts import polynomial_rate_bound
 from ..model import rhs
 from ..params import Params
 from ..transient import phases
@@ -339,7 +338,7 @@ def c19(paper, protocol, spectrum) -> Judgement:
 
 def fake_rates(rows) -> np.ndarray:
     """Per row of lambda_1 rows (T, tau per row): the rate polynomial growth fakes over the row's
-    horizon, 2 ln(T / tau) / T (indicators.polynomial_rate_bound). A finite-time lambda_1 below
+    horizon, 2 ln(T / tau) / T (chaos.verdicts.polynomial_rate_bound). A finite-time lambda_1 below
     it does not show chaos: a regular orbit's tangent vector grows like a power of t."""
     return np.array([polynomial_rate_bound(T, tau) for T, tau in zip(rows["T"].values, rows["tau"].values)])
 
@@ -574,4 +573,38 @@ def d6(paper, audit) -> Judgement:
 
 
 #: Claim id -> judge.
-JUDGES = {name.upper(): fn for name, fn in dict(globals()).items() if re.fullmatch(r"[cd]\d+", name)}
+JUDGES = {
+    "C01": c01,
+    "C02": c02,
+    "C03": c03,
+    "C04": c04,
+    "C05": c05,
+    "C06": c06,
+    "C07": c07,
+    "C08": c08,
+    "C09": c09,
+    "C10": c10,
+    "C11": c11,
+    "C12": c12,
+    "C13": c13,
+    "C14": c14,
+    "C15": c15,
+    "C16": c16,
+    "C17": c17,
+    "C18": c18,
+    "C19": c19,
+    "C20": c20,
+    "C21": c21,
+    "C22": c22,
+    "C23": c23,
+    "C24": c24,
+    "C25": c25,
+    "C26": c26,
+    "C27": c27,
+    "D1": d1,
+    "D2": d2,
+    "D3": d3,
+    "D4": d4,
+    "D5": d5,
+    "D6": d6,
+}

@@ -1,5 +1,8 @@
 """Is the steady state chaotic? A verdict per steady state from independent indicators, and the
-class of each state in the reversible system (the report's first answer)."""
+class of each state in the reversible system (the report's first answer).
+
+The indicators, their judges and the decision rule are in ``sleighsim.chaos``; this module runs
+the sleigh's integrations for them and assembles the dataset."""
 
 from __future__ import annotations
 
@@ -11,7 +14,43 @@ import time
 import numpy as np
 import xarray as xr
 
-from .. import frequencies, indicators, integrators, lyapunov, model
+from .. import frequencies, integrators, lyapunov, model
+from ..chaos.frequency import (
+    frequency_drift,
+    frequency_log_ratio,
+    judge_frequency,
+    judged_run,
+)
+from ..chaos.orbits import (
+    d0_independent,
+    judge_loschmidt,
+    judge_loschmidt_run,
+    loschmidt,
+    loschmidt_fit,
+    loschmidt_indicator,
+    two_trajectory,
+    two_trajectory_indicator,
+)
+from ..chaos.rule import (
+    DECISION_RULE,
+    INDICATORS,
+    TANGENT_BASED,
+    classify,
+    consistent,
+    decide,
+    precision_gate,
+)
+from ..chaos.tangent import (
+    finite_time_exponents,
+    growth_confirmed,
+    judge_benettin,
+    judge_ftle,
+    judge_megno,
+    judge_megno_run,
+    megno,
+    megno_in_long_double,
+)
+from ..chaos.verdicts import CHAOTIC, REGULAR
 from ..integrate import integrate, orbit_samples, sample_grid
 from ..params import Params
 from ..symmetries import state_at_label
@@ -20,58 +59,10 @@ from ..transient import settle
 log = logging.getLogger("sleighsim")
 
 N_BLOCKS = 10  # consecutive blocks of the long-double run for its standard error
-INDICATORS = ("benettin", "ftle", "megno", "two_trajectory", "loschmidt", "frequency")
-TANGENT_BASED = ("benettin", "ftle", "megno")
 R = np.array([-1.0, -1.0, -1.0, 1.0])  # the reversing involution: (u, Omega, omega, delta) -> (-u, -Omega, -omega, delta)
 
 
-def judge_benettin(res: dict, tau: float, sigma: float) -> tuple[str, str]:
-    """The replicas' lambda_1: chaotic when resolved above the rate polynomial growth can fake over
-    the horizon (lambda_1 - sigma stderr > 2 ln(T / tau) / T); regular when the replica run says so
-    (lambda_1 + sigma stderr below that rate, itself below the configured floor); else undecided."""
-    lam, err, T = float(res["exponents"][0]), float(res["stderr"][0]), float(res["T"])
-    bound = indicators.polynomial_rate_bound(T, tau)
-    text = f"lambda_1 = {lam:.3g} +- {err:.2g} over T = {T:.3g} per replica ({res['status']}); bound {bound:.2g}"
-    if not (math.isfinite(lam) and math.isfinite(err)):
-        return indicators.UNDECIDED, "undetermined: " + text
-    if lam - sigma * err > bound:
-        return indicators.CHAOTIC, "exponential growth resolved: " + text
-    if res["status"] == "regular":
-        return indicators.REGULAR, "no growth beyond polynomial: " + text
-    return indicators.UNDECIDED, "neither resolved: " + text
-
-
-def consistent(verdict: str, reason: str, rate_a: float, err_a: float, others: dict, sigma: float) -> tuple[str, str]:
-    """Indicators that agree on "chaotic" must also agree on the rate: when the tangent-based lambda_1
-    (a) and the rate of an indicator without tangent dynamics that says chaotic (others: name ->
-    (rate, stderr)) differ by more than sigma combined standard errors and by more than a factor 2,
-    the verdict is "undecided" (one of them is biased)."""
-    if verdict != indicators.CHAOTIC:
-        return verdict, reason
-    for name, (rate_b, err_b) in others.items():
-        gap = abs(rate_a - rate_b)
-        if gap > sigma * math.hypot(err_a, err_b) and max(rate_a, rate_b) > 2 * min(rate_a, rate_b):
-            return indicators.UNDECIDED, (f"the indicators say chaotic but disagree on the rate: lambda_1 = {rate_a:.3g} "
-                                          f"+- {err_a:.2g} against {rate_b:.3g} +- {err_b:.2g} from {name}; {reason}")
-    return verdict, reason
-
-
-def classify(verdict: str, sum_all: float, sum_err: float, l1: float, l4: float, r_image: str, sigma: float) -> str:
-    """The class of a state of a reversible system: regular; chaotic with the sum of exponents resolved
-    negative -> "strange attractor" (its R-image a repeller when R sends it away), with the sum within
-    sigma stderr of 0 and lambda_1 about -lambda_4 -> "conservative-type chaos" when its R-image stays
-    on the state's image, "mixed dynamics" when it leaves; "undetermined" otherwise."""
-    if verdict == indicators.REGULAR:
-        return "regular"
-    if verdict != indicators.CHAOTIC or not all(math.isfinite(v) for v in (sum_all, sum_err, l1, l4)):
-        return "undetermined"
-    if sum_all + sigma * sum_err < 0:
-        return "strange attractor"
-    if abs(sum_all) <= sigma * sum_err and abs(l1 + l4) <= 0.5 * abs(l1):
-        return "conservative-type chaos" if r_image == "stays" else "mixed dynamics"
-    return "undetermined"
-
-
+# the docstring is written into the chaos_verdict dataset (attribute R_rule)
 def r_image(params, y, ref_mean, *, T: float, tol: float, rtol: float, scene: str) -> tuple[str, float]:
     """Where R sends a point of the state: integrate R y forward over T and compare the time means of
     (u, omega) over the second half with R applied to the state's own means. "stays" when within rtol
@@ -90,104 +81,114 @@ def one_state(params, y0, cfg: dict, scene: str) -> dict:
     y, pre = settle(params, y0, cfg["t_transient"], **cfg["transient"], tol=tol, label=scene, progress=1)
     replicas, record = orbit_samples(params, y, cfg["replicas"], cfg["replica_spacing"], tol=tol, scene=scene)
     mean_u_omega = np.array([record.u.values.mean(), record.omega.values.mean()])
-    B = cfg["replicas"]
-    ta, _ = lyapunov.sleigh_tangent_batch(B, tol, cfg["compact_mode"], k=4)
-    integrators.set_pars(ta, params)
-    res = lyapunov.replica_exponents(ta, 4, 4, replicas, tau, T_round=cfg["T_round"], max_rounds=cfg["max_rounds"],
-                                     target_rel=cfg["target_rel"], t_align=cfg["t_align"],
-                                     regular_floor=cfg["regular_floor"], sigma=sigma, label=scene)
+    res = replica_run(params, replicas, cfg, scene)
     values, errors, verdicts = {}, {}, {}
-    values["benettin"], errors["benettin"] = float(res["exponents"][0]), float(res["stderr"][0])
-    verdicts["benettin"] = judge_benettin(res, tau, sigma)
-    g = res["log_growth"][:, 0, 0]
-    windows = [w for w in cfg["ftle_windows"] if g.size * tau / w >= 2]
-    f = indicators.finite_time_exponents(g, tau, windows)
-    values["ftle"], errors["ftle"] = f["rate"], f["rate_err"]
-    verdicts["ftle"] = indicators.judge_ftle(f["rate"], f["rate_err"], f["T"], tau, f["spread_slope"],
-                                             f["spread_slope_err"], sigma=sigma)
-    m = megno_run(params, replicas[0], cfg)
-    values["megno"], errors["megno"] = 2 * m["slope"], 2 * m["slope_err"]
-    verdicts["megno"] = megno_double = judge_megno_run(m, cfg["T_megno"], sigma)
-    megno_precision = "double"
-    ld = {"lambda_1": math.nan, "stderr": math.nan, "check": "not run", "megno": None}
-    if any(verdicts[k][0] == indicators.CHAOTIC for k in TANGENT_BASED):
-        ld = precision_check(params, replicas[0], cfg, scene)
-        if ld["check"] != "confirmed":
-            for k in TANGENT_BASED:
-                if verdicts[k][0] == indicators.CHAOTIC:
-                    verdicts[k] = (indicators.UNDECIDED, f"{ld['reason']}; in double precision: {verdicts[k][1]}")
-        values["megno"], errors["megno"] = 2 * ld["megno"]["slope"], 2 * ld["megno"]["slope_err"]
-        megno_precision = "long double"
-        verdicts["megno"] = megno_in_long_double(judge_megno_run(ld["megno"], cfg["T_long_double"], sigma), ld,
-                                                 megno_double, cfg["T_long_double"], cfg["T_megno"])
+    m, ld, megno_double, megno_precision = _tangent_indicators(params, replicas, res, cfg, scene, values, errors, verdicts)
     freq = frequency_indicator(params, replicas[0], cfg, sigma)
     values["frequency"], errors["frequency"], verdicts["frequency"] = freq["value"], freq["error"], freq["verdict"]
     L, L_ld = loschmidt_run(params, replicas[0], cfg), loschmidt_run(params, replicas[0], cfg, long_double=True)
     los = loschmidt_indicator(L, L_ld, sigma)
     values["loschmidt"], errors["loschmidt"], verdicts["loschmidt"] = los["value"], los["error"], los["verdict"]
-    flow, _ = integrators.flow(False, tol)
-    integrators.set_pars(flow, params)
-    y_int = _stored(replicas[-1])
-    tts = [indicators.two_trajectory(flow, y_int, d0=d0, tau=tau, T=cfg["T_two"], t_align=cfg["t_align"],
-                                     callback=integrators.bounded(flow), difference=model.state_difference,
-                                     project=lambda ref, p: _on_level(ref, p, params)) for d0 in cfg["d0"]]
-    tt = tts[len(tts) // 2]
-    values["two_trajectory"], errors["two_trajectory"] = tt["rate"], tt["stderr"]
-    verdicts["two_trajectory"] = indicators.judge_two_trajectory(tt["rate"], tt["stderr"], tt["T"], tau,
-                                                                 tt["running_slope"], tt["running_slope_err"], sigma=sigma)
-    independent, why = indicators.d0_independent(cfg["d0"], [t["rate"] for t in tts], [t["stderr"] for t in tts],
-                                                  sigma=sigma)
-    if not independent:
-        v, r = verdicts["two_trajectory"]
-        verdicts["two_trajectory"] = (indicators.UNDECIDED, f"{why}; at d0 = {tt['d0']:g} alone: {v}: {r}")
-    verdict, reason, _ = indicators.decide(verdicts, TANGENT_BASED)
-    others = {k: (values[k], errors[k]) for k in INDICATORS
-              if k not in TANGENT_BASED and verdicts[k][0] == indicators.CHAOTIC}
+    flow, tts = two_trajectory_runs(params, replicas[-1], cfg)
+    two = two_trajectory_indicator(tts, cfg["d0"], tau, sigma)
+    values["two_trajectory"], errors["two_trajectory"], verdicts["two_trajectory"] = two["value"], two["error"], two["verdict"]
+    verdict, reason, _ = decide(verdicts, TANGENT_BASED)
+    others = {k: (values[k], errors[k]) for k in INDICATORS if k not in TANGENT_BASED and verdicts[k][0] == CHAOTIC}
     verdict, reason = consistent(verdict, reason, values["benettin"], errors["benettin"], others, sigma)
-    per = res["per_replica"]
-    sums = per.sum(axis=1)
-    s, s_err = float(sums.mean()), float(sums.std(ddof=1) / math.sqrt(B))
-    image, image_dist = r_image(params, replicas[0], mean_u_omega, T=cfg["T_R"], tol=tol, rtol=cfg["R_rtol"], scene=scene)
+    klass, s, s_err, image, image_dist = _class_facts(params, replicas[0], mean_u_omega, res, verdict, cfg, scene)
+    lam, tt = res["exponents"], tts[len(tts) // 2]
+    return {"verdict": verdict, "reason": reason, "klass": klass, "values": values, "errors": errors, "verdicts": verdicts,
+            "two_rates": [t["rate"] for t in tts], "two_stderrs": [t["stderr"] for t in tts],
+            "megno_t": m["t"], "megno_Y_mean": m["Y_mean"], "megno_final": m["final"],
+            "megno_t_ld": _or_nan(ld["megno"], "t", m["t"].size), "megno_Y_mean_ld": _or_nan(ld["megno"], "Y_mean", m["t"].size),
+            "megno_rate_double": 2 * m["slope"], "megno_rate_double_err": 2 * m["slope_err"],
+            "megno_verdict_double": megno_double[0], "megno_precision": megno_precision,
+            "loschmidt_error": L["rel_error"], "loschmidt_error_ld": L_ld["rel_error"],
+            "loschmidt_power": L_ld["pow_exponent"], "loschmidt_power_err": L_ld["pow_exponent_err"],
+            "loschmidt_tail_power": L_ld["tail_pow_exponent"], "loschmidt_tail_power_err": L_ld["tail_pow_exponent_err"],
+            "loschmidt_n_used": [L["n_used"], L_ld["n_used"]], "loschmidt_tail_n": [L["tail_n"], L_ld["tail_n"]],
+            "loschmidt_floor": [L["floor"] / L["scale"], L_ld["floor"] / L_ld["scale"]],
+            "loschmidt_verdict_double": los["verdict_double"], "frequency": freq, "ld_lambda_1": ld["lambda_1"],
+            "ld_stderr": ld["stderr"], "ld_check": ld["check"],
+            "exponents": lam, "stderr": res["stderr"], "T": float(res["T"]), "status": res["status"], "sum_all": s,
+            "sum_err": s_err, "r_image": image, "r_image_distance": image_dist, "mean_u": float(mean_u_omega[0]),
+            "mean_omega": float(mean_u_omega[1]), "transient_over": int(pre["transient_over"]), "T_two": float(tt["T"]),
+            "drift": float(abs(model.energy(integrators.read(flow, 4), params) / model.energy(y0, params) - 1))}
+
+
+def replica_run(params, replicas, cfg: dict, scene: str) -> dict:
+    """Benettin over the replicas (one SIMD lane each, 4 tangent vectors), ``lyapunov.replica_exponents``
+    at tol with tau, T_round, max_rounds, target_rel, t_align, regular_floor and sigma from cfg."""
+    ta, _ = lyapunov.sleigh_tangent_batch(cfg["replicas"], cfg["tol"], cfg["compact_mode"], k=4)
+    integrators.set_pars(ta, params)
+    return lyapunov.replica_exponents(ta, 4, 4, replicas, cfg["tau"], T_round=cfg["T_round"], max_rounds=cfg["max_rounds"],
+                                      target_rel=cfg["target_rel"], t_align=cfg["t_align"],
+                                      regular_floor=cfg["regular_floor"], sigma=cfg["sigma"], label=scene)
+
+
+def _tangent_indicators(params, replicas, res: dict, cfg: dict, scene: str, values: dict, errors: dict,
+                        verdicts: dict) -> tuple:
+    """The tangent-based indicators into values, errors and verdicts: Benettin from the replica run
+    res, the finite-time exponents of its first vector, MEGNO from the first replica; when one of
+    them says chaotic in double, the long-double precision check, which gates them and whose MEGNO
+    run is judged instead. Returns the double MEGNO run, the check (``precision_check``; "not run"
+    and no MEGNO run when not made), the double run's MEGNO verdict and the precision judged."""
+    tau, sigma = cfg["tau"], cfg["sigma"]
+    values["benettin"], errors["benettin"] = float(res["exponents"][0]), float(res["stderr"][0])
+    verdicts["benettin"] = judge_benettin(res, tau, sigma)
+    g = res["log_growth"][:, 0, 0]
+    windows = [w for w in cfg["ftle_windows"] if g.size * tau / w >= 2]
+    f = finite_time_exponents(g, tau, windows)
+    values["ftle"], errors["ftle"] = f["rate"], f["rate_err"]
+    verdicts["ftle"] = judge_ftle(f["rate"], f["rate_err"], f["T"], tau, f["spread_slope"], f["spread_slope_err"],
+                                  sigma=sigma)
+    m = megno_run(params, replicas[0], cfg)
+    values["megno"], errors["megno"] = 2 * m["slope"], 2 * m["slope_err"]
+    verdicts["megno"] = megno_double = judge_megno_run(m, cfg["T_megno"], sigma)
+    megno_precision = "double"
+    ld = {"lambda_1": math.nan, "stderr": math.nan, "check": "not run", "megno": None}
+    if any(verdicts[k][0] == CHAOTIC for k in TANGENT_BASED):
+        ld = precision_check(params, replicas[0], cfg, scene)
+        precision_gate(verdicts, ld)
+        values["megno"], errors["megno"] = 2 * ld["megno"]["slope"], 2 * ld["megno"]["slope_err"]
+        megno_precision = "long double"
+        verdicts["megno"] = megno_in_long_double(judge_megno_run(ld["megno"], cfg["T_long_double"], sigma), ld,
+                                                 megno_double, cfg["T_long_double"], cfg["T_megno"])
+    return m, ld, megno_double, megno_precision
+
+
+def two_trajectory_runs(params, y, cfg: dict) -> tuple:
+    """``chaos.orbits.two_trajectory`` from y (model variables) at each separation d0, in double at
+    tol over T_two (renormalised every tau, after t_align), the partner kept on the reference's
+    energy level. Returns (the flow integrator, the runs)."""
+    flow, _ = integrators.flow(False, cfg["tol"])
+    integrators.set_pars(flow, params)
+    y_int = _stored(y)
+    tts = [two_trajectory(flow, y_int, d0=d0, tau=cfg["tau"], T=cfg["T_two"], t_align=cfg["t_align"],
+                          callback=integrators.bounded(flow), difference=model.state_difference,
+                          project=lambda ref, p: _on_level(ref, p, params)) for d0 in cfg["d0"]]
+    return flow, tts
+
+
+def _class_facts(params, y, mean_u_omega, res: dict, verdict: str, cfg: dict, scene: str) -> tuple:
+    """The class of the state (``chaos.rule.classify``) from the verdict, the replicas' sum of
+    exponents (mean and standard error) and where R sends y (``r_image``). Returns (class, sum,
+    its stderr, R-image, its distance)."""
+    sums = res["per_replica"].sum(axis=1)
+    s, s_err = float(sums.mean()), float(sums.std(ddof=1) / math.sqrt(cfg["replicas"]))
+    image, image_dist = r_image(params, y, mean_u_omega, T=cfg["T_R"], tol=cfg["tol"], rtol=cfg["R_rtol"], scene=scene)
     lam = res["exponents"]
-    klass = classify(verdict, s, s_err, float(lam[0]), float(lam[3]), image, sigma)
-    return dict(verdict=verdict, reason=reason, klass=klass, values=values, errors=errors, verdicts=verdicts,
-                two_rates=[t["rate"] for t in tts], two_stderrs=[t["stderr"] for t in tts],
-                megno_t=m["t"], megno_Y_mean=m["Y_mean"], megno_final=m["final"],
-                megno_t_ld=_or_nan(ld["megno"], "t", m["t"].size), megno_Y_mean_ld=_or_nan(ld["megno"], "Y_mean", m["t"].size),
-                megno_rate_double=2 * m["slope"], megno_rate_double_err=2 * m["slope_err"],
-                megno_verdict_double=megno_double[0], megno_precision=megno_precision,
-                loschmidt_error=L["rel_error"], loschmidt_error_ld=L_ld["rel_error"],
-                loschmidt_power=L_ld["pow_exponent"], loschmidt_power_err=L_ld["pow_exponent_err"],
-                loschmidt_tail_power=L_ld["tail_pow_exponent"], loschmidt_tail_power_err=L_ld["tail_pow_exponent_err"],
-                loschmidt_n_used=[L["n_used"], L_ld["n_used"]], loschmidt_tail_n=[L["tail_n"], L_ld["tail_n"]],
-                loschmidt_floor=[L["floor"] / L["scale"], L_ld["floor"] / L_ld["scale"]],
-                loschmidt_verdict_double=los["verdict_double"], frequency=freq, ld_lambda_1=ld["lambda_1"], ld_stderr=ld["stderr"], ld_check=ld["check"],
-                exponents=lam, stderr=res["stderr"], T=float(res["T"]), status=res["status"], sum_all=s, sum_err=s_err,
-                r_image=image, r_image_distance=image_dist, mean_u=float(mean_u_omega[0]),
-                mean_omega=float(mean_u_omega[1]), transient_over=int(pre["transient_over"]), T_two=float(tt["T"]),
-                drift=float(abs(model.energy(integrators.read(flow, 4), params) / model.energy(y0, params) - 1)))
+    return classify(verdict, s, s_err, float(lam[0]), float(lam[3]), image, cfg["sigma"]), s, s_err, image, image_dist
 
 
 def loschmidt_run(params, y, cfg: dict, *, long_double: bool = False) -> dict:
-    """``indicators.loschmidt`` from y (model variables) with the involution R at loschmidt_n
+    """``chaos.orbits.loschmidt`` from y (model variables) with the involution R at loschmidt_n
     log-spaced T in loschmidt_T, relative to max |velocity|: in double at tol, or in long double at
     tol_long_double (rounding 2^11 smaller: the rounding floor is 3.3 decades lower)."""
     flow, _ = integrators.flow(False, cfg["tol_long_double"] if long_double else cfg["tol"], long_double)
     integrators.set_pars(flow, params)
-    return indicators.loschmidt(flow, _stored(y), loschmidt_T(cfg), lambda z: R * z, callback=integrators.bounded(flow),
-                                difference=model.state_difference, scale=float(np.max(np.abs(np.asarray(y)[:3]))))
-
-
-def loschmidt_indicator(L: dict, L_ld: dict, sigma: float) -> dict:
-    """The Loschmidt indicator, judged (``indicators.judge_loschmidt_run``) from the long-double run
-    L_ld, whose rounding floor is 2^11 lower, so its error stays unsaturated up to longer T; the
-    double run L's verdict is named in the reason and kept. Value and error: the long-double tail's
-    exponential rate and its least-squares error. Returns value, error, verdict ((verdict,
-    reason)) and verdict_double."""
-    double = indicators.judge_loschmidt_run(L, sigma=sigma)
-    v, r = indicators.judge_loschmidt_run(L_ld, sigma=sigma)
-    return dict(value=L_ld["tail_exp_rate"], error=L_ld["tail_exp_rate_err"],
-                verdict=(v, f"in long double: {r}; in double: {double[0]}"), verdict_double=double[0])
+    return loschmidt(flow, _stored(y), loschmidt_T(cfg), lambda z: R * z, callback=integrators.bounded(flow),
+                     difference=model.state_difference, scale=float(np.max(np.abs(np.asarray(y)[:3]))))
 
 
 PRECISIONS = ("double", "long double", "quad")  # the frequency indicator's runs, in order
@@ -199,20 +200,20 @@ def _frequency_tol(cfg: dict, precision: str) -> float:
 
 
 def frequency_run(params, y, cfg: dict, precision: str = "double") -> dict:
-    """``indicators.frequency_drift`` of the velocity frequency.component (u, Omega or omega) from y,
+    """``chaos.frequency.frequency_drift`` of the velocity frequency.component (u, Omega or omega) from y,
     sampled every frequency.dt: in double at tol over frequency.T, in long double at
     tol_long_double over frequency.T, or in quad at frequency.tol_quad over frequency.quad_T."""
     fc = cfg["frequency"]
     T = fc["quad_T"] if precision == "quad" else fc["T"]
     flow, _ = integrators.flow(False, _frequency_tol(cfg, precision), precision == "long double", precision == "quad")
     integrators.set_pars(flow, params)
-    return indicators.frequency_drift(flow, _stored(y), T=T, dt=fc["dt"],
-                                      component=model.STATE_NAMES.index(fc["component"]), splits=fc["splits"],
-                                      min_cycles=fc["min_cycles"], callback=integrators.bounded(flow))
+    return frequency_drift(flow, _stored(y), T=T, dt=fc["dt"], component=model.STATE_NAMES.index(fc["component"]),
+                           splits=fc["splits"], min_cycles=fc["min_cycles"], callback=integrators.bounded(flow))
 
 
+# the docstring is written into the chaos_verdict dataset (attribute frequency_rule)
 def frequency_indicator(params, y, cfg: dict, sigma: float) -> dict:
-    """The frequency-analysis indicator (``indicators.judge_frequency``): the double run first; while
+    """The frequency-analysis indicator (``chaos.frequency.judge_frequency``): the double run first; while
     the leading frequency has not converged (and the last run had at least two usable splits),
     the next precision: long double, then quad when frequency.quad_T > 0 (about 40 times the cost
     of long double per time unit; the cluster config makes it). Each run's drift is compared with
@@ -220,34 +221,28 @@ def frequency_indicator(params, y, cfg: dict, sigma: float) -> dict:
     per unit time, D / W at the longest window of the last run (1/time); error: that times D's
     ln-error. Returns value, error, verdict ((verdict, reason)) and runs (precision -> run, for
     the runs made)."""
-    made, judged = {}, []
+    made, judged, judgement = {}, [], None  # judgement: set by the double run, which is always made
     for prev, precision in zip((None, *PRECISIONS[:-1]), PRECISIONS):
-        if prev is not None and (verdict[0] == indicators.REGULAR or made[prev]["splits"].size < 2):
+        if prev is not None and (judgement[0] == REGULAR or made[prev]["splits"].size < 2):
             break
         if precision == "quad" and cfg["frequency"]["quad_T"] <= 0:
-            verdict = (verdict[0], verdict[1] + "; quad run not made (frequency.quad_T = 0; config/cluster.yaml makes it)")
+            judgement = (judgement[0], judgement[1] + "; quad run not made (frequency.quad_T = 0; config/cluster.yaml makes it)")
             break
         run = made[precision] = frequency_run(params, y, cfg, precision)
         ratio = {}
         if prev is not None:
-            log_ratio, log_ratio_err = indicators.frequency_log_ratio(made[prev], run)
+            log_ratio, log_ratio_err = frequency_log_ratio(made[prev], run)
             ratio = {"log_ratio": log_ratio, "log_ratio_err": log_ratio_err,
                      "rounding_ratio": _frequency_tol(cfg, prev) / _frequency_tol(cfg, precision)}
-        judged.append(_judged_run(precision, run, **ratio))
-        verdict = indicators.judge_frequency(judged, sigma=sigma)
+        judged.append(judged_run(precision, run, **ratio))
+        judgement = judge_frequency(judged, sigma=sigma)
     last = made[list(made)[-1]]
     if last["D"].size:
         value = float(last["D"][0] / last["W"][0])
         error = value * float(last["D_log_err"][0])
     else:
         value = error = math.nan
-    return {"value": value, "error": error, "verdict": verdict, "runs": made}
-
-
-def _judged_run(precision: str, run: dict, **ratio) -> dict:
-    """A ``frequency_drift`` run as ``indicators.judge_frequency`` takes it."""
-    return {"precision": precision, "slope": run["slope"], "slope_err": run["slope_err"],
-            "D": float(run["D"][0]) if run["D"].size else math.nan, **ratio}
+    return {"value": value, "error": error, "verdict": judgement, "runs": made}
 
 
 def frequency_table(runs: list, splits) -> dict:
@@ -271,8 +266,8 @@ def frequency_table(runs: list, splits) -> dict:
 
 def _loschmidt_settings() -> dict:
     """The Loschmidt engine's fixed settings (its defaults), as dataset attributes."""
-    run = inspect.signature(indicators.loschmidt).parameters
-    fit = inspect.signature(indicators.loschmidt_fit).parameters
+    run = inspect.signature(loschmidt).parameters
+    fit = inspect.signature(loschmidt_fit).parameters
     return {"loschmidt_floor_factor": run["floor_factor"].default, "loschmidt_saturation": run["saturation"].default,
             "loschmidt_tail_fraction": fit["tail"].default, "loschmidt_tail_min": fit["tail_min"].default}
 
@@ -284,32 +279,15 @@ def loschmidt_T(cfg: dict) -> np.ndarray:
 
 def megno_run(params, y, cfg: dict, *, long_double: bool = False) -> dict:
     """MEGNO from y (model variables), renormalised every tau, <Y> recorded at megno_samples times
-    (``indicators.megno``): over T_megno in double, or over T_long_double at tol_long_double in long
+    (``chaos.tangent.megno``): over T_megno in double, or over T_long_double at tol_long_double in long
     double."""
     tol, T = (cfg["tol_long_double"], cfg["T_long_double"]) if long_double else (cfg["tol"], cfg["T_megno"])
     ta, _ = lyapunov.sleigh_megno(tol, long_double, cfg["compact_mode"])
     integrators.set_pars(ta, params)
-    return indicators.megno(ta, 4, _stored(y), T=T, n_samples=cfg["megno_samples"], tau=cfg["tau"],
-                            callback=integrators.bounded(ta))
+    return megno(ta, 4, _stored(y), T=T, n_samples=cfg["megno_samples"], tau=cfg["tau"], callback=integrators.bounded(ta))
 
 
-def megno_in_long_double(v_ld: tuple[str, str], ld: dict, v_double: tuple[str, str], T_ld: float,
-                         T_double: float) -> tuple[str, str]:
-    """The MEGNO indicator when the long-double precision check ran: the long-double run's verdict
-    (v_ld), under the same gate as every tangent-based verdict (chaotic stands only when the check
-    confirmed exponential growth; else undecided); the double run's verdict (v_double) named in the
-    reason."""
-    v, r = v_ld
-    if v == indicators.CHAOTIC and ld["check"] != "confirmed":
-        v, r = indicators.UNDECIDED, f"{ld['reason']}; MEGNO alone: {r}"
-    return v, f"in long double over T = {T_ld:.3g}: {r}; in double over T = {T_double:.3g}: {v_double[0]}"
-
-
-def judge_megno_run(m: dict, T: float, sigma: float) -> tuple[str, str]:
-    """``indicators.judge_megno`` on a ``megno`` run over T."""
-    return indicators.judge_megno(m["final"], m["resid"], m["slope"], m["slope_err"], T, sigma=sigma)
-
-
+# the docstring is written into the chaos_verdict dataset (attribute precision_rule)
 def precision_check(params, y, cfg: dict, scene: str) -> dict:
     """One replica (from y, model variables) in long double over T_long_double, with MEGNO: a
     tangent-based chaotic verdict stands only if its tangent vector, too, grows exponentially:
@@ -324,11 +302,8 @@ def precision_check(params, y, cfg: dict, scene: str) -> dict:
     ("confirmed" | "not confirmed"), the reason and the run (``megno``)."""
     tau, sigma, T = cfg["tau"], cfg["sigma"], cfg["T_long_double"]
     m = megno_run(params, y, cfg, long_double=True)
-    g = m["log_growth"][int(math.ceil(cfg["t_align"] / tau)):]  # the alignment of the vector left out
-    blocks = np.array([b.sum() / (b.size * tau) for b in np.array_split(g, N_BLOCKS)])
-    lam, err = float(g.sum() / (g.size * tau)), float(blocks.std(ddof=1) / math.sqrt(N_BLOCKS))
-    bound = indicators.polynomial_rate_bound(T, tau)
-    ok = math.isfinite(lam) and math.isfinite(err) and lam - sigma * err > bound
+    g = m["log_growth"][math.ceil(cfg["t_align"] / tau):]  # the alignment of the vector left out
+    lam, err, bound, ok = growth_confirmed(g, tau, T, sigma, N_BLOCKS)
     text = (f"long double (tol {cfg['tol_long_double']:.2g}): lambda_1 = {lam:.3g} +- {err:.2g} over T = {T:.3g}, "
             f"bound {bound:.2g}")
     log.info("%s: precision check: %s", scene, text)
@@ -338,7 +313,7 @@ def precision_check(params, y, cfg: dict, scene: str) -> dict:
 
 def _stored(y) -> np.ndarray:
     """A state in the model's variables as the compiled sleigh integrators store it (the engines
-    of ``indicators`` take stored states): delta + DELTA_SHIFT in [0, 2 pi)."""
+    of ``sleighsim.chaos`` take stored states): delta + DELTA_SHIFT in [0, 2 pi)."""
     out = np.array(y, float)
     out[3] = (out[3] + integrators.DELTA_SHIFT) % (2 * math.pi)
     return out
@@ -362,7 +337,7 @@ def verdict(cfg: dict, scene: str = "") -> xr.Dataset:
     """The chaos verdict per steady state of cfg["states"] (name -> start state, scaled to the
     energy label): indicators (Benettin over independent replicas, the finite-time-exponent
     spread, MEGNO; two nearby orbits, the Loschmidt return error and frequency analysis without
-    tangent dynamics), combined by indicators.DECISION_RULE;
+    tangent dynamics), combined by chaos.rule.DECISION_RULE;
     the sum of exponents over replicas and the R-image test give the class."""
     start = time.perf_counter()
     params = Params.from_config(cfg["params"])
@@ -380,85 +355,128 @@ def verdict(cfg: dict, scene: str = "") -> xr.Dataset:
         return np.array([o[key] for o in out])
 
     ds = xr.Dataset(
-        {
-            "verdict": ("state", per_state("verdict").astype(object)),
-            "reason": ("state", per_state("reason").astype(object)),
-            "state_class": ("state", per_state("klass").astype(object)),
-            "indicator_value": (("state", "indicator"), [[o["values"][i] for i in ind] for o in out], {"units": "1/time"}),
-            "indicator_uncertainty": (("state", "indicator"), [[o["errors"][i] for i in ind] for o in out],
-                                      {"units": "1/time", "long_name": "standard error (replicas or blocks)"}),
-            "indicator_verdict": (("state", "indicator"), np.array([[o["verdicts"][i][0] for i in ind] for o in out],
-                                                                    dtype=object)),
-            "indicator_reason": (("state", "indicator"), np.array([[o["verdicts"][i][1] for i in ind] for o in out],
-                                                                   dtype=object)),
-            "exponent": (("state", "i"), per_state("exponents"), {"units": "1/time"}),
-            "stderr": (("state", "i"), per_state("stderr"), {"units": "1/time"}),
-            "sum_exponents": ("state", per_state("sum_all"), {"units": "1/time"}),
-            "sum_exponents_stderr": ("state", per_state("sum_err"), {"units": "1/time"}),
-            "R_image": ("state", per_state("r_image").astype(object)),
-            "R_image_distance": ("state", per_state("r_image_distance")),
-            "mean_u": ("state", per_state("mean_u")), "mean_omega": ("state", per_state("mean_omega")),
-            "transient_over": ("state", per_state("transient_over")),
-            "T": ("state", per_state("T"), {"long_name": "Benettin horizon per replica", "units": "time"}),
-            "energy_max_rel_drift": ("state", per_state("drift")),
-            "two_trajectory_rate": (("state", "d0"), per_state("two_rates"), {"units": "1/time"}),
-            "two_trajectory_stderr": (("state", "d0"), per_state("two_stderrs"), {"units": "1/time"}),
-            "megno_Y_mean": (("state", "megno_sample"), per_state("megno_Y_mean"),
-                             {"long_name": "MEGNO running mean <Y> (2: torus with shear, 0: periodic, ~lambda t / 2: chaos)"}),
-            "megno_t": (("state", "megno_sample"), per_state("megno_t"), {"units": "time"}),
-            "megno_final": ("state", per_state("megno_final"), {"long_name": "MEGNO <Y> at T_megno, double run"}),
-            "megno_rate_double": ("state", per_state("megno_rate_double"),
-                                  {"units": "1/time", "long_name": "2 x slope of <Y>, double run (~ lambda_1)"}),
-            "megno_rate_double_stderr": ("state", per_state("megno_rate_double_err"), {"units": "1/time"}),
-            "megno_verdict_double": ("state", per_state("megno_verdict_double").astype(object)),
-            "megno_precision": ("state", per_state("megno_precision").astype(object),
-                                {"long_name": "precision of the run the MEGNO indicator is judged from"}),
-            "megno_Y_mean_long_double": (("state", "megno_sample"), per_state("megno_Y_mean_ld"),
-                                         {"long_name": "MEGNO <Y> of the long-double precision check (NaN: not run)"}),
-            "megno_t_long_double": (("state", "megno_sample"), per_state("megno_t_ld"), {"units": "time"}),
-            "loschmidt_rel_error": (("state", "T_loschmidt"), per_state("loschmidt_error"),
-                                    {"long_name": "return error (forward T, R, forward T) / max |velocity|, double at tol"}),
-            "loschmidt_rel_error_long_double": (("state", "T_loschmidt"), per_state("loschmidt_error_ld"),
-                                                {"long_name": "the same in long double at tol_long_double (judged)"}),
-            "loschmidt_verdict_double": ("state", per_state("loschmidt_verdict_double").astype(object),
-                                         {"long_name": "the Loschmidt verdict of the double run (reported, not judged)"}),
-            "loschmidt_power": ("state", per_state("loschmidt_power"),
-                                {"long_name": "exponent p of the power fit error ~ T^p over all usable points, long double"}),
-            "loschmidt_power_stderr": ("state", per_state("loschmidt_power_err"),
-                                       {"long_name": "least-squares error of that exponent"}),
-            "loschmidt_tail_power": ("state", per_state("loschmidt_tail_power"),
-                                     {"long_name": "the same over the tail (the last half of the usable points)"}),
-            "loschmidt_tail_power_stderr": ("state", per_state("loschmidt_tail_power_err"),
-                                            {"long_name": "least-squares error of the tail's exponent"}),
-            "loschmidt_n_used": (("state", "precision"), per_state("loschmidt_n_used"),
-                                 {"long_name": "return errors between rounding floor and saturation"}),
-            "loschmidt_tail_n": (("state", "precision"), per_state("loschmidt_tail_n"),
-                                 {"long_name": "of which in the tail"}),
-            "loschmidt_floor": (("state", "precision"), per_state("loschmidt_floor"),
-                                {"long_name": "rounding floor (relative): floor_factor x machine epsilon"}),
-            "frequency_drift": (("state", "frequency_precision", "split"), ft["D"],
-                                {"long_name": "spread of the leading frequency over the windows T / split, relative to "
-                                              "its mean (NaN: split left out, or run not made)"}),
-            "frequency_window": (("state", "frequency_precision", "split"), ft["W"], {"units": "time"}),
-            "frequency_slope": (("state", "frequency_precision"), ft["slope"],
-                                {"long_name": "convergence exponent of that spread, D ~ W^slope, longest to shortest window"}),
-            "frequency_slope_stderr": (("state", "frequency_precision"), ft["slope_err"]),
-            "frequency_leading": (("state", "frequency_precision"), ft["f"],
-                                  {"units": "1/time", "long_name": "leading frequency"}),
-            "lambda_1_long_double": ("state", per_state("ld_lambda_1"), {"units": "1/time"}),
-            "lambda_1_long_double_stderr": ("state", per_state("ld_stderr"), {"units": "1/time"}),
-            "precision_check": ("state", per_state("ld_check").astype(object),
-                                {"long_name": "long-double check of tangent-based chaotic verdicts (precision_rule)"}),
-        },
+        {**_verdict_vars(per_state, out, ind), **_state_vars(per_state), **_megno_vars(per_state),
+         **_loschmidt_vars(per_state), **_frequency_vars(ft), **_long_double_vars(per_state)},
         coords={"state": names, "indicator": ind, "i": np.arange(1, 5), "d0": np.asarray(cfg["d0"], float),
                 "T_loschmidt": loschmidt_T(cfg), "precision": ["double", "long double"],
                 "split": np.asarray(fc["splits"], int), "frequency_precision": list(PRECISIONS),
                 "tangent_based": ("indicator", [int(i in TANGENT_BASED) for i in ind])},
     )
+    _set_attrs(ds, cfg, params, per_state, start)
+    return ds
+
+
+def _verdict_vars(per_state, out: list, ind: list) -> dict:
+    """The dataset's verdict, reason and class per state and value, uncertainty, verdict and reason per indicator."""
+    return {
+        "verdict": ("state", per_state("verdict").astype(object)),
+        "reason": ("state", per_state("reason").astype(object)),
+        "state_class": ("state", per_state("klass").astype(object)),
+        "indicator_value": (("state", "indicator"), [[o["values"][i] for i in ind] for o in out], {"units": "1/time"}),
+        "indicator_uncertainty": (("state", "indicator"), [[o["errors"][i] for i in ind] for o in out],
+                                  {"units": "1/time", "long_name": "standard error (replicas or blocks)"}),
+        "indicator_verdict": (("state", "indicator"), np.array([[o["verdicts"][i][0] for i in ind] for o in out],
+                                                                dtype=object)),
+        "indicator_reason": (("state", "indicator"), np.array([[o["verdicts"][i][1] for i in ind] for o in out],
+                                                               dtype=object)),
+    }
+
+
+def _state_vars(per_state) -> dict:
+    """The dataset's Lyapunov exponents, class facts and settling facts per state, and the two-trajectory rates."""
+    return {
+        "exponent": (("state", "i"), per_state("exponents"), {"units": "1/time"}),
+        "stderr": (("state", "i"), per_state("stderr"), {"units": "1/time"}),
+        "sum_exponents": ("state", per_state("sum_all"), {"units": "1/time"}),
+        "sum_exponents_stderr": ("state", per_state("sum_err"), {"units": "1/time"}),
+        "R_image": ("state", per_state("r_image").astype(object)),
+        "R_image_distance": ("state", per_state("r_image_distance")),
+        "mean_u": ("state", per_state("mean_u")), "mean_omega": ("state", per_state("mean_omega")),
+        "transient_over": ("state", per_state("transient_over")),
+        "T": ("state", per_state("T"), {"long_name": "Benettin horizon per replica", "units": "time"}),
+        "energy_max_rel_drift": ("state", per_state("drift")),
+        "two_trajectory_rate": (("state", "d0"), per_state("two_rates"), {"units": "1/time"}),
+        "two_trajectory_stderr": (("state", "d0"), per_state("two_stderrs"), {"units": "1/time"}),
+    }
+
+
+def _megno_vars(per_state) -> dict:
+    """The dataset's MEGNO runs per state."""
+    return {
+        "megno_Y_mean": (("state", "megno_sample"), per_state("megno_Y_mean"),
+                         {"long_name": "MEGNO running mean <Y> (2: torus with shear, 0: periodic, ~lambda t / 2: chaos)"}),
+        "megno_t": (("state", "megno_sample"), per_state("megno_t"), {"units": "time"}),
+        "megno_final": ("state", per_state("megno_final"), {"long_name": "MEGNO <Y> at T_megno, double run"}),
+        "megno_rate_double": ("state", per_state("megno_rate_double"),
+                              {"units": "1/time", "long_name": "2 x slope of <Y>, double run (~ lambda_1)"}),
+        "megno_rate_double_stderr": ("state", per_state("megno_rate_double_err"), {"units": "1/time"}),
+        "megno_verdict_double": ("state", per_state("megno_verdict_double").astype(object)),
+        "megno_precision": ("state", per_state("megno_precision").astype(object),
+                            {"long_name": "precision of the run the MEGNO indicator is judged from"}),
+        "megno_Y_mean_long_double": (("state", "megno_sample"), per_state("megno_Y_mean_ld"),
+                                     {"long_name": "MEGNO <Y> of the long-double precision check (NaN: not run)"}),
+        "megno_t_long_double": (("state", "megno_sample"), per_state("megno_t_ld"), {"units": "time"}),
+    }
+
+
+def _loschmidt_vars(per_state) -> dict:
+    """The dataset's Loschmidt return errors and fits per state."""
+    return {
+        "loschmidt_rel_error": (("state", "T_loschmidt"), per_state("loschmidt_error"),
+                                {"long_name": "return error (forward T, R, forward T) / max |velocity|, double at tol"}),
+        "loschmidt_rel_error_long_double": (("state", "T_loschmidt"), per_state("loschmidt_error_ld"),
+                                            {"long_name": "the same in long double at tol_long_double (judged)"}),
+        "loschmidt_verdict_double": ("state", per_state("loschmidt_verdict_double").astype(object),
+                                     {"long_name": "the Loschmidt verdict of the double run (reported, not judged)"}),
+        "loschmidt_power": ("state", per_state("loschmidt_power"),
+                            {"long_name": "exponent p of the power fit error ~ T^p over all usable points, long double"}),
+        "loschmidt_power_stderr": ("state", per_state("loschmidt_power_err"),
+                                   {"long_name": "least-squares error of that exponent"}),
+        "loschmidt_tail_power": ("state", per_state("loschmidt_tail_power"),
+                                 {"long_name": "the same over the tail (the last half of the usable points)"}),
+        "loschmidt_tail_power_stderr": ("state", per_state("loschmidt_tail_power_err"),
+                                        {"long_name": "least-squares error of the tail's exponent"}),
+        "loschmidt_n_used": (("state", "precision"), per_state("loschmidt_n_used"),
+                             {"long_name": "return errors between rounding floor and saturation"}),
+        "loschmidt_tail_n": (("state", "precision"), per_state("loschmidt_tail_n"),
+                             {"long_name": "of which in the tail"}),
+        "loschmidt_floor": (("state", "precision"), per_state("loschmidt_floor"),
+                            {"long_name": "rounding floor (relative): floor_factor x machine epsilon"}),
+    }
+
+
+def _frequency_vars(ft: dict) -> dict:
+    """The dataset's frequency analysis per state and precision (``frequency_table``)."""
+    return {
+        "frequency_drift": (("state", "frequency_precision", "split"), ft["D"],
+                            {"long_name": "spread of the leading frequency over the windows T / split, relative to "
+                                          "its mean (NaN: split left out, or run not made)"}),
+        "frequency_window": (("state", "frequency_precision", "split"), ft["W"], {"units": "time"}),
+        "frequency_slope": (("state", "frequency_precision"), ft["slope"],
+                            {"long_name": "convergence exponent of that spread, D ~ W^slope, longest to shortest window"}),
+        "frequency_slope_stderr": (("state", "frequency_precision"), ft["slope_err"]),
+        "frequency_leading": (("state", "frequency_precision"), ft["f"],
+                              {"units": "1/time", "long_name": "leading frequency"}),
+    }
+
+
+def _long_double_vars(per_state) -> dict:
+    """The dataset's long-double precision check per state."""
+    return {
+        "lambda_1_long_double": ("state", per_state("ld_lambda_1"), {"units": "1/time"}),
+        "lambda_1_long_double_stderr": ("state", per_state("ld_stderr"), {"units": "1/time"}),
+        "precision_check": ("state", per_state("ld_check").astype(object),
+                            {"long_name": "long-double check of tangent-based chaotic verdicts (precision_rule)"}),
+    }
+
+
+def _set_attrs(ds: xr.Dataset, cfg: dict, params, per_state, start: float) -> None:
+    """The dataset's attributes: the rules (from the judges' docstrings), the settings and the wall time since start."""
+    fc = cfg["frequency"]
     ds.attrs.update(
-        rule=indicators.DECISION_RULE + "; then " + " ".join(consistent.__doc__.split()), class_rule=" ".join(classify.__doc__.split()),
+        rule=DECISION_RULE + "; then " + " ".join(consistent.__doc__.split()), class_rule=" ".join(classify.__doc__.split()),
         precision_rule=" ".join(precision_check.__doc__.split()),
-        d0_rule=" ".join(indicators.d0_independent.__doc__.split()), T_long_double=cfg["T_long_double"],
+        d0_rule=" ".join(d0_independent.__doc__.split()), T_long_double=cfg["T_long_double"],
         tol_long_double=cfg["tol_long_double"], compact_mode=int(cfg["compact_mode"]),
         benettin_rule=" ".join(judge_benettin.__doc__.split()), R_rule=" ".join(r_image.__doc__.split()),
         uncertainty="Benettin: standard error over independent replicas along the settled orbit; FTLE: window "
@@ -467,19 +485,18 @@ def verdict(cfg: dict, scene: str = "") -> xr.Dataset:
                     "Loschmidt: least-squares error of the exponential fit over the long-double run's tail; frequency: D's "
                     "ln-error 1/sqrt(2 (K - 1)) for K windows (sample standard deviation of K values); long double: "
                     "consecutive blocks of one replica's MEGNO run",
-        megno_rule=" ".join(indicators.judge_megno.__doc__.split()),
-        frequency_rule=" ".join((frequency_indicator.__doc__ + " " + indicators.judge_frequency.__doc__ + " "
-                                 + indicators.frequency_log_ratio.__doc__).split()),
+        megno_rule=" ".join(judge_megno.__doc__.split()),
+        frequency_rule=" ".join((frequency_indicator.__doc__ + " " + judge_frequency.__doc__ + " "
+                                 + frequency_log_ratio.__doc__).split()),
         frequency_method=" ".join(frequencies.drift.__doc__.split()), frequency_T=fc["T"], frequency_dt=fc["dt"],
         frequency_component=fc["component"], frequency_min_cycles=fc["min_cycles"], frequency_quad_T=fc["quad_T"],
         frequency_tol_quad=fc["tol_quad"],
-        loschmidt_rule=" ".join((loschmidt_indicator.__doc__ + " " + indicators.judge_loschmidt_run.__doc__ + " "
-                                 + indicators.judge_loschmidt.__doc__).split()),
-        loschmidt_fit=" ".join(indicators.loschmidt_fit.__doc__.split()), **_loschmidt_settings(), T_megno=cfg["T_megno"],
+        loschmidt_rule=" ".join((loschmidt_indicator.__doc__ + " " + judge_loschmidt_run.__doc__ + " "
+                                 + judge_loschmidt.__doc__).split()),
+        loschmidt_fit=" ".join(loschmidt_fit.__doc__.split()), **_loschmidt_settings(), T_megno=cfg["T_megno"],
         loschmidt_T=list(cfg["loschmidt_T"]), loschmidt_n=cfg["loschmidt_n"],
         param_eps=params.eps, param_b=params.b, param_K2=params.K2, energy_label=cfg["energy_label"], tol=cfg["tol"],
         tau=cfg["tau"], replicas=cfg["replicas"], replica_spacing=cfg["replica_spacing"],
         T_two=cfg["T_two"], T_R=cfg["T_R"], backend="heyoka", wall_time_s=time.perf_counter() - start,
         transient_over=int(np.all(per_state("transient_over") == 1)),
     )
-    return ds

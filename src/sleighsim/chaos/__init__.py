@@ -1,0 +1,22 @@
+"""Is an orbit chaotic? Chaos indicators, their judges and the decision rule, in one place.
+
+Import from the submodules (nothing is re-exported here):
+
+* ``tangent``: tangent-based indicators: finite-time exponents (``finite_time_exponents``,
+  ``judge_ftle``), MEGNO (``megno_integrator``, ``megno``, ``judge_megno``), the replicas'
+  Benettin lambda_1 (``judge_benettin``) and the long-double precision check (``growth_confirmed``,
+  ``megno_in_long_double``).
+* ``orbits``: indicators without tangent dynamics built on pairs of orbits: two nearby
+  trajectories (``two_trajectory``, ``judge_two_trajectory``, ``d0_independent``) and the Loschmidt
+  return error (``loschmidt``, ``loschmidt_fit``, ``judge_loschmidt``, ``judge_loschmidt_run``).
+* ``frequency``: frequency analysis without tangent dynamics (``frequency_drift``,
+  ``judge_frequency``, ``frequency_log_ratio``; the analysis itself is ``sleighsim.frequencies``).
+* ``rule``: the decision rule (``DECISION_RULE``, ``decide``, ``consistent``, ``precision_gate``),
+  the indicator names (``INDICATORS``, ``TANGENT_BASED``) and the state's class (``classify``).
+* ``verdicts``: the verdicts (``CHAOTIC``, ``REGULAR``, ``UNDECIDED``) and the judges' shared helpers
+  (``polynomial_rate_bound``); ``common``: argument checks and ``linfit``; ``propagate``: the
+  engines' propagation legs and their conventions.
+
+Times are in the flow's own time unit, exponents in 1/time, logs natural. The sleigh's chaos
+verdict (``scenes.verdict``) runs the integrations and assembles the dataset.
+"""

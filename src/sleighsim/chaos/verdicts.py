@@ -1,0 +1,53 @@
+"""The three verdicts and the helpers every judge uses.
+
+Judges map measured numbers to ("chaotic" | "regular" | "undecided", reason). NaN inputs
+give "undecided"; every uncertainty enters so that a larger uncertainty can only move a
+verdict towards "undecided". Rates are in 1/time (the flow's own time unit), natural logs;
+``sigma`` counts standard errors. ``rule.decide`` combines judges by ``rule.DECISION_RULE``.
+"""
+
+from __future__ import annotations
+
+import math
+
+from .common import _positive
+
+CHAOTIC, REGULAR, UNDECIDED = "chaotic", "regular", "undecided"
+VERDICTS = (CHAOTIC, REGULAR, UNDECIDED)
+
+
+def _g(v):
+    return f"{float(v):.3g}"
+
+
+def polynomial_rate_bound(T, tau, degree=2.0):
+    """Largest apparent exponent (1/time) that polynomial growth can fake: a vector growing
+    like (t / tau)^degree over a horizon T has log growth degree * ln(T / tau), i.e. an
+    apparent rate degree * ln(T / tau) / T. Regular orbits (linear growth on a sheared
+    torus) stay below it for degree >= 1; a chaotic verdict must exceed it."""
+    T = _positive("T", T)
+    tau = _positive("tau", tau)
+    if not (math.isfinite(degree) and degree > 0):
+        raise ValueError(f"degree must be positive, got {degree!r}")
+    return degree * math.log(max(T / tau, math.e)) / T
+
+
+def _check_judge(names_values, errors=(), sigma=3.0):
+    """None if all finite (ValueError for negative uncertainties or sigma), else an
+    "undecided" verdict naming the NaN inputs."""
+    bad = [k for k, v in names_values if not _is_finite(v)]
+    if bad:
+        return UNDECIDED, "not finite: " + ", ".join(bad)
+    if not (math.isfinite(sigma) and sigma >= 0):
+        raise ValueError(f"sigma must be >= 0, got {sigma!r}")
+    for k, v in errors:
+        if float(v) < 0:
+            raise ValueError(f"{k} must be >= 0, got {v!r}")
+    return None
+
+
+def _is_finite(v):
+    try:
+        return math.isfinite(float(v))
+    except (TypeError, ValueError):
+        return False
