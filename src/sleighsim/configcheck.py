@@ -212,7 +212,7 @@ def check(config: dict, available_memory: float | None = None) -> None:
             except ValueError as err:
                 raise ConfigError(f"{w}.params: {err}") from None
         for role, source in cfg.get("inputs", {}).items():
-            if source not in scenes or KINDS[scenes[source]["kind"]].function is None:
+            if source not in scenes or not KINDS[scenes[source]["kind"]].dataset:
                 raise ConfigError(f"{w}.inputs.{role} = {source!r} is not a scene of the config that makes a dataset")
         if kind in CROSS_FIELD:
             CROSS_FIELD[kind](w, cfg)

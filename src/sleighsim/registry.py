@@ -1,8 +1,8 @@
 """What the workflow builds, declared once.
 
 - Scenes live in the config: each block under ``scenes`` names its ``kind``; the dataset is
-  ``results/data/<scene>.nc``. :data:`KINDS` says which function computes each kind and which
-  other datasets (by role, named in the block's ``inputs``) it reads.
+  ``results/data/<scene>.nc``. :data:`KINDS` says how each kind runs and which other datasets
+  (by role, named in the block's ``inputs``) it reads; :mod:`sleighsim.scenes` imports its function.
 - :data:`FIGURES`: every figure, the datasets its plot function reads (in order), the paper's
   figure id and the claims it illustrates.
 - :data:`EVIDENCE`: the datasets each claim of ``paper/CLAIMS.md`` is judged from (in the order
@@ -20,43 +20,44 @@ from dataclasses import dataclass
 
 @dataclass(frozen=True)
 class Kind:
-    """How a scene kind is computed: ``function`` is "module:function" in :mod:`sleighsim.scenes`
-    (config block in, Dataset out); ``inputs`` are the roles of the datasets it reads; a
-    ``chunked`` kind runs as independent chunk jobs ("module:chunk") gathered by "module:gather";
-    a kind that ``integrates`` takes the config's ``defaults`` (the tolerance) unless its block sets them."""
+    """How a scene kind is computed: ``dataset`` is False for a kind drawn from its config block
+    alone (no dataset); ``inputs`` are the roles of the datasets it reads; a ``chunked`` kind runs as
+    independent chunk jobs gathered by one job; a kind that ``integrates`` takes the config's
+    ``defaults`` (the tolerance) unless its block sets them. The function of each kind is imported
+    by :func:`sleighsim.scenes.function` (and :func:`sleighsim.scenes.chunk_functions`)."""
 
-    function: str | None
+    dataset: bool = True
     inputs: tuple[str, ...] = ()
     chunked: bool = False
     integrates: bool = True
 
 
 KINDS: dict[str, Kind] = {
-    "schematic": Kind(None, integrates=False),  # drawn from its config block; no dataset
-    "sleigh0": Kind("trajectories:sleigh0"),
-    "trajectory": Kind("trajectories:trajectory"),
-    "attractor_levels": Kind("transients:attractor_levels"),
-    "transient_scaling": Kind("transients:transient_scaling"),
-    "series_vs_exact": Kind("hierarchy:series_vs_exact"),
-    "hierarchy_terms": Kind("hierarchy:hierarchy_terms"),
-    "hierarchy_audit": Kind("hierarchy:hierarchy_audit"),
-    "poincare": Kind("steady_state:poincare_maps"),
-    "psd": Kind("steady_state:psd"),
-    "attractor_scaling": Kind("steady_state:attractor_scaling", inputs=("reference", "scaled"), integrates=False),
-    "lyapunov_spectrum": Kind("exponents:spectrum"),
-    "lyapunov_protocol": Kind("exponents:protocol"),
-    "lyapunov_energy": Kind("exponents:energy_sweep"),
-    "small_eps_cost": Kind("exponents:small_eps_cost"),
-    "formal_exponents": Kind("exponents:formal_exponents"),
-    "lyapunov_grid": Kind("grid:chunk", chunked=True),
-    "chaos_verdict": Kind("verdict:verdict"),
-    "drift_windows": Kind("drift:drift_windows"),
-    "basins": Kind("basins:chunk", chunked=True),
-    "printed_model": Kind("audit:printed_model"),
-    "k2_sweep": Kind("causes:k2_sweep"),
-    "integration_error": Kind("causes:integration_error"),
-    "hardcases": Kind("hardcases:hardcases"),
-    "bench": Kind("bench:bench", integrates=False),
+    "schematic": Kind(dataset=False, integrates=False),  # drawn from its config block; no dataset
+    "sleigh0": Kind(),
+    "trajectory": Kind(),
+    "attractor_levels": Kind(),
+    "transient_scaling": Kind(),
+    "series_vs_exact": Kind(),
+    "hierarchy_terms": Kind(),
+    "hierarchy_audit": Kind(),
+    "poincare": Kind(),
+    "psd": Kind(),
+    "attractor_scaling": Kind(inputs=("reference", "scaled"), integrates=False),
+    "lyapunov_spectrum": Kind(),
+    "lyapunov_protocol": Kind(),
+    "lyapunov_energy": Kind(),
+    "small_eps_cost": Kind(),
+    "formal_exponents": Kind(),
+    "lyapunov_grid": Kind(chunked=True),
+    "chaos_verdict": Kind(),
+    "drift_windows": Kind(),
+    "basins": Kind(chunked=True),
+    "printed_model": Kind(),
+    "k2_sweep": Kind(),
+    "integration_error": Kind(),
+    "hardcases": Kind(),
+    "bench": Kind(integrates=False),
 }
 
 
@@ -203,7 +204,7 @@ def datasets(config: dict, *, on_request: bool = False) -> list[str]:
     """The scenes of ``config`` that make a dataset: those built in the full run, or with
     ``on_request`` also those built only when asked for."""
     return [name for name, block in config["scenes"].items()
-            if KINDS[block["kind"]].function is not None and (on_request or not block.get("on_request", False))]
+            if KINDS[block["kind"]].dataset and (on_request or not block.get("on_request", False))]
 
 
 def figures_built(config: dict, *, on_request: bool = False) -> list[str]:

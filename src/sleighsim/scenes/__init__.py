@@ -1,25 +1,85 @@
 """Scenes: one module per analysis stage; each function takes its config block (and the paths
-of the datasets it reads, by role) and returns one Dataset. Which function computes a scene
-is declared once, by its ``kind``, in :data:`sleighsim.registry.KINDS`."""
+of the datasets it reads, by role) and returns one Dataset. :func:`function` imports the function
+of each kind (:data:`sleighsim.registry.KINDS` says how the kind runs), so a job loads only the
+module it needs and a reader can follow a kind to its code."""
 
 from __future__ import annotations
 
-from importlib import import_module
+from collections.abc import Callable
 
 import xarray as xr
 
 from ..registry import KINDS
 
 
-def _function(kind: str, name: str | None = None):
-    module, function = KINDS[kind].function.split(":")
-    return getattr(import_module(f"{__name__}.{module}"), name or function)
+def function(kind: str) -> Callable[..., xr.Dataset]:
+    """The function that computes a scene of ``kind`` (a chunked kind: see :func:`chunk_functions`)."""
+    match kind:
+        case "sleigh0":
+            from .trajectories import sleigh0 as f
+        case "trajectory":
+            from .trajectories import trajectory as f
+        case "attractor_levels":
+            from .transients import attractor_levels as f
+        case "transient_scaling":
+            from .transients import transient_scaling as f
+        case "series_vs_exact":
+            from .hierarchy import series_vs_exact as f
+        case "hierarchy_terms":
+            from .hierarchy import hierarchy_terms as f
+        case "hierarchy_audit":
+            from .hierarchy import hierarchy_audit as f
+        case "poincare":
+            from .steady_state import poincare_maps as f
+        case "psd":
+            from .steady_state import psd as f
+        case "attractor_scaling":
+            from .steady_state import attractor_scaling as f
+        case "lyapunov_spectrum":
+            from .exponents import spectrum as f
+        case "lyapunov_protocol":
+            from .exponents import protocol as f
+        case "lyapunov_energy":
+            from .exponents import energy_sweep as f
+        case "small_eps_cost":
+            from .exponents import small_eps_cost as f
+        case "formal_exponents":
+            from .exponents import formal_exponents as f
+        case "chaos_verdict":
+            from .verdict import verdict as f
+        case "drift_windows":
+            from .drift import drift_windows as f
+        case "printed_model":
+            from .audit import printed_model as f
+        case "k2_sweep":
+            from .causes import k2_sweep as f
+        case "integration_error":
+            from .causes import integration_error as f
+        case "hardcases":
+            from .hardcases import hardcases as f
+        case "bench":
+            from .bench import bench as f
+        case _:
+            raise KeyError(f"scene kind {kind!r} has no function here (chunked or drawn without a dataset?)")
+    return f
+
+
+def chunk_functions(kind: str) -> tuple[Callable[..., xr.Dataset], Callable[..., xr.Dataset]]:
+    """(chunk, gather) of a chunked kind: chunk k of the scene, and the dataset from its chunk files."""
+    match kind:
+        case "lyapunov_grid":
+            from .grid import chunk, gather
+        case "basins":
+            from .basins import chunk, gather
+        case _:
+            raise KeyError(f"scene kind {kind!r} is not chunked")
+    return chunk, gather
 
 
 def compute(scene: str, cfg: dict, inputs: dict | None = None) -> xr.Dataset:
     """The dataset of ``scene`` from its config block; ``inputs`` maps the kind's roles to paths."""
     kind = KINDS[cfg["kind"]]
-    fn = _function(cfg["kind"])
+    fn = function(cfg["kind"])
     if kind.inputs:
         return fn(cfg, {role: inputs[role] for role in kind.inputs}, scene=scene)
     return fn(cfg, scene=scene)
@@ -27,9 +87,9 @@ def compute(scene: str, cfg: dict, inputs: dict | None = None) -> xr.Dataset:
 
 def chunk(scene: str, cfg: dict, index: int) -> xr.Dataset:
     """One chunk of a chunked scene (see the kind's module)."""
-    return _function(cfg["kind"], "chunk")(cfg, index, scene=scene)
+    return chunk_functions(cfg["kind"])[0](cfg, index, scene=scene)
 
 
 def gather(scene: str, cfg: dict, paths) -> xr.Dataset:
     """A chunked scene's dataset from its chunk files."""
-    return _function(cfg["kind"], "gather")(list(paths), cfg, scene=scene)
+    return chunk_functions(cfg["kind"])[1](list(paths), cfg, scene=scene)
