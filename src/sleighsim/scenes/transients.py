@@ -117,22 +117,16 @@ def _long_check(params, y0, cfg, scene):
     return sp, run.attrs["energy_max_rel_drift"]
 
 
-def attractor_levels(cfg: dict, scene: str = "") -> xr.Dataset:
-    """Several initial states on each of two energy levels, each run until its steady state;
-    omega aligned at the first spike after the transient and compared within and across levels
-    (every level mapped onto the first by the time-scaling law; runs with omega < 0 by the
-    mirror symmetry (u, Omega, omega, delta) -> (u, -Omega, -omega, -delta))."""
-    start = time.perf_counter()
-    params = Params.from_config(cfg["params"])
-    levels = cfg["levels"]
-    labels = [lv["label"] for lv in levels]
-    c_of = [math.sqrt(L / labels[0]) for L in labels]
-    window, dt_cmp, smooth = cfg["compare_window"], cfg["compare_dt"], cfg["smooth"]
-    tau = np.arange(0.0, window + 0.5 * dt_cmp, dt_cmp)
-    keys = ("first_spike", "sleigh_phase_end", "n_spikes", "spike_interval_mean", "spike_interval_std")
-    per = {k: [] for k in (*keys, "omega_mean", "mirrored", "reached", "t_run", "energy_max_rel_drift")}
-    raw, smoothed, y0s, run_label, run_level, run_state, run_c = [], [], [], [], [], [], []
-    for li, lv in enumerate(levels):
+_PER_RUN = ("first_spike", "sleigh_phase_end", "n_spikes", "spike_interval_mean", "spike_interval_std")
+
+
+def _level_runs(params, cfg: dict, tau, c_of: list, scene: str) -> dict:
+    """Every state of every level run until its steady state, omega aligned at its first spike
+    (mirrored when its mean is negative) and smoothed: lists per run, and the per-run facts."""
+    dt_cmp, smooth = cfg["compare_dt"], cfg["smooth"]
+    per = {k: [] for k in (*_PER_RUN, "omega_mean", "mirrored", "reached", "t_run", "energy_max_rel_drift")}
+    runs = {k: [] for k in ("raw", "smoothed", "y0", "label", "level", "state", "c")}
+    for li, lv in enumerate(cfg["levels"]):
         for si, s in enumerate(lv["states"]):
             y0 = state_at_label(s, params, lv["label"])
             rec, ph, reached, drift = _until_steady(params, y0, dict(cfg, time_unit=1.0 / c_of[li]),
@@ -140,24 +134,23 @@ def attractor_levels(cfg: dict, scene: str = "") -> xr.Dataset:
             om = _aligned(rec, ph["first_spike"], tau, c_of[li]) if reached else np.full(tau.size, np.nan)
             mirrored = bool(np.nanmean(om) < 0)
             om = -om if mirrored else om
-            raw.append(om)
-            smoothed.append(_running_mean_same(om, max(1, int(round(smooth / dt_cmp)))))
-            for k in keys:
+            runs["raw"].append(om)
+            runs["smoothed"].append(_running_mean_same(om, max(1, int(round(smooth / dt_cmp)))))
+            for k in _PER_RUN:
                 per[k].append(ph[k])
             per["omega_mean"].append(float(np.nanmean(om)))
             per["mirrored"].append(int(mirrored))
             per["reached"].append(int(reached))
             per["t_run"].append(float(rec.time.values[-1]))
             per["energy_max_rel_drift"].append(drift)
-            y0s.append(y0)
-            run_label.append(lv["label"])
-            run_level.append(li)
-            run_state.append(si)
-            run_c.append(c_of[li])
-    raw, smoothed = np.array(raw), np.array(smoothed)
-    level, ok = np.array(run_level), np.array(per["reached"], bool)
-    interval = np.array(per["spike_interval_mean"], float) * np.array(run_c)  # in level-0 time units
-    group = transient.interval_groups(np.where(ok, interval, np.nan), cfg["group_rel_tol"])
+            for key, value in zip(("y0", "label", "level", "state", "c"), (y0, lv["label"], li, si, c_of[li])):
+                runs[key].append(value)
+    return {**runs, "per": per}
+
+
+def _level_distances(raw, smoothed, level, ok, group, c_of: list, n_levels: int) -> tuple[dict, list, int, float]:
+    """Distances between the aligned curves within each level, within its main group and across
+    levels (attributes), the number of groups per level, the main group and the scale (mean |omega| of level 0)."""
     scale = float(np.nanmean(np.abs(smoothed[level == 0])))
 
     def dist(sel_a, sel_b=None, curves=smoothed):
@@ -165,20 +158,41 @@ def attractor_levels(cfg: dict, scene: str = "") -> xr.Dataset:
         b = None if sel_b is None else [curves[i] for i in np.flatnonzero(sel_b & ok)]
         return _max_distance(a, b) / scale
 
-    n_groups = [len(set(group[(level == li) & ok])) for li in range(len(levels))]
+    n_groups = [len(set(group[(level == li) & ok])) for li in range(n_levels)]
     main = np.bincount(group[ok]).argmax() if ok.any() else -1
     attrs = {}
-    for li in range(len(levels)):
+    for li in range(n_levels):
         attrs[f"level{li}_n_groups"] = n_groups[li]
         attrs[f"level{li}_distance_all"] = dist(level == li)
         attrs[f"level{li}_distance_all_raw"] = dist(level == li, curves=raw)
         attrs[f"level{li}_distance_main_group"] = dist((level == li) & (group == main))
-    if len(levels) > 1:
+    if n_levels > 1:
         attrs["across_levels_distance_main_group_scaled"] = dist((level == 0) & (group == main),
                                                                   (level == 1) & (group == main))
         unscaled = [np.nanmean(smoothed[(level == li) & (group == main) & ok], axis=0) * (c_of[li] if li else 1.0)
                     for li in (0, 1)]
         attrs["across_levels_distance_main_group_unscaled"] = float(np.nanmax(np.abs(unscaled[1] - unscaled[0]))) / scale
+    return attrs, n_groups, main, scale
+
+
+def attractor_levels(cfg: dict, scene: str = "") -> xr.Dataset:
+    """Several initial states on each of two energy levels, each run until its steady state;
+    omega aligned at the first spike after the transient and compared within and across levels
+    (every level mapped onto the first by the time-scaling law; runs with omega < 0 by the
+    mirror symmetry (u, Omega, omega, delta) -> (u, -Omega, -omega, -delta))."""
+    start = time.perf_counter()
+    params = Params.from_config(cfg["params"])
+    labels = [lv["label"] for lv in cfg["levels"]]
+    c_of = [math.sqrt(L / labels[0]) for L in labels]
+    window, dt_cmp, smooth = cfg["compare_window"], cfg["compare_dt"], cfg["smooth"]
+    tau = np.arange(0.0, window + 0.5 * dt_cmp, dt_cmp)
+    runs = _level_runs(params, cfg, tau, c_of, scene)
+    per, y0s, run_level = runs["per"], runs["y0"], runs["level"]
+    raw, smoothed = np.array(runs["raw"]), np.array(runs["smoothed"])
+    level, ok = np.array(run_level), np.array(per["reached"], bool)
+    interval = np.array(per["spike_interval_mean"], float) * np.array(runs["c"])  # in level-0 time units
+    group = transient.interval_groups(np.where(ok, interval, np.nan), cfg["group_rel_tol"])
+    attrs, n_groups, main, scale = _level_distances(raw, smoothed, level, ok, group, c_of, len(labels))
     # Long horizon: one representative per group, to see whether a group is a slow transient.
     reps = [int(np.flatnonzero((group == g) & ok)[0]) for g in sorted(set(group[ok]))]
     long_sp = [_long_check(params, y0s[r] if run_level[r] == 0 else state_at_label(y0s[r], params, labels[0]),
@@ -197,8 +211,8 @@ def attractor_levels(cfg: dict, scene: str = "") -> xr.Dataset:
             "long_spike_time": (("group", "spike"), np.array([pad(sp) for sp, _ in long_sp])),
             "long_representative_run": ("group", np.array(reps)),
         },
-        coords={"tau": tau, "component": list(model.STATE_NAMES), "label": ("run", run_label),
-                "level": ("run", run_level), "state_index": ("run", run_state), "scale_c": ("run", run_c),
+        coords={"tau": tau, "component": list(model.STATE_NAMES), "label": ("run", runs["label"]),
+                "level": ("run", run_level), "state_index": ("run", runs["state"]), "scale_c": ("run", runs["c"]),
                 "group_id": ("group", np.array([group[r] for r in reps]))},
     )
     ds.attrs.update(params.attrs())
