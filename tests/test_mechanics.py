@@ -1,4 +1,4 @@
-"""The derivation against SCIENCE.md's matrix form and the paper's printed equations."""
+"""The derivation against the matrix form of docs/model.md and the paper's printed equations."""
 
 import numpy as np
 import pytest
@@ -57,7 +57,7 @@ def test_printed_Omegadot_and_omegadot_equal_derived_udot_differs(rng):
 
 
 def test_printed_udot_differs_by_the_omega_squared_term():
-    """SCIENCE.md: printed b w^2 eps (eps (K2-1) + K2) cos / D vs derived b w^2 eps^2 (K2^2 + eps (K2-1)) cos / D."""
+    """docs/model.md: printed b w^2 eps (eps (K2-1) + K2) cos / D vs derived b w^2 eps^2 (K2^2 + eps (K2-1)) cos / D."""
     sub = mech.paper_substitution()
     derived = sp.together(mech.derive().rhs[0].subs(sub))
     udot_printed = printed.equations()[0]

@@ -200,7 +200,7 @@ def _polynomial_form(vdot) -> PolynomialForm:
 
 
 def paper_substitution():
-    """Physical parameters in terms of the paper's (epsilon, b, K2), SCIENCE.md.
+    """Physical parameters in terms of the paper's (epsilon, b, K2), docs/model.md.
 
     m = 1, m_r = eps, a = eps b, I_c = (K2 - 1) b^2, I_r = eps^3 b^2 (K2 - 1 + eps).
     Under this map the printed Omegadot and omegadot equal the derived ones.

@@ -1,4 +1,4 @@
-"""Physical parameters of the sleigh and the paper's (eps, b, K2) form (SCIENCE.md: m = 1).
+"""Physical parameters of the sleigh and the paper's (eps, b, K2) form (docs/model.md: m = 1).
 
 Physical: sleigh mass m_c, rotor mass m_r, inertias I_c (sleigh, about C) and I_r
 (rotor), rotor offset a [length] and runner distance b [length]. The paper's form:

@@ -1,6 +1,6 @@
 """The paper's equations exactly as printed: for the audit only (D1-D4).
 
-Its printed udot does not follow from the mechanics (SCIENCE.md); its Omegadot and
+Its printed udot does not follow from the mechanics (docs/model.md); its Omegadot and
 omegadot agree with the derivation under the paper substitution. Nothing but the audit
 integrates these equations.
 """
@@ -109,7 +109,7 @@ def trajectory(params: Params, y0, times, tol: float = 2.0**-52) -> np.ndarray:
 
 def energy_drift(params: Params, y0, times, tol: float = 2.0**-52) -> xr.Dataset:
     """Integrate the printed and the derived equations from ``y0`` (heyoka, same tol)
-    and return E(t)/E(0) - 1 for both; E is the mechanics' energy (SCIENCE.md).
+    and return E(t)/E(0) - 1 for both; E is the mechanics' energy (docs/model.md).
 
     ``params`` must be of the paper's form (eps, b, K2)."""
     if not params.is_paper_form:

@@ -22,7 +22,7 @@ def printed_model(cfg: dict, scene: str = "") -> xr.Dataset:
     """D1-D6: the printed model against the derivation.
 
     D1 energy drift of the printed udot (integrated beside the derived equations);
-    D2 which inertia makes the printed Omegadot hold (I_c as SCIENCE.md says, or I_r as
+    D2 which inertia makes the printed Omegadot hold (I_c as docs/model.md says, or I_r as
     printed); D3 entries of the printed locked inertia and right-hand side that differ;
     D4 the term missing from the printed beta equation (dL/dbeta); D5 the physical energy
     of the reference state; D6 whether eps > 1 is admissible."""

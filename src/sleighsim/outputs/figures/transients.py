@@ -98,7 +98,7 @@ def transients(sources, png, pdf) -> None:
     e = np.geomspace(eps.min(), eps.max(), 20)
     if np.isfinite(a["first_spike_slope"]):
         ax.loglog(e, a["first_spike_prefactor"] * e ** a["first_spike_slope"], "--", color="tab:blue",
-                  label=f"fit: slope {a['first_spike_slope']:.2f} (SCIENCE.md: -2)")
+                  label=f"fit: slope {a['first_spike_slope']:.2f} (transients last 1/eps^2: -2)")
     ax.set_xlabel(r"$\epsilon$")
     ax.set_ylabel("time")
     ax.legend(fontsize=7)
