@@ -41,3 +41,17 @@ def smoke_run(tmp_path_factory, worker_id):
             res = snakemake(workdir, SMOKE)
             assert res.returncode == 0, res.stderr[-3000:]
     return workdir
+
+
+@pytest.fixture(scope="session")
+def hy():
+    """heyoka (the tests that need it skip without it)."""
+    return pytest.importorskip("heyoka")
+
+
+@pytest.fixture(scope="session")
+def runs(hy):
+    """Each textbook orbit's indicator runs once (``chaos_textbook.textbook_runs``), for the chaos tests."""
+    from chaos_textbook import textbook_runs
+
+    return textbook_runs(hy)

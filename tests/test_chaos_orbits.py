@@ -18,24 +18,12 @@ from chaos_textbook import (
     _monotone_in_errors,
     _nan_each,
     _oscillators,
-    textbook_runs,
 )
 
 from sleighsim.chaos import orbits, tangent
 from sleighsim.chaos.verdicts import CHAOTIC, REGULAR, UNDECIDED
 
 C, G, U = CHAOTIC, REGULAR, UNDECIDED
-
-
-@pytest.fixture(scope="module")
-def hy():
-    return pytest.importorskip("heyoka")
-
-
-@pytest.fixture(scope="module")
-def runs(hy):
-    """Each textbook orbit once (``chaos_textbook.textbook_runs``, shared by the test modules)."""
-    return textbook_runs(hy)
 
 
 def _two_verdict(r):

@@ -4,24 +4,12 @@ of the class of a state, and the judges feeding ``decide`` on textbook orbits (c
 import math
 
 import pytest
-from chaos_textbook import textbook_runs
 
 from sleighsim.chaos import orbits, tangent
 from sleighsim.chaos.rule import DECISION_RULE, classify, consistent, decide
 from sleighsim.chaos.verdicts import CHAOTIC, REGULAR, UNDECIDED
 
 C, G, U = CHAOTIC, REGULAR, UNDECIDED
-
-
-@pytest.fixture(scope="module")
-def hy():
-    return pytest.importorskip("heyoka")
-
-
-@pytest.fixture(scope="module")
-def runs(hy):
-    """Each textbook orbit once (``chaos_textbook.textbook_runs``, shared by the test modules)."""
-    return textbook_runs(hy)
 
 
 # ----------------------------------------------------------------------------- decision rule

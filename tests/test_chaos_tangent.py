@@ -13,7 +13,6 @@ from chaos_textbook import (
     TAU_LOR,
     _monotone_in_errors,
     _nan_each,
-    textbook_runs,
 )
 
 from sleighsim.chaos import tangent, verdicts
@@ -21,17 +20,6 @@ from sleighsim.chaos.tangent import judge_benettin
 from sleighsim.chaos.verdicts import CHAOTIC, REGULAR, UNDECIDED
 
 C, G, U = CHAOTIC, REGULAR, UNDECIDED
-
-
-@pytest.fixture(scope="module")
-def hy():
-    return pytest.importorskip("heyoka")
-
-
-@pytest.fixture(scope="module")
-def runs(hy):
-    """Each textbook orbit once (``chaos_textbook.textbook_runs``, shared by the test modules)."""
-    return textbook_runs(hy)
 
 
 def _megno_verdict(m, T):

@@ -6,15 +6,10 @@ import numpy as np
 import pytest
 
 from sleighsim import fits, integrators, lyapunov, model
+from sleighsim.integrate import final_state, integrate
 from sleighsim.params import Params
 from sleighsim.scenes import grid, verdict
 from sleighsim.symmetries import REFERENCE_STATE, b_image, state_at_label
-from sleighsim.integrate import final_state, integrate
-
-
-@pytest.fixture(scope="module")
-def hy():
-    return pytest.importorskip("heyoka")
 
 
 def test_lorenz_spectrum_matches_published_values(hy):
@@ -182,7 +177,6 @@ def test_megno_in_long_double_matches_double_where_both_are_accurate():
     """Over a short horizon from the reference state (no spike yet) the long-double MEGNO run and
     the double one give the same log growth per interval and the same <Y>; the long-double one is
     what the chaos verdict's precision check runs."""
-    from sleighsim.scenes import verdict
 
     p = Params.paper(eps=0.1)
     y0 = state_at_label([0.0, 0.1, 1.0, 0.0], p, 0.1127)
