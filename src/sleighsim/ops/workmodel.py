@@ -8,7 +8,7 @@ from __future__ import annotations
 #: horizons, one per case) counts as its sum. T_round counts T_round x max_rounds (the cap on rounds).
 HORIZON_KEYS = ("T", "t_end", "t_map", "duration", "check_duration", "t_max", "t_settle", "t_transient",
                 "t_pre", "t_scale", "t_half", "horizons", "T_long", "t_long", "t_short", "T_eps", "T_scaling",
-                "T_lyapunov", "T_round", "max_rounds")
+                "T_lyapunov", "T_round", "max_rounds", "T_gain")
 
 #: Keys the lyapunov_grid model reads (everything else of such a block is outside the model).
 GRID_KEYS = ("eps_range", "n_eps", "n_chunks", "reference_eps", "t_pre", "t_pre_min", "replicas",

@@ -122,10 +122,21 @@ def chaos_answers(datasets: dict) -> list[tuple[str, str, str]]:
         if "verdict" in ds.data_vars and "state" in ds.dims:
             for i, st in enumerate(ds.state.values):
                 reason = str(ds.reason.values[i]) if "reason" in ds.data_vars else ""
-                out.append((f"{name}: {st}", str(ds.verdict.values[i]), reason))
+                out.append((f"{name}: {st}", str(ds.verdict.values[i]), reason + _arithmetic_note(ds, i)))
         elif "verdict" in ds.attrs and "chaotic" in str(ds.attrs.get("rule", "")) + str(ds.attrs["verdict"]):
             out.append((name, str(ds.attrs["verdict"]), str(ds.attrs.get("rule", ""))))
     return out
+
+
+def _arithmetic_note(ds, i: int) -> str:
+    """Which arithmetic follows state i's orbit, from the faithfulness gauge (``follows_orbit``), or "" without it."""
+    if "follows_orbit" not in ds.data_vars:
+        return ""
+    if not np.isfinite(ds.ln_gain_max.values[i]):
+        return ". Faithfulness gauge: no complete spike cycle within T_gain, so which arithmetic follows the orbit is unknown"
+    cells = [f"{a}: {ds.follows_orbit.values[i, k]} (G x rounding = 10^{ds.log10_gain_rounding.values[i, k]:.1f})"
+             for k, a in enumerate(ds.arithmetic.values)]
+    return f". Rounding amplified by ln G = {float(ds.ln_gain_max.values[i]):.1f} per spike cycle: " + "; ".join(cells)
 
 
 def _answers(rows: list[Row], datasets: dict, n_largest: int = 5) -> tuple[list[str], list[str]]:

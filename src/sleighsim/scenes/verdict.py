@@ -51,6 +51,7 @@ from ..chaos.tangent import (
     megno_in_long_double,
 )
 from ..chaos.verdicts import CHAOTIC, REGULAR
+from ..faithfulness import ROUNDING, cycle_gains, follows, spike_cycle_gains
 from ..integrate import integrate, orbit_samples, sample_grid
 from ..params import Params
 from ..symmetries import state_at_label
@@ -82,6 +83,7 @@ def one_state(params, y0, cfg: dict, scene: str) -> dict:
     replicas, record = orbit_samples(params, y, cfg["replicas"], cfg["replica_spacing"], tol=tol, scene=scene)
     mean_u_omega = np.array([record.u.values.mean(), record.omega.values.mean()])
     res = replica_run(params, replicas, cfg, scene)
+    gain = gain_run(params, replicas[0], cfg)
     values, errors, verdicts = {}, {}, {}
     m, ld, megno_double, megno_precision = _tangent_indicators(params, replicas, res, cfg, scene, values, errors, verdicts)
     freq = frequency_indicator(params, replicas[0], cfg, sigma)
@@ -113,7 +115,17 @@ def one_state(params, y0, cfg: dict, scene: str) -> dict:
             "exponents": lam, "stderr": res["stderr"], "T": float(res["T"]), "status": res["status"], "sum_all": s,
             "sum_err": s_err, "r_image": image, "r_image_distance": image_dist, "mean_u": float(mean_u_omega[0]),
             "mean_omega": float(mean_u_omega[1]), "transient_over": int(pre["transient_over"]), "T_two": float(tt["T"]),
+            "gain": gain,
             "drift": float(abs(model.energy(integrators.read(flow, 4), params) / model.energy(y0, params) - 1))}
+
+
+def gain_run(params, y, cfg: dict) -> dict:
+    """The faithfulness gauge along the settled orbit from y: ln G of each spike cycle (the largest
+    singular value of the one-period tangent map, ``faithfulness.spike_cycle_gains``) over T_gain, in
+    double at tol, and G x rounding per arithmetic."""
+    ta, _ = lyapunov.sleigh_tangent(4, cfg["tol"], cfg["compact_mode"])
+    integrators.set_pars(ta, params)
+    return spike_cycle_gains(ta, y, T=cfg["T_gain"], tau=cfg["tau_gain"], spike_factor=cfg["transient"]["spike_factor"])
 
 
 def replica_run(params, replicas, cfg: dict, scene: str) -> dict:
@@ -356,10 +368,11 @@ def verdict(cfg: dict, scene: str = "") -> xr.Dataset:
 
     ds = xr.Dataset(
         {**_verdict_vars(per_state, out, ind), **_state_vars(per_state), **_megno_vars(per_state),
-         **_loschmidt_vars(per_state), **_frequency_vars(ft), **_long_double_vars(per_state)},
+         **_loschmidt_vars(per_state), **_frequency_vars(ft), **_long_double_vars(per_state),
+         **_gain_vars(out)},
         coords={"state": names, "indicator": ind, "i": np.arange(1, 5), "d0": np.asarray(cfg["d0"], float),
                 "T_loschmidt": loschmidt_T(cfg), "precision": ["double", "long double"],
-                "split": np.asarray(fc["splits"], int), "frequency_precision": list(PRECISIONS),
+                "split": np.asarray(fc["splits"], int), "frequency_precision": list(PRECISIONS), "arithmetic": list(ROUNDING),
                 "tangent_based": ("indicator", [int(i in TANGENT_BASED) for i in ind])},
     )
     _set_attrs(ds, cfg, params, per_state, start)
@@ -470,6 +483,25 @@ def _long_double_vars(per_state) -> dict:
     }
 
 
+def _gain_vars(out: list) -> dict:
+    """The dataset's faithfulness gauge per state: ln G per spike cycle (NaN-padded), its maximum, and
+    per arithmetic log10(G_max x rounding) and whether that arithmetic follows the orbit."""
+    gains = [o["gain"] for o in out]
+    width = max(1, *(g["ln_gain"].size for g in gains))  # one NaN column when no state has a complete cycle
+    return {
+        "ln_gain": (("state", "cycle"), [np.r_[g["ln_gain"], np.full(width - g["ln_gain"].size, np.nan)] for g in gains],
+                    {"long_name": "ln G: largest singular value of the one-period tangent map, maximised over its start "
+                                  "in the cycle (double run)"}),
+        "ln_gain_max": ("state", [g["ln_gain_max"] for g in gains], {"long_name": "largest ln G over the cycles"}),
+        "log10_gain_rounding": (("state", "arithmetic"), [[g["log10_gain_rounding"][a] for a in ROUNDING] for g in gains],
+                                {"long_name": "log10(G_max x unit roundoff of the arithmetic)"}),
+        "follows_orbit": (("state", "arithmetic"), np.array([[g["follows"][a] for a in ROUNDING] for g in gains],
+                                                            dtype=object),
+                          {"long_name": "does the arithmetic follow the exact orbit (G x rounding below "
+                                        "faithfulness.FAITHFUL_MAX; unknown without a complete cycle)"}),
+    }
+
+
 def _set_attrs(ds: xr.Dataset, cfg: dict, params, per_state, start: float) -> None:
     """The dataset's attributes: the rules (from the judges' docstrings), the settings and the wall time since start."""
     fc = cfg["frequency"]
@@ -494,7 +526,8 @@ def _set_attrs(ds: xr.Dataset, cfg: dict, params, per_state, start: float) -> No
         loschmidt_rule=" ".join((loschmidt_indicator.__doc__ + " " + judge_loschmidt_run.__doc__ + " "
                                  + judge_loschmidt.__doc__).split()),
         loschmidt_fit=" ".join(loschmidt_fit.__doc__.split()), **_loschmidt_settings(), T_megno=cfg["T_megno"],
-        loschmidt_T=list(cfg["loschmidt_T"]), loschmidt_n=cfg["loschmidt_n"],
+        loschmidt_T=list(cfg["loschmidt_T"]), loschmidt_n=cfg["loschmidt_n"], T_gain=cfg["T_gain"],
+        tau_gain=cfg["tau_gain"], gain_rule=" ".join((cycle_gains.__doc__ + " " + follows.__doc__).split()),
         param_eps=params.eps, param_b=params.b, param_K2=params.K2, energy_label=cfg["energy_label"], tol=cfg["tol"],
         tau=cfg["tau"], replicas=cfg["replicas"], replica_spacing=cfg["replica_spacing"],
         T_two=cfg["T_two"], T_R=cfg["T_R"], backend="heyoka", wall_time_s=time.perf_counter() - start,
