@@ -16,6 +16,7 @@ import numpy as np
 # a spread of the window frequencies at or below PRECISION is converged
 PRECISION = 1e-11
 MIN_SAMPLES = 8  # samples a window needs at least
+MIN_WINDOWS = 4  # windows a split needs to enter the convergence exponent (slope)
 
 
 def check_splits(splits) -> list[int]:
@@ -85,6 +86,19 @@ def window_frequencies(x, dt: float, n_windows: int, band=None) -> np.ndarray:
     return np.array([leading_frequency(x[i * m:(i + 1) * m], dt, band) for i in range(n_windows)])
 
 
+def _convergence(splits, W, D, D_log_err) -> tuple[float, float]:
+    """(slope, slope_err) of D ~ W^slope between the longest and shortest windows of the splits with
+    at least MIN_WINDOWS windows (see :func:`drift`)."""
+    fit = [i for i, k in enumerate(splits) if k >= MIN_WINDOWS]
+    if len(fit) < 2:
+        return math.nan, math.nan
+    a, b = fit[0], fit[-1]
+    if D[a] <= PRECISION:
+        return -math.inf, math.nan
+    lever = math.log(W[a] / W[b])
+    return math.log(D[a] / max(D[b], PRECISION)) / lever, math.hypot(D_log_err[a], D_log_err[b]) / lever
+
+
 def drift(x, dt: float, splits=(2, 4, 8, 16), *, min_cycles: float = 8.0) -> dict:
     """How the leading frequency of x changes between windows, for windows of length W = T / K,
     K in ``splits`` (T = the series' length): D(W) = sample standard deviation of the K window
@@ -103,7 +117,10 @@ def drift(x, dt: float, splits=(2, 4, 8, 16), *, min_cycles: float = 8.0) -> dic
     Uncertainty: ln D of K windows is given the standard error 1/sqrt(2 (K - 1)), that of a sample
     standard deviation of K independent values (window frequencies of a chaotic orbit are nearly
     independent once W exceeds its correlation time; on a torus D is deterministic, so the error
-    is an upper bound there); the slope's error combines the two ends' errors. When D(W_max) is at
+    is an upper bound there); the slope's error combines the two ends' errors. A split of fewer than
+    MIN_WINDOWS windows keeps its D but does not enter the slope: with K = 2, D is one difference
+    |f_1 - f_2|, whose logarithm has a heavy lower tail that this error does not cover, so one
+    chance coincidence of two window frequencies would fake convergence. When D(W_max) is at
     or below PRECISION the frequency has converged as far as the refinement resolves: slope is
     then -inf and slope_err NaN. Returns splits (those used), W, D, D_log_err, slope, slope_err,
     f_ref, f (the mean window frequency of the finest split used; NaN if none) and frequencies
@@ -122,14 +139,7 @@ def drift(x, dt: float, splits=(2, 4, 8, 16), *, min_cycles: float = 8.0) -> dic
     W = np.array([T / k for k in splits])
     D = np.array([v.std(ddof=1) / abs(v.mean()) for v in freqs])
     D_log_err = np.array([1.0 / math.sqrt(2.0 * (k - 1)) for k in splits])
-    if len(splits) < 2:
-        slope, slope_err = math.nan, math.nan
-    elif D[0] <= PRECISION:
-        slope, slope_err = -math.inf, math.nan
-    else:
-        lever = math.log(W[0] / W[-1])
-        slope = math.log(D[0] / max(D[-1], PRECISION)) / lever
-        slope_err = math.hypot(D_log_err[0], D_log_err[-1]) / lever
+    slope, slope_err = _convergence(splits, W, D, D_log_err)
     return {"splits": np.array(splits, int), "W": W, "D": D, "D_log_err": D_log_err, "slope": float(slope),
             "slope_err": float(slope_err), "f_ref": f_ref, "f": float(freqs[-1].mean()) if freqs else math.nan,
             "frequencies": freqs}
