@@ -115,3 +115,14 @@ def test_precision_gate_keeps_chaotic_only_when_long_double_confirms():
     regular = {k: (G, "flat") for k in TANGENT_BASED}
     precision_gate(regular, {"check": "not confirmed", "reason": "ld flat"})
     assert regular == {k: (G, "flat") for k in TANGENT_BASED}
+
+
+def test_agree_on_each_branch():
+    from sleighsim.chaos.rule import FRAGILE, agree
+
+    assert agree([U, U, U]) == (U, 3, "all 3 realizations agree")
+    assert agree(["strange attractor"]) == ("strange attractor", 1, "all 1 realizations agree")
+    v, n, why = agree([G, C, G])
+    assert (v, n) == (FRAGILE, 2) and why == "realizations disagree: regular 2, chaotic 1 of 3"
+    with pytest.raises(ValueError, match="no realizations"):
+        agree([])

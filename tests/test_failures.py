@@ -85,12 +85,12 @@ def test_changing_the_grid_runtime_resource_reruns_nothing(smoke_run, tmp_path):
     what they compute."""
     cfg = yaml.safe_load(SMOKE.read_text())
     cfg["scenes"]["fig11_grid"]["chunk_runtime_min"] += 60
-    cfg["scenes"]["chaos_verdict"]["runtime_min"] = 500
+    cfg["scenes"]["formal_exponents"]["runtime_min"] = 500
     changed = tmp_path / "changed.yaml"
     changed.write_text(yaml.safe_dump(cfg))
-    dry = snakemake(smoke_run, changed, "-n", GRID, "results/data/chaos_verdict.nc", timeout=120)
+    dry = snakemake(smoke_run, changed, "-n", GRID, "results/data/formal_exponents.nc", timeout=120)
     assert dry.returncode == 0 and "Nothing to be done" in dry.stdout + dry.stderr, (dry.stdout + dry.stderr)[-2000:]
-    forced = snakemake(smoke_run, changed, "-n", "--forcerun", "scene_first", "--", "results/data/chaos_verdict.nc",
+    forced = snakemake(smoke_run, changed, "-n", "--forcerun", "scene_first", "--", "results/data/formal_exponents.nc",
                        timeout=120)
     assert "runtime=500" in forced.stdout + forced.stderr, (forced.stdout + forced.stderr)[-2000:]
     cfg["scenes"]["fig11_grid"]["T_round"] *= 2  # what the grid computes does force a rerun

@@ -149,3 +149,44 @@ def test_the_sleighs_flow_runs_in_quad_precision():
         np.testing.assert_allclose(runs[p]["frequencies"][0], runs["double"]["frequencies"][0], rtol=5e-9)
     with pytest.raises(ValueError, match="exclude"):
         integrators.flow(False, 1e-20, long_double=True, quad=True)
+
+
+def test_realizations_perturb_every_state_but_the_first_at_the_given_size():
+    from sleighsim.scenes.verdict import realization_states
+
+    states = {"main": [0.0, 0.1, 1.0, 0.0], "rotor": [0.0, 0.0, 1.0, 0.3]}
+    assert realization_states(states, 1e-12, 0) == states
+    one, two = realization_states(states, 1e-12, 1), realization_states(states, 1e-12, 2)
+    for name, y in states.items():
+        rel = (np.array(one[name]) - y) / np.where(np.array(y) == 0, 1, y)
+        assert np.all(np.abs(rel) < 1e-11) and np.all(np.array(one[name])[np.array(y) == 0] == 0)
+        assert one[name] != y or not np.any(y)
+    assert one != two and realization_states(states, 1e-12, 1) == one  # seeded by the realization
+
+
+def test_gather_keeps_an_answer_only_when_every_realization_gives_it(tmp_path):
+    import xarray as xr
+
+    from sleighsim.io import write_dataset
+    from sleighsim.scenes.verdict import gather
+
+    per = [["undecided", "regular"], ["chaotic", "regular"], ["undecided", "regular"]]
+    paths = []
+    for k, v in enumerate(per):
+        ds = xr.Dataset({"verdict": ("state", np.array(v, dtype=object)),
+                         "reason": ("state", np.array([f"r{k}a", f"r{k}b"], dtype=object)),
+                         "state_class": ("state", np.array(["undetermined", "regular"], dtype=object)),
+                         "indicator_value": ("state", [float(k), 2.0 * k])},
+                        coords={"state": ["main", "rotor_a"]}, attrs={"chunk": k, "n_chunks": 3, "wall_time_s": 1.5})
+        paths.append(tmp_path / f"{k}.nc")
+        write_dataset(ds, paths[-1])
+    out = gather(paths[::-1], {"n_chunks": 3, "realization_rel": 1e-12})
+    assert list(out.verdict.values) == ["fragile", "regular"]
+    assert list(out.n_realizations_agreeing.values) == [2, 3]
+    assert out.reason.values[0] == "realizations disagree: undecided 2, chaotic 1 of 3; realization 0: r0a"
+    assert out.reason.values[1] == "all 3 realizations agree; realization 0: r0b"
+    assert list(out.state_class.values) == ["undetermined", "regular"]
+    assert out.indicator_value.values.tolist() == [0.0, 0.0]  # the details are realization 0's
+    assert out.attrs["n_realizations"] == 3 and out.attrs["wall_time_s"] == 4.5 and "chunk" not in out.attrs
+    with pytest.raises(ValueError, match="expected 0 ... 2"):
+        gather(paths[:2], {"n_chunks": 3, "realization_rel": 1e-12})

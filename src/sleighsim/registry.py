@@ -50,7 +50,7 @@ KINDS: dict[str, Kind] = {
     "small_eps_cost": Kind(),
     "formal_exponents": Kind(),
     "lyapunov_grid": Kind(chunked=True),
-    "chaos_verdict": Kind(),
+    "chaos_verdict": Kind(chunked=True),
     "drift_windows": Kind(),
     "basins": Kind(chunked=True),
     "printed_model": Kind(),

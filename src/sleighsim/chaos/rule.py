@@ -110,3 +110,24 @@ def classify(verdict: str, sum_all: float, sum_err: float, l1: float, l4: float,
     if abs(sum_all) <= sigma * sum_err and abs(l1 + l4) <= 0.5 * abs(l1):
         return "conservative-type chaos" if r_image == "stays" else "mixed dynamics"
     return "undetermined"
+
+
+#: The verdict of a state whose realizations of the rounding disagree.
+FRAGILE = "fragile"
+
+
+# the docstring is written into the chaos_verdict dataset (attribute realization_rule)
+def agree(verdicts) -> tuple[str, int, str]:
+    """One answer from the realizations of a verdict (the same computation from initial states
+    perturbed at the rounding level): the common answer when every realization gives it, else
+    "fragile". Returns (answer, how many realizations give the most common answer, reason naming
+    the count of each answer)."""
+    verdicts = [str(v) for v in verdicts]
+    if not verdicts:
+        raise ValueError("no realizations to agree on")
+    counts = {v: verdicts.count(v) for v in dict.fromkeys(verdicts)}
+    top = max(counts.values())
+    spread = ", ".join(f"{v} {n}" for v, n in counts.items())
+    if len(counts) == 1:
+        return verdicts[0], top, f"all {top} realizations agree"
+    return FRAGILE, top, f"realizations disagree: {spread} of {len(verdicts)}"

@@ -64,19 +64,30 @@ def grid_rows(cfg: dict) -> list[tuple[float, float]]:
 
 
 def chunk_work(cfg: dict) -> list[float]:
-    """Work of each chunk job of a lyapunov_grid block: chunk k computes rows k, k + n_chunks, ..."""
-    rows = grid_rows(cfg)
-    return [sum(w for _, w in rows[k::cfg["n_chunks"]]) for k in range(cfg["n_chunks"])]
+    """Work of each chunk job of a chunked block: a lyapunov_grid's chunk k computes rows k,
+    k + n_chunks, ...; a chaos_verdict's chunk is one whole realization of the scene; any other
+    kind's chunks share its horizons equally."""
+    n = cfg["n_chunks"]
+    if cfg["kind"] == "lyapunov_grid":
+        rows = grid_rows(cfg)
+        return [sum(w for _, w in rows[k::n]) for k in range(n)]
+    if cfg["kind"] == "chaos_verdict":
+        return [horizon_work(cfg)] * n
+    return [horizon_work(cfg) / n] * n
 
 
 def work(kind: str, cfg: dict) -> float:
     """The work measure of a scene block (as :func:`sleighsim.registry.scene_config` gives it)."""
     if kind == "lyapunov_grid":
         return sum(w for _, w in grid_rows(cfg))
+    if kind == "chaos_verdict":
+        return sum(chunk_work(cfg))
     return horizon_work(cfg)
 
 
 def is_modelled(kind: str, key: str) -> bool:
     """Whether the work model of ``kind`` reads the (dotted) config key."""
     leaf = key.split(".")[-1]
-    return leaf in GRID_KEYS if kind == "lyapunov_grid" else leaf in HORIZON_KEYS
+    if kind == "lyapunov_grid":
+        return leaf in GRID_KEYS
+    return leaf in HORIZON_KEYS or (kind == "chaos_verdict" and leaf == "n_chunks")

@@ -45,8 +45,6 @@ def function(kind: str) -> Callable[..., xr.Dataset]:
             from .exponents import small_eps_cost as f
         case "formal_exponents":
             from .exponents import formal_exponents as f
-        case "chaos_verdict":
-            from .verdict import verdict as f
         case "drift_windows":
             from .drift import drift_windows as f
         case "printed_model":
@@ -71,6 +69,8 @@ def chunk_functions(kind: str) -> tuple[Callable[..., xr.Dataset], Callable[...,
             from .grid import chunk, gather
         case "basins":
             from .basins import chunk, gather
+        case "chaos_verdict":
+            from .verdict import chunk, gather
         case _:
             raise KeyError(f"scene kind {kind!r} is not chunked")
     return chunk, gather

@@ -33,6 +33,7 @@ from ..chaos.orbits import (
 )
 from ..chaos.rule import (
     DECISION_RULE,
+    agree,
     INDICATORS,
     TANGENT_BASED,
     classify,
@@ -53,6 +54,7 @@ from ..chaos.tangent import (
 from ..chaos.verdicts import CHAOTIC, REGULAR
 from ..faithfulness import ROUNDING, cycle_gains, follows, spike_cycle_gains
 from ..integrate import integrate, orbit_samples, sample_grid
+from ..io import read_dataset
 from ..params import Params
 from ..symmetries import state_at_label
 from ..transient import settle
@@ -533,3 +535,50 @@ def _set_attrs(ds: xr.Dataset, cfg: dict, params, per_state, start: float) -> No
         T_two=cfg["T_two"], T_R=cfg["T_R"], backend="heyoka", wall_time_s=time.perf_counter() - start,
         transient_over=int(np.all(per_state("transient_over") == 1)),
     )
+
+
+def realization_states(states: dict, rel: float, index: int) -> dict:
+    """The start states of realization ``index``: realization 0 as given, realization k > 0 every
+    component times (1 + rel z), z standard normal from a generator seeded by k (zero components
+    stay zero)."""
+    if index == 0:
+        return dict(states)
+    rng = np.random.default_rng(index)
+    return {name: (np.asarray(y, float) * (1.0 + rel * rng.standard_normal(len(y)))).tolist()
+            for name, y in states.items()}
+
+
+def chunk(cfg: dict, index: int, scene: str = "") -> xr.Dataset:
+    """Realization ``index`` of the verdict (one chunk job each): :func:`verdict` from the start
+    states of :func:`realization_states` at realization_rel."""
+    ds = verdict({**cfg, "states": realization_states(cfg["states"], cfg["realization_rel"], index)},
+                 scene=f"{scene}#{index}")
+    ds.attrs.update(chunk=index, n_chunks=cfg["n_chunks"])
+    return ds
+
+
+def gather(paths, cfg: dict, scene: str = "") -> xr.Dataset:
+    """The verdict over realizations: realization 0's dataset (its indicators, runs and gauge), with
+    each realization's verdict and class, and per state the answer they agree on
+    (``chaos.rule.agree``: "fragile" when they do not) and how many give the most common one."""
+    chunks = sorted((read_dataset(p) for p in paths), key=lambda c: int(c.attrs["chunk"]))
+    if [int(c.attrs["chunk"]) for c in chunks] != list(range(cfg["n_chunks"])):
+        raise ValueError(f"chunks {[int(c.attrs['chunk']) for c in chunks]}, expected 0 ... {cfg['n_chunks'] - 1}")
+    ds = chunks[0].copy()
+    for var, out in (("verdict", "realization_verdict"), ("reason", "realization_reason"),
+                     ("state_class", "realization_class")):
+        ds[out] = (("realization", "state"), np.array([c[var].values for c in chunks], dtype=object))
+    verdicts = [agree(ds.realization_verdict.values[:, i]) for i in range(ds.sizes["state"])]
+    classes = [agree(ds.realization_class.values[:, i]) for i in range(ds.sizes["state"])]
+    ds["verdict"] = ("state", np.array([v for v, _, _ in verdicts], dtype=object))
+    ds["reason"] = ("state", np.array([f"{why}; realization 0: {r}" for (_, _, why), r in
+                                       zip(verdicts, chunks[0].reason.values)], dtype=object))
+    ds["state_class"] = ("state", np.array([v for v, _, _ in classes], dtype=object))
+    ds["n_realizations_agreeing"] = ("state", [n for _, n, _ in verdicts],
+                                     {"long_name": "realizations that give the most common verdict"})
+    ds = ds.assign_coords(realization=np.arange(len(chunks)))
+    ds.attrs.pop("chunk", None)
+    ds.attrs.update(n_realizations=len(chunks), realization_rel=cfg["realization_rel"],
+                    realization_rule=" ".join((realization_states.__doc__ + " " + agree.__doc__).split()),
+                    wall_time_s=float(sum(c.attrs["wall_time_s"] for c in chunks)))
+    return ds
