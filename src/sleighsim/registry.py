@@ -51,6 +51,7 @@ KINDS: dict[str, Kind] = {
     "formal_exponents": Kind(),
     "lyapunov_grid": Kind(chunked=True),
     "chaos_verdict": Kind(chunked=True),
+    "precision_ladder": Kind(),
     "drift_windows": Kind(),
     "basins": Kind(chunked=True),
     "printed_model": Kind(),
@@ -104,6 +105,9 @@ FIGURES: dict[str, Figure] = {
     "regimes": Figure(("regimes",), title="Regime diagram: lambda_1, spike interval and P_2pi rotation number "
                                          "against eps (C27)"),
     "basins": Figure(("basins",), title="Basin fractions on the energy level (C06 made quantitative)"),
+    "precision": Figure(("precision_ladder",), title="Does the arithmetic decide the steady state? Spike intervals "
+                                                     "per precision from one settled point, and the orbits' separation",
+                        steady=("precision_ladder",)),
     "drift": Figure(("main_drift",), title="Does the main state's slow drift end? Spike interval and lambda_1 per "
                                           "window"),
     "audit": Figure(("audit",), title="The model as printed: energy drift of the printed udot"),

@@ -45,6 +45,8 @@ def function(kind: str) -> Callable[..., xr.Dataset]:
             from .exponents import small_eps_cost as f
         case "formal_exponents":
             from .exponents import formal_exponents as f
+        case "precision_ladder":
+            from .ladder import precision_ladder as f
         case "drift_windows":
             from .drift import drift_windows as f
         case "printed_model":

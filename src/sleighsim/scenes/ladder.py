@@ -1,0 +1,150 @@
+"""The precision ladder: does the arithmetic decide the steady state? Each state is settled (in
+double), then its orbit is run from that one point in every precision of the ladder (double, long
+double, and quad where the config asks), and the steady-state observables (the spike intervals of
+Omega) and the orbits' separation are compared precision by precision.
+
+Conventions: time in the flow's time unit; a precision's run uses its own Taylor tolerance (its
+machine epsilon); the separation of two runs is max |velocity difference| / max |velocity| of the
+finer run (delta left out: the orbits' phase along the torus is what separates first).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+
+import numpy as np
+import xarray as xr
+
+from .. import integrators
+from ..faithfulness import ROUNDING
+from ..model import energy
+from ..params import Params
+from ..symmetries import state_at_label
+from ..transient import settle, spike_times
+
+log = logging.getLogger("sleighsim")
+
+#: Taylor tolerance of each precision's run (its machine epsilon).
+TOL = {"double": 2.0**-52, "long double": 2.0**-63, "quad": 2.0**-112}
+#: The separation at which two runs no longer follow one orbit.
+SEPARATED = 1e-3
+
+
+# the docstring is written into the precision_ladder dataset (attribute agreement_rule)
+def agrees(coarse: dict, fine: dict) -> bool:
+    """Do two precisions' spike trains agree? Both have at least two intervals and their mean
+    intervals differ by at most the larger standard deviation of the intervals within a run (no
+    assumption of independent intervals is made)."""
+    if min(coarse["n_intervals"], fine["n_intervals"]) < 2:
+        return False
+    return abs(coarse["interval_mean"] - fine["interval_mean"]) <= max(coarse["interval_sd"], fine["interval_sd"])
+
+
+# the docstring is written into the precision_ladder dataset (attribute converged_rule)
+def converged_precision(runs: list[dict], names: list[str]) -> str:
+    """The lowest precision whose spike train agrees (``agrees``) with that of every finer precision
+    run, or "not converged" when the two finest disagree or only one precision ran."""
+    for i in range(len(runs) - 1):
+        if all(agrees(runs[i], later) for later in runs[i + 1:]):
+            return names[i]
+    return "not converged"
+
+
+def run_in(params, y, precision: str, *, T: float, dt: float, spike_factor: float) -> dict:
+    """The orbit from y (model variables) in ``precision`` over T, sampled every dt: velocities and
+    the spike train of Omega (``transient.spike_times``), with the run's wall time."""
+    start = time.perf_counter()
+    ta, _ = integrators.flow(False, TOL[precision], precision == "long double", precision == "quad")
+    integrators.set_pars(ta, params)
+    fp = ta.state.dtype.type
+    ta.time = fp(0)
+    integrators.load(ta, np.asarray(y, float))
+    n = int(round(T / dt))
+    grid = np.arange(n + 1).astype(ta.state.dtype) * fp(dt)  # from t = 0 (heyoka's grid starts at the current time)
+    res = ta.propagate_grid(grid, callback=integrators.bounded(ta))
+    Y = integrators.samples(ta, np.asarray(res[-1]).astype(float))  # real128 too
+    v = Y[1:, :3]
+    if v.shape[0] != n or not np.all(np.isfinite(v)):
+        raise RuntimeError(f"{precision} run stopped at t = {float(ta.time):.6g} of {T:.6g}: heyoka outcome {res[0]}")
+    t = dt * np.arange(1, n + 1)
+    spikes = spike_times(t, v[:, 1], factor=spike_factor)
+    intervals = np.diff(spikes)
+    return {"velocities": v, "spikes": spikes, "n_intervals": intervals.size,
+            "interval_mean": float(intervals.mean()) if intervals.size else math.nan,
+            "interval_sd": float(intervals.std(ddof=1)) if intervals.size > 1 else math.nan,
+            "energy_max_rel_drift": float(np.max(np.abs(energy(Y, params) / energy(Y[0], params) - 1))),
+            "wall_s": time.perf_counter() - start}
+
+
+def separation(coarse: dict, fine: dict) -> np.ndarray:
+    """max |velocity difference| / max |velocity| of the finer run, at every sample."""
+    return np.abs(coarse["velocities"] - fine["velocities"]).max(axis=1) / np.abs(fine["velocities"]).max()
+
+
+def one_state(params, y0, cfg: dict, label: str) -> dict:
+    """Settle the state from y0 (double), then run it in every precision of the ladder."""
+    y, pre = settle(params, y0, cfg["t_transient"], **cfg["transient"], tol=TOL["double"], label=label, progress=1)
+    runs = [run_in(params, y, p, T=cfg["T"], dt=cfg["dt"], spike_factor=cfg["transient"]["spike_factor"])
+            for p in cfg["precisions"]]
+    seps = [separation(a, b) for a, b in zip(runs[:-1], runs[1:])]
+    t = cfg["dt"] * np.arange(1, runs[0]["velocities"].shape[0] + 1)
+    t_sep = [float(t[np.argmax(s > SEPARATED)]) if np.any(s > SEPARATED) else math.nan for s in seps]
+    out = {"runs": runs, "separations": seps, "t_separated": t_sep, "transient_over": int(pre["transient_over"]),
+           "converged": converged_precision(runs, list(cfg["precisions"]))}
+    log.info("%s: intervals %s; converged in %s", label, [round(r["interval_mean"], 2) for r in runs], out["converged"])
+    return out
+
+
+def _padded(rows: list, fill=math.nan) -> np.ndarray:
+    width = max(1, *(len(r) for r in rows))
+    return np.array([np.r_[np.asarray(r, float), np.full(width - len(r), fill)] for r in rows])
+
+
+def precision_ladder(cfg: dict, scene: str = "") -> xr.Dataset:
+    """Per state and precision: the spike times and interval statistics of the steady state; per
+    pair of neighbouring precisions, the orbits' separation (sampled every ``separation_every``)
+    and when it first exceeds SEPARATED; per state, the converged precision."""
+    start = time.perf_counter()
+    params = Params.from_config(cfg["params"])
+    names, precs = list(cfg["states"]), list(cfg["precisions"])
+    out = [one_state(params, state_at_label(cfg["states"][n], params, cfg["energy_label"]), cfg, f"{scene}[{n}]")
+           for n in names]
+    every = int(round(cfg["separation_every"] / cfg["dt"]))
+    spikes = [_padded([r["spikes"] for r in o["runs"]]) for o in out]
+    width = max(s.shape[1] for s in spikes)
+    ds = xr.Dataset(
+        {
+            "spike_time": (("state", "precision", "spike"),
+                           [np.pad(s, ((0, 0), (0, width - s.shape[1])), constant_values=np.nan) for s in spikes],
+                           {"long_name": "times of the Omega spikes after the settled point", "units": "time"}),
+            "interval_mean": (("state", "precision"), [[r["interval_mean"] for r in o["runs"]] for o in out],
+                              {"units": "time"}),
+            "interval_sd": (("state", "precision"), [[r["interval_sd"] for r in o["runs"]] for o in out],
+                            {"units": "time", "long_name": "standard deviation of the intervals within the run"}),
+            "run_wall_s": (("state", "precision"), [[r["wall_s"] for r in o["runs"]] for o in out]),
+            "run_energy_max_rel_drift": (("state", "precision"),
+                                         [[r["energy_max_rel_drift"] for r in o["runs"]] for o in out]),
+            "separation": (("state", "pair", "t_separation"), [[s[every - 1::every] for s in o["separations"]]
+                                                              for o in out],
+                           {"long_name": "max |velocity difference| / max |velocity| of the finer run, computed in double "
+                                        "(resolves differences above about 1e-16)"}),
+            "t_separated": (("state", "pair"), [o["t_separated"] for o in out],
+                            {"long_name": f"first time the separation exceeds {SEPARATED:g} (NaN: never)",
+                             "units": "time"}),
+            "converged_precision": ("state", np.array([o["converged"] for o in out], dtype=object)),
+            "transient_over": ("state", [o["transient_over"] for o in out]),
+        },
+        coords={"state": names, "precision": precs, "pair": [f"{a} / {b}" for a, b in zip(precs[:-1], precs[1:])],
+                "t_separation": cfg["dt"] * every * np.arange(1, out[0]["separations"][0][every - 1::every].size + 1),
+                "rounding": ("precision", [ROUNDING[p] for p in precs]), "tol": ("precision", [TOL[p] for p in precs])},
+    )
+    ds.attrs.update(params.attrs())
+    ds.attrs.update(scene=scene, energy_label=cfg["energy_label"], T=cfg["T"], dt=cfg["dt"],
+                    integrator="heyoka Taylor in each precision, tolerance its machine epsilon (coordinate tol)",
+                    energy_max_rel_drift=float(np.nanmax([[r["energy_max_rel_drift"] for r in o["runs"]] for o in out])),
+                    agreement_rule=" ".join(agrees.__doc__.split()),
+                    converged_rule=" ".join(converged_precision.__doc__.split()),
+                    wall_time_s=time.perf_counter() - start)
+    return ds
