@@ -49,3 +49,36 @@ def test_a_rotor_start_converges_in_double(hy):
     assert np.all(ds.interval_mean.values > 1000) and np.all(np.isnan(ds.t_separated.values))
     assert ds.separation.values.max() < 1e-6 and list(ds.pair.values) == ["double / long double"]
     assert ds.run_energy_max_rel_drift.values.max() < 1e-12
+
+
+def test_the_findings_are_composed_from_the_datasets(tmp_path):
+    import xarray as xr
+
+    from sleighsim.io import write_dataset
+    from sleighsim.outputs.claims import Row
+    from sleighsim.outputs.findings import precision_findings
+
+    lad = xr.Dataset({"interval_mean": (("state", "precision"), [[2311.5, 2338.5], [math.nan, math.nan]]),
+                      "interval_sd": (("state", "precision"), [[14.0, 7.6], [math.nan, math.nan]]),
+                      "t_separated": (("state", "pair"), [[2062.0], [math.nan]]),
+                      "converged_precision": ("state", np.array(["not converged", "not converged"], dtype=object)),
+                      "start": (("state", "component"), [[0.0, 0.1, 1.0, 0.0], [0.0, 0.0, 1.0, 0.3]])},
+                     coords={"state": ["main", "rotor_a"], "precision": ["double", "long double"],
+                             "pair": ["double / long double"]}, attrs={"T": 3e4})
+    ver = xr.Dataset({"ln_gain_max": ("state", [36.3]), "verdict": ("state", np.array(["undecided"], dtype=object)),
+                      "reason": ("state", np.array(["all 3 realizations agree; realization 0: x"], dtype=object)),
+                      "log10_gain_rounding": (("state", "arithmetic"), [[-0.2, -3.5, -18.3]]),
+                      "follows_orbit": (("state", "arithmetic"),
+                                        np.array([["does not follow", "follows", "follows"]], dtype=object))},
+                     coords={"state": ["main"], "arithmetic": ["double", "long double", "quad"]})
+    write_dataset(lad, tmp_path / "l.nc")
+    write_dataset(ver, tmp_path / "v.nc")
+    rows = [Row("C05", "spike interval", "about 2200")]
+    h, md = precision_findings(rows, {"precision_ladder": tmp_path / "l.nc", "chaos_verdict": tmp_path / "v.nc"})
+    main, rotor = md[2], md[3]
+    assert "double 2311.5 +- 14.0; long double 2338.5 +- 7.6 (the paper: about 2200 (C05))" in main
+    assert "separate (1e-3) at t = 2062" in main and "e^36.3; double does not follow (G x rounding 10^-0.2)" in main
+    assert "Chaos verdict: undecided (all 3 realizations agree)" in main
+    assert "no spike train within the run" in rotor and "(the paper: no value for this state)" in rotor
+    assert "stay within 1e-3" in rotor and "Mechanism" not in rotor
+    assert precision_findings(rows, {})[1][2].startswith("not yet computed")

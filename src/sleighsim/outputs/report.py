@@ -22,6 +22,7 @@ from ..ops import plots
 from ..io import read_dataset
 from ..registry import FIGURES, TABLES
 from .claims import Row
+from .findings import precision_findings
 
 COLOURS = {"reproduced": "#d4edda", "differs": "#fff3cd", "cannot be reproduced": "#f8d7da",
            "not yet computed": "#e2e3e5"}
@@ -202,8 +203,9 @@ def build(rows: list[Row], *, out_dir, tex_path, labels: dict, figures: dict, da
          _STYLE, "</head><body><h1>sleighsim: reproduction of Fedonyuk &amp; Tallapragada</h1>"]
     md = ["# sleighsim reproduction report", ""]
     ah, am = _answers(rows, datasets)
-    h += ah
-    md += am + [""]
+    fh, fm = precision_findings(rows, datasets)
+    h += ah + fh
+    md += am + [""] + fm
     for section in (_contents(paper_figs, other_figs),
                     _paper_figures(paper_figs, rows, out_dir=out_dir, tex_path=tex_path, labels=labels,
                                    figures=figures, datasets=datasets, benchmarks=benchmarks),

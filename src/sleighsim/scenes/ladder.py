@@ -135,8 +135,10 @@ def precision_ladder(cfg: dict, scene: str = "") -> xr.Dataset:
                              "units": "time"}),
             "converged_precision": ("state", np.array([o["converged"] for o in out], dtype=object)),
             "transient_over": ("state", [o["transient_over"] for o in out]),
+            "start": (("state", "component"), [cfg["states"][n] for n in names],
+                      {"long_name": "configured start state (u, Omega, omega, delta), before scaling to the label"}),
         },
-        coords={"state": names, "precision": precs, "pair": [f"{a} / {b}" for a, b in zip(precs[:-1], precs[1:])],
+        coords={"state": names, "precision": precs, "component": ["u", "Omega", "omega", "delta"], "pair": [f"{a} / {b}" for a, b in zip(precs[:-1], precs[1:])],
                 "t_separation": cfg["dt"] * every * np.arange(1, out[0]["separations"][0][every - 1::every].size + 1),
                 "rounding": ("precision", [ROUNDING[p] for p in precs]), "tol": ("precision", [TOL[p] for p in precs])},
     )
