@@ -14,20 +14,24 @@ def _train(mean, sd, n=10):
 
 
 def test_agrees_on_each_branch():
-    assert ladder.agrees(_train(2330.0, 8.0), _train(2336.0, 4.0))      # within the larger sd
-    assert not ladder.agrees(_train(2311.5, 14.0), _train(2338.5, 7.6))  # 27 apart, sd 14
-    assert not ladder.agrees(_train(2330.0, 8.0), _train(2330.0, math.nan, n=1))  # one interval: no train
+    assert ladder.agrees(_train(2330.0, 8.0), _train(2334.0, 5.0), 1.0)      # within the smaller sd
+    assert not ladder.agrees(_train(2330.0, 8.0), _train(2336.0, 5.0), 1.0)  # 6 apart, smaller sd 5
+    assert not ladder.agrees(_train(2311.5, 14.0), _train(2338.5, 7.6), 1.0)  # 27 apart
+    assert not ladder.agrees(_train(2901.9, 2421.6), _train(2337.8, 7.6), 1.0)  # a wild train is not regular
+    assert ladder.agrees(_train(1326.0, 0.0), _train(1326.5, 0.0), 1.0)      # periodic: sd floored at dt
+    assert not ladder.agrees(_train(2330.0, 8.0), _train(2330.0, math.nan, n=1), 1.0)  # one interval: no train
 
 
 @pytest.mark.parametrize("trains, want", [
     ([_train(1326.2, 5.1), _train(1326.2, 5.1), _train(1326.3, 5.0)], "double"),
-    ([_train(2311.5, 14.0), _train(2338.5, 7.6), _train(2340.0, 1.0)], "long double"),
+    ([_train(2311.5, 14.0), _train(2338.5, 7.6), _train(2340.0, 5.0)], "long double"),
     ([_train(2311.5, 14.0), _train(2338.5, 1.0), _train(2680.0, 0.1)], "not converged"),
     ([_train(2311.5, 14.0), _train(2338.5, 7.6)], "not converged"),
     ([_train(2330.0, 3.0), _train(2332.0, 3.0), _train(2334.5, 3.0)], "long double"),  # double agrees with one, not all
+    ([_train(2901.9, 2421.6), _train(2337.8, 7.6)], "not converged"),
 ])
 def test_converged_precision_is_the_lowest_that_agrees_with_every_finer_one(trains, want):
-    assert ladder.converged_precision(trains, ["double", "long double", "quad"][:len(trains)]) == want
+    assert ladder.converged_precision(trains, ["double", "long double", "quad"][:len(trains)], 1.0) == want
 
 
 def test_separation_is_relative_to_the_finer_runs_largest_velocity():

@@ -33,21 +33,23 @@ SEPARATED = 1e-3
 
 
 # the docstring is written into the precision_ladder dataset (attribute agreement_rule)
-def agrees(coarse: dict, fine: dict) -> bool:
-    """Do two precisions' spike trains agree? Both have at least two intervals and their mean
-    intervals differ by at most the larger standard deviation of the intervals within a run (no
-    assumption of independent intervals is made)."""
+def agrees(coarse: dict, fine: dict, dt: float) -> bool:
+    """Do two precisions' spike trains agree? Both have at least two intervals, the spreads of their
+    intervals (standard deviations, floored at the sampling dt that resolves a spike time) are within
+    a factor 2 of each other (the same regularity), and their mean intervals differ by at most the
+    smaller spread (no assumption of independent intervals is made)."""
     if min(coarse["n_intervals"], fine["n_intervals"]) < 2:
         return False
-    return abs(coarse["interval_mean"] - fine["interval_mean"]) <= max(coarse["interval_sd"], fine["interval_sd"])
+    sd = sorted(max(r["interval_sd"], dt) for r in (coarse, fine))
+    return sd[1] <= 2 * sd[0] and abs(coarse["interval_mean"] - fine["interval_mean"]) <= sd[0]
 
 
 # the docstring is written into the precision_ladder dataset (attribute converged_rule)
-def converged_precision(runs: list[dict], names: list[str]) -> str:
+def converged_precision(runs: list[dict], names: list[str], dt: float) -> str:
     """The lowest precision whose spike train agrees (``agrees``) with that of every finer precision
     run, or "not converged" when the two finest disagree or only one precision ran."""
     for i in range(len(runs) - 1):
-        if all(agrees(runs[i], later) for later in runs[i + 1:]):
+        if all(agrees(runs[i], later, dt) for later in runs[i + 1:]):
             return names[i]
     return "not converged"
 
@@ -92,7 +94,7 @@ def one_state(params, y0, cfg: dict, label: str) -> dict:
     t = cfg["dt"] * np.arange(1, runs[0]["velocities"].shape[0] + 1)
     t_sep = [float(t[np.argmax(s > SEPARATED)]) if np.any(s > SEPARATED) else math.nan for s in seps]
     out = {"runs": runs, "separations": seps, "t_separated": t_sep, "transient_over": int(pre["transient_over"]),
-           "converged": converged_precision(runs, list(cfg["precisions"]))}
+           "converged": converged_precision(runs, list(cfg["precisions"]), cfg["dt"])}
     log.info("%s: intervals %s; converged in %s", label, [round(r["interval_mean"], 2) for r in runs], out["converged"])
     return out
 
