@@ -65,9 +65,10 @@ def grid_rows(cfg: dict) -> list[tuple[float, float]]:
 
 def chunk_work(cfg: dict) -> list[float]:
     """Work of each chunk job of a chunked block: a lyapunov_grid's chunk k computes rows k,
-    k + n_chunks, ...; a chaos_verdict's chunk is one whole realization of the scene; any other
-    kind's chunks share its horizons equally."""
-    n = cfg["n_chunks"]
+    k + n_chunks, ...; a chaos_verdict's chunk is one whole realization of the scene (a block without
+    n_chunks, measured before the verdict ran realizations, is one); any other kind's chunks share
+    its horizons equally."""
+    n = cfg.get("n_chunks", 1) if cfg["kind"] == "chaos_verdict" else cfg["n_chunks"]
     if cfg["kind"] == "lyapunov_grid":
         rows = grid_rows(cfg)
         return [sum(w for _, w in rows[k::n]) for k in range(n)]
