@@ -1,4 +1,5 @@
-"""Helpers shared by the scene modules: reading config blocks into engine arguments."""
+"""Helpers shared by the scene modules: reading config blocks into engine arguments, and ragged
+records into arrays."""
 
 from __future__ import annotations
 
@@ -14,3 +15,11 @@ def initial_state(cfg: dict, params: Params) -> np.ndarray:
     if cfg.get("energy_label") is not None:
         y0 = state_at_label(y0, params, cfg["energy_label"])
     return y0
+
+
+def nan_padded(rows, min_width: int = 0) -> np.ndarray:
+    """Rows of different lengths as one float array, each padded with NaN to the longest (at least
+    ``min_width`` columns: 1 keeps a netCDF dimension from being empty)."""
+    rows = [np.asarray(r, float) for r in rows]
+    width = max(min_width, *(r.size for r in rows)) if rows else min_width
+    return np.array([np.r_[r, np.full(width - r.size, np.nan)] for r in rows])

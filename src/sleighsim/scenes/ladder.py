@@ -23,6 +23,7 @@ from ..model import energy
 from ..params import Params
 from ..symmetries import state_at_label
 from ..transient import settle, spike_times
+from .common import nan_padded
 
 log = logging.getLogger("sleighsim")
 
@@ -99,11 +100,6 @@ def one_state(params, y0, cfg: dict, label: str) -> dict:
     return out
 
 
-def _padded(rows: list, fill=math.nan) -> np.ndarray:
-    width = max(1, *(len(r) for r in rows))
-    return np.array([np.r_[np.asarray(r, float), np.full(width - len(r), fill)] for r in rows])
-
-
 def precision_ladder(cfg: dict, scene: str = "") -> xr.Dataset:
     """Per state and precision: the spike times and interval statistics of the steady state; per
     pair of neighbouring precisions, the orbits' separation (sampled every ``separation_every``)
@@ -114,12 +110,10 @@ def precision_ladder(cfg: dict, scene: str = "") -> xr.Dataset:
     out = [one_state(params, state_at_label(cfg["states"][n], params, cfg["energy_label"]), cfg, f"{scene}[{n}]")
            for n in names]
     every = int(round(cfg["separation_every"] / cfg["dt"]))
-    spikes = [_padded([r["spikes"] for r in o["runs"]]) for o in out]
-    width = max(s.shape[1] for s in spikes)
+    spikes = nan_padded([r["spikes"] for o in out for r in o["runs"]], min_width=1).reshape(len(names), len(precs), -1)
     ds = xr.Dataset(
         {
-            "spike_time": (("state", "precision", "spike"),
-                           [np.pad(s, ((0, 0), (0, width - s.shape[1])), constant_values=np.nan) for s in spikes],
+            "spike_time": (("state", "precision", "spike"), spikes,
                            {"long_name": "times of the Omega spikes after the settled point", "units": "time"}),
             "interval_mean": (("state", "precision"), [[r["interval_mean"] for r in o["runs"]] for o in out],
                               {"units": "time"}),

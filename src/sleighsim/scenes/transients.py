@@ -14,6 +14,7 @@ from .. import fits, model, transient
 from ..integrate import final_state, integrate, sample_grid
 from ..params import Params
 from ..symmetries import REFERENCE_LABEL, state_at_label
+from .common import nan_padded
 
 log = logging.getLogger("sleighsim")
 
@@ -197,8 +198,6 @@ def attractor_levels(cfg: dict, scene: str = "") -> xr.Dataset:
     reps = [int(np.flatnonzero((group == g) & ok)[0]) for g in sorted(set(group[ok]))]
     long_sp = [_long_check(params, y0s[r] if run_level[r] == 0 else state_at_label(y0s[r], params, labels[0]),
                            cfg, f"{scene}.long[group {group[r]}]") for r in reps]
-    width = max((sp.size for sp, _ in long_sp), default=0)
-    pad = lambda x: np.r_[x, np.full(width - x.size, np.nan)]  # noqa: E731
     ds = xr.Dataset(
         {
             "omega_aligned": (("run", "tau"), raw, {"long_name": "omega(t_first + tau / c) / c (sign: mirrored)"}),
@@ -208,7 +207,7 @@ def attractor_levels(cfg: dict, scene: str = "") -> xr.Dataset:
             **{k: ("run", np.asarray(v, float)) for k, v in per.items()},
             "spike_interval_level0_units": ("run", interval),
             "group": ("run", group, {"long_name": "steady spike interval group (group_rel_tol)"}),
-            "long_spike_time": (("group", "spike"), np.array([pad(sp) for sp, _ in long_sp])),
+            "long_spike_time": (("group", "spike"), nan_padded([sp for sp, _ in long_sp])),
             "long_representative_run": ("group", np.array(reps)),
         },
         coords={"tau": tau, "component": list(model.STATE_NAMES), "label": ("run", runs["label"]),

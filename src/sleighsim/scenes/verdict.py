@@ -58,6 +58,7 @@ from ..io import read_dataset
 from ..params import Params
 from ..symmetries import state_at_label
 from ..transient import settle
+from .common import nan_padded
 
 log = logging.getLogger("sleighsim")
 
@@ -489,9 +490,8 @@ def _gain_vars(out: list) -> dict:
     """The dataset's faithfulness gauge per state: ln G per spike cycle (NaN-padded), its maximum, and
     per arithmetic log10(G_max x rounding) and whether that arithmetic follows the orbit."""
     gains = [o["gain"] for o in out]
-    width = max(1, *(g["ln_gain"].size for g in gains))  # one NaN column when no state has a complete cycle
     return {
-        "ln_gain": (("state", "cycle"), [np.r_[g["ln_gain"], np.full(width - g["ln_gain"].size, np.nan)] for g in gains],
+        "ln_gain": (("state", "cycle"), nan_padded([g["ln_gain"] for g in gains], min_width=1),
                     {"long_name": "ln G: largest singular value of the one-period tangent map, maximised over its start "
                                   "in the cycle (double run)"}),
         "ln_gain_max": ("state", [g["ln_gain_max"] for g in gains], {"long_name": "largest ln G over the cycles"}),
