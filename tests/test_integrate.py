@@ -118,3 +118,25 @@ def test_the_jit_cache_goes_where_the_environment_says(tmp_path):
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=300)
     assert out.returncode == 0, out.stderr
     assert out.stdout.strip() == str(tmp_path / "jit") and any((tmp_path / "jit").iterdir())
+
+
+@pytest.mark.parametrize("precision, tol", [("long double", 2.0**-63), ("quad", 2.0**-112)])
+def test_an_extended_precision_run_follows_the_double_one_where_both_are_faithful(precision, tol):
+    """Over 200 time units from the reference state every arithmetic follows one orbit: the runs
+    agree to about double's rounding, with or without the path, and the dataset names its arithmetic."""
+    p, times = Params.from_config({"eps": 0.1, "b": 1.0, "K2": 1.1}), sample_grid(0.0, 200.0, 0.5)
+    for kinematics in (False, True):
+        d = integrate(p, REFERENCE_STATE, times, kinematics=kinematics)
+        e = integrate(p, REFERENCE_STATE, times, kinematics=kinematics, tol=tol, precision=precision)
+        assert e.attrs["precision"] == precision and e.u.dtype == np.float64
+        for v in ("u", "Omega", "omega"):
+            assert np.max(np.abs(d[v].values - e[v].values)) < 1e-11
+        assert e.attrs["energy_max_rel_drift"] < 1e-15
+
+
+def test_an_unknown_precision_or_scipy_outside_double_is_refused_before_any_work():
+    p = Params.from_config({"eps": 0.1, "b": 1.0, "K2": 1.1})
+    with pytest.raises(ValueError, match="choose one of"):
+        integrate(p, REFERENCE_STATE, [0.0, 1.0], precision="half")
+    with pytest.raises(ValueError, match="double only"):
+        integrate(p, REFERENCE_STATE, [0.0, 1.0], backend="scipy", precision="long double")

@@ -73,14 +73,17 @@ def bound(y, kinematics: bool) -> tuple[np.ndarray, np.ndarray]:
     """The state with delta reduced to [-pi, pi) and, with the path, theta reduced by whole turns
     and the centre (x, y) moved to the origin: all exact symmetries of the equations. Returns the
     bounded state and the shift to add to later samples (theta's turns, x and y; delta is reported
-    reduced)."""
-    y = np.array(y, dtype=float)
-    shift = np.zeros_like(y)
-    y[model.DELTA] = (y[model.DELTA] + math.pi) % TWO_PI - math.pi
+    reduced). Extended-precision states keep their type (delta, already kept in [-pi, pi) by the
+    integrator, then changes by rounding in that type only)."""
+    y = np.array(y)
+    y = y.astype(float) if y.dtype.kind in "iub" else y
+    shift, fp = np.zeros_like(y), y.dtype.type
+    if not -math.pi <= y[model.DELTA] < math.pi:  # the integrators keep it there; a given start may not be
+        y[model.DELTA] = (y[model.DELTA] + fp(math.pi)) % fp(TWO_PI) - fp(math.pi)
     if kinematics:
-        turns = math.floor(y[model.THETA] / TWO_PI)
-        y[model.THETA] -= turns * TWO_PI
-        shift[model.THETA] = turns * TWO_PI
+        turns = math.floor(float(y[model.THETA]) / TWO_PI)
+        y[model.THETA] -= fp(turns * TWO_PI)
+        shift[model.THETA] = fp(turns * TWO_PI)
         shift[5:7], y[5:7] = y[5:7], 0.0
     return y, shift
 
@@ -98,15 +101,16 @@ class _Path:
         self.span *= min(2.0, max(0.5, math.pi / moved))
 
 
-def _run_heyoka(params, y0, t0, times, kinematics, tol, scene, progress, max_steps):
+def _run_heyoka(params, y0, t0, times, kinematics, tol, precision, scene, progress, max_steps):
     import heyoka as hy
 
-    ta, compile_s = integrators.flow(kinematics, tol)
+    ta, compile_s = integrators.flow(kinematics, tol, *integrators.precision_flags(precision))
+    fp = ta.state.dtype.type  # times handed to heyoka are in the integrator's own type
     callback = integrators.bounded(ta)
     integrators.set_pars(ta, params)
     state, shift = bound(y0, kinematics)
     integrators.load(ta, state)
-    ta.time, origin = 0.0, t0  # the local clock restarts at every chunk; origin is its absolute time
+    ta.time, origin = fp(0), t0  # the local clock restarts at every chunk; origin is its absolute time
     nsteps, min_h, max_h = 0, math.inf, 0.0
 
     def advance(call, arg):
@@ -132,23 +136,23 @@ def _run_heyoka(params, y0, t0, times, kinematics, tol, scene, progress, max_ste
         stop = int(np.searchsorted(times, end, side="right"))
         theta_start = ta.state[model.THETA] if kinematics else 0.0  # theta is stored as it is
         if stop == pos:  # no sample in this chunk
-            advance(ta.propagate_until, end - origin)
+            advance(ta.propagate_until, fp(end - origin))
         else:
             if times[pos] > origin:
-                advance(ta.propagate_until, times[pos] - origin)
-            res = advance(ta.propagate_grid, times[pos:stop] - origin)
-            out[pos:stop] = integrators.samples(ta, res[5]) + shift
+                advance(ta.propagate_until, fp(times[pos] - origin))
+            res = advance(ta.propagate_grid, (times[pos:stop] - origin).astype(ta.state.dtype))
+            out[pos:stop] = (integrators.samples(ta, res[5]) + shift).astype(float)
             pos, end = stop, times[stop - 1]
         if kinematics:
             path.adapt(ta.state, theta_start)
             state, moved = bound(integrators.read(ta, y0.size), kinematics)
             integrators.load(ta, state)
             shift += moved
-        ta.time, origin = 0.0, end
+        ta.time, origin = fp(0), end
         if origin >= next_log or pos == times.size:
             log.info("%s: t = %.6g / %.6g (%d steps)", scene, origin, times[-1], nsteps)
             next_log += every
-    info = dict(backend="heyoka", method="taylor_adaptive", tol=tol, order=int(ta.order),
+    info = dict(backend="heyoka", method="taylor_adaptive", tol=tol, precision=precision, order=int(ta.order),
                 compile_time_s=compile_s, steps=nsteps, min_step=min_h if nsteps else float("nan"),
                 max_step=max_h)
     return out, info
@@ -220,6 +224,7 @@ def integrate(
     kinematics: bool = False,
     backend: str = "heyoka",
     tol: float = DEFAULT_TOL,
+    precision: str = "double",
     method: str = "DOP853",
     rtol: float = 1e-12,
     atol: float = 1e-14,
@@ -231,7 +236,8 @@ def integrate(
     """Integrate from ``y0`` at ``t0`` (default ``times[0]``) and sample at ``times``.
 
     ``y0``: (u, Omega, omega, delta), or with (theta, x, y) appended when
-    ``kinematics`` (zeros if omitted). ``tol`` is heyoka's tolerance; ``method``,
+    ``kinematics`` (zeros if omitted). ``tol`` is heyoka's tolerance and ``precision`` its
+    arithmetic (one of integrators.EPSILON; samples are returned in double); ``method``,
     ``rtol``, ``atol`` apply to the SciPy backend, whose right-hand side is the lambdified
     NumPy one (independent of heyoka) or, with ``compiled``, heyoka's cfunc (for speed
     studies of the integrator itself). Progress is logged ``progress``
@@ -252,13 +258,17 @@ def integrate(
         raise ValueError(f"t0 = {t0} is after the first sample time {times[0]}")
     if backend == "heyoka" and not (0 < tol < 1):
         raise ValueError(f"tol = {tol} is outside the admissible range (0, 1)")
+    if backend == "heyoka":
+        integrators.precision_flags(precision)  # an unknown precision fails here, before any work
+    elif precision != "double":
+        raise ValueError(f"precision {precision!r}: the SciPy backend runs in double only")
     if backend == "scipy" and not (rtol > 0 and atol > 0):
         raise ValueError(f"rtol = {rtol}, atol = {atol}: both must be > 0")
     y0 = _initial_state(y0, kinematics)
 
     start = time.perf_counter()
     if backend == "heyoka":
-        states, info = _run_heyoka(params, y0, t0, times, kinematics, tol, scene, progress, max_steps)
+        states, info = _run_heyoka(params, y0, t0, times, kinematics, tol, precision, scene, progress, max_steps)
     elif backend == "scipy":
         states, info = _run_scipy(params, y0, t0, times, method, rtol, atol, kinematics, compiled, scene, progress,
                                   max_steps)

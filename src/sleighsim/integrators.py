@@ -88,7 +88,7 @@ def load(ta, y) -> None:
     the model's variables."""
     y = np.array(y, dtype=ta.state.dtype)
     for i, shift in _shifts(ta):
-        y[i] += shift
+        y[i] += y.dtype.type(shift)
     ta.state[: y.shape[0]] = y
 
 
@@ -96,7 +96,7 @@ def read(ta, n: int) -> np.ndarray:
     """The first n components of ``ta``'s state (rows, for a batch integrator) in the model's variables."""
     y = np.array(ta.state[:n])
     for i, shift in _shifts(ta):
-        y[i] -= shift
+        y[i] -= y.dtype.type(shift)
     return y
 
 
@@ -104,7 +104,7 @@ def samples(ta, Y) -> np.ndarray:
     """Samples of ``ta``'s state (one row per time, as propagate_grid returns them) in the model's variables."""
     Y = np.array(Y)
     for i, shift in _shifts(ta):
-        Y[:, i] -= shift
+        Y[:, i] -= Y.dtype.type(shift)
     return Y
 
 
@@ -115,6 +115,18 @@ def set_pars(ta, params) -> None:
 
     values = heyoka_pars(params, ta.pars.dtype)
     ta.pars[:] = values[:, None] if ta.pars.ndim == 2 else values
+
+
+#: The arithmetics an integration can run in, each with its machine epsilon (its Taylor tolerance
+#: when a run is to follow the exact orbit as far as that arithmetic can).
+EPSILON = {"double": 2.0**-52, "long double": 2.0**-63, "quad": 2.0**-112}
+
+
+def precision_flags(precision: str) -> tuple[bool, bool]:
+    """(long_double, quad) of :func:`flow` for ``precision``, one of :data:`EPSILON`."""
+    if precision not in EPSILON:
+        raise ValueError(f"precision {precision!r}: choose one of {list(EPSILON)}")
+    return precision == "long double", precision == "quad"
 
 
 def fp_type(long_double: bool, quad: bool = False):

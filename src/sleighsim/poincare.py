@@ -38,23 +38,27 @@ class _Recorder:
         self.hits.append((t, *ta.d_output[:4], self.offset))
 
 
-def event_integrator(tol: float):
-    """The sleigh with the sin(2 delta) = 0 event (compiled once per process). Returns (ta, compile_s)."""
+def event_integrator(tol: float, precision: str = "double"):
+    """The sleigh with the sin(2 delta) = 0 event in ``precision`` (one of integrators.EPSILON),
+    compiled once per process. Returns (ta, compile_s)."""
+    fp = integrators.fp_type(*integrators.precision_flags(precision))
 
     def build():
         import heyoka as hy
 
         sys = model.heyoka_system(delta_shift=integrators.DELTA_SHIFT)
         stored = sys[3][0]  # delta + pi: sin(2 (delta + pi)) = sin(2 delta)
-        return hy.taylor_adaptive(sys, [0.0, 0.1, 1.0, integrators.DELTA_SHIFT], pars=model.compile_pars(),
-                                  tol=tol, nt_events=[hy.nt_event(hy.sin(2.0 * stored), _Recorder())])
+        y0 = np.array([0.0, 0.1, 1.0, integrators.DELTA_SHIFT]).astype(fp)
+        return hy.taylor_adaptive(sys, y0, pars=model.compile_pars(fp), tol=fp(tol), fp_type=fp,
+                                  nt_events=[hy.nt_event(hy.sin(2.0 * stored), _Recorder(), fp_type=fp)])
 
-    return integrators.compiled(("events", tol), build)
+    return integrators.compiled(("events", tol, precision), build)
 
 
-def crossings(params: Params, y0, t0: float, t_end: float, *, tol: float = 2.0**-52,
+def crossings(params: Params, y0, t0: float, t_end: float, *, tol: float = 2.0**-52, precision: str = "double",
               scene: str = "", progress: int = 20) -> dict:
-    """All crossings of delta = k pi/2 for t in (t0, t_end], starting from y0 at t0.
+    """All crossings of delta = k pi/2 for t in (t0, t_end], starting from y0 at t0, integrated in
+    ``precision`` (one of integrators.EPSILON) at ``tol``; the crossings are returned in double.
 
     Returns arrays: time, u, Omega, omega, k (the multiple of pi/2 of the reduced delta, so
     k mod 4 is the section class), residual |delta - k pi/2| (rad); plus steps, wall_time_s,
@@ -62,7 +66,8 @@ def crossings(params: Params, y0, t0: float, t_end: float, *, tol: float = 2.0**
     """
     import heyoka as hy
 
-    ta, compile_s = event_integrator(tol)
+    ta, compile_s = event_integrator(tol, precision)
+    fp = ta.state.dtype.type
     callback = integrators.bounded(ta)
     rec = ta.nt_events[0].callback
     rec.hits.clear()
@@ -75,10 +80,10 @@ def crossings(params: Params, y0, t0: float, t_end: float, *, tol: float = 2.0**
     report_every = (t_end - t0) / max(1, progress)
     while rec.offset < t_end:
         rate = abs(ta.state[1] - ta.state[2]) + 1e-3
-        span = min(t_end - rec.offset, 20.0 * math.pi / rate)
-        ta.time = 0.0
-        y_before = integrators.read(ta, 4)
-        res = ta.propagate_until(span, callback=callback)
+        span = min(t_end - rec.offset, 20.0 * math.pi / float(rate))
+        ta.time = fp(0)
+        y_before = integrators.read(ta, 4).astype(float)
+        res = ta.propagate_until(fp(span), callback=callback)
         steps += res[3]
         if res[0] != hy.taylor_outcome.time_limit or not np.all(np.isfinite(ta.state)):
             raise IntegrationError(f"scene {scene or '?'}: integration failed at t = {rec.offset:.6g}, "
@@ -87,7 +92,7 @@ def crossings(params: Params, y0, t0: float, t_end: float, *, tol: float = 2.0**
         if rec.offset >= next_report:
             log.info("%s: t = %.6g / %.6g, %d crossings", scene, rec.offset, t_end, len(rec.hits))
             next_report += report_every
-    hits = np.array(rec.hits, dtype=float).reshape(-1, 6)
+    hits = np.array([[float(v) for v in h] for h in rec.hits], dtype=float).reshape(-1, 6)
     hits = hits[hits[:, 0] > 0]  # a crossing exactly at a chunk start was recorded by the chunk before
     hits[:, 1:5] = integrators.samples(ta, hits[:, 1:5])
     k = np.round(hits[:, 4] / (math.pi / 2))
