@@ -25,9 +25,15 @@ def _err(first=(5500.0,) * 3, interval=(2380.0,) * 3, rel=(0.0007,) * 3, protoco
                       coords={"rtol": [1e-3, 1e-6, 1e-10], "lyapunov_rtol": [1e-3, 1e-6]}, attrs={"method": "RK45"})
 
 
+def _law(slope=-28.0, intercept=5100.0):
+    """A trigger law: the first spike moves |slope| time units per decade of injected error."""
+    return xr.Dataset({"tol": ("run", [1e-8, 1e-12, 1e-16]), "in_fit": ("run", [1, 1, 1])},
+                      attrs=dict(law_slope=slope, law_slope_stderr=1.0, law_intercept=intercept, law_n_fit=3))
+
+
 def test_a_crossing_of_the_sweep_explains_and_names_the_setting():
     k2 = _k2(first_spike=[5000, 6000, 8000, 9500], spike_interval=[1800, 2000, 2300, 2600])
-    text = causes.c04(J, PAPER["C04"], k2, _err(), _audit(printed_first_spike=np.nan, printed_spikes_t_end=2e4))
+    text = causes.c04(J, PAPER["C04"], k2, _err(), _audit(printed_first_spike=np.nan, printed_spikes_t_end=2e4), _law())
     assert text.startswith("explained by the unstated K") and "8700 at K2 1.2" in text
     text = causes.c05(J, PAPER["C05"], k2, _err(), _audit(printed_spike_interval=np.nan))
     assert text.startswith("explained by the unstated K")
@@ -35,13 +41,14 @@ def test_a_crossing_of_the_sweep_explains_and_names_the_setting():
 
 def test_no_cause_in_range_says_so_with_what_was_tested():
     k2 = _k2(first_spike=[5000, 5200, 5400, 5600], spike_interval=[2300, 2350, 2400, 2450])
-    text = causes.c04(J, PAPER["C04"], k2, _err(), _audit(printed_first_spike=np.nan, printed_spikes_t_end=2e4))
+    text = causes.c04(J, PAPER["C04"], k2, _err(), _audit(printed_first_spike=np.nan, printed_spikes_t_end=2e4), _law())
     assert text.startswith(causes.NONE) and "first_spike from 5000 to 5600" in text and "no spike by t = 20000" in text
+    assert "8700 would need an error of 10^-129" in text  # (8700 - 5100) / -28
 
 
 def test_the_printed_equation_and_the_integrator_are_causes_too():
     k2 = _k2(first_spike=[5000] * 4, spike_interval=[2600] * 4)
-    text = causes.c04(J, PAPER["C04"], k2, _err(), _audit(printed_first_spike=8800.0, printed_spikes_t_end=2e4))
+    text = causes.c04(J, PAPER["C04"], k2, _err(), _audit(printed_first_spike=8800.0, printed_spikes_t_end=2e4), _law())
     assert text.startswith("explained by the printed udot")
     text = causes.c05(J, PAPER["C05"], k2, _err(interval=(2200.0, 2600.0, 2600.0)), _audit(printed_spike_interval=np.nan))
     assert text.startswith("explained by integration error (RK45)") and "1e-03" in text

@@ -126,3 +126,19 @@ def test_agree_on_each_branch():
     assert (v, n) == (FRAGILE, 2) and why == "realizations disagree: regular 2, chaotic 1 of 3"
     with pytest.raises(ValueError, match="no realizations"):
         agree([])
+
+
+def test_the_faithful_gate_sets_aside_only_indicators_of_an_arithmetic_shown_not_to_follow():
+    from sleighsim.chaos.rule import faithful_gate
+
+    verdicts = {"benettin": ("chaotic", "rate 1e-3"), "megno": ("regular", "Y -> 2"),
+                "loschmidt": ("chaotic", "exp"), "frequency": ("undecided", "too short")}
+    arithmetic = {"benettin": "double", "megno": "long double", "loschmidt": "quad", "frequency": "double"}
+    follows = {"double": "does not follow", "long double": "follows", "quad": "unknown"}
+    aside = faithful_gate(verdicts, arithmetic, follows)
+    assert aside == ["benettin"]
+    assert verdicts["benettin"][0] == "undecided" and "judged in double" in verdicts["benettin"][1]
+    assert "it said chaotic: rate 1e-3" in verdicts["benettin"][1]
+    assert verdicts["megno"] == ("regular", "Y -> 2")        # follows: kept
+    assert verdicts["loschmidt"] == ("chaotic", "exp")       # unknown: kept
+    assert verdicts["frequency"] == ("undecided", "too short")  # undecided already: unchanged, not counted

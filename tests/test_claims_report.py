@@ -6,7 +6,6 @@ import subprocess
 import sys
 from pathlib import Path
 
-import numpy as np
 import pytest
 import xarray as xr
 
@@ -179,3 +178,36 @@ def test_report_renders_in_headless_chromium(smoke_run, tmp_path):
     assert shot.exists() and shot.stat().st_size > 10000
     md = (smoke_run / "results" / "report" / "README.md").read_text()
     assert "## Claims ledger" in md and "| C16 |" in md
+
+
+@pytest.mark.parametrize("double, finest, want", [
+    ("reproduced", "differs", "reproduced only in double precision"),
+    ("reproduced", "cannot be reproduced", "reproduced only in double precision"),
+    ("reproduced", "reproduced", "reproduced"),
+    ("differs", "reproduced", "reproduced"),
+    ("differs", "differs", "differs"),
+    ("reproduced", "not yet computed", "not yet computed"),
+])
+def test_a_claim_in_two_precisions_takes_the_finer_verdict_unless_only_double_reproduces(double, finest, want):
+    from sleighsim.outputs.rules import Judgement
+
+    verdict, reason = claims.in_precision(Judgement(double, "2330", ""), Judgement(finest, "2680", ""), "long double")
+    assert verdict == want
+    assert ("2330" in reason and "2680" in reason) == (want == "reproduced only in double precision")
+
+
+def test_ledger_judges_in_the_finest_precision_computed_beside_double(tmp_path):
+    """fig9_ref in double reproduces C16 (4 loops); its long-double run has 3: the row says so, and
+    names the precision, the double value and the ladder's status."""
+    data = tmp_path / "data"
+    _fig9(data / "fig9_ref.nc", n_loops=4, pairs=0)
+    _fig9(data / "precision" / "long_double" / "fig9_ref.nc", n_loops=3, pairs=0)
+    write_dataset(xr.Dataset(attrs={"converged_precision": "not converged"}), data / "ladder" / "fig9_ref.nc")
+    rows = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures")}
+    c16 = rows["C16"]
+    assert c16.verdict == "reproduced only in double precision"
+    assert c16.precision == "long double (fig9_ref: not converged)" and "4 loops" in c16.double_value
+    assert "3 loops" in c16.measured
+    assert rows["C22"].verdict == "reproduced" and rows["C22"].precision.startswith("long double")
+    assert rows["C02"].precision == "double"  # judged from the model alone
+    assert claims.summary(list(rows.values()))["reproduced only in double precision"] == 1

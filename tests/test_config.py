@@ -189,3 +189,20 @@ def test_config_readme_is_generated_from_the_schema_and_documents_every_key():
     assert not undocumented, undocumented
     for key in ("scenes.fig11_grid.n_chunks", "defaults.tol", "transient.spike_factor"):  # spot checks
         assert f"`{key.split('.')[-1]}`" in (ROOT / "config" / "README.md").read_text()
+
+
+@pytest.mark.parametrize("bad", [["long double", "double"], ["double", "quad", "long double"], ["double"],
+                                 ["double", "double"], ["double", "single"]])
+def test_a_precision_ladder_out_of_order_or_unknown_is_refused(bad):
+    assert "precisions" in refused(with_value(("scenes", "fig9_ref", "precisions"), bad))
+
+
+def test_laddered_scenes_and_their_datasets_are_named_by_the_registry():
+    ladders = registry.laddered(SMOKE)
+    assert ladders["fig9_ref"] == ["double", "long double"]
+    assert "precision_ladder" not in ladders  # its own precisions are a parameter, not a ladder of the scene
+    assert registry.variant("fig9_ref", "long double") == "precision/long_double/fig9_ref"
+    assert registry.variant("fig9_ref", "double") == "fig9_ref" and registry.ladder_name("x") == "ladder/x"
+    cfg = registry.scene_config(SMOKE, "fig9_ref")
+    assert "precisions" not in cfg  # the double dataset does not depend on its ladder
+    assert registry.scene_config(SMOKE, "precision_ladder")["precisions"]

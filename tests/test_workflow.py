@@ -58,8 +58,9 @@ def test_smoke_workflow_builds_every_figure_and_dataset(smoke_run):
         path = results / "data" / f"{scene}.nc"
         ds = read_dataset(path)
         assert ds.attrs["git_commit"] and ds.attrs["version_heyoka"], scene
-        if "energy_max_rel_drift" in ds.attrs:
-            assert ds.attrs["energy_max_rel_drift"] < 1e-8, scene
+        if "energy_max_rel_drift" in ds.attrs:  # scenes that run loose tolerances on purpose say so in tol_max
+            bound = 100 * ds.attrs["tol_max"] if "tol_max" in ds.attrs else 1e-8
+            assert ds.attrs["energy_max_rel_drift"] < bound, scene
         assert oct(path.stat().st_mode & 0o777) == oct(0o666 & ~_umask()), scene
     for scene in registry.datasets(SMOKE_CFG, on_request=True):
         if SMOKE_CFG["scenes"][scene].get("on_request"):

@@ -196,6 +196,15 @@ def check_memory(name: str, kind: str, cfg: dict, available: float) -> None:
                               f"about {need / 2**30:.3g} GiB in memory; this machine has {available / 2**30:.3g} GiB")
 
 
+def _precisions(w, cfg):
+    """A scene's precision ladder runs coarse to fine, from double."""
+    order = ["double", "long double", "quad"]
+    given = cfg.get("precisions", [])
+    if given and (given[0] != "double" or sorted(given, key=order.index) != list(given)):
+        raise ConfigError(f"{w}.precisions = {given}: list them coarse to fine, starting with double "
+                          f"(of {order})")
+
+
 def check(config: dict, available_memory: float | None = None) -> None:
     """Raise :class:`ConfigError` naming the first offending key."""
     from .params import Params
@@ -216,6 +225,7 @@ def check(config: dict, available_memory: float | None = None) -> None:
                 raise ConfigError(f"{w}.inputs.{role} = {source!r} is not a scene of the config that makes a dataset")
         if kind in CROSS_FIELD:
             CROSS_FIELD[kind](w, cfg)
+        _precisions(w, cfg)
         if kind in PRE_RUN and "transient" in cfg and cfg.get(PRE_RUN[kind], 0) > 0:
             t = cfg[PRE_RUN[kind]]
             _within(f"{w}.transient.window", cfg["transient"]["window"], "0", 0, f"{PRE_RUN[kind]} / 2", t / 2)

@@ -52,6 +52,7 @@ KINDS: dict[str, Kind] = {
     "lyapunov_grid": Kind(chunked=True),
     "chaos_verdict": Kind(chunked=True),
     "precision_ladder": Kind(),
+    "trigger_law": Kind(),
     "drift_windows": Kind(),
     "basins": Kind(chunked=True),
     "printed_model": Kind(),
@@ -62,6 +63,39 @@ KINDS: dict[str, Kind] = {
 }
 
 
+#: The key observables of each kind whose scenes can run in several precisions (a block's
+#: ``precisions``): :mod:`sleighsim.observables` reads them, with their uncertainties, from each
+#: precision's dataset and finds the precision they converge in.
+OBSERVABLES: dict[str, tuple[str, ...]] = {
+    "poincare": ("rotation_number", "return_time_mean", "n_loops"),
+    "psd": ("Omega_band_low", "Omega_band_high", "Omega_band_peak", "u_band_peak", "Omega_n_peaks_near_zero"),
+}
+
+
+def precision_tag(precision: str) -> str:
+    """A precision's name in paths: "long double" -> "long_double"."""
+    return precision.replace(" ", "_")
+
+
+def variant(scene: str, precision: str) -> str:
+    """The dataset name (path under data/) of ``scene`` computed in ``precision``: the scene itself
+    in double (the paper's arithmetic), else precision/<tag>/<scene>."""
+    return scene if precision == "double" else f"precision/{precision_tag(precision)}/{scene}"
+
+
+def ladder_name(scene: str) -> str:
+    """The dataset name (path under data/) of the precision ladder of ``scene``."""
+    return f"ladder/{scene}"
+
+
+def laddered(config: dict, *, on_request: bool = False) -> dict[str, list[str]]:
+    """{scene: its precisions, coarse to fine} for the scenes of ``config`` that run in more than
+    one precision (among those :func:`datasets` builds)."""
+    scenes = config["scenes"]
+    return {name: list(scenes[name]["precisions"]) for name in datasets(config, on_request=on_request)
+            if scenes[name]["kind"] in OBSERVABLES and len(scenes[name].get("precisions", ())) > 1}
+
+
 @dataclass(frozen=True)
 class Figure:
     """A figure: ``data`` are the datasets its plot function reads, in order; ``plot`` names the
@@ -69,7 +103,9 @@ class Figure:
     its id in CLAIMS.md ("" when the paper has no such figure, then ``title`` heads its report
     section); ``claims`` are the claims it illustrates; ``schematic`` names the scene whose
     config block a dataset-free figure draws; ``steady`` are the datasets that show a steady state,
-    each of which must carry a passed transient check (``transient_over``) for the figure to count."""
+    each of which must carry a passed transient check (``transient_over``) for the figure to count;
+    ``beside``: the figure also reads its laddered scenes in their finer precisions (after ``data``)
+    and draws them beside the paper's arithmetic."""
 
     data: tuple[str, ...] = ()
     paper: str = ""
@@ -78,6 +114,7 @@ class Figure:
     plot: str = ""
     schematic: str = ""
     steady: tuple[str, ...] = ()
+    beside: bool = False
 
 
 FIGURES: dict[str, Figure] = {
@@ -94,9 +131,9 @@ FIGURES: dict[str, Figure] = {
     "fig8": Figure(("fig8",), "F8", ("C14",), steady=("fig8",)),
     "fig9": Figure(("fig9_ref", "fig9_highE", "fig9_eps001", "fig9_scaling"), "F9", ("C15", "C16", "C17"),
                    steady=("fig9_ref", "fig9_highE", "fig9_eps001")),
-    "fig12": Figure(("fig9_ref", "fig9_eps001"), "F12", ("C22",), steady=("fig9_ref", "fig9_eps001")),
-    "fig13": Figure(("psd_eps01",), "F13", ("C23",), plot="psd", steady=("psd_eps01",)),
-    "fig14": Figure(("psd_eps001",), "F14", ("C24",), plot="psd", steady=("psd_eps001",)),
+    "fig12": Figure(("fig9_ref", "fig9_eps001"), "F12", ("C22",), steady=("fig9_ref", "fig9_eps001"), beside=True),
+    "fig13": Figure(("psd_eps01",), "F13", ("C23",), plot="psd", steady=("psd_eps01",), beside=True),
+    "fig14": Figure(("psd_eps001",), "F14", ("C24",), plot="psd", steady=("psd_eps001",), beside=True),
     "fig10": Figure(("lyap_energy",), "F10", ("C20",), steady=("lyap_energy",)),
     "fig11": Figure(("fig11_grid",), "F11", ("C21",), steady=("fig11_grid",)),
     "lyapunov": Figure(("lyap_spectrum", "lyap_protocol"), title="Lyapunov spectrum and the paper's protocol"),
@@ -108,6 +145,8 @@ FIGURES: dict[str, Figure] = {
     "precision": Figure(("precision_ladder",), title="Does the arithmetic decide the steady state? Spike intervals "
                                                      "per precision from one settled point, and the orbits' separation",
                         steady=("precision_ladder",)),
+    "trigger": Figure(("trigger_law",), title="What triggers the steady state? The first spike against the size of "
+                                              "the injected error (C04)"),
     "drift": Figure(("main_drift",), title="Does the main state's slow drift end? Spike interval and lambda_1 per "
                                           "window"),
     "audit": Figure(("audit",), title="The model as printed: energy drift of the printed udot"),
@@ -175,7 +214,7 @@ EVIDENCE: dict[str, tuple[str, ...]] = {
 #: The datasets each "differs" of a claim is tested against for its likely causes
 #: (sleighsim.outputs.causes), in the order its cause test takes them.
 CAUSES: dict[str, tuple[str, ...]] = {
-    "C04": ("k2_sweep", "integration_error", "audit"),
+    "C04": ("k2_sweep", "integration_error", "audit", "trigger_law"),
     "C05": ("k2_sweep", "integration_error", "audit"),
     "C09": ("k2_sweep",),
     "C10": ("k2_sweep",),
@@ -198,10 +237,13 @@ SCHEDULING = ("on_request", "schedule_first", "chunk_runtime_min", "runtime_min"
 
 def scene_config(config: dict, scene: str) -> dict:
     """The block of ``scene`` as its function reads it: the config's ``defaults`` filled in where
-    the kind integrates and the block sets no value, the scheduling keys removed."""
+    the kind integrates and the block sets no value, the scheduling keys removed (and a laddered
+    kind's ``precisions`` and ``gain``: each precision's job adds its own ``precision``, and the
+    ladder's job reads the gauge)."""
     block = config["scenes"][scene]
     defaults = config.get("defaults", {}) if KINDS[block["kind"]].integrates else {}
-    return {**defaults, **{k: v for k, v in block.items() if k not in SCHEDULING}}
+    ladder = ("precisions", "gain") if block["kind"] in OBSERVABLES else ()  # the ladder's, by its own jobs
+    return {**defaults, **{k: v for k, v in block.items() if k not in SCHEDULING + ladder}}
 
 
 def datasets(config: dict, *, on_request: bool = False) -> list[str]:

@@ -16,12 +16,28 @@ FIRST = [
     if n not in CHUNKED and SCENES[n].get("schedule_first", False)
 ]
 PLAIN = [n for n in ALL_DATASETS if n not in CHUNKED and n not in FIRST]
+# Scenes run in several precisions from one settled point ({scene: precisions}), the datasets of
+# their finer precisions and their ladders (sleighsim.observables), by name under data/.
+LADDERED = registry.laddered(config, on_request=True)
+TAG_PRECISION = {
+    registry.precision_tag(p): p
+    for ps in LADDERED.values()
+    for p in ps
+    if p != "double"
+}
+LADDER_DATA = [
+    registry.variant(s, p)
+    for s, ps in registry.laddered(config).items()
+    for p in ps
+    if p != "double"
+] + [registry.ladder_name(s) for s in registry.laddered(config)]
 # Runtime resource (minutes) of a scene job whose block sets no runtime_min (the SLURM profile's default).
 SCENE_RUNTIME_MIN = 60
 # What the report reads: the datasets of the figures shown and of the tables built.
 REPORT_DATA = sorted(
     {d for f in FIGURES_BUILT for d in registry.FIGURES[f].data}
     | {t.data for t in registry.TABLES.values() if t.data in DATASETS}
+    | set(LADDER_DATA)
 )
 
 
@@ -48,7 +64,36 @@ def figure_files(figs):
 
 
 def figure_inputs(wildcards):
-    return [f"{R}/data/{s}.nc" for s in registry.FIGURES[wildcards.fig].data]
+    """The figure's datasets, then (for a figure drawn beside its finer precisions) those of its
+    laddered scenes in every finer precision."""
+    fig = registry.FIGURES[wildcards.fig]
+    beside = [
+        registry.variant(s, p)
+        for s in (fig.data if fig.beside else ())
+        for p in LADDERED.get(s, ())
+        if p != "double"
+    ]
+    return [f"{R}/data/{s}.nc" for s in (*fig.data, *beside)]
+
+
+def ladder_gain(scene):
+    """The faithfulness gauge of a laddered scene (its block's ``gain``), None without one."""
+    block, cfg = SCENES[scene], SCENE_CFG[scene]
+    if "gain" not in block:
+        return None
+    return {
+        **block["gain"],
+        "params": cfg["params"],
+        "spike_factor": cfg["transient"]["spike_factor"],
+        "tol": cfg["tol"],
+    }
+
+
+def ladder_inputs(wildcards):
+    return [
+        f"{R}/data/{registry.variant(wildcards.scene, p)}.nc"
+        for p in LADDERED[wildcards.scene]
+    ]
 
 
 def scene_inputs(wildcards):

@@ -22,6 +22,49 @@ rule scene:
         "../scripts/scene.py"
 
 
+# A laddered scene in a finer precision: the same block, its steady-state part in that arithmetic.
+rule scene_in_precision:
+    output:
+        nc=f"{R}/data/precision/{{tag}}/{{scene}}.nc",
+    log:
+        f"{R}/logs/scene/precision/{{tag}}/{{scene}}.log",
+    benchmark:
+        f"{R}/benchmarks/scene/precision/{{tag}}/{{scene}}.tsv"
+    wildcard_constraints:
+        scene=alternatives(LADDERED),
+        tag=alternatives(TAG_PRECISION),
+    conda:
+        "../envs/sleighsim.yaml"
+    resources:
+        runtime=lambda w: SCENES[w.scene].get("runtime_min", SCENE_RUNTIME_MIN),
+    params:
+        cfg=lambda w: {**SCENE_CFG[w.scene], "precision": TAG_PRECISION[w.tag]},
+    script:
+        "../scripts/scene.py"
+
+
+# Its ladder: the key observables in every precision and the precision they converge in.
+rule ladder:
+    input:
+        runs=ladder_inputs,
+    output:
+        nc=f"{R}/data/ladder/{{scene}}.nc",
+    log:
+        f"{R}/logs/scene/ladder/{{scene}}.log",
+    benchmark:
+        f"{R}/benchmarks/scene/ladder/{{scene}}.tsv"
+    wildcard_constraints:
+        scene=alternatives(LADDERED),
+    conda:
+        "../envs/sleighsim.yaml"
+    params:
+        kind=lambda w: SCENES[w.scene]["kind"],
+        precisions=lambda w: LADDERED[w.scene],
+        gain=lambda w: ladder_gain(w.scene),
+    script:
+        "../scripts/ladder.py"
+
+
 # Long jobs start first, so the rest of the workflow runs beside them.
 use rule scene as scene_first with:
     wildcard_constraints:

@@ -10,7 +10,7 @@ import re
 
 import numpy as np
 
-from .rules import K_SIGMA, REL_TOL, finite, fmt
+from .rules import REL_TOL, finite, fmt
 
 NONE = "not explained by the causes tested"
 
@@ -77,13 +77,27 @@ def _ode45(err, var, target):
     return (f"integration error ({err.attrs['method']})", ok, text)
 
 
-def c04(judgement, paper, k2, err, audit):
+def _trigger(law, want):
+    """The injected error as a cause: the level log10(tol) at which the fitted trigger law puts the
+    first spike at the paper's time; explained when some arithmetic can inject an error that size
+    (between quad's rounding, 1e-34, and 1)."""
+    a = law.attrs
+    level = (want - a["law_intercept"]) / a["law_slope"] if finite(a["law_slope"]) and a["law_slope"] else math.nan
+    if not finite(level):
+        return ("the injected error (trigger law)", False, f"law not determined ({a['law_n_fit']} runs in the fit)")
+    text = (f"first spike moves {a['law_slope']:.3g} +- {a['law_slope_stderr']:.2g} time units per decade of injected "
+            f"error ({a['law_n_fit']} runs, tol {law.tol.values[law.in_fit.values == 1].min():.0e} to "
+            f"{law.tol.values[law.in_fit.values == 1].max():.0e}); {want:g} would need an error of 10^{level:.3g}")
+    return ("the injected error (trigger law)", -34 <= level <= 0, text)
+
+
+def c04(judgement, paper, k2, err, audit, law):
     want = paper["first_spike"]
     printed = audit.attrs["printed_first_spike"]
     return _verdict([_k2(k2, "first_spike", want), _ode45(err, "first_spike", want),
                      ("the printed udot", finite(printed) and abs(printed - want) <= REL_TOL * want,
                       f"first spike {printed:.5g}" if finite(printed) else
-                      f"no spike by t = {audit.attrs['printed_spikes_t_end']:g}")])
+                      f"no spike by t = {audit.attrs['printed_spikes_t_end']:g}"), _trigger(law, want)])
 
 
 def c05(judgement, paper, k2, err, audit):

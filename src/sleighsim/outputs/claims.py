@@ -28,14 +28,17 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from ..faithfulness import UNKNOWN
 from ..io import read_dataset, write_dataset, write_text
-from ..registry import CAUSES, EVIDENCE, FIGURES
+from ..integrators import EPSILON
+from ..registry import CAUSES, EVIDENCE, FIGURES, ladder_name, variant
 from . import rules
 from .causes import CAUSE_TESTS
 from .judges import JUDGES
-from .rules import CANNOT, DIFFERS, NOT_YET, REPRODUCED, VERDICTS
+from .rules import CANNOT, DIFFERS, DOUBLE_ONLY, NOT_YET, REPRODUCED, VERDICTS
 
 ID = re.compile(r"[FCD]\d+")
+PRECISIONS = tuple(EPSILON)  # coarse to fine
 PAIR = re.compile(r"\s*(\w+)\s*=\s*(\[[^\]]*\]|[^;]+)")
 
 
@@ -64,6 +67,8 @@ class Row:
     rule: str = ""
     cause: str = ""
     difference: float = math.nan
+    precision: str = ""
+    double_value: str = ""
 
 
 def parse_values(cell: str) -> dict:
@@ -103,7 +108,9 @@ class MissingDataset(KeyError):
 
 
 class _Datasets:
-    """The datasets of one data directory, each read once; MissingDataset naming a missing one."""
+    """The datasets of one data directory, each read once; MissingDataset naming a missing one.
+    Names are paths under the directory without .nc (a scene, or its variant in a finer precision,
+    ``sleighsim.registry.variant``)."""
 
     def __init__(self, data_dir: Path):
         self.dir, self.cache = Path(data_dir), {}
@@ -116,6 +123,30 @@ class _Datasets:
                     raise MissingDataset(name)
                 self.cache[name] = read_dataset(path)
         return [self.cache[n] for n in names]
+
+    def finest(self, names) -> str:
+        """The finest precision in which every one of ``names`` was computed (double when any was
+        computed in double only)."""
+        for precision in reversed(PRECISIONS):
+            if names and all((self.dir / f"{variant(n, precision)}.nc").exists() for n in names):
+                return precision
+        return "double"
+
+    def ladder_status(self, names) -> str:
+        """The converged precision of each of ``names`` that has a ladder (data/ladder/<name>.nc), and
+        whether double follows its orbit where the ladder measured the gauge."""
+        out = []
+        for n in names:
+            if not (self.dir / f"{ladder_name(n)}.nc").exists():
+                continue
+            ds = self([ladder_name(n)])[0]
+            c = ds.attrs["converged_precision"]
+            text = f"{n}: " + (f"converged in {c}" if c != "not converged" else c)
+            if "follows_orbit" in ds:
+                f = str(ds.follows_orbit.sel(precision="double").values)
+                text += (", double " + f) if f != UNKNOWN else ", double's faithfulness not measured (no full spike cycle)"
+            out.append(text)
+        return "; ".join(out)
 
 
 def _files(names) -> str:
@@ -155,17 +186,44 @@ def judge_figure(row: Row, name: str, load: _Datasets, figures_dir: Path) -> Non
         row.verdict = REPRODUCED
 
 
-def judge_claim(row: Row, claim: Claim, load: _Datasets) -> None:
-    """A claim row from its judge, then, if it differs, its cause tests."""
-    names = EVIDENCE.get(claim.id, ())
-    j = JUDGES[claim.id](claim.values, *load(names))
-    if j.verdict not in VERDICTS:
+def _judged(claim: Claim, datasets: list):
+    j = JUDGES[claim.id](claim.values, *datasets)
+    if j.verdict not in VERDICTS or j.verdict == DOUBLE_ONLY:
         raise ValueError(f"{claim.id}: judge returned {j.verdict!r}")
-    row.verdict, row.measured, row.rule, row.reason = j.verdict, j.measured, j.rule, j.reason
+    return j
+
+
+# the docstring is written into the ledger (attribute precision_rule)
+def in_precision(double, finest, precision: str):
+    """The verdict of a claim whose datasets were computed in double and in a finer ``precision``:
+    the finer arithmetic's verdict, except "reproduced only in double precision" when double
+    reproduces the paper's value and the finer arithmetic does not. Returns (verdict, reason)."""
+    if double.verdict == REPRODUCED and finest.verdict in (DIFFERS, CANNOT):
+        return DOUBLE_ONLY, (f"double reproduces the paper ({double.measured}); {precision} does not "
+                             f"({finest.measured}){': ' + finest.reason if finest.reason else ''}")
+    return finest.verdict, finest.reason
+
+
+def judge_claim(row: Row, claim: Claim, load: _Datasets) -> None:
+    """A claim row from its judge, in the finest precision its datasets were computed in (beside
+    double's value), then, if it differs, its cause tests."""
+    names = EVIDENCE.get(claim.id, ())
+    row.precision = load.finest(names)
+    j = j_double = _judged(claim, load(names))
+    row.verdict, row.reason = j.verdict, j.reason
+    if row.precision != "double":
+        j = _judged(claim, load([variant(n, row.precision) for n in names]))
+        row.verdict, row.reason = in_precision(j_double, j, row.precision)
+        row.double_value = j_double.measured
+        status = load.ladder_status(names)
+        row.precision += f" ({status})" if status else ""
+    row.measured, row.rule = j.measured, j.rule
     row.uncertainty, row.units, row.difference = j.uncertainty, j.units, float(j.difference)
     row.evidence = _files(names) + (" " + j.note if names and j.note.startswith("(") else
                                     "; " + j.note if names and j.note else j.note)
-    if j.verdict == DIFFERS and claim.id in CAUSE_TESTS:
+    if row.verdict == DIFFERS and claim.id.startswith("D"):
+        row.cause = "the paper's model as printed (found by the derivation, no run involved): " + (j.reason or j.measured)
+    if row.verdict == DIFFERS and claim.id in CAUSE_TESTS:
         needed = CAUSES[claim.id]
         try:
             row.cause = CAUSE_TESTS[claim.id](j, claim.values, *load(needed))
@@ -178,9 +236,10 @@ def _figure_from_claims(row: Row, judged: dict, claims: tuple) -> None:
     """A built figure is no better than the claims it illustrates."""
     if claims:
         row.rule += "; then no better than the claims it illustrates (" + ", ".join(claims) + ")"
-    differing = [c for c in claims if c in judged and judged[c].verdict == DIFFERS]
+    differing = [c for c in claims if c in judged and judged[c].verdict in (DIFFERS, DOUBLE_ONLY)]
     if row.verdict == REPRODUCED and differing:
         row.verdict, row.reason = DIFFERS, "its claims differ: " + ", ".join(differing)
+        row.cause = "; ".join(f"{c}: {judged[c].cause or 'no cause test yet'}" for c in differing)
 
 
 def ledger(claims_md, data_dir, figures_dir) -> list[Row]:
@@ -231,13 +290,14 @@ def to_dataset(rows: list[Row]) -> xr.Dataset:
             for n in names}
     ds = xr.Dataset(data, coords={"id": [r.id for r in rows]})
     ds.attrs.update({f"n_{v.replace(' ', '_')}": sum(r.verdict == v for r in rows) for v in VERDICTS})
-    ds.attrs.update(rel_tol=rules.REL_TOL, k_sigma=rules.K_SIGMA, rules=rules.__doc__.strip())
+    ds.attrs.update(rel_tol=rules.REL_TOL, k_sigma=rules.K_SIGMA, rules=rules.__doc__.strip(),
+                    precision_rule=" ".join(in_precision.__doc__.split()))
     return ds
 
 
 def summary(rows: list[Row]) -> dict[str, int]:
     """Rows per verdict."""
-    return {v: sum(r.verdict == v for r in rows) for v in (REPRODUCED, DIFFERS, CANNOT, NOT_YET)}
+    return {v: sum(r.verdict == v for r in rows) for v in VERDICTS}
 
 
 def main(argv=None) -> int:

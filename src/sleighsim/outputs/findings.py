@@ -40,13 +40,54 @@ def _state_sentences(ladder, verdict, k: int, paper_interval: str) -> list[str]:
     return out
 
 
+def _cell(value: float, uncertainty: float) -> str:
+    return f"{value:.6g}" if uncertainty == 0 else f"{value:.6g} +- {uncertainty:.2g}"
+
+
+def scene_ladders(datasets: dict) -> tuple[list[str], list[str]]:
+    """The ladders of the steady-state scenes (datasets ``ladder/<scene>``): each key observable per
+    precision with its stated uncertainty, the precision it converges in, and when the sampled
+    orbits separate. Empty when no scene was laddered."""
+    names = sorted(n for n in datasets if n.startswith("ladder/"))
+    if not names:
+        return [], []
+    h = ["<p>Steady-state scenes, each computed in every precision from one settled point (value +- the "
+         "uncertainty each observable states, sleighsim.observables):</p><table><tr><th>scene</th><th>observable</th>"
+         "<th>values per precision</th><th>converged in</th></tr>"]
+    md = ["| scene | observable | values per precision | converged in |", "|---|---|---|---|"]
+    for name in names:
+        ds = read_dataset(datasets[name])
+        scene = name.split("/", 1)[1]
+        for k, obs in enumerate(ds.observable.values):
+            cells = "; ".join(f"{p}: {_cell(float(ds.value.values[j, k]), float(ds.uncertainty.values[j, k]))}"
+                              for j, p in enumerate(ds.precision.values))
+            row = [scene, str(obs), cells, str(ds.converged_precision_of.values[k])]
+            h.append("<tr>" + "".join(f"<td>{html.escape(c)}</td>" for c in row) + "</tr>")
+            md.append("| " + " | ".join(row) + " |")
+        sep = ([f"{pair}: " + (f"separate (1e-3) at t = {t:g} after the settled point" if math.isfinite(t)
+                               else "within 1e-3 over the sampled stretch")
+                for pair, t in zip(ds.pair.values, ds.t_separated.values)] if "t_separated" in ds else [])
+        summary = f"{scene} converges in {ds.attrs['converged_precision']}" + (f"; orbits {'; '.join(sep)}" if sep else "")
+        if "follows_orbit" in ds and math.isfinite(ds.attrs["ln_gain_max"]):
+            summary += (f"; one spike cycle amplifies errors by up to e^{ds.attrs['ln_gain_max']:.1f}: "
+                        + ", ".join(f"{p} {f}" for p, f in zip(ds.precision.values, ds.follows_orbit.values)))
+        elif "follows_orbit" in ds:
+            summary += f"; no complete spike cycle within T_gain = {ds.attrs['T_gain']:g}: faithfulness unknown"
+        h.append(f"<tr><td colspan='4'><i>{html.escape(summary)}</i></td></tr>")
+        md.append(f"| {scene} | all | {summary} | {ds.attrs['converged_precision']} |")
+    h.append("</table>")
+    return h, md + [""]
+
+
 def precision_findings(rows: list, datasets: dict) -> tuple[list[str], list[str]]:
-    """The findings section (HTML lines, Markdown lines); a note when the precision ladder was not run."""
+    """The findings section (HTML lines, Markdown lines): the verdict states' precision ladder (a note
+    when it was not run), then the steady-state scenes' ladders."""
     h = ["<section id='findings'><h3>Does the arithmetic decide the steady state?</h3>"]
     md = ["### Does the arithmetic decide the steady state?", ""]
+    sh, smd = scene_ladders(datasets)
     if "precision_ladder" not in datasets:
-        h.append("<p>not yet computed (no precision-ladder dataset in this run)</p></section>")
-        return h, md + ["not yet computed (no precision-ladder dataset in this run)", ""]
+        h.append("<p>not yet computed (no precision-ladder dataset in this run)</p>")
+        return h + sh + ["</section>"], md + ["not yet computed (no precision-ladder dataset in this run)", ""] + smd
     ladder = read_dataset(datasets["precision_ladder"])
     verdict = read_dataset(datasets["chaos_verdict"]) if "chaos_verdict" in datasets else None
     paper = next((r.paper_value for r in rows if r.id == "C05"), "not stated")
@@ -56,5 +97,4 @@ def precision_findings(rows: list, datasets: dict) -> tuple[list[str], list[str]
         sentences = _state_sentences(ladder, verdict, k, claim)
         h.append(f"<p><b>{html.escape(str(st))}</b>: " + " ".join(html.escape(s) for s in sentences) + "</p>")
         md += [f"- **{st}**: " + " ".join(sentences)]
-    h.append("</section>")
-    return h, md + [""]
+    return h + sh + ["</section>"], md + [""] + smd

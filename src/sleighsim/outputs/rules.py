@@ -1,8 +1,10 @@
 """The rules every judge of the ledger uses: what a judgement holds, and how numbers are compared.
 
-Verdicts: "reproduced", "differs", "cannot be reproduced" (only from a computed rule, such as a
-measured cost above a stated budget, or a run that reached its stated cap without resolving the
-number), "not yet computed" (the dataset is missing, or does not determine the number: NaN).
+Verdicts: "reproduced", "reproduced only in double precision" (the ledger's, when the claim's
+datasets were also computed in a finer arithmetic and only double reproduces the paper),
+"differs", "cannot be reproduced" (only from a computed rule, such as a measured cost above a
+stated budget, or a run that reached its stated cap without resolving the number), "not yet
+computed" (the dataset is missing, or does not determine the number: NaN).
 """
 
 from __future__ import annotations
@@ -11,7 +13,9 @@ import math
 from dataclasses import dataclass
 
 REPRODUCED, DIFFERS, CANNOT, NOT_YET = "reproduced", "differs", "cannot be reproduced", "not yet computed"
-VERDICTS = (REPRODUCED, DIFFERS, CANNOT, NOT_YET)
+#: A paper number that double precision reproduces and the finest arithmetic computed does not.
+DOUBLE_ONLY = "reproduced only in double precision"
+VERDICTS = (REPRODUCED, DOUBLE_ONLY, DIFFERS, CANNOT, NOT_YET)
 REL_TOL = 0.1  # a number is reproduced within 10% of the paper's value ...
 K_SIGMA = 2.0  # ... or within 2 of our standard errors
 

@@ -47,6 +47,8 @@ def function(kind: str) -> Callable[..., xr.Dataset]:
             from .exponents import formal_exponents as f
         case "precision_ladder":
             from .ladder import precision_ladder as f
+        case "trigger_law":
+            from .trigger import trigger_law as f
         case "drift_windows":
             from .drift import drift_windows as f
         case "printed_model":

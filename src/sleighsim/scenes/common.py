@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..integrators import EPSILON, precision_flags
 from ..params import Params
 from ..symmetries import state_at_label
 
@@ -23,3 +24,13 @@ def nan_padded(rows, min_width: int = 0) -> np.ndarray:
     rows = [np.asarray(r, float) for r in rows]
     width = max(min_width, *(r.size for r in rows)) if rows else min_width
     return np.array([np.r_[r, np.full(width - r.size, np.nan)] for r in rows])
+
+
+def steady_arithmetic(cfg: dict) -> dict:
+    """The arithmetic of a scene's steady-state part: the block's ``precision`` (double, the paper's
+    arithmetic, when unset) at the block's ``tol`` in double, else at that precision's machine
+    epsilon. The transient before it always runs in double at ``tol``, so every precision of a
+    scene's ladder starts from the same settled point. Returns {"precision", "tol"}."""
+    precision = cfg.get("precision", "double")
+    precision_flags(precision)
+    return {"precision": precision, "tol": cfg["tol"] if precision == "double" else EPSILON[precision]}

@@ -16,7 +16,7 @@ from ..integrate import integrate, sample_grid
 from ..io import read_dataset
 from ..params import Params
 from ..transient import settle
-from .common import initial_state
+from .common import initial_state, steady_arithmetic
 
 log = logging.getLogger("sleighsim")
 
@@ -28,10 +28,11 @@ def poincare_maps(cfg: dict, scene: str = "") -> xr.Dataset:
     params = Params.from_config(cfg["params"])
     y0 = initial_state(cfg, params)
     y_settled, attrs = settle(params, y0, cfg["t_settle"], **cfg["transient"], tol=cfg["tol"], label=scene)
+    arith = steady_arithmetic(cfg)
     t0, t1 = cfg["t_settle"], cfg["t_settle"] + cfg["t_map"]
-    c = poincare.crossings(params, y_settled, t0, t1, tol=cfg["tol"], scene=scene)
+    c = poincare.crossings(params, y_settled, t0, t1, **arith, scene=scene)
     att = integrate(params, y_settled, sample_grid(t0, t0 + cfg["attractor_span"], cfg["attractor_dt"]),
-                    tol=cfg["tol"], scene=f"{scene}.attractor", progress=1)
+                    **arith, scene=f"{scene}.attractor", progress=1)
     pts = np.c_[c["u"], c["Omega"], c["omega"]]
     is2pi = c["k"] % 4 == 0
     rt = np.diff(c["time"][is2pi])
@@ -55,12 +56,14 @@ def poincare_maps(cfg: dict, scene: str = "") -> xr.Dataset:
     ds.attrs.update(attrs)
     ds.attrs.update(rot)
     ds.attrs.update(
-        scene=scene, backend="heyoka", method="taylor_adaptive + nt_event sin(2 delta)", tol=cfg["tol"],
+        scene=scene, backend="heyoka", method="taylor_adaptive + nt_event sin(2 delta)", **arith,
+        transient_tol=cfg["tol"], transient_precision="double", settled_state=np.asarray(y_settled, float),
         energy_max_rel_drift=float(np.max(np.abs(E / E0 - 1))) if E.size else float("nan"),
-        t_map_start=t0, t_map_end=t1, n_p2pi=int(is2pi.sum()), n_ppi2=int(len(pts)), ppi2_stride=stride,
+        t_map_start=t0, t_map_end=t1, attractor_dt=cfg["attractor_dt"], n_p2pi=int(is2pi.sum()), n_ppi2=int(len(pts)), ppi2_stride=stride,
         max_crossing_residual=float(c["residual"].max()) if len(pts) else float("nan"),
         return_time_min=float(rt.min()) if rt.size else float("nan"),
         return_time_max=float(rt.max()) if rt.size else float("nan"),
+        return_time_mean=float(rt.mean()) if rt.size else float("nan"),
         return_time_min_pairwise_difference=poincare.min_pairwise_difference(rt),
         return_time_resolution=float(2 * np.spacing(t1)),
         return_time_tie_tol=cfg["return_time_tie_tol"],
@@ -89,11 +92,12 @@ def psd(cfg: dict, scene: str = "") -> xr.Dataset:
     params = Params.from_config(cfg["params"])
     y0 = initial_state(cfg, params)
     y_settled, attrs = settle(params, y0, cfg["t_settle"], **cfg["transient"], tol=cfg["tol"], label=scene)
+    arith = steady_arithmetic(cfg)
     t0 = cfg["t_settle"]
     sc = cfg["welch"]
-    run = integrate(params, y_settled, sample_grid(t0, t0 + cfg["duration"], cfg["dt"]), tol=cfg["tol"], scene=scene)
+    run = integrate(params, y_settled, sample_grid(t0, t0 + cfg["duration"], cfg["dt"]), **arith, scene=scene)
     fine = integrate(params, y_settled, sample_grid(t0, t0 + cfg["check_duration"], cfg["check_dt"]),
-                     tol=cfg["tol"], scene=f"{scene}.check", progress=4)
+                     **arith, scene=f"{scene}.check", progress=4)
     coarse = run.sel(time=slice(t0, t0 + cfg["check_duration"]))
     data, out_attrs = {}, {}
     for v in ("u", "Omega"):
@@ -115,7 +119,8 @@ def psd(cfg: dict, scene: str = "") -> xr.Dataset:
     ds.attrs.update(attrs)
     ds.attrs.update(out_attrs)
     ds.attrs.update(
-        scene=scene, backend="heyoka", method="taylor_adaptive", tol=cfg["tol"],
+        scene=scene, backend="heyoka", method="taylor_adaptive", **arith,
+        transient_tol=cfg["tol"], transient_precision="double", settled_state=np.asarray(y_settled, float),
         energy_max_rel_drift=max(run.attrs["energy_max_rel_drift"], attrs["pre_run_energy_max_rel_drift"]),
         record_start=t0, record_duration=cfg["duration"], sample_dt=cfg["dt"], check_dt=cfg["check_dt"],
         check_duration=cfg["check_duration"], psd_method="scipy.signal.welch", psd_window="hann",

@@ -39,6 +39,7 @@ from ..chaos.rule import (
     classify,
     consistent,
     decide,
+    faithful_gate,
     precision_gate,
 )
 from ..chaos.tangent import (
@@ -97,6 +98,9 @@ def one_state(params, y0, cfg: dict, scene: str) -> dict:
     flow, tts = two_trajectory_runs(params, replicas[-1], cfg)
     two = two_trajectory_indicator(tts, cfg["d0"], tau, sigma)
     values["two_trajectory"], errors["two_trajectory"], verdicts["two_trajectory"] = two["value"], two["error"], two["verdict"]
+    arithmetic = {"benettin": "double", "ftle": "double", "megno": megno_precision, "two_trajectory": "double",
+                  "loschmidt": "long double", "frequency": list(freq["runs"])[-1]}
+    faithful_gate(verdicts, arithmetic, gain["follows"])
     verdict, reason, _ = decide(verdicts, TANGENT_BASED)
     others = {k: (values[k], errors[k]) for k in INDICATORS if k not in TANGENT_BASED and verdicts[k][0] == CHAOTIC}
     verdict, reason = consistent(verdict, reason, values["benettin"], errors["benettin"], others, sigma)
@@ -509,6 +513,7 @@ def _set_attrs(ds: xr.Dataset, cfg: dict, params, per_state, start: float) -> No
     fc = cfg["frequency"]
     ds.attrs.update(
         rule=DECISION_RULE + "; then " + " ".join(consistent.__doc__.split()), class_rule=" ".join(classify.__doc__.split()),
+        faithful_rule=" ".join(faithful_gate.__doc__.split()),
         precision_rule=" ".join(precision_check.__doc__.split()),
         d0_rule=" ".join(d0_independent.__doc__.split()), T_long_double=cfg["T_long_double"],
         tol_long_double=cfg["tol_long_double"], compact_mode=int(cfg["compact_mode"]),

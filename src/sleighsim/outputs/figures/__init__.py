@@ -8,14 +8,14 @@ from ...registry import plot_name
 from .audit import audit
 from .bench import bench
 from .exponents import chaos, drift, fig10, fig11, lyapunov, regimes
-from .precision import precision
+from .precision import precision, trigger
 from .steady_state import fig9, fig12, psd
 from .trajectories import fig1, fig2, fig3, fig7, fig8
 from .transients import basins, fig4, fig5, fig6, perturbation, transients
 
 PLOTS = {f.__name__: f for f in (fig1, fig2, fig3, fig4, fig5, fig6, fig7, fig8, fig9, fig10, fig11, fig12, psd,
                                   transients, perturbation, lyapunov, chaos, audit, bench, regimes, basins,
-                                  drift, precision)}
+                                  drift, precision, trigger)}
 
 
 def draw(figure: str, source, png, pdf) -> None:

@@ -47,3 +47,15 @@ def finish(fig, attrs: dict, png, pdf) -> None:
     fig.tight_layout(rect=(0, 0.03, 1, 1))
     save_figure(fig, png, pdf)
 
+
+
+#: Line styles of the precisions drawn beside double (the paper's arithmetic).
+PRECISION_STYLE = {"double": {"color": "tab:blue"}, "long double": {"color": "tab:red", "alpha": 0.7},
+                   "quad": {"color": "black", "alpha": 0.6}}
+
+
+def finer_precisions(datasets: list) -> dict:
+    """{(scene, precision): dataset} of the datasets computed in a precision finer than double
+    (a figure drawn beside its finer precisions receives them after its own datasets)."""
+    return {(d.attrs["scene"], d.attrs["precision"]): d for d in datasets
+            if d.attrs.get("precision", "double") != "double"}

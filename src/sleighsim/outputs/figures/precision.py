@@ -7,7 +7,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from ...io import read_dataset
-from .common import finish
+from .common import PRECISION_STYLE, finish
 
 COLOURS = {"double": "tab:red", "long double": "tab:blue", "quad": "k"}
 
@@ -39,3 +39,31 @@ def precision(sources, png, pdf) -> None:
         bx.set_ylabel("separation of the orbits (relative)")
         bx.legend(fontsize=8)
     finish(fig, ds.attrs, png, pdf)
+
+
+def trigger(sources, png, pdf) -> None:
+    """The first (and second) Omega spike against the Taylor tolerance, per arithmetic; filled
+    markers: runs in the fit (rounding far below the tolerance); the fitted law."""
+    ds = read_dataset(sources[0])
+    a = ds.attrs
+    fig, ax = plt.subplots(figsize=(8, 5))
+    for p, style in PRECISION_STYLE.items():
+        sel = ds.precision.values == p
+        if not sel.any():
+            continue
+        fit = sel & (ds.in_fit.values == 1)
+        for which, marker in (("first_spike", "o"), ("second_spike", "s")):
+            ax.semilogx(ds.tol.values[sel], ds[which].values[sel], marker, mfc="none", **style)
+            ax.semilogx(ds.tol.values[fit], ds[which].values[fit], marker, label=f"{p}: {which.replace('_', ' ')}",
+                        **style)
+    if np.isfinite(a["law_slope"]):
+        x = np.logspace(np.log10(ds.tol.values.min()), np.log10(ds.tol.values.max()), 50)
+        ax.semilogx(x, a["law_intercept"] + a["law_slope"] * np.log10(x), "k--", lw=0.8,
+                    label=f"first spike: {a['law_slope']:.3g} +- {a['law_slope_stderr']:.2g} per decade "
+                          f"({a['law_n_fit']} runs)")
+    ax.set_xlabel("Taylor tolerance (the injected error where rounding lies far below it)")
+    ax.set_ylabel("spike time (time units)")
+    ax.set_title(f"From y0 = ({a['y0_u']:g}, {a['y0_Omega']:g}, {a['y0_omega']:g}, {a['y0_delta']:g}): open markers: "
+                 f"rounding within {a['far']:g}x of the tolerance (not fitted)", fontsize=8)
+    ax.legend(fontsize=7)
+    finish(fig, a, png, pdf)

@@ -6,7 +6,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from ...io import read_dataset
-from .common import LABELS, finish
+from .common import LABELS, PRECISION_STYLE, finer_precisions, finish
 
 def _attractor_panel(ax, ds, title, iterates="ppi2"):
     ax.scatter(ds.attractor_u, ds.attractor_Omega, ds.attractor_omega, s=0.2, c="0.7", alpha=0.3, depthshade=False)
@@ -50,11 +50,18 @@ def fig9(sources, png, pdf) -> None:
 
 
 def fig12(sources, png, pdf) -> None:
-    """Return times t_{n+1} - t_n of P_2pi for two values of eps."""
+    """Return times t_{n+1} - t_n of P_2pi for two values of eps: double (the paper's arithmetic)
+    and, beside it, every finer precision computed from the same settled point."""
+    data = [read_dataset(s) for s in sources]
+    finer = finer_precisions(data[2:])
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
-    for ax, src, tag in zip(axes, sources, "ab"):
-        ds = read_dataset(src)
-        ax.plot(ds.return_time, ".", ms=1.2)
+    for ax, ds, tag in zip(axes, data, "ab"):
+        ax.plot(ds.return_time, ".", ms=1.2, label="double", **PRECISION_STYLE["double"])
+        for (scene, precision), other in finer.items():
+            if scene == ds.attrs["scene"]:
+                ax.plot(other.return_time, ".", ms=1.0, label=precision, **PRECISION_STYLE[precision])
+        if len(finer):
+            ax.legend(fontsize=7, markerscale=6)
         ax.set_xlabel("iterate $n$")
         ax.set_ylabel("return time $t_{n+1} - t_n$")
         ax.set_title(f"({tag}) $\\epsilon$ = {ds.attrs['param_eps']:.3g}, E label {ds.attrs['energy_label']:.4g}: "
@@ -65,12 +72,17 @@ def fig12(sources, png, pdf) -> None:
 
 
 def psd(sources, png, pdf) -> None:
-    """Welch PSD of u and Omega with the band and the peaks near zero (F13, F14)."""
-    ds = read_dataset(sources[0])
+    """Welch PSD of u and Omega with the band and the peaks near zero (F13, F14): double (the
+    paper's arithmetic) and, beside it, every finer precision computed from the same settled point."""
+    ds, *others = (read_dataset(s) for s in sources)
+    finer = finer_precisions(others)
     fig, axes = plt.subplots(2, 1, figsize=(10, 7))
     for ax, v in zip(axes, ("u", "Omega")):
         f, S = ds.frequency.values[1:], ds[f"psd_{v}"].values[1:]
-        ax.semilogy(f, S, lw=0.5)
+        ax.semilogy(f, S, lw=0.5, label="double", **PRECISION_STYLE["double"])
+        for (_, precision), other in finer.items():
+            ax.semilogy(other.frequency.values[1:], other[f"psd_{v}"].values[1:], lw=0.5, label=precision,
+                        **PRECISION_STYLE[precision])
         lo, hi = ds.attrs[f"{v}_band_low"], ds.attrs[f"{v}_band_high"]
         ax.axvspan(lo, hi, color="tab:orange", alpha=0.25, label=f"band [{lo:.4g}, {hi:.4g}]")
         ax.set_xlim(0, min(f[-1], 2.5 * hi))

@@ -1,0 +1,101 @@
+"""What triggers the steady state: the first Omega spike against the size of the error the
+integration injects (C04's tested cause).
+
+From one start the flow is integrated at a ladder of Taylor tolerances, each in an arithmetic
+whose rounding lies far below it (tol >= FAR x machine epsilon), so that the tolerance, not the
+rounding, sets the error injected along the second transient. The first spike time is then fitted
+against log10(tol): its slope (time units per decade of injected error) and the level at which any
+given first-spike time would come. Runs at an arithmetic's own epsilon are kept, marked outside
+the fit (their injected error is the rounding itself, whose size is not the tolerance).
+
+Conventions: time in the flow's time unit; spikes by the scenes' rule (``transient.spike_times``)
+on Omega sampled every dt, after t_min.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+
+import numpy as np
+import xarray as xr
+from scipy import stats
+
+from ..integrate import integrate, sample_grid
+from ..integrators import EPSILON
+from ..model import STATE_NAMES
+from ..params import Params
+from ..transient import spike_times
+
+log = logging.getLogger("sleighsim")
+
+#: A tolerance sets the injected error when the arithmetic's rounding is at least this far below it.
+FAR = 100.0
+
+
+def spikes_after(params, y0, precision: str, tol: float, cfg: dict, scene: str) -> tuple:
+    """(first spike, second spike, wall seconds, max relative energy drift) of the run from y0 in
+    ``precision`` at ``tol`` (NaN for a spike that does not come within t_end)."""
+    start = time.perf_counter()
+    run = integrate(params, y0, sample_grid(0.0, cfg["t_end"], cfg["dt"]), tol=tol, precision=precision,
+                    scene=f"{scene}[{precision} {tol:.0e}]", progress=1)
+    s = spike_times(run.time.values, run.Omega.values, factor=cfg["spike_factor"], t_min=cfg["t_min"])
+    first, second = (float(s[i]) if s.size > i else math.nan for i in (0, 1))
+    log.info("%s: %s at tol %.1e: first spike %.6g, second %.6g", scene, precision, tol, first, second)
+    return first, second, time.perf_counter() - start, run.attrs["energy_max_rel_drift"]
+
+
+# the docstring is written into the trigger_law dataset (attribute fit_rule)
+def fit(log10_tol, first) -> dict:
+    """Least squares of the first spike time against log10(tol) over the runs in the fit
+    (scipy.stats.linregress): slope (time units per decade) and intercept with their standard
+    errors from the residual scatter of the independent runs; NaN with fewer than 3 runs whose
+    first spike came."""
+    x, y = np.asarray(log10_tol, float), np.asarray(first, float)
+    ok = np.isfinite(y)
+    if ok.sum() < 3:
+        return dict(slope=math.nan, slope_stderr=math.nan, intercept=math.nan, intercept_stderr=math.nan,
+                    rvalue=math.nan, n_fit=int(ok.sum()))
+    r = stats.linregress(x[ok], y[ok])
+    return dict(slope=float(r.slope), slope_stderr=float(r.stderr), intercept=float(r.intercept),
+                intercept_stderr=float(r.intercept_stderr), rvalue=float(r.rvalue), n_fit=int(ok.sum()))
+
+
+def level_for(first_spike: float, law: dict) -> float:
+    """log10 of the injected error (tolerance) at which the fitted law puts the first spike at
+    ``first_spike`` (NaN when the law is not determined or flat)."""
+    if not (math.isfinite(law["slope"]) and law["slope"] != 0):
+        return math.nan
+    return (first_spike - law["intercept"]) / law["slope"]
+
+
+def trigger_law(cfg: dict, scene: str = "") -> xr.Dataset:
+    """First and second spike per (precision, tol) of ``cfg["tols"]`` from y0, and the fitted law."""
+    start = time.perf_counter()
+    params = Params.from_config(cfg["params"])
+    runs = [(p, float(t)) for p, tols in cfg["tols"].items() for t in tols]
+    out = np.array([spikes_after(params, cfg["y0"], p, t, cfg, scene) for p, t in runs])
+    tol = np.array([t for _, t in runs])
+    in_fit = np.array([t >= FAR * EPSILON[p] for p, t in runs])
+    law = fit(np.log10(tol[in_fit]), out[in_fit, 0])
+    ds = xr.Dataset(
+        {"precision": ("run", np.array([p for p, _ in runs], dtype=object)),
+         "tol": ("run", tol, {"long_name": "Taylor tolerance: the size of the injected error where in_fit"}),
+         "rounding": ("run", [EPSILON[p] for p, _ in runs], {"long_name": "machine epsilon of the arithmetic"}),
+         "in_fit": ("run", in_fit.astype(np.int8), {"long_name": f"tol >= {FAR:g} x rounding: the tolerance sets "
+                                                                  "the injected error"}),
+         "first_spike": ("run", out[:, 0], {"units": "time"}),
+         "second_spike": ("run", out[:, 1], {"units": "time"}),
+         "run_wall_s": ("run", out[:, 2], {"units": "s"}),
+         "run_energy_max_rel_drift": ("run", out[:, 3])},
+        coords={"run": np.arange(len(runs))},
+    )
+    ds.attrs.update(params.attrs())
+    ds.attrs.update({f"y0_{n}": float(v) for n, v in zip(STATE_NAMES, cfg["y0"])})
+    ds.attrs.update({f"law_{k}": v for k, v in law.items()})
+    ds.attrs.update(scene=scene, t_end=cfg["t_end"], dt=cfg["dt"], t_min=cfg["t_min"],
+                    spike_factor=cfg["spike_factor"], far=FAR, integrator="heyoka Taylor, tolerance and arithmetic per run",
+                    energy_max_rel_drift=float(np.nanmax(out[:, 3])), tol_max=float(tol.max()),
+                    fit_rule=" ".join(fit.__doc__.split()), wall_time_s=time.perf_counter() - start)
+    return ds
