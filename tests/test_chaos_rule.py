@@ -134,7 +134,8 @@ def test_the_faithful_gate_sets_aside_only_indicators_of_an_arithmetic_shown_not
     verdicts = {"benettin": ("chaotic", "rate 1e-3"), "megno": ("regular", "Y -> 2"),
                 "loschmidt": ("chaotic", "exp"), "frequency": ("undecided", "too short")}
     arithmetic = {"benettin": "double", "megno": "long double", "loschmidt": "quad", "frequency": "double"}
-    follows = {"double": "does not follow", "long double": "follows", "quad": "unknown"}
+    follows = {"benettin": "does not follow", "megno": "follows", "loschmidt": "unknown",
+               "frequency": "does not follow"}
     aside = faithful_gate(verdicts, arithmetic, follows)
     assert aside == ["benettin"]
     assert verdicts["benettin"][0] == "undecided" and "judged in double" in verdicts["benettin"][1]
@@ -142,3 +143,16 @@ def test_the_faithful_gate_sets_aside_only_indicators_of_an_arithmetic_shown_not
     assert verdicts["megno"] == ("regular", "Y -> 2")        # follows: kept
     assert verdicts["loschmidt"] == ("chaotic", "exp")       # unknown: kept
     assert verdicts["frequency"] == ("undecided", "too short")  # undecided already: unchanged, not counted
+
+
+def test_the_loschmidt_test_needs_two_decades_below_saturation_where_other_indicators_need_the_cycle_gauge():
+    """At ln G = 36 (the main state's torus) long double's G x rounding is 2.3e-4: it follows the orbit
+    through a cycle (< 1e-3), but the Loschmidt return error would start within two decades of
+    saturation; quad follows for both; without a measured cycle nothing is set aside."""
+    from sleighsim.scenes.verdict import indicator_follows
+
+    arithmetic = {"megno": "long double", "loschmidt": "long double"}
+    assert indicator_follows(36.0, arithmetic) == {"megno": "follows", "loschmidt": "does not follow"}
+    assert indicator_follows(36.0, {"loschmidt": "quad"}) == {"loschmidt": "follows"}
+    assert indicator_follows(31.0, {"loschmidt": "long double"}) == {"loschmidt": "follows"}  # G r = 1.6e-6
+    assert indicator_follows(float("nan"), arithmetic) == {"megno": "unknown", "loschmidt": "unknown"}

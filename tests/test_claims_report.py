@@ -211,3 +211,25 @@ def test_ledger_judges_in_the_finest_precision_computed_beside_double(tmp_path):
     assert rows["C22"].verdict == "reproduced" and rows["C22"].precision.startswith("long double")
     assert rows["C02"].precision == "double"  # judged from the model alone
     assert claims.summary(list(rows.values()))["reproduced only in double precision"] == 1
+
+
+def test_a_claim_whose_realizations_disagree_is_fragile_and_one_whose_realizations_agree_keeps_its_verdict(tmp_path):
+    data = tmp_path / "data"
+    _fig9(data / "fig9_ref.nc", n_loops=4, pairs=0)
+    _fig9(data / "realization" / "1" / "fig9_ref.nc", n_loops=4, pairs=0)
+    _fig9(data / "realization" / "2" / "fig9_ref.nc", n_loops=4, pairs=0)
+    rows = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures")}
+    assert rows["C16"].verdict == "reproduced" and rows["C16"].realizations == "all 3 realizations agree"
+    assert rows["C02"].realizations == ""  # no dataset, no realizations
+    _fig9(data / "realization" / "2" / "fig9_ref.nc", n_loops=3, pairs=0)
+    rows = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures")}
+    c16 = rows["C16"]
+    assert c16.verdict == "fragile" and c16.realizations == "realizations disagree: reproduced 2, differs 1 of 3"
+    assert c16.reason.startswith(c16.realizations) and "4 loops" in c16.measured
+    assert claims.summary(list(rows.values()))["fragile"] == 1
+    (data / "realization" / "1" / "fig9_ref.nc").unlink()  # realization 2 alone does not count: k runs 1, 2, ...
+    rows = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures")}
+    assert rows["C16"].verdict == "reproduced" and rows["C16"].realizations == ""
+    row = claims.Row(id="F9", statement="", paper_value="", verdict="reproduced")
+    claims._figure_from_claims(row, {"C16": c16}, ("C16",))
+    assert row.verdict == "fragile" and "C16" in row.reason

@@ -152,7 +152,7 @@ def test_the_sleighs_flow_runs_in_quad_precision():
 
 
 def test_realizations_perturb_every_state_but_the_first_at_the_given_size():
-    from sleighsim.scenes.verdict import realization_states
+    from sleighsim.scenes.common import realization_states
 
     states = {"main": [0.0, 0.1, 1.0, 0.0], "rotor": [0.0, 0.0, 1.0, 0.3]}
     assert realization_states(states, 1e-12, 0) == states
@@ -162,6 +162,17 @@ def test_realizations_perturb_every_state_but_the_first_at_the_given_size():
         assert np.all(np.abs(rel) < 1e-11) and np.all(np.array(one[name])[np.array(y) == 0] == 0)
         assert one[name] != y or not np.any(y)
     assert one != two and realization_states(states, 1e-12, 1) == one  # seeded by the realization
+
+
+def test_a_scene_realization_perturbs_its_y0_and_its_list_of_states_in_order():
+    from sleighsim.scenes.common import realization_config, realization_states
+
+    cfg = {"y0": [0.0, 0.1, 1.0, 0.0], "states": [[0.0, 0.1, 1.0, 0.0], [0.05, 0.1, 1.0, 3.1]], "T": 10.0}
+    assert realization_config(cfg, 1e-12, 0) == cfg
+    one = realization_config(cfg, 1e-12, 1)
+    assert one["T"] == 10.0 and one["states"] == realization_states(cfg["states"], 1e-12, 1)
+    assert one["y0"] == realization_states([cfg["y0"]], 1e-12, 1)[0] != cfg["y0"]
+    assert one["states"][1] != cfg["states"][1] and one["states"][0][0] == 0.0
 
 
 def test_gather_keeps_an_answer_only_when_every_realization_gives_it(tmp_path):

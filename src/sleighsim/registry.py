@@ -23,13 +23,16 @@ class Kind:
     """How a scene kind is computed: ``dataset`` is False for a kind drawn from its config block
     alone (no dataset); ``inputs`` are the roles of the datasets it reads; a ``chunked`` kind runs as
     independent chunk jobs gathered by one job; a kind that ``integrates`` takes the config's
-    ``defaults`` (the tolerance) unless its block sets them. The function of each kind is imported
+    ``defaults`` (the tolerance) unless its block sets them; a ``realizable`` kind's claims rest on a
+    sensitive quantity, so its block may ask for ``realizations`` (the scene again from start states
+    perturbed at ``realization_rel``, each judged by the ledger). The function of each kind is imported
     by :func:`sleighsim.scenes.function` (and :func:`sleighsim.scenes.chunk_functions`)."""
 
     dataset: bool = True
     inputs: tuple[str, ...] = ()
     chunked: bool = False
     integrates: bool = True
+    realizable: bool = False
 
 
 KINDS: dict[str, Kind] = {
@@ -44,11 +47,11 @@ KINDS: dict[str, Kind] = {
     "poincare": Kind(),
     "psd": Kind(),
     "attractor_scaling": Kind(inputs=("reference", "scaled"), integrates=False),
-    "lyapunov_spectrum": Kind(),
-    "lyapunov_protocol": Kind(),
-    "lyapunov_energy": Kind(),
+    "lyapunov_spectrum": Kind(realizable=True),
+    "lyapunov_protocol": Kind(realizable=True),
+    "lyapunov_energy": Kind(realizable=True),
     "small_eps_cost": Kind(),
-    "formal_exponents": Kind(),
+    "formal_exponents": Kind(realizable=True),
     "lyapunov_grid": Kind(chunked=True),
     "chaos_verdict": Kind(chunked=True),
     "precision_ladder": Kind(),
@@ -94,6 +97,19 @@ def laddered(config: dict, *, on_request: bool = False) -> dict[str, list[str]]:
     scenes = config["scenes"]
     return {name: list(scenes[name]["precisions"]) for name in datasets(config, on_request=on_request)
             if scenes[name]["kind"] in OBSERVABLES and len(scenes[name].get("precisions", ())) > 1}
+
+
+def realization_name(scene: str, k: int) -> str:
+    """The dataset name (path under data/) of realization ``k`` of ``scene`` (0: the scene itself)."""
+    return scene if k == 0 else f"realization/{k}/{scene}"
+
+
+def realized(config: dict, *, on_request: bool = False) -> dict[str, int]:
+    """{scene: its number of realizations} for the scenes of ``config`` (among those :func:`datasets`
+    builds) whose realizable block asks for more than one."""
+    scenes = config["scenes"]
+    return {name: int(scenes[name]["realizations"]) for name in datasets(config, on_request=on_request)
+            if KINDS[scenes[name]["kind"]].realizable and scenes[name].get("realizations", 1) > 1}
 
 
 @dataclass(frozen=True)
@@ -239,11 +255,13 @@ def scene_config(config: dict, scene: str) -> dict:
     """The block of ``scene`` as its function reads it: the config's ``defaults`` filled in where
     the kind integrates and the block sets no value, the scheduling keys removed (and a laddered
     kind's ``precisions`` and ``gain``: each precision's job adds its own ``precision``, and the
-    ladder's job reads the gauge)."""
+    ladder's job reads the gauge; a realizable kind's ``realizations`` and ``realization_rel``: each
+    realization's job perturbs its start states itself)."""
     block = config["scenes"][scene]
     defaults = config.get("defaults", {}) if KINDS[block["kind"]].integrates else {}
     ladder = ("precisions", "gain") if block["kind"] in OBSERVABLES else ()  # the ladder's, by its own jobs
-    return {**defaults, **{k: v for k, v in block.items() if k not in SCHEDULING + ladder}}
+    realized = ("realizations", "realization_rel") if KINDS[block["kind"]].realizable else ()
+    return {**defaults, **{k: v for k, v in block.items() if k not in SCHEDULING + ladder + realized}}
 
 
 def datasets(config: dict, *, on_request: bool = False) -> list[str]:

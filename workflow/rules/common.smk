@@ -31,6 +31,13 @@ LADDER_DATA = [
     for p in ps
     if p != "double"
 ] + [registry.ladder_name(s) for s in registry.laddered(config)]
+# Scenes run again from perturbed start states ({scene: realizations}) and those datasets by name.
+REALIZED = registry.realized(config, on_request=True)
+REALIZATION_DATA = [
+    registry.realization_name(s, k)
+    for s, n in registry.realized(config).items()
+    for k in range(1, n)
+]
 # Runtime resource (minutes) of a scene job whose block sets no runtime_min (the SLURM profile's default).
 SCENE_RUNTIME_MIN = 60
 # What the report reads: the datasets of the figures shown and of the tables built.
@@ -39,6 +46,7 @@ REPORT_DATA = sorted(
     | {t.data for t in registry.TABLES.values() if t.data in DATASETS}
     | set(LADDER_DATA)
 )
+CLAIMS_DATA = DATASETS + LADDER_DATA + REALIZATION_DATA
 
 
 def canonical(value):
@@ -87,6 +95,14 @@ def ladder_gain(scene):
         "spike_factor": cfg["transient"]["spike_factor"],
         "tol": cfg["tol"],
     }
+
+
+def realization_cfg(wildcards):
+    """The block of realization k of a scene: its start states perturbed at its realization_rel."""
+    from sleighsim.scenes.common import realization_config
+
+    rel = SCENES[wildcards.scene]["realization_rel"]
+    return realization_config(SCENE_CFG[wildcards.scene], rel, int(wildcards.k))
 
 
 def ladder_inputs(wildcards):

@@ -4,7 +4,7 @@
 
 rule claims:
     input:
-        data=expand(f"{R}/data/{{name}}.nc", name=DATASETS + LADDER_DATA),
+        data=expand(f"{R}/data/{{name}}.nc", name=CLAIMS_DATA),
         figures=expand(f"{R}/figures/{{fig}}.png", fig=FIGURES_BUILT),
         claims_md=CLAIMS_MD,
     output:

@@ -43,6 +43,33 @@ rule scene_in_precision:
         "../scripts/scene.py"
 
 
+# A realized scene again from its start states perturbed at the rounding level (realization k >= 1).
+rule scene_realization:
+    input:
+        unpack(scene_inputs),
+    output:
+        nc=f"{R}/data/realization/{{k}}/{{scene}}.nc",
+    log:
+        f"{R}/logs/scene/realization/{{k}}/{{scene}}.log",
+    benchmark:
+        f"{R}/benchmarks/scene/realization/{{k}}/{{scene}}.tsv"
+    wildcard_constraints:
+        scene=alternatives(REALIZED),
+        k=r"[1-9]\d*",
+    conda:
+        "../envs/sleighsim.yaml"
+    resources:
+        runtime=lambda w: SCENES[w.scene].get("runtime_min", SCENE_RUNTIME_MIN),
+    params:
+        cfg=realization_cfg,
+        attrs=lambda w: {
+            "realization": int(w.k),
+            "realization_rel": SCENES[w.scene]["realization_rel"],
+        },
+    script:
+        "../scripts/scene.py"
+
+
 # Its ladder: the key observables in every precision and the precision they converge in.
 rule ladder:
     input:

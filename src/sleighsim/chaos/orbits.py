@@ -233,6 +233,13 @@ def _growth_fits(T, e) -> dict:
     return out
 
 
+#: The largest G x rounding (the most one spike cycle amplifies the rounding, ``sleighsim.faithfulness``)
+#: at which a Loschmidt run can still tell exponential from power-law growth: its return error starts
+#: near G x rounding after the first spike and saturates at 1e-2 (``loschmidt_fit``'s saturation), and
+#: the fits need two decades between.
+LOSCHMIDT_GAIN_ROUNDING_MAX = 1e-4
+
+
 # the docstring is written into the chaos_verdict dataset (attribute loschmidt_fit)
 def loschmidt_fit(T_values, errors, scale, *, floor_factor=1e3, saturation=1e-2, rounding=_EPS, tail=0.5,
                   tail_min=4):

@@ -82,17 +82,20 @@ def precision_gate(verdicts: dict, ld: dict) -> None:
 # the docstring is written into the chaos_verdict dataset (attribute faithful_rule)
 def faithful_gate(verdicts: dict, arithmetic: dict, follows: dict) -> list[str]:
     """Set aside, in place, every indicator whose verdict was judged in an arithmetic shown not to
-    follow the state's orbit (the faithfulness gauge, ``sleighsim.faithfulness``: G x rounding >= 1e-3
-    in a spike cycle): a chaotic or regular verdict becomes undecided, naming the arithmetic. An
-    arithmetic whose gauge is "unknown" (no complete cycle measured) is not set aside: the gauge
-    shows nothing either way. ``arithmetic``: indicator -> the arithmetic its verdict was judged in;
-    ``follows``: arithmetic -> the gauge's answer. Returns the names set aside."""
+    follow the state's orbit closely enough for that indicator (the faithfulness gauge,
+    ``sleighsim.faithfulness``: G x rounding >= 1e-3 in a spike cycle; for the Loschmidt test
+    G x rounding >= 1e-4, ``chaos.orbits.LOSCHMIDT_GAIN_ROUNDING_MAX``, since its return error must
+    stay two decades below saturation after a spike): a chaotic or regular verdict becomes
+    undecided, naming the arithmetic. An indicator whose gauge is "unknown" (no complete cycle
+    measured) is not set aside: the gauge shows nothing either way. ``arithmetic``: indicator -> the
+    arithmetic its verdict was judged in; ``follows``: indicator -> the gauge's answer for it.
+    Returns the names set aside."""
     aside = []
     for name, (v, reason) in list(verdicts.items()):
         a = arithmetic[name]
-        if v != UNDECIDED and follows.get(a) == "does not follow":
-            verdicts[name] = (UNDECIDED, f"set aside: judged in {a}, which does not follow this orbit "
-                                         f"(G x rounding >= 1e-3); it said {v}: {reason}")
+        if v != UNDECIDED and follows.get(name) == "does not follow":
+            verdicts[name] = (UNDECIDED, f"set aside: judged in {a}, which does not follow this orbit closely "
+                                         f"enough for {name} (the faithfulness gauge); it said {v}: {reason}")
             aside.append(name)
     return aside
 

@@ -28,14 +28,15 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from ..chaos.rule import agree
 from ..faithfulness import UNKNOWN
 from ..io import read_dataset, write_dataset, write_text
 from ..integrators import EPSILON
-from ..registry import CAUSES, EVIDENCE, FIGURES, ladder_name, variant
+from ..registry import CAUSES, EVIDENCE, FIGURES, ladder_name, realization_name, variant
 from . import rules
 from .causes import CAUSE_TESTS
 from .judges import JUDGES
-from .rules import CANNOT, DIFFERS, DOUBLE_ONLY, NOT_YET, REPRODUCED, VERDICTS
+from .rules import CANNOT, DIFFERS, DOUBLE_ONLY, FRAGILE, NOT_YET, REPRODUCED, VERDICTS
 
 ID = re.compile(r"[FCD]\d+")
 PRECISIONS = tuple(EPSILON)  # coarse to fine
@@ -69,6 +70,7 @@ class Row:
     difference: float = math.nan
     precision: str = ""
     double_value: str = ""
+    realizations: str = ""
 
 
 def parse_values(cell: str) -> dict:
@@ -131,6 +133,17 @@ class _Datasets:
             if names and all((self.dir / f"{variant(n, precision)}.nc").exists() for n in names):
                 return precision
         return "double"
+
+    def realizations(self, names) -> list[list[str]]:
+        """The evidence of realizations 1, 2, ... of ``names``: each name that has realizations
+        (data/realization/<k>/<name>.nc) replaced by its realization k, for every k whose datasets
+        all exist (empty when no name has one)."""
+        realized = [n for n in names if (self.dir / f"{realization_name(n, 1)}.nc").exists()]
+        out, k = [], 1
+        while realized and all((self.dir / f"{realization_name(n, k)}.nc").exists() for n in realized):
+            out.append([realization_name(n, k) if n in realized else n for n in names])
+            k += 1
+        return out
 
     def ladder_status(self, names) -> str:
         """The converged precision of each of ``names`` that has a ladder (data/ladder/<name>.nc), and
@@ -217,6 +230,8 @@ def judge_claim(row: Row, claim: Claim, load: _Datasets) -> None:
         row.double_value = j_double.measured
         status = load.ladder_status(names)
         row.precision += f" ({status})" if status else ""
+    if row.precision == "double":
+        judge_realizations(row, claim, names, load, j_double)
     row.measured, row.rule = j.measured, j.rule
     row.uncertainty, row.units, row.difference = j.uncertainty, j.units, float(j.difference)
     row.evidence = _files(names) + (" " + j.note if names and j.note.startswith("(") else
@@ -232,14 +247,31 @@ def judge_claim(row: Row, claim: Claim, load: _Datasets) -> None:
             row.cause = f"causes not yet computed: dataset {missing} not built"
 
 
+def judge_realizations(row: Row, claim: Claim, names, load: _Datasets, first) -> None:
+    """The claim judged again on every realization of its datasets (``_Datasets.realizations``;
+    ``first`` is the judgement of realization 0): the row keeps its verdict when all agree, else it
+    is "fragile" with the count of each verdict (``chaos.rule.agree``)."""
+    sets = load.realizations(names)
+    if not sets:
+        return
+    verdicts = [first.verdict] + [_judged(claim, load(s)).verdict for s in sets]
+    answer, _, why = agree(verdicts)
+    row.realizations = why
+    if answer == FRAGILE:
+        row.verdict, row.reason = FRAGILE, f"{why}; realization 0: {row.reason or first.measured}"
+
+
 def _figure_from_claims(row: Row, judged: dict, claims: tuple) -> None:
     """A built figure is no better than the claims it illustrates."""
     if claims:
         row.rule += "; then no better than the claims it illustrates (" + ", ".join(claims) + ")"
     differing = [c for c in claims if c in judged and judged[c].verdict in (DIFFERS, DOUBLE_ONLY)]
+    fragile = [c for c in claims if c in judged and judged[c].verdict == FRAGILE]
     if row.verdict == REPRODUCED and differing:
         row.verdict, row.reason = DIFFERS, "its claims differ: " + ", ".join(differing)
         row.cause = "; ".join(f"{c}: {judged[c].cause or 'no cause test yet'}" for c in differing)
+    elif row.verdict == REPRODUCED and fragile:
+        row.verdict, row.reason = FRAGILE, "its claims are fragile: " + ", ".join(fragile)
 
 
 def ledger(claims_md, data_dir, figures_dir) -> list[Row]:

@@ -25,7 +25,7 @@ from .claims import Row
 from .findings import precision_findings
 
 COLOURS = {"reproduced": "#d4edda", "reproduced only in double precision": "#ffe0b2", "differs": "#fff3cd",
-           "cannot be reproduced": "#f8d7da", "not yet computed": "#e2e3e5"}
+           "fragile": "#e1d5f0", "cannot be reproduced": "#f8d7da", "not yet computed": "#e2e3e5"}
 OUTCOME_COLOURS = {"reliable": COLOURS["reproduced"], "degraded": COLOURS["differs"],
                    "refused": COLOURS["not yet computed"]}
 SETTINGS = ("param_eps", "param_b", "param_K2", "energy_label", "energy_physical", "backend", "method", "tol",
@@ -261,14 +261,15 @@ def _paper_figures(paper_figs: list, rows: list[Row], *, out_dir, tex_path, labe
 def _ledger(rows: list[Row]) -> tuple[list[str], list[str]]:
     """The claims ledger, one row per claim, coloured by verdict."""
     h = ["<h2 id='ledger'>Claims ledger</h2><table><tr><th>id</th><th>claim</th><th>paper</th><th>ours</th>"
-         "<th>uncertainty</th><th>units</th><th>precision</th><th>in double</th><th>verdict</th><th>evidence</th>"
+         "<th>uncertainty</th><th>units</th><th>precision</th><th>in double</th><th>verdict</th><th>realizations</th>"
+         "<th>evidence</th>"
          "<th>reason</th><th>cause</th><th>rule</th></tr>"]
     md = ["## Claims ledger", "", "| id | paper | ours | precision | verdict | reason | cause |",
           "|---|---|---|---|---|---|---|"]
     for r in rows:
         cells = [r.id, r.statement, r.paper_value, r.measured, r.uncertainty, r.units, r.precision,
-                 r.double_value or ("the same" if r.precision == "double" else ""), r.verdict, r.evidence,
-                 r.reason, r.cause, r.rule]
+                 r.double_value or ("the same" if r.precision == "double" else ""), r.verdict, r.realizations,
+                 r.evidence, r.reason, r.cause, r.rule]
         h.append(f"<tr id='{r.id}' style='background:{COLOURS[r.verdict]}'>"
                  + "".join(f"<td>{html.escape(str(c))}</td>" for c in cells) + "</tr>")
         md.append("| " + " | ".join(str(c).replace("|", "/") for c in (r.id, r.paper_value, r.measured, r.precision,

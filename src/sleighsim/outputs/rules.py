@@ -2,7 +2,8 @@
 
 Verdicts: "reproduced", "reproduced only in double precision" (the ledger's, when the claim's
 datasets were also computed in a finer arithmetic and only double reproduces the paper),
-"differs", "cannot be reproduced" (only from a computed rule, such as a measured cost above a
+"differs", "fragile" (the ledger's, when realizations of the claim's datasets from start states
+perturbed at the rounding level give different verdicts), "cannot be reproduced" (only from a computed rule, such as a measured cost above a
 stated budget, or a run that reached its stated cap without resolving the number), "not yet
 computed" (the dataset is missing, or does not determine the number: NaN).
 """
@@ -12,10 +13,12 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from ..chaos.rule import FRAGILE  # a claim whose realizations disagree, as a state's verdict does
+
 REPRODUCED, DIFFERS, CANNOT, NOT_YET = "reproduced", "differs", "cannot be reproduced", "not yet computed"
 #: A paper number that double precision reproduces and the finest arithmetic computed does not.
 DOUBLE_ONLY = "reproduced only in double precision"
-VERDICTS = (REPRODUCED, DOUBLE_ONLY, DIFFERS, CANNOT, NOT_YET)
+VERDICTS = (REPRODUCED, DOUBLE_ONLY, DIFFERS, FRAGILE, CANNOT, NOT_YET)
 REL_TOL = 0.1  # a number is reproduced within 10% of the paper's value ...
 K_SIGMA = 2.0  # ... or within 2 of our standard errors
 

@@ -18,6 +18,31 @@ def initial_state(cfg: dict, params: Params) -> np.ndarray:
     return y0
 
 
+def realization_states(states, rel: float, index: int):
+    """The start states of realization ``index`` (a dict or list of states): realization 0 as given,
+    realization k > 0 every component times (1 + rel z), z standard normal from a generator seeded
+    by k, the states in order (zero components stay zero)."""
+    named = states if isinstance(states, dict) else dict(enumerate(states))
+    if index == 0:
+        out = {name: list(y) for name, y in named.items()}
+    else:
+        rng = np.random.default_rng(index)
+        out = {name: (np.asarray(y, float) * (1.0 + rel * rng.standard_normal(len(y)))).tolist()
+               for name, y in named.items()}
+    return out if isinstance(states, dict) else list(out.values())
+
+
+def realization_config(cfg: dict, rel: float, index: int) -> dict:
+    """A scene block with its start states (``y0``, ``states``) those of realization ``index``
+    (:func:`realization_states`)."""
+    out = dict(cfg)
+    if "y0" in cfg:
+        out["y0"] = realization_states([cfg["y0"]], rel, index)[0]
+    if "states" in cfg:
+        out["states"] = realization_states(cfg["states"], rel, index)
+    return out
+
+
 def nan_padded(rows, min_width: int = 0) -> np.ndarray:
     """Rows of different lengths as one float array, each padded with NaN to the longest (at least
     ``min_width`` columns: 1 keeps a netCDF dimension from being empty)."""

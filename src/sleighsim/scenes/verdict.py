@@ -22,6 +22,7 @@ from ..chaos.frequency import (
     judged_run,
 )
 from ..chaos.orbits import (
+    LOSCHMIDT_GAIN_ROUNDING_MAX,
     d0_independent,
     judge_loschmidt,
     judge_loschmidt_run,
@@ -53,13 +54,13 @@ from ..chaos.tangent import (
     megno_in_long_double,
 )
 from ..chaos.verdicts import CHAOTIC, REGULAR
-from ..faithfulness import ROUNDING, cycle_gains, follows, spike_cycle_gains
+from ..faithfulness import FAITHFUL_MAX, ROUNDING, cycle_gains, follows, spike_cycle_gains
 from ..integrate import integrate, orbit_samples, sample_grid
 from ..io import read_dataset
 from ..params import Params
 from ..symmetries import state_at_label
 from ..transient import settle
-from .common import nan_padded
+from .common import nan_padded, realization_states
 
 log = logging.getLogger("sleighsim")
 
@@ -100,7 +101,7 @@ def one_state(params, y0, cfg: dict, scene: str) -> dict:
     values["two_trajectory"], errors["two_trajectory"], verdicts["two_trajectory"] = two["value"], two["error"], two["verdict"]
     arithmetic = {"benettin": "double", "ftle": "double", "megno": megno_precision, "two_trajectory": "double",
                   "loschmidt": "long double", "frequency": list(freq["runs"])[-1]}
-    faithful_gate(verdicts, arithmetic, gain["follows"])
+    faithful_gate(verdicts, arithmetic, indicator_follows(gain["ln_gain_max"], arithmetic))
     verdict, reason, _ = decide(verdicts, TANGENT_BASED)
     others = {k: (values[k], errors[k]) for k in INDICATORS if k not in TANGENT_BASED and verdicts[k][0] == CHAOTIC}
     verdict, reason = consistent(verdict, reason, values["benettin"], errors["benettin"], others, sigma)
@@ -198,6 +199,13 @@ def _class_facts(params, y, mean_u_omega, res: dict, verdict: str, cfg: dict, sc
     image, image_dist = r_image(params, y, mean_u_omega, T=cfg["T_R"], tol=cfg["tol"], rtol=cfg["R_rtol"], scene=scene)
     lam = res["exponents"]
     return classify(verdict, s, s_err, float(lam[0]), float(lam[3]), image, cfg["sigma"]), s, s_err, image, image_dist
+
+
+def indicator_follows(ln_gain_max: float, arithmetic: dict) -> dict:
+    """{indicator: does its arithmetic follow the orbit (``faithfulness.follows``)}: G x rounding
+    below 1e-3, or below LOSCHMIDT_GAIN_ROUNDING_MAX for the Loschmidt test."""
+    limit = {"loschmidt": LOSCHMIDT_GAIN_ROUNDING_MAX}
+    return {name: follows(ln_gain_max, ROUNDING[a], limit.get(name, FAITHFUL_MAX)) for name, a in arithmetic.items()}
 
 
 def loschmidt_run(params, y, cfg: dict, *, long_double: bool = False) -> dict:
@@ -540,17 +548,6 @@ def _set_attrs(ds: xr.Dataset, cfg: dict, params, per_state, start: float) -> No
         T_two=cfg["T_two"], T_R=cfg["T_R"], backend="heyoka", wall_time_s=time.perf_counter() - start,
         transient_over=int(np.all(per_state("transient_over") == 1)),
     )
-
-
-def realization_states(states: dict, rel: float, index: int) -> dict:
-    """The start states of realization ``index``: realization 0 as given, realization k > 0 every
-    component times (1 + rel z), z standard normal from a generator seeded by k (zero components
-    stay zero)."""
-    if index == 0:
-        return dict(states)
-    rng = np.random.default_rng(index)
-    return {name: (np.asarray(y, float) * (1.0 + rel * rng.standard_normal(len(y)))).tolist()
-            for name, y in states.items()}
 
 
 def chunk(cfg: dict, index: int, scene: str = "") -> xr.Dataset:
