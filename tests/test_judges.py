@@ -253,6 +253,24 @@ def test_c21(grid, want):
     assert judges.c21(PAPER["C21"], grid).verdict == want
 
 
+@pytest.mark.parametrize("other, want", [("converged", REPRODUCED), ("regular", DIFFERS)])
+def test_c21_judges_the_rows_computed_and_names_those_left_to_another_config(other, want):
+    grid = _grid([math.nan, 1e-3, 1e-5 if other == "regular" else 2e-3], [math.nan, 1e-5, 1e-6],
+                 ["elsewhere", "converged", other])
+    grid.attrs["elsewhere_config"] = "config/cluster.yaml"
+    j = judges.c21(PAPER["C21"], grid)
+    assert j.verdict == want  # the row not computed here is neither unresolved nor below
+    assert j.measured.endswith("not computed in this run: eps 0.02 (computed by config/cluster.yaml)")
+
+
+def test_c26_names_the_eps_left_to_another_config():
+    ds = _formal([1e-3, 1e-6, 2e-6], [1e-5, 1e-7, 1e-7])
+    ds.attrs.update(eps_elsewhere=np.array([50.0]), elsewhere_config="config/cluster.yaml")
+    j = judges.c26(PAPER["C26"], ds)
+    assert j.verdict == REPRODUCED and j.measured.endswith("not computed in this run: eps 50 (computed by config/cluster.yaml)")
+    assert "not computed" not in judges.c26(PAPER["C26"], _formal([1e-3, 1e-6, 2e-6], [1e-5, 1e-7, 1e-7])).measured
+
+
 @pytest.mark.parametrize("pairs, want", [(0, REPRODUCED), (2, DIFFERS)])
 def test_c22(pairs, want):
     assert judges.c22(PAPER["C22"], _ref(return_time_n_adjacent_pairs_within_tie_tol=pairs)).verdict == want

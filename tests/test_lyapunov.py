@@ -92,6 +92,24 @@ def test_grid_axes_are_log_spaced_and_cover_the_range():
     assert eps[6] == pytest.approx(0.1)  # an odd n_eps puts the reference eps on the grid
 
 
+def test_grid_rows_left_to_another_config_are_stored_as_nan_with_status_elsewhere_and_cost_nothing():
+    from sleighsim.ops.workmodel import grid_rows
+
+    cfg = {"eps_range": [0.02, 0.5], "n_eps": 13, "b_range": [0.25, 4.0], "n_b": 12, "n_chunks": 13,
+           "reference_eps": 0.1, "elsewhere": {"eps": [0.02], "config": "config/cluster.yaml"}}
+    assert grid.elsewhere(cfg).tolist() == [True] + [False] * 12
+    ds = grid.chunk(cfg, 0, scene="g")  # chunk 0 holds row 0 alone: nothing is integrated
+    assert ds.eps.values.tolist() == [0.02] and np.isnan(ds.lambda_1.values[0])
+    assert grid.STATUS[int(ds.status_code.values[0])] == "elsewhere" and ds.attrs["rule"] == ""
+    work = dict(t_pre=2e4, t_pre_min=2e4, replicas=8, replica_spacing=2e4, t_align=1e3, T_round=2e4, max_rounds=10)
+    rows = grid_rows({**cfg, **work})
+    assert rows[0] == (0.02, 0.0) and all(w > 0 for _, w in rows[1:])
+    with pytest.raises(ValueError, match="elsewhere.eps: 0.03 is not a row"):
+        grid.elsewhere({**cfg, "elsewhere": {"eps": [0.03]}})
+    with pytest.raises(ValueError, match="reference row"):
+        grid.elsewhere({**cfg, "elsewhere": {"eps": [0.1]}})
+
+
 def test_loglog_fit_recovers_a_power_law():
     x = np.geomspace(1e-3, 1e3, 7)
     slope, _, err = fits.loglog(x, 2e-4 * x**0.5, 1e-6 * x**0.5, min_points=3)

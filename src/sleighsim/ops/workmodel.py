@@ -12,7 +12,7 @@ HORIZON_KEYS = ("T", "t_end", "t_map", "duration", "check_duration", "t_max", "t
 
 #: Keys the lyapunov_grid model reads (everything else of such a block is outside the model).
 GRID_KEYS = ("eps_range", "n_eps", "n_chunks", "reference_eps", "t_pre", "t_pre_min", "replicas",
-             "replica_spacing", "t_align", "T_round", "max_rounds", "poincare_span", "b_check")
+             "replica_spacing", "t_align", "T_round", "max_rounds", "poincare_span", "b_check", "eps")
 
 
 def horizon_work(block: dict) -> float:
@@ -47,13 +47,17 @@ def grid_rows(cfg: dict) -> list[tuple[float, float]]:
     - Poincare crossings: poincare_span x s;
     - the reference row also runs one round per b_check value: len(b_check) x (t_align + T_round) x s.
 
-    n_b costs nothing: b is an exact symmetry and every row is computed once at b = 1."""
-    from ..scenes.grid import axes, pre_run, reference_row, slow_time
+    n_b costs nothing: b is an exact symmetry and every row is computed once at b = 1; a row left to
+    another config (``elsewhere``) costs nothing here."""
+    from ..scenes.grid import axes, elsewhere, pre_run, reference_row, slow_time
 
     eps_all, _ = axes(cfg)
-    ref = reference_row(cfg)
+    ref, away = reference_row(cfg), elsewhere(cfg)
     rows = []
     for i, eps in enumerate(eps_all):
+        if away[i]:  # left to another config: no work here
+            rows.append((float(eps), 0.0))
+            continue
         s = slow_time(cfg, eps)
         w = pre_run(cfg, eps) + cfg["replicas"] * cfg["replica_spacing"] * s
         w += (cfg["t_align"] + cfg["T_round"] * cfg["max_rounds"]) * s + cfg.get("poincare_span", 0.0) * s

@@ -372,13 +372,23 @@ def c20(paper, energy) -> Judgement:
         + ("lambda_1 is not resolved positive at the lowest energy" if positive != REPRODUCED else ""))
 
 
+def _elsewhere(ds, eps) -> str:
+    """The rows a dataset leaves to another config, as text ("" when none)."""
+    eps = np.atleast_1d(np.asarray(eps, float))
+    if not eps.size:
+        return ""
+    where = ds.attrs["elsewhere_config"] or "another config"
+    return f"; not computed in this run: eps {', '.join(f'{e:.3g}' for e in eps)} (computed by {where})"
+
+
 def c21(paper, grid) -> Judgement:
     floor = paper["smallest_above"]
     eps, lam, err, status = grid.eps.values, grid.lambda_1.values, grid.stderr.values, grid.status.values
     steady = (grid.transient_over.values == 1) & (grid.steady.values == 1)
     above = (status == "converged") & steady & (lam - K_SIGMA * err > np.maximum(floor, fake_rates(grid)))
     below = steady & ((status == "regular") | ((status == "converged") & (lam + K_SIGMA * err < floor)))
-    unresolved = ~above & ~below
+    away = status == "elsewhere"
+    unresolved = ~above & ~below & ~away
     verdict = DIFFERS if below.any() else (CANNOT if unresolved.any() else REPRODUCED)
 
     def listed(sel):
@@ -390,7 +400,7 @@ def c21(paper, grid) -> Judgement:
                  f"rate at eps {listed(above)}; below or regular at eps {listed(below)}; unresolved within the run's "
                  f"horizon (below the polynomial rate, capped or not steady) at eps {listed(unresolved)}; smallest resolved "
                  "lambda_1 "
-                 f"{np.min(lam[above]) if above.any() else math.nan:.2g}",
+                 f"{np.min(lam[above]) if above.any() else math.nan:.2g}" + _elsewhere(grid, eps[away]),
         rule=f"reproduced when every row resolves lambda_1 - {K_SIGMA:g} stderr above {floor:g} and above {_FAKE}; differs "
              f"when a steady row is resolved below {floor:g} or regular; cannot be reproduced when the rest are not resolved "
              "within the configured horizon (max_rounds) or are not steady",
@@ -471,10 +481,11 @@ def c26(paper, formal) -> Judgement:
     resolved_above = ", ".join(f"{e:g}" for e in eps[settled & above])
     reasons = ([f"lambda_1 resolved above {paper['lambda_below']:g} at settled eps {resolved_above}"]
                if resolved_above else []) + ([f"transient not over at eps {unsettled}"] if unsettled else [])
+    away = formal.attrs["eps_elsewhere"] if "eps_elsewhere" in formal.attrs else []
     return Judgement(
         verdict, units="1/time",
         measured="; ".join(f"eps {e:g}: lambda_1 = {m:.2g} +- {s:.1g}{'' if o else ' (transient not over)'}"
-                           for e, m, s, o in zip(eps, lam, err, over)),
+                           for e, m, s, o in zip(eps, lam, err, over)) + _elsewhere(formal, away),
         reason="; ".join(reasons),
         rule=f"at every eps above {paper['eps_above']:g} with its transient over, lambda_1 + {K_SIGMA:g} stderr < "
              f"{paper['lambda_below']:g} (the formal system: m_c = 1 - eps < 0)")

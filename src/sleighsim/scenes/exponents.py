@@ -253,7 +253,8 @@ def formal_exponents(cfg: dict, scene: str = "") -> xr.Dataset:
     """C26: lambda_1 of the formal system (eps >= 1, m_c = 1 - eps <= 0, its inertia still positive
     definite) at each eps of the config, from y0 scaled to the label: a checked pre-run, then
     independent replicas along the settled orbit run in rounds (as lyapunov_spectrum) until lambda_1
-    is resolved, regular or capped."""
+    is resolved, regular or capped. The eps of ``elsewhere`` are computed by another config (named in
+    the dataset, not here)."""
     start = time.perf_counter()
     rows = []
     for eps in cfg["eps"]:
@@ -284,5 +285,7 @@ def formal_exponents(cfg: dict, scene: str = "") -> xr.Dataset:
         param_b=cfg["b"], param_K2=cfg["K2"], energy_label=cfg["energy_label"], y0=cfg["y0"],
         tol=cfg["tol"], tau=cfg["tau"], replicas=cfg["replicas"], replica_spacing=cfg["replica_spacing"],
         compact_mode=int(cfg["compact_mode"]), uncertainty="standard error over independent replicas", wall_time_s=time.perf_counter() - start,
+        eps_elsewhere=np.asarray(cfg.get("elsewhere", {}).get("eps", []), float),
+        elsewhere_config=cfg.get("elsewhere", {}).get("config", ""),
     )
     return ds

@@ -29,7 +29,7 @@ log = logging.getLogger("sleighsim")
 ROW_VARIABLES = ("lambda_1", "stderr", "T", "tau", "status_code", "transient_over", "omega_block_drift", "steady",
                  "settling_time", "t_pre", "spike_interval", "spike_interval_std", "rotation_number",
                  "curve_thickness", "b_check_max_diff", "b_check_bound", "wall_time_s")
-STATUS = ("converged", "regular", "capped")
+STATUS = ("converged", "regular", "capped", "elsewhere")
 
 
 def axes(cfg: dict) -> tuple[np.ndarray, np.ndarray]:
@@ -40,6 +40,22 @@ def axes(cfg: dict) -> tuple[np.ndarray, np.ndarray]:
 def reference_row(cfg: dict) -> int:
     """Index of the eps row nearest reference_eps (in log eps)."""
     return int(np.argmin(np.abs(np.log(axes(cfg)[0] / cfg["reference_eps"]))))
+
+
+def elsewhere(cfg: dict) -> np.ndarray:
+    """Mask of the eps rows the block leaves to another config (``elsewhere.eps``, e.g. the long
+    small-eps rows kept for config/cluster.yaml); ValueError for a listed eps not on the axis or
+    for the reference row."""
+    eps_all, listed = axes(cfg)[0], cfg.get("elsewhere", {}).get("eps", [])
+    mask = np.zeros(eps_all.size, bool)
+    for e in listed:
+        hit = np.isclose(eps_all, e, rtol=1e-3)
+        if not hit.any():
+            raise ValueError(f"elsewhere.eps: {e:g} is not a row of the grid ({np.round(eps_all, 4).tolist()})")
+        mask |= hit
+    if mask[reference_row(cfg)]:
+        raise ValueError(f"elsewhere.eps: the reference row (eps {cfg['reference_eps']:g}) must be computed here")
+    return mask
 
 
 def slow_time(cfg: dict, eps: float) -> float:
@@ -139,13 +155,22 @@ def row(cfg: dict, eps: float, label: str = "", check_b: bool = False) -> dict:
 def chunk(cfg: dict, index: int, scene: str = "") -> xr.Dataset:
     """The eps rows index, index + n_chunks, ... (see :func:`row`)."""
     eps_all, _ = axes(cfg)
-    ref = eps_all[reference_row(cfg)]
-    rows = {e: row(cfg, e, label=f"{scene}[eps={e:.4g}]", check_b=e == ref) for e in eps_all[index::cfg["n_chunks"]]}
+    ref, away = eps_all[reference_row(cfg)], set(eps_all[elsewhere(cfg)])
+    rows = {e: _not_here() if e in away else row(cfg, e, label=f"{scene}[eps={e:.4g}]", check_b=e == ref)
+            for e in eps_all[index::cfg["n_chunks"]]}
     eps = np.array(list(rows), float)
     ds = xr.Dataset({v: ("eps", np.array([rows[e][v] for e in eps], float)) for v in ROW_VARIABLES},
                     coords={"eps": eps})
-    ds.attrs.update(chunk=index, n_chunks=cfg["n_chunks"], rule=next(iter(rows.values()))["rule"] if rows else "")
+    computed = [r["rule"] for r in rows.values() if r["rule"]]
+    ds.attrs.update(chunk=index, n_chunks=cfg["n_chunks"], rule=computed[0] if computed else "")
     return ds
+
+
+def _not_here() -> dict:
+    """A row left to another config: every variable NaN, status "elsewhere"."""
+    out = dict.fromkeys(ROW_VARIABLES, math.nan)
+    out.update(status_code=STATUS.index("elsewhere"), wall_time_s=0.0, rule="")
+    return out
 
 
 def gather(paths, cfg: dict, scene: str = "") -> xr.Dataset:
@@ -167,7 +192,8 @@ def gather(paths, cfg: dict, scene: str = "") -> xr.Dataset:
     ref = reference_row(cfg)
     ok = ~flagged
     ds.attrs.update(
-        rule=chunks[0].attrs["rule"], reference_eps=float(eps[ref]),
+        rule=next(c.attrs["rule"] for c in chunks if c.attrs["rule"]), reference_eps=float(eps[ref]),
+        eps_elsewhere=eps[elsewhere(cfg)], elsewhere_config=cfg.get("elsewhere", {}).get("config", ""),
         reference_rel_err=float(ds.stderr.values[ref] / abs(ds.lambda_1.values[ref])),
         b_check=np.asarray(cfg["b_check"], float), b_check_max_diff=float(ds.b_check_max_diff.values[ref]),
         b_check_bound=float(ds.b_check_bound.values[ref]),
@@ -177,7 +203,7 @@ def gather(paths, cfg: dict, scene: str = "") -> xr.Dataset:
         horizon_rule=f"pre-run max(t_pre_min, t_pre (eps_ref / eps)^2), t_pre = {cfg['t_pre']:g}; replica spacing, "
                      "T_round, t_align and tau scaled by eps_ref / eps (the spike cycle)",
         flag_rule="transient not over, or a replica's omega block means drift by more than transient.rtol, or "
-                  "lambda_1 not resolved (status regular or capped)",
+                  "lambda_1 not resolved (status regular or capped), or the row left to another config (elsewhere)",
         n_rows=int(eps.size), n_points=int(eps.size * bs.size), fraction_flagged=float(flagged.mean()),
         min_lambda_1=float(np.nanmin(ds.lambda_1.values)), max_lambda_1=float(np.nanmax(ds.lambda_1.values)),
         min_lambda_1_unflagged=float(np.nanmin(ds.lambda_1.values[ok])) if ok.any() else math.nan,
