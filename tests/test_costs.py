@@ -144,6 +144,24 @@ def test_critical_path_follows_the_dag_not_the_longest_job(tmp_path):
     assert s["critical_path"]["wall_s"] == pytest.approx(41.0)
 
 
+def test_predicted_wall_lies_between_the_critical_path_and_one_core_and_is_exact_on_small_graphs(tmp_path):
+    s = summarize(fake_run(tmp_path), 61.5, "synthetic", config=SYNTH_CONFIG)
+    pred, crit = s["critical_path"]["predicted_wall_s"], s["critical_path"]["wall_s"]
+    total = sum(j["wall_s"] for j in s["jobs"])
+    assert list(pred) == [2, 4, 8, 16]
+    assert all(crit - 1e-9 <= pred[c] <= total + 1e-9 for c in pred) and pred[16] == pytest.approx(crit)
+    assert pred[2] >= total / 2 - 1e-9 and pred[2] >= pred[4] >= pred[8]
+    # a diamond a -> (b, c) -> d with b 5, c 3: two cores run b beside c (10 + 5 + 1), one core all (19)
+    graph = {n: {"deps": deps} for n, deps in (("a", ()), ("b", ("a",)), ("c", ("a",)), ("d", ("b", "c")))}
+    weight = {"a": 10.0, "b": 5.0, "c": 3.0, "d": 1.0}
+    assert jobgraph.predicted_wall(graph, weight, 2) == 16.0 and jobgraph.predicted_wall(graph, weight, 1) == 19.0
+    # three independent jobs 4, 3, 3 on two cores: the longest chain first gives 6 (not 7)
+    graph = {n: {"deps": ()} for n in "xyz"}
+    assert jobgraph.predicted_wall(graph, {"x": 3.0, "y": 4.0, "z": 3.0}, 2) == 6.0
+    with pytest.raises(ValueError, match="cores"):
+        jobgraph.predicted_wall(graph, {}, 0)
+
+
 def test_job_graph_recovers_hidden_wildcards():
     graph, notes = jobgraph.job_graph(DOT, DRYRUN)
     assert not notes

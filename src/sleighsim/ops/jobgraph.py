@@ -1,4 +1,4 @@
-"""A run's job graph, from Snakemake's own output, and its critical path.
+"""A run's job graph, from Snakemake's own output, its critical path and its predicted wall on n cores.
 
 The job graph comes from two dry runs in the run's directory, saved by ``benchmarks/full_run.py``
 under ``<workdir>/costs/``: ``snakemake --forceall -n --dag`` (``dag.dot``: the edges; its labels show
@@ -144,3 +144,39 @@ def critical_path(graph: dict, weight: dict) -> tuple[float, list]:
     dag.add_edge(_END, _PAST_END, weight=math.inf)
     path = nx.dag_longest_path(dag, weight="weight", topo_order=[_START, *order, _END, _PAST_END])
     return float(nx.path_weight(dag, path[:-1], "weight")), path[1:-2]
+
+
+def predicted_wall(graph: dict, weight: dict, cores: int) -> float:
+    """The wall time of the job graph on ``cores`` cores by list scheduling with the measured job
+    times (``weight``, 0 where absent): whenever a core is free it takes the ready job (all its
+    dependencies finished) that heads the longest remaining chain (its weight plus its longest chain
+    of dependants), ties by id. One core per job, no startup or scheduling overhead: a lower bound on
+    Snakemake's wall for jobs of these lengths, and never below the critical path or the total work /
+    cores."""
+    if cores < 1:
+        raise ValueError(f"cores must be at least 1, got {cores!r}")
+    if not graph:
+        return 0.0
+    dag = nx.DiGraph()
+    dag.add_nodes_from(graph)
+    dag.add_edges_from((d, n) for n, g in graph.items() for d in g["deps"])
+    tail = {}
+    for n in reversed(topological_order(dag)):
+        tail[n] = weight.get(n, 0.0) + max((tail[m] for m in dag.successors(n)), default=0.0)
+    waiting = {n: dag.in_degree(n) for n in dag}
+    ready = [n for n, k in waiting.items() if k == 0]
+    free, running, now = cores, [], 0.0  # running: (end time, node)
+    while ready or running:
+        ready.sort(key=lambda n: (-tail[n], str(n)))
+        while free and ready:
+            n = ready.pop(0)
+            running.append((now + weight.get(n, 0.0), n))
+            free -= 1
+        running.sort(key=lambda r: (r[0], str(r[1])))
+        now, n = running.pop(0)
+        free += 1
+        for m in dag.successors(n):
+            waiting[m] -= 1
+            if waiting[m] == 0:
+                ready.append(m)
+    return float(now)

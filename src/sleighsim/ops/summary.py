@@ -16,7 +16,8 @@ Summary schema (``schema: sleighsim.costs/1``; seconds throughout; lists sorted 
     jobs: [{job, rule, scene, wildcards, cpu_s, wall_s, in_dag}]  job = benchmark path below
                                                                   results/benchmarks, without .tsv
     scenes: {scene: {kind, jobs, cpu_s, wall_s}}                  scene, chunk and gather jobs
-    critical_path: {wall_s, jobs: [{job, rule, wall_s}], dag_jobs} or null without a job graph
+    critical_path: {wall_s, jobs: [{job, rule, wall_s}], dag_jobs, predicted_wall_s: {cores: s}} or null
+                                without a job graph (predicted: jobgraph.predicted_wall, measured job walls)
     notes: [...]
 
 ``cpu_time`` is sampled by Snakemake (every 0.5 s for the first 15 s of a job, then every 30 s),
@@ -33,7 +34,10 @@ from pathlib import Path
 from ..io import atomic_path
 from .benchmark_files import read_benchmark, rule_from_path
 from .facts import BASE_CONFIG, git_commit, machine_facts, merged_config
-from .jobgraph import COSTS_DIR, DAG_FILE, DRYRUN_FILE, critical_path, job_graph
+from .jobgraph import COSTS_DIR, DAG_FILE, DRYRUN_FILE, critical_path, job_graph, predicted_wall
+
+#: Core counts the summary predicts the wall for (list scheduling of the measured jobs).
+PREDICTED_CORES = (2, 4, 8, 16)
 
 #: The summary's format (a data format id, kept across code moves).
 SCHEMA = "sleighsim.costs/1"
@@ -156,7 +160,8 @@ def _critical(graph: dict, weight: dict, job_of_node: dict):
     total, chain = critical_path(graph, weight)
     # jobs without a benchmark (the target rule `all`) weigh nothing and are not listed
     return {"wall_s": _r(total), "dag_jobs": len(graph),
-            "jobs": [{k: job_of_node[n][k] for k in ("job", "rule", "wall_s")} for n in chain if n in job_of_node]}
+            "jobs": [{k: job_of_node[n][k] for k in ("job", "rule", "wall_s")} for n in chain if n in job_of_node],
+            "predicted_wall_s": {c: _r(predicted_wall(graph, weight, c)) for c in PREDICTED_CORES}}
 
 
 def summarize(workdir, wall_s: float, config_label, *, config: dict | None = None, results: str | None = None,
