@@ -104,6 +104,11 @@ CROSS_FIELD = [
     (("scenes", "fig11_grid", "n_chunks"), 9, r"scenes.fig11_grid.n_chunks = 9 must lie in \[1, n_eps = 3\]"),
     (("scenes", "fig11_grid", "reference_eps"), 0.1, r"scenes.fig11_grid.reference_eps = 0.1 must lie in eps_range"),
     (("scenes", "fig11_grid", "eps_range"), [0.5, 0.2], r"scenes.fig11_grid.eps_range = \[0.5, 0.2\] must be increasing"),
+    (("scenes", "fig11_grid", "elsewhere"), {"eps": [0.02]},
+     r"scenes.fig11_grid.elsewhere.eps: 0.02 is not a row of the grid \(\[0.2, 0.3162, 0.5\]\)"),
+    (("scenes", "fig11_grid", "elsewhere"), {"eps": [0.5]}, None),  # a row of the smoke grid, not the reference: passes
+    (("scenes", "formal_exponents", "elsewhere"), {"eps": [50.0, 2.0]},
+     r"scenes.formal_exponents.elsewhere.eps: \[2.0\] also in scenes.formal_exponents.eps"),
     (("scenes", "fig2", "portrait", "u_range"), [1.0, -1.0], r"scenes.fig2.portrait.u_range = \[1.0, -1.0\] must be"),
     (("scenes", "fig3", "params", "K2"), 1e-9 + 1.0, None),  # admissible: passes
     (("scenes", "fig9_ref", "params"), {"m_c": 1.0, "m_r": 0.1, "I_c": 0.1, "I_r": 0.0, "a": 0.0, "b": 1.0},

@@ -176,28 +176,42 @@ def test_a_scene_realization_perturbs_its_y0_and_its_list_of_states_in_order():
 
 
 def test_gather_keeps_an_answer_only_when_every_realization_gives_it(tmp_path):
+    """Per-state jobs (state, realization) gathered: each realization's states in the config's order,
+    ln G padded to the longest cycle record, then the answer the realizations agree on."""
     import xarray as xr
 
-    from sleighsim.io import write_dataset
+    from sleighsim import scenes
+    from sleighsim.io import read_dataset, write_dataset
     from sleighsim.scenes.verdict import gather
 
+    cfg = {"kind": "chaos_verdict", "n_chunks": 3, "realization_rel": 1e-12, "states": {"main": [], "rotor_a": []}}
+    assert scenes.chunk_count(cfg) == 6
     per = [["undecided", "regular"], ["chaotic", "regular"], ["undecided", "regular"]]
     paths = []
     for k, v in enumerate(per):
-        ds = xr.Dataset({"verdict": ("state", np.array(v, dtype=object)),
-                         "reason": ("state", np.array([f"r{k}a", f"r{k}b"], dtype=object)),
-                         "state_class": ("state", np.array(["undetermined", "regular"], dtype=object)),
-                         "indicator_value": ("state", [float(k), 2.0 * k])},
-                        coords={"state": ["main", "rotor_a"]}, attrs={"chunk": k, "n_chunks": 3, "wall_time_s": 1.5})
-        paths.append(tmp_path / f"{k}.nc")
-        write_dataset(ds, paths[-1])
-    out = gather(paths[::-1], {"n_chunks": 3, "realization_rel": 1e-12})
+        for i, name in enumerate(("main", "rotor_a")):
+            ds = xr.Dataset({"verdict": ("state", np.array([v[i]], dtype=object)),
+                             "reason": ("state", np.array([f"r{k}{'ab'[i]}" + "x" * i])),  # texts of two widths
+                             "state_class": ("state", np.array([["undetermined", "regular"][i]])),
+                             "indicator_value": ("state", [float(k) * (i + 1)]),
+                             "ln_gain": (("state", "cycle"), [[36.0] * (i + 2)])},
+                            coords={"state": [name]},
+                            attrs={"chunk": k, "n_chunks": 3, "wall_time_s": 0.75, "transient_over": 1})
+            paths.append(tmp_path / f"{2 * k + i}.nc")
+            write_dataset(ds, paths[-1])
+    write_dataset(gather(paths[::-1], cfg), tmp_path / "gathered.nc")  # as the gather job writes it
+    out = read_dataset(tmp_path / "gathered.nc")
+    assert list(out.state.values) == ["main", "rotor_a"]
     assert list(out.verdict.values) == ["fragile", "regular"]
     assert list(out.n_realizations_agreeing.values) == [2, 3]
     assert out.reason.values[0] == "realizations disagree: undecided 2, chaotic 1 of 3; realization 0: r0a"
-    assert out.reason.values[1] == "all 3 realizations agree; realization 0: r0b"
+    assert out.reason.values[1] == "all 3 realizations agree; realization 0: r0bx"  # none truncated
     assert list(out.state_class.values) == ["undetermined", "regular"]
     assert out.indicator_value.values.tolist() == [0.0, 0.0]  # the details are realization 0's
+    assert out.ln_gain.values[1].tolist() == [36.0] * 3 and np.isnan(out.ln_gain.values[0, 2])  # padded
+    assert out.attrs["transient_over"] == 1
     assert out.attrs["n_realizations"] == 3 and out.attrs["wall_time_s"] == 4.5 and "chunk" not in out.attrs
     with pytest.raises(ValueError, match="expected 0 ... 2"):
-        gather(paths[:2], {"n_chunks": 3, "realization_rel": 1e-12})
+        gather(paths[:4], cfg)
+    with pytest.raises(ValueError, match="states"):
+        gather(paths[:5], cfg)

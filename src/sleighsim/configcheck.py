@@ -105,6 +105,18 @@ def _lyapunov_grid(w, cfg):
     lo, hi = cfg["eps_range"]
     if not lo <= cfg["reference_eps"] <= hi:
         raise ConfigError(f"{w}.reference_eps = {cfg['reference_eps']} must lie in eps_range [{lo}, {hi}]")
+    from .scenes.grid import elsewhere
+
+    try:
+        elsewhere(cfg)
+    except ValueError as bad:
+        raise ConfigError(f"{w}.{bad}") from None
+
+
+def _formal_exponents(w, cfg):
+    both = sorted(set(cfg["eps"]) & set(cfg.get("elsewhere", {}).get("eps", [])))
+    if both:
+        raise ConfigError(f"{w}.elsewhere.eps: {both} also in {w}.eps (a row is computed here or elsewhere, not both)")
 
 
 def _basins(w, cfg):
@@ -121,7 +133,7 @@ def _sleigh0(w, cfg):
 
 CROSS_FIELD = {"trajectory": _trajectory, "psd": _psd, "hierarchy_terms": _hierarchy_terms,
                "attractor_levels": _attractor_levels, "lyapunov_grid": _lyapunov_grid, "sleigh0": _sleigh0,
-               "basins": _basins}
+               "basins": _basins, "formal_exponents": _formal_exponents}
 
 #: Kinds with a checked pre-run, and the key of its length: the settling window must fit twice.
 PRE_RUN = {"poincare": "t_settle", "psd": "t_settle", "lyapunov_spectrum": "t_transient", "lyapunov_grid": "t_pre",

@@ -1,5 +1,5 @@
 # Names the rules share, all derived from the config and sleighsim.registry (nothing listed here).
-from sleighsim import registry
+from sleighsim import registry, scenes
 
 R = config["results"]
 SCENES = config["scenes"]
@@ -120,7 +120,7 @@ def scene_inputs(wildcards):
 
 
 def chunk_files(wildcards):
-    n = SCENES[wildcards.scene]["n_chunks"]
+    n = scenes.chunk_count(SCENES[wildcards.scene])
     return expand(f"{R}/chunks/{wildcards.scene}/{{k}}.nc", k=range(n))
 
 
@@ -131,7 +131,7 @@ def benchmark_files(datasets, figures):
         if name in CHUNKED:
             chunks = expand(
                 f"{R}/benchmarks/chunk/{name}/{{k}}.tsv",
-                k=range(SCENES[name]["n_chunks"]),
+                k=range(scenes.chunk_count(SCENES[name])),
             )
             out[f"data/{name}"] = [f"{R}/benchmarks/gather/{name}.tsv"] + chunks
         else:

@@ -69,7 +69,7 @@ def grid_rows(cfg: dict) -> list[tuple[float, float]]:
 
 def chunk_work(cfg: dict) -> list[float]:
     """Work of each chunk job of a chunked block: a lyapunov_grid's chunk k computes rows k,
-    k + n_chunks, ...; a chaos_verdict's chunk is one whole realization of the scene (a block without
+    k + n_chunks, ...; a chaos_verdict's chunk is one state of one realization of the scene (a block without
     n_chunks, measured before the verdict ran realizations, is one); any other kind's chunks share
     its horizons equally."""
     n = cfg.get("n_chunks", 1) if cfg["kind"] == "chaos_verdict" else cfg["n_chunks"]
@@ -77,7 +77,8 @@ def chunk_work(cfg: dict) -> list[float]:
         rows = grid_rows(cfg)
         return [sum(w for _, w in rows[k::n]) for k in range(n)]
     if cfg["kind"] == "chaos_verdict":
-        return [horizon_work(cfg)] * n
+        states = len(cfg["states"])
+        return [horizon_work(cfg) / states] * (n * states)
     return [horizon_work(cfg) / n] * n
 
 

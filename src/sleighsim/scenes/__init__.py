@@ -80,6 +80,14 @@ def chunk_functions(kind: str) -> tuple[Callable[..., xr.Dataset], Callable[...,
     return chunk, gather
 
 
+def chunk_count(cfg: dict) -> int:
+    """The number of chunk jobs of a chunked scene block: a verdict's one per realization and state,
+    any other kind's ``n_chunks``."""
+    if cfg["kind"] == "chaos_verdict":  # verdict.chunk: job k is state k % n_states of realization k // n_states
+        return cfg["n_chunks"] * len(cfg["states"])
+    return cfg["n_chunks"]
+
+
 def compute(scene: str, cfg: dict, inputs: dict | None = None) -> xr.Dataset:
     """The dataset of ``scene`` from its config block; ``inputs`` maps the kind's roles to paths."""
     kind = KINDS[cfg["kind"]]

@@ -551,21 +551,54 @@ def _set_attrs(ds: xr.Dataset, cfg: dict, params, per_state, start: float) -> No
 
 
 def chunk(cfg: dict, index: int, scene: str = "") -> xr.Dataset:
-    """Realization ``index`` of the verdict (one chunk job each): :func:`verdict` from the start
-    states of :func:`realization_states` at realization_rel."""
-    ds = verdict({**cfg, "states": realization_states(cfg["states"], cfg["realization_rel"], index)},
-                 scene=f"{scene}#{index}")
-    ds.attrs.update(chunk=index, n_chunks=cfg["n_chunks"])
+    """Job ``index`` of the verdict (one chunk job each): state index % n_states of realization
+    index // n_states, :func:`verdict` from that state of :func:`realization_states` at
+    realization_rel (the states of a realization are perturbed together, in order, so a state's
+    start does not depend on how the jobs are cut)."""
+    names = list(cfg["states"])
+    r, k = divmod(index, len(names))
+    start = realization_states(cfg["states"], cfg["realization_rel"], r)[names[k]]
+    ds = verdict({**cfg, "states": {names[k]: start}}, scene=f"{scene}#{r}")
+    ds.attrs.update(chunk=r, n_chunks=cfg["n_chunks"])
+    return ds
+
+
+def _text_as_objects(ds: xr.Dataset) -> xr.Dataset:
+    """Fixed-width text variables and coordinates as Python strings, so that joining datasets whose
+    texts have different widths truncates none."""
+    text = [n for n, v in ds.variables.items() if v.dtype.kind == "U"]
+    return ds.assign({n: ds[n].astype(object) for n in text if n in ds.data_vars}).assign_coords(
+        {n: ds[n].astype(object) for n in text if n in ds.coords})
+
+
+def _states_together(parts: list, names: list) -> xr.Dataset:
+    """One realization's dataset from its per-state jobs, in the config's state order (ln G per cycle
+    NaN-padded to the longest); its transient is over when every state's is, its wall time is their sum."""
+    parts = sorted(parts, key=lambda d: names.index(str(d.state.values[0])))
+    if [str(d.state.values[0]) for d in parts] != names:
+        raise ValueError(f"realization {parts[0].attrs['chunk']}: states {[str(d.state.values[0]) for d in parts]}, "
+                         f"expected {names}")
+    width = max(d.sizes.get("cycle", 0) for d in parts)
+    parts = [_text_as_objects(d.pad(cycle=(0, width - d.sizes["cycle"])) if "cycle" in d.dims else d) for d in parts]
+    ds = xr.concat(parts, dim="state", data_vars="minimal", coords="minimal", compat="override",
+                   combine_attrs="override")
+    ds.attrs.update(transient_over=int(all(d.attrs["transient_over"] == 1 for d in parts)),
+                    wall_time_s=float(sum(d.attrs["wall_time_s"] for d in parts)))
     return ds
 
 
 def gather(paths, cfg: dict, scene: str = "") -> xr.Dataset:
-    """The verdict over realizations: realization 0's dataset (its indicators, runs and gauge), with
+    """The verdict over realizations (each gathered from its per-state jobs): realization 0's dataset
+    (its indicators, runs and gauge), with
     each realization's verdict and class, and per state the answer they agree on
     (``chaos.rule.agree``: "fragile" when they do not) and how many give the most common one."""
-    chunks = sorted((read_dataset(p) for p in paths), key=lambda c: int(c.attrs["chunk"]))
-    if [int(c.attrs["chunk"]) for c in chunks] != list(range(cfg["n_chunks"])):
-        raise ValueError(f"chunks {[int(c.attrs['chunk']) for c in chunks]}, expected 0 ... {cfg['n_chunks'] - 1}")
+    by_realization = {}
+    for d in (read_dataset(p) for p in paths):
+        by_realization.setdefault(int(d.attrs["chunk"]), []).append(d)
+    if sorted(by_realization) != list(range(cfg["n_chunks"])):
+        raise ValueError(f"realizations {sorted(by_realization)}, expected 0 ... {cfg['n_chunks'] - 1}")
+    names = list(cfg["states"])
+    chunks = [_states_together(by_realization[r], names) for r in range(cfg["n_chunks"])]
     ds = chunks[0].copy()
     for var, out in (("verdict", "realization_verdict"), ("reason", "realization_reason"),
                      ("state_class", "realization_class")):
