@@ -144,8 +144,9 @@ def fp_type(long_double: bool, quad: bool = False):
 def flow(kinematics: bool, tol: float, long_double: bool = False, quad: bool = False):
     """The sleigh (with (theta, x, y) when ``kinematics``), in double, long double (80-bit on
     x86-64, machine epsilon 1.1e-19) or, with ``quad``, quadruple precision (heyoka's real128,
-    machine epsilon 1.9e-34; on the main state here 12.6 ms per time unit against 0.3 ms in long
-    double). Returns (integrator, compile seconds)."""
+    machine epsilon 1.9e-34). Full (not compact) mode in double and long double, compact mode in
+    quad, whichever steps faster there (benchmarks/precision_cost.yaml: costs per time unit and
+    compile times per precision and mode). Returns (integrator, compile seconds)."""
     fp = fp_type(long_double, quad)
 
     def build():
@@ -156,7 +157,7 @@ def flow(kinematics: bool, tol: float, long_double: bool = False, quad: bool = F
         n = 7 if kinematics else 4
         y0 = np.array([0.0, 0.1, 1.0, DELTA_SHIFT] + [0.0] * (n - 4)).astype(fp)
         return hy.taylor_adaptive(heyoka_system(kinematics, DELTA_SHIFT), y0, tol=fp(tol),
-                                  pars=compile_pars(fp), fp_type=fp)
+                                  pars=compile_pars(fp), fp_type=fp, compact_mode=quad)
 
     return compiled(("flow", kinematics, tol, long_double, quad), build)
 

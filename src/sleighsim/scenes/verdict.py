@@ -242,8 +242,8 @@ def frequency_run(params, y, cfg: dict, precision: str = "double") -> dict:
 def frequency_indicator(params, y, cfg: dict, sigma: float) -> dict:
     """The frequency-analysis indicator (``chaos.frequency.judge_frequency``): the double run first; while
     the leading frequency has not converged (and the last run had at least two usable splits),
-    the next precision: long double, then quad when frequency.quad_T > 0 (about 40 times the cost
-    of long double per time unit; the cluster config makes it). Each run's drift is compared with
+    the next precision: long double, then quad when frequency.quad_T > 0 (costs per time unit in
+    benchmarks/precision_cost.yaml; the cluster config makes it). Each run's drift is compared with
     the previous one's against the ratio of their tolerances. Value: the relative frequency drift
     per unit time, D / W at the longest window of the last run (1/time); error: that times D's
     ln-error. Returns value, error, verdict ((verdict, reason)) and runs (precision -> run, for

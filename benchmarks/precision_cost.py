@@ -1,0 +1,412 @@
+#!/usr/bin/env python
+"""What extended precision costs here: the sleigh's flow and its tangent system in double, long double and
+quad, compact mode on and off, and heyoka's high_accuracy mode in double (its cost and what it buys).
+
+    taskset -c 1 python benchmarks/precision_cost.py [--out benchmarks/precision_cost.yaml] [--quick]
+
+Rows: every (system, precision, compact_mode, high_accuracy) with system "flow" (the 4-state sleigh) or
+"tangent" (the sleigh plus one tangent vector, heyoka's variational equations, k = 1), precision one of
+sleighsim.integrators.EPSILON, each at its own machine epsilon as tolerance, and high_accuracy on only in
+double. Integrators come from the project's builders (integrators.flow: compact mode off in double and
+long double, on in quad; lyapunov.sleigh_tangent; lyapunov.tangent_integrator for quad); where they have no such option
+(compact_mode for the flow, high_accuracy anywhere) the integrator is built the way they build it with that
+option changed, and registered with integrators.compiled so its angle is kept bounded like theirs.
+
+Per row:
+- compile_s: CPU and wall seconds of building the integrator (the full run: heyoka's disk cache off and its
+  in-memory cache cleared before each build, so a real compilation; --quick: the disk cache as this
+  process finds it, so possibly a cache load), after one untimed throwaway build (LLVM start-up) and the
+  SymPy side of the model built once;
+- per time unit: the paper's main state (eps 0.1, b 1, K2 1.1; y0 = (0, 0.1, 1, 0) at energy label 0.1127)
+  propagated over a transient (6000 time units, double) first; every timed run starts from that settled
+  state (the tangent vector from lyapunov.initial_directions(4, 1, seed 0)). Windows: "long" (3000 time
+  units, more than one spike cycle of about 2400; double and long double) and "short" (300 time units,
+  before the first spike; every precision, so quad's ratio to double is taken on the same stretch of
+  orbit). The flow runs in one propagate_for; the tangent system in legs of tau = 10 with the vector
+  renormalised after each (as lyapunov.benettin does). One untimed warm-up (over the window, the short
+  window for quad), then the median of the repeats (5; 3 in quad). The cost is CPU seconds (process time,
+  so other load on the machine does not count), wall seconds beside it; steps per time unit from heyoka.
+
+High accuracy: the separation of double and double + high_accuracy from a long-double orbit, and of
+long double from a quad orbit (the full run only), all started from the same double settled state, each
+at its arithmetic's epsilon (compact mode off), sampled every 0.5 time units. The separation at t is
+max |difference| of (u, Omega, omega) divided by max |(u, Omega, omega)| over the reference record; it is
+reported half-way to the first spike, 50 time units after the first and the second spike (spikes of
+Omega in the reference by transient.spike_times with the project's settings), and as the maximum over
+the 100 time units after each spike. Also: the cost ratio high_accuracy / plain per system and mode.
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime as dt
+import math
+import os
+import statistics
+import sys
+import time
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(REPO / "src"))
+
+import numpy as np
+
+from sleighsim import integrators, lyapunov, model, transient
+from sleighsim.ops import facts
+from sleighsim.params import Params
+from sleighsim.symmetries import REFERENCE_LABEL, REFERENCE_STATE, state_at_label
+
+SCHEMA = "sleighsim.precision_cost/1"
+PRECISIONS = tuple(integrators.EPSILON)  # double, long double, quad
+SYSTEMS = ("flow", "tangent")
+PARAMS = {"eps": 0.1, "b": 1.0, "K2": 1.1}
+TAU = 10.0  # renormalisation interval of the tangent vector (config: lyapunov tau)
+SPIKES = {"factor": 1.8, "block": 50.0, "min_separation": 300.0}  # transient.spike_times, as configured
+AFTER_SPIKE = 50.0
+SPIKE_WINDOW = 100.0
+SAMPLE_DT = 0.5
+
+FULL = {"t_transient": 6000.0, "long": 3000.0, "short": 300.0, "repeats": 5, "repeats_quad": 3, "t_accuracy": 5000.0,
+        "quad_reference": True, "cold_compile": True}
+QUICK = {"t_transient": 6000.0, "long": 300.0, "short": 10.0, "repeats": 3, "repeats_quad": 3, "t_accuracy": 5000.0,
+         "quad_reference": False, "cold_compile": False}
+
+
+def say(msg: str) -> None:
+    print(f"[precision_cost {dt.datetime.now():%H:%M:%S}] {msg}", file=sys.stderr, flush=True)
+
+
+def loadavg() -> str:
+    try:
+        return Path("/proc/loadavg").read_text().strip()
+    except OSError:
+        return "unknown"
+
+
+def rows():
+    for system in SYSTEMS:
+        for precision in PRECISIONS:
+            for compact in (True, False):
+                for ha in ((False, True) if precision == "double" else (False,)):
+                    yield system, precision, compact, ha
+
+
+def _flow_variant(tol, long_double, quad, compact, ha):
+    """integrators.flow's build with compact_mode and high_accuracy set (kinematics off)."""
+    fp = integrators.fp_type(long_double, quad)
+
+    def build():
+        import heyoka as hy
+
+        y0 = np.array([0.0, 0.1, 1.0, integrators.DELTA_SHIFT]).astype(fp)
+        return hy.taylor_adaptive(model.heyoka_system(False, integrators.DELTA_SHIFT), y0, tol=fp(tol),
+                                  pars=model.compile_pars(fp), fp_type=fp, compact_mode=compact, high_accuracy=ha)
+
+    return integrators.compiled(("precision_cost flow", tol, long_double, quad, compact, ha), build)[0]
+
+
+def _tangent_variant(tol, long_double, quad, compact, ha):
+    """lyapunov.sleigh_tangent's build (k = 1) in any precision, with high_accuracy set."""
+    fp = integrators.fp_type(long_double, quad)
+    sys_ = model.heyoka_system(delta_shift=integrators.DELTA_SHIFT)
+
+    def build():
+        if not ha:
+            return lyapunov.tangent_integrator(sys_, 1, tol, model.compile_pars(fp), compact_mode=compact,
+                                               fp_type=fp)[0]
+        import heyoka as hy  # lyapunov.tangent_integrator with high_accuracy on
+
+        vsys = hy.var_ode_sys(sys_, [v for v, _ in sys_[:1]], order=1)
+        return hy.taylor_adaptive(vsys, np.full(len(sys_), 0.1, dtype=fp), tol=fp(tol), pars=model.compile_pars(fp),
+                                  compact_mode=compact, fp_type=fp, high_accuracy=True)
+
+    return integrators.compiled(("precision_cost tangent", 1, tol, long_double, quad, compact, ha), build)[0]
+
+
+def build(system, precision, compact, ha):
+    """The integrator of one row: the project's builder where it has the options, else its build."""
+    long_double, quad = integrators.precision_flags(precision)
+    tol = integrators.EPSILON[precision]
+    if system == "flow":
+        if compact == quad and not ha:  # integrators.flow: full mode in double and long double, compact in quad
+            return integrators.flow(False, tol, long_double, quad)[0], "integrators.flow"
+        return _flow_variant(tol, long_double, quad, compact, ha), "integrators.flow's build, options changed"
+    if not quad and not ha:
+        return lyapunov.sleigh_tangent(1, tol, compact, long_double)[0], "lyapunov.sleigh_tangent"
+    how = "lyapunov.tangent_integrator" if not ha else "lyapunov.tangent_integrator's build, high_accuracy on"
+    return _tangent_variant(tol, long_double, quad, compact, ha), how
+
+
+def _check(ta, res, what):
+    import heyoka as hy
+
+    if res[0] != hy.taylor_outcome.time_limit or not np.all(np.isfinite(np.asarray(ta.state, float))):
+        raise RuntimeError(f"{what}: propagation stopped at t = {float(ta.time):.6g}: heyoka outcome {res[0].name}")
+
+
+def propagate(ta, system, y0, T, what=""):
+    """Propagate ``ta`` over T from y0 (the tangent system in legs of TAU, vector renormalised after each):
+    (cpu s, wall s, steps)."""
+    fp = ta.state.dtype.type
+    callback = integrators.bounded(ta)
+    ta.time = fp(0)
+    integrators.load(ta, y0)
+    if system == "tangent":
+        ta.state[4:] = lyapunov.initial_directions(4, 1, 0).ravel().astype(ta.state.dtype)
+    c0, w0 = time.process_time(), time.perf_counter()
+    if system == "flow":
+        res = ta.propagate_for(fp(T), callback=callback)
+        _check(ta, res, what)
+        steps = res[3]
+    else:
+        steps, leg = 0, fp(TAU)
+        for _ in range(round(T / TAU)):
+            res = ta.propagate_for(leg, callback=callback)
+            _check(ta, res, what)
+            steps += res[3]
+            ta.time = fp(0)  # autonomous: keep the clock small
+            norm = math.sqrt(float(np.sum(np.asarray(ta.state[4:], float) ** 2)))
+            ta.state[4:] = ta.state[4:] / fp(norm)
+    return time.process_time() - c0, time.perf_counter() - w0, int(steps)
+
+
+def measure(ta, system, y0, T, repeats, warmup_T, what):
+    propagate(ta, system, y0, warmup_T, what)  # warm-up, untimed
+    runs = [propagate(ta, system, y0, T, what) for _ in range(repeats)]
+    cpu, wall = [r[0] for r in runs], [r[1] for r in runs]
+    return {"T": T, "repeats": repeats, "cpu_s_per_tu": statistics.median(cpu) / T,
+            "wall_s_per_tu": statistics.median(wall) / T, "steps_per_tu": runs[0][2] / T,
+            "cpu_s": [round(c, 6) for c in cpu], "wall_s": [round(w, 6) for w in wall]}
+
+
+def settled_state(params, y0, t_transient):
+    ta = integrators.flow(False, integrators.EPSILON["double"])[0]
+    integrators.set_pars(ta, params)
+    ta.time = 0.0
+    integrators.load(ta, y0)
+    res = ta.propagate_until(float(t_transient), callback=integrators.bounded(ta))
+    _check(ta, res, "transient")
+    return integrators.read(ta, 4).astype(float)
+
+
+def orbit(ta, params, y0, T):
+    """Samples (every SAMPLE_DT up to T, in the integrator's type) of the orbit from y0, and the CPU seconds."""
+    fp = ta.state.dtype.type
+    integrators.set_pars(ta, params)
+    ta.time = fp(0)
+    integrators.load(ta, y0)
+    grid = (SAMPLE_DT * np.arange(round(T / SAMPLE_DT) + 1)).astype(ta.state.dtype)
+    c0 = time.process_time()
+    res = ta.propagate_grid(grid, callback=integrators.bounded(ta))
+    _check(ta, res, "accuracy orbit")
+    return integrators.samples(ta, res[5]), time.process_time() - c0
+
+
+def _split(Y):
+    """Y (double, long double or real128) as hi + lo, two double arrays (exact for long double; to 2^-106
+    relative for real128): differences across types without a common numpy type."""
+    hi = np.asarray(Y, float)
+    return hi, (np.asarray(Y - hi, float) if np.asarray(Y).dtype != np.float64 else np.zeros_like(hi))
+
+
+def separations(Y, ref, spikes) -> dict:
+    """Separation of Y from ref (see the module docstring) at the reported times."""
+    n = min(len(Y), len(ref))
+    (ah, al), (bh, bl) = _split(Y[:n, :3]), _split(ref[:n, :3])
+    diff = np.abs((ah - bh) + (al - bl)).max(axis=1)
+    scale = float(np.abs(np.asarray(ref[:, :3], float)).max())
+    sep = diff / scale
+    at = lambda time_: float(sep[round(time_ / SAMPLE_DT)])
+    out = {"half_way_to_first_spike": at(spikes[0] / 2)}
+    for name, s in zip(("first", "second"), spikes[:2]):
+        i0, i1 = round(s / SAMPLE_DT) + 1, round((s + SPIKE_WINDOW) / SAMPLE_DT) + 1
+        out[f"after_{name}_spike"] = at(s + AFTER_SPIKE)
+        out[f"max_within_{SPIKE_WINDOW:g}_after_{name}_spike"] = float(sep[i0:i1].max())
+    return out
+
+
+def accuracy(params, s, opts):
+    """Separations of double, double + high_accuracy (from long double) and long double (from quad)."""
+    tol = integrators.EPSILON
+    runs = {"double": integrators.flow(False, tol["double"])[0],
+            "double_high_accuracy": _flow_variant(tol["double"], False, False, False, True),
+            "long_double": integrators.flow(False, tol["long double"], True)[0]}
+    T = opts["t_accuracy"]
+    Y, cpu = {}, {}
+    for name, ta in runs.items():
+        say(f"accuracy: {name} over {T:g}")
+        Y[name], cpu[name] = orbit(ta, params, s, T)
+    t = SAMPLE_DT * np.arange(len(Y["long_double"]))
+    spikes = transient.spike_times(t, np.asarray(Y["long_double"][:, 1], float), **SPIKES)
+    if len(spikes) < 2 or spikes[1] + SPIKE_WINDOW > T:
+        raise RuntimeError(f"accuracy: fewer than two spikes within {T:g} time units of the long-double orbit "
+                           f"(spikes at {spikes.tolist()})")
+    out = {
+        "start": "the settled double state (exact in every arithmetic)",
+        "compact_mode": False,
+        "tolerances": {"double": tol["double"], "double_high_accuracy": tol["double"],
+                       "long_double": tol["long double"], "quad": tol["quad"]},
+        "sample_dt": SAMPLE_DT,
+        "separation": "max |y - y_ref| over (u, Omega, omega) / max |y_ref| over (u, Omega, omega) and the record",
+        "spike_times": [float(x) for x in spikes[:2]],
+        "spike_rule": f"transient.spike_times on Omega of the long-double orbit, {SPIKES}",
+        "reported_at": {"half_way_to_first_spike": float(spikes[0] / 2),
+                        "after_first_spike": float(spikes[0] + AFTER_SPIKE),
+                        "after_second_spike": float(spikes[1] + AFTER_SPIKE)},
+        "vs_long_double": {name: separations(Y[name], Y["long_double"], spikes)
+                           for name in ("double", "double_high_accuracy")},
+    }
+    if opts["quad_reference"]:
+        Tq = float(spikes[1] + SPIKE_WINDOW + SAMPLE_DT)
+        say(f"accuracy: quad reference over {Tq:g} (about {Tq * 9e-3:.0f} s)")
+        Yq, cpu["quad"] = orbit(integrators.flow(False, tol["quad"], False, True)[0], params, s, Tq)
+        out["vs_quad"] = {name: separations(Y[name], Yq, spikes) for name in Y}
+    else:
+        out["vs_quad"] = None
+        out["vs_quad_note"] = "--quick: no quad reference"
+    ratio = {}
+    for key in out["vs_long_double"]["double"]:
+        plain, ha = out["vs_long_double"]["double"][key], out["vs_long_double"]["double_high_accuracy"][key]
+        ratio[key] = ha / plain if plain > 0 else float("nan")
+    out["high_accuracy_over_plain_separation"] = ratio
+    out["orbit_cpu_s"] = cpu
+    return out
+
+
+def run(opts) -> dict:
+    import heyoka as hy
+
+    params = Params.paper(**PARAMS)
+    y0 = state_at_label(REFERENCE_STATE, params, REFERENCE_LABEL)
+    load = {"start": loadavg()}
+
+    # start-up outside the compile timings: the SymPy model, the runtime parameters, LLVM
+    model.heyoka_system(False, integrators.DELTA_SHIFT)
+    for fp in (float, np.longdouble, hy.real128):
+        model.compile_pars(fp)
+    x = hy.make_vars("x")
+    hy.taylor_adaptive([(x, -x)], [1.0])
+    if opts["cold_compile"]:
+        hy.llvm_state.set_diskcache_enabled(False)  # this process only
+
+    table = []
+    for system, precision, compact, ha in rows():
+        hy.llvm_state.clear_memcache()
+        c0, w0 = time.process_time(), time.perf_counter()
+        ta, how = build(system, precision, compact, ha)
+        cpu, wall = time.process_time() - c0, time.perf_counter() - w0
+        say(f"built {system} {precision} compact={compact} high_accuracy={ha}: {wall:.2f} s")
+        table.append({"system": system, "precision": precision, "compact_mode": compact, "high_accuracy": ha,
+                      "tol": integrators.EPSILON[precision], "order": int(ta.order), "builder": how,
+                      "compile_cpu_s": cpu, "compile_wall_s": wall, "_ta": ta})
+    load["after_compile"] = loadavg()
+
+    s = settled_state(params, y0, opts["t_transient"])
+    say(f"settled state after {opts['t_transient']:g}: {s.tolist()}")
+    for row in table:
+        ta = row.pop("_ta")
+        integrators.set_pars(ta, params)
+        quad = row["precision"] == "quad"
+        reps = opts["repeats_quad"] if quad else opts["repeats"]
+        what = f"{row['system']} {row['precision']} compact={row['compact_mode']} high_accuracy={row['high_accuracy']}"
+        windows = {"short": measure(ta, row["system"], s, opts["short"], reps, opts["short"], what)}
+        if not quad:
+            windows["long"] = measure(ta, row["system"], s, opts["long"], reps, opts["long"], what)
+        row["windows"] = windows
+        row["window"] = "short" if quad else "long"
+        row["cost_s_per_tu"] = windows[row["window"]]["cpu_s_per_tu"]
+        row["steps_per_tu"] = windows[row["window"]]["steps_per_tu"]
+        say(f"{what}: {row['cost_s_per_tu']:.3e} s per time unit ({row['window']} window), "
+            f"{row['steps_per_tu']:.2f} steps per time unit")
+    load["after_timing"] = loadavg()
+
+    def plain_double(row):
+        return next(r for r in table if r["system"] == row["system"] and r["compact_mode"] == row["compact_mode"]
+                    and r["precision"] == "double" and not r["high_accuracy"])
+
+    for row in table:
+        ref = plain_double(row)
+        for name, w in row["windows"].items():
+            w["ratio_to_double"] = w["cpu_s_per_tu"] / ref["windows"][name]["cpu_s_per_tu"]
+        row["ratio_to_double"] = row["windows"][row["window"]]["ratio_to_double"]
+
+    ha_cost = {}
+    for row in table:
+        if row["high_accuracy"]:
+            ref = plain_double(row)
+            ha_cost[f"{row['system']} compact_mode={row['compact_mode']}"] = {
+                w: row["windows"][w]["cpu_s_per_tu"] / ref["windows"][w]["cpu_s_per_tu"] for w in row["windows"]}
+
+    acc = accuracy(params, s, opts)
+    acc["cost_ratio_high_accuracy_over_plain"] = ha_cost
+    load["end"] = loadavg()
+
+    import numpy
+
+    try:
+        affinity = sorted(os.sched_getaffinity(0))
+    except AttributeError:
+        affinity = None
+    return {
+        "schema": SCHEMA,
+        "date": dt.datetime.now(dt.UTC).isoformat(timespec="seconds"),
+        "git_commit": facts.git_commit(),
+        "command": " ".join([Path(sys.executable).name, *sys.argv]),
+        "quick": opts is QUICK,
+        "machine": facts.machine_facts(),
+        "versions": {"heyoka": hy.__version__, "numpy": numpy.__version__},
+        "cpu_affinity": affinity,
+        "loadavg": load,
+        "setup": {
+            "params": PARAMS, "y0": [float(v) for v in y0], "energy_label": REFERENCE_LABEL,
+            "t_transient": opts["t_transient"], "settled_state": [float(v) for v in s],
+            "windows": {"long": opts["long"], "short": opts["short"]},
+            "repeats": {"double and long double": opts["repeats"], "quad": opts["repeats_quad"]},
+            "warm_up": "one untimed run over the same window before the repeats",
+            "tangent": f"k = 1 (variational equations w.r.t. u's initial value), legs of {TAU:g} time units, "
+                       "vector renormalised after each",
+            "cost": "median CPU seconds (process time) per time unit; wall beside it; ratio_to_double on the same "
+                    "window, same system and compact mode",
+            "compile": ("heyoka disk cache off, in-memory cache cleared before each build: a real compilation"
+                        if opts["cold_compile"] else
+                        "heyoka disk cache as found (possibly a cache load), in-memory cache cleared"),
+        },
+        "rows": table,
+        "high_accuracy": acc,
+    }
+
+
+def _plain(x):
+    if isinstance(x, dict):
+        return {str(k): _plain(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [_plain(v) for v in x]
+    if isinstance(x, (np.floating, float)):
+        return float(x)
+    if isinstance(x, (np.integer,)):
+        return int(x)
+    if isinstance(x, np.bool_):
+        return bool(x)
+    return x
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--out", default=str(REPO / "benchmarks" / "precision_cost.yaml"))
+    ap.add_argument("--quick", action="store_true", help="short windows, no quad reference, disk cache as found "
+                                                         "(a test run; not a measurement)")
+    a = ap.parse_args()
+    import yaml
+
+    start = time.perf_counter()
+    result = run(QUICK if a.quick else FULL)
+    result["total_wall_s"] = time.perf_counter() - start
+    Path(a.out).parent.mkdir(parents=True, exist_ok=True)
+    Path(a.out).write_text(yaml.safe_dump(_plain(result), sort_keys=False))
+    say(f"wrote {a.out} in {result['total_wall_s']:.0f} s")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
