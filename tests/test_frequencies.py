@@ -81,3 +81,21 @@ def test_drift_leaves_out_a_split_with_a_window_without_the_line():
     noise = np.random.default_rng(0).normal(size=t.size)
     dn = fq.drift(noise, 0.25, splits=(2, 4, 8, 16), min_cycles=1.0)
     assert np.all(dn["D"] > 1e-3)
+
+
+def test_the_refined_frequency_does_not_depend_on_the_number_of_blas_threads():
+    """A sum in BLAS (np.dot) over 8e4 samples came out differently with one thread and with two, and
+    a torus's convergence exponent followed the cores the run was pinned to; the refinement sums in
+    numpy's own order."""
+    import os
+    import subprocess
+    import sys
+
+    code = ("import math, numpy as np; from sleighsim.frequencies import leading_frequency; "
+            "t = np.arange(0.0, 2e4, 0.25); "
+            "x = np.cos(2 * math.pi * 0.1414 * t) + 0.3 * np.cos(2 * math.pi * 0.031 * t + 1.0); "
+            "print(repr(leading_frequency(x, 0.25)))")
+    out = {n: subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120,
+                             env={**os.environ, "OPENBLAS_NUM_THREADS": n, "OMP_NUM_THREADS": n}).stdout
+           for n in ("1", "2")}
+    assert out["1"] and out["1"] == out["2"], out
