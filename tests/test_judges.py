@@ -257,10 +257,16 @@ def test_c21(grid, want):
 def test_c21_judges_the_rows_computed_and_names_those_left_to_another_config(other, want):
     grid = _grid([math.nan, 1e-3, 1e-5 if other == "regular" else 2e-3], [math.nan, 1e-5, 1e-6],
                  ["elsewhere", "converged", other])
+    for v in ("T", "tau", "transient_over", "steady"):  # a row left elsewhere is NaN throughout, as grid.chunk stores it
+        grid[v] = grid[v].astype(float)
+        grid[v][0] = math.nan
     grid.attrs["elsewhere_config"] = "config/cluster.yaml"
     j = judges.c21(PAPER["C21"], grid)
     assert j.verdict == want  # the row not computed here is neither unresolved nor below
     assert j.measured.endswith("not computed in this run: eps 0.02 (computed by config/cluster.yaml)")
+    rows = _regimes(["elsewhere", "regular", "converged", "converged"], [math.nan, 2e-6, 3e-4, 5e-4], [math.nan] + [0.001] * 3)
+    rows["T"] = rows["T"].copy(data=[math.nan, 1e5, 1e5, 1e5])
+    assert judges.c27(PAPER["C27"], rows).verdict == REPRODUCED  # C27 reads the same rows: the NaN row is skipped
 
 
 def test_c26_names_the_eps_left_to_another_config():

@@ -338,9 +338,10 @@ def c19(paper, protocol, spectrum) -> Judgement:
 
 def fake_rates(rows) -> np.ndarray:
     """Per row of lambda_1 rows (T, tau per row): the rate polynomial growth fakes over the row's
-    horizon, 2 ln(T / tau) / T (chaos.verdicts.polynomial_rate_bound). A finite-time lambda_1 below
+    horizon, 2 ln(T / tau) / T (chaos.verdicts.polynomial_rate_bound); NaN for a row not computed. A finite-time lambda_1 below
     it does not show chaos: a regular orbit's tangent vector grows like a power of t."""
-    return np.array([polynomial_rate_bound(T, tau) for T, tau in zip(rows["T"].values, rows["tau"].values)])
+    return np.array([polynomial_rate_bound(T, tau) if np.isfinite(T) and np.isfinite(tau) else math.nan
+                     for T, tau in zip(rows["T"].values, rows["tau"].values)])
 
 
 _FAKE = "2 ln(T / tau) / T, the rate polynomial growth fakes over the row's horizon"
