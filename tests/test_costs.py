@@ -376,3 +376,29 @@ def test_estimate_of_the_cluster_config_from_the_committed_measurement():
                          check=False)
     assert res.returncode == 0, res.stderr[-2000:]
     assert "core-hours (estimate)" in res.stdout
+
+
+def test_jobs_the_measured_run_did_not_have_are_estimated_from_their_scene_or_named_unmeasured():
+    import copy
+
+    import yaml
+
+    from sleighsim.ops import estimate as est_mod
+
+    target = copy.deepcopy(yaml.safe_load((ROOT / "config" / "config.yaml").read_text()))
+    target["scenes"]["lyap_energy"].update(realizations=4)
+    target["scenes"]["fig9_ref"]["precisions"] = ["double", "long double", "quad"]
+    target["scenes"]["fig9_highE"]["precisions"] = ["double", "long double", "quad"]
+    mjobs = [{"job": "scene/lyap_energy", "cpu_s": 10.0, "wall_s": 11.0},
+             {"job": "scene/realization/1/lyap_energy", "cpu_s": 10.5, "wall_s": 11.0},
+             {"job": "scene/precision/long_double/fig9_ref", "cpu_s": 4.0, "wall_s": 4.5}]
+    est = {"jobs": [], "unmeasured": []}
+    est_mod._new_jobs(target, mjobs, est)
+    jobs = {j["job"]: j for j in est["jobs"]}
+    # realizations 2 and 3 cost what the scene's own job cost; realization 1 was measured
+    assert jobs["scene/realization/2/lyap_energy"]["cpu_s"] == 10.0 and "scene/realization/1/lyap_energy" not in jobs
+    cost = est_mod._precision_cost()
+    quad = jobs["scene/precision/quad/fig9_ref"]
+    assert quad["cpu_s"] == pytest.approx(4.0 * cost["quad"] / cost["long double"]) and quad["cpu_s"] > 100 * 4.0
+    # no long-double measurement to scale from: named, not guessed
+    assert "scene/precision/quad/fig9_highE" in est["unmeasured"] and "scene/precision/long_double/fig9_highE" in est["unmeasured"]

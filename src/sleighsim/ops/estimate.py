@@ -89,11 +89,11 @@ def _chunk_check(scene: str, block: dict, tcfg: dict, twork: list, rates: list, 
                  est: dict) -> None:
     """The largest chunk job of a scene against its chunk_runtime_min, under ``chunks``; a warning
     when it exceeds it."""
-    rows = grid_rows(tcfg)
+    rows = grid_rows(tcfg) if tcfg["kind"] == "lyapunov_grid" else None  # a grid's chunk holds eps rows
     k = max(range(len(twork)), key=lambda i: twork[i])
     limit = block.get("chunk_runtime_min")
     entry = {"scene": scene, "n_chunks": len(twork), "largest_s": base + rate * twork[k], "largest_chunk": k,
-             "eps": [e for e, _ in rows[k::tcfg["n_chunks"]]],
+             "eps": [e for e, _ in rows[k::tcfg["n_chunks"]]] if rows else None,
              "limit_s": None if limit is None else 60.0 * limit,
              "rate_spread": [min(c / w for c, w in rates), max(c / w for c, w in rates)]}
     entry["exceeds"] = limit is not None and entry["largest_s"] > entry["limit_s"]
@@ -148,6 +148,46 @@ def _scene_jobs(target: dict, measured: dict, mjobs: list, base: float, est: dic
                                     "cpu_s": _scaled(_job_cpu(j), ratio, base), "ratio": ratio})
 
 
+def _precision_cost() -> dict:
+    """CPU seconds per time unit of integrators.flow in each precision (its own compact mode: on in quad
+    only), from benchmarks/precision_cost.yaml; {} when that file is absent."""
+    import yaml
+
+    path = REPO / "benchmarks" / "precision_cost.yaml"
+    if not path.exists():
+        return {}
+    rows = yaml.safe_load(path.read_text())["rows"]
+    return {r["precision"]: r["cost_s_per_tu"] for r in rows
+            if r["system"] == "flow" and not r["high_accuracy"] and r["compact_mode"] == (r["precision"] == "quad")}
+
+
+def _new_jobs(target: dict, mjobs: list, est: dict) -> None:
+    """Jobs of the target that the measured run did not have: a realization costs what its scene's
+    own job cost; a scene in a finer precision what it cost in long double times the ratio of the
+    flow's cost per time unit (benchmarks/precision_cost.yaml; the variant's double transient is
+    counted at that rate too, so this errs high). Anything else: unmeasured."""
+    cpu = {j["job"]: _job_cpu(j) for j in mjobs}
+    cost = _precision_cost()
+    for scene, n in registry.realized(target).items():
+        for k in range(1, n):
+            name = f"scene/{registry.realization_name(scene, k)}"
+            if name not in cpu and f"scene/{scene}" in cpu:
+                est["jobs"].append({"job": name, "rule": "scene_realization", "kind": target["scenes"][scene]["kind"],
+                                    "scene": scene, "cpu_s": cpu[f"scene/{scene}"], "ratio": 1.0})
+    for scene, precisions in registry.laddered(target).items():
+        ld = f"scene/{registry.variant(scene, 'long double')}"
+        for p in precisions[1:]:
+            name = f"scene/{registry.variant(scene, p)}"
+            if name in cpu:
+                continue
+            if ld in cpu and p in cost and "long double" in cost:
+                est["jobs"].append({"job": name, "rule": "scene_in_precision", "kind": target["scenes"][scene]["kind"],
+                                    "scene": scene, "cpu_s": cpu[ld] * cost[p] / cost["long double"],
+                                    "ratio": cost[p] / cost["long double"]})
+            else:
+                est["unmeasured"].append(name)
+
+
 def _other_jobs(target: dict, mjobs: list, est: dict) -> None:
     """Jobs that are not scenes (figures of the target, claims, report), as measured."""
     figures = set(registry.figures_built(target))
@@ -184,8 +224,8 @@ def estimate(target: dict, summary: dict) -> dict:
     (:func:`startup_s`) plus a part proportional to its work, so each measured scene job becomes
     startup + (measured - startup) x work(target block) / work(measured block), the ratio 1 when no
     key of the work model changed; chunk jobs are re-cut to the target's chunks at the measured CPU
-    seconds per unit of work of the scene's chunks; gather, figure, claims and report jobs stay as
-    measured.
+    seconds per unit of work of the scene's chunks; realizations and finer precisions the measured run
+    did not have as :func:`_new_jobs` says; gather, figure, claims and report jobs stay as measured.
 
     Returns {jobs: [{job, rule, kind, scene, cpu_s, ratio}], rules, kinds: {name: {jobs, cpu_s}},
     total_cpu_s, startup_s, scaled: [{scene, kind, ratio, work_measured, work_target, modelled,
@@ -197,6 +237,7 @@ def estimate(target: dict, summary: dict) -> dict:
     base = startup_s(summary)
     est = {"jobs": [], "scaled": [], "changed_not_scaled": [], "unmeasured": [], "chunks": [], "warnings": []}
     _scene_jobs(target, measured, summary["jobs"], base, est)
+    _new_jobs(target, summary["jobs"], est)
     _other_jobs(target, summary["jobs"], est)
     if est["unmeasured"]:
         est["warnings"].append(f"no measurement for {', '.join(est['unmeasured'])}: left out of the estimate "
@@ -270,10 +311,10 @@ def _chunk_lines(est: dict) -> list[str]:
     """The largest chunk job of each chunked scene against its limit."""
     lines = []
     for c in est["chunks"]:
-        eps = ", ".join(f"{e:.4g}" for e in c["eps"])
+        rows = "" if c["eps"] is None else ", eps " + ", ".join(f"{e:.4g}" for e in c["eps"])
         limit = "no chunk_runtime_min" if c["limit_s"] is None else f"chunk_runtime_min {c['limit_s'] / 60:g} min"
         lines.append(f"Chunk jobs of {c['scene']}: {c['n_chunks']} jobs; largest estimated runtime "
-                     f"{c['largest_s'] / 60:.4g} min (chunk {c['largest_chunk']}, eps {eps}; one core) against "
+                     f"{c['largest_s'] / 60:.4g} min (chunk {c['largest_chunk']}{rows}; one core) against "
                      f"{limit}: {'EXCEEDS' if c['exceeds'] else 'within'}")
         lo, hi = c["rate_spread"]
         lines.append(f"  measured CPU seconds per unit work across its chunks: {lo:.3g} to {hi:.3g} "
