@@ -44,13 +44,13 @@ scenes.bench.peer_ratios).
 
 from __future__ import annotations
 
-import argparse
 import datetime as dt
 import math
 import os
 import statistics
 import sys
 import time
+from functools import partial
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
@@ -59,8 +59,10 @@ sys.path.insert(0, str(REPO / "src"))
 import numpy as np
 
 from sleighsim import integrators, mechanics, model, peers
-from sleighsim.ops import facts
+from sleighsim.ops import benchio, facts
 from sleighsim.params import Params
+
+say = partial(benchio.say, "extended_peers")
 
 SCHEMA = "sleighsim.extended_peers/1"
 PARAMS = {"eps": 0.1, "b": 1.0, "K2": 1.1}
@@ -100,15 +102,8 @@ QUICK = {
 ERROR_TARGETS = [1e-12, 1e-16, 1e-20, 1e-24, 1e-28, 1e-32]
 
 
-def say(msg: str) -> None:
-    print(f"[extended_peers {dt.datetime.now():%H:%M:%S}] {msg}", file=sys.stderr, flush=True)
 
 
-def loadavg() -> str:
-    try:
-        return Path("/proc/loadavg").read_text().strip()
-    except OSError:
-        return "unknown"
 
 
 # ----------------------------------------------------------------------------- timing
@@ -374,7 +369,7 @@ def run(opts) -> dict:
 
     params = Params.paper(**PARAMS)
     T = float(opts["t_end"])
-    load = {"start": loadavg()}
+    load = {"start": benchio.loadavg()}
     cold = opts["cold_compile"]
 
     # start-up outside every setup timing: the SymPy model, the runtime parameters, LLVM
@@ -426,7 +421,7 @@ def run(opts) -> dict:
         t = timed(heyoka_runner(ta, pars113, T, f"real 113 tol {tol:g}"), opts["repeats"])
         raw, steps = t["result"]
         add("heyoka real 113", tol, wall, t, model_state(raw, True), steps, int(ta.order), {"setup_cpu_s": cpu})
-    load["after_heyoka"] = loadavg()
+    load["after_heyoka"] = benchio.loadavg()
 
     lam, setup = mpmath_rhs()
     for tol in opts["mpmath_tols"]:
@@ -437,7 +432,7 @@ def run(opts) -> dict:
         add("mpmath odefun", float(tol) if tol else 2.0**-bits, setup, t, model_state(y, False), steps,
             3 + int(3 * MPMATH_DPS / 2.0),
             {"tol_requested": tol if tol else "default", "internal_tol": f"2^-{bits}", "dps": MPMATH_DPS})
-    load["end"] = loadavg()
+    load["end"] = benchio.loadavg()
 
     ratio_rows(rows)
     cross = []
@@ -495,35 +490,12 @@ def run(opts) -> dict:
     }
 
 
-def _plain(x):
-    if isinstance(x, dict):
-        return {str(k): _plain(v) for k, v in x.items()}
-    if isinstance(x, (list, tuple)):
-        return [_plain(v) for v in x]
-    if isinstance(x, (np.floating, float)):
-        return float(x)
-    if isinstance(x, np.integer):
-        return int(x)
-    if isinstance(x, np.bool_):
-        return bool(x)
-    return x
 
 
 def main() -> int:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--out", default=str(REPO / "benchmarks" / "extended_peers.yaml"))
-    ap.add_argument("--quick", action="store_true", help="T = 2, fewer tols, disk cache as found (a test run; "
+    return benchio.main("extended_peers", __doc__, run, FULL, QUICK, REPO / "benchmarks" / "extended_peers.yaml",
+                        "T = 2, fewer tols, disk cache as found (a test run; "
                                                          "not a measurement)")
-    a = ap.parse_args()
-    import yaml
-
-    start = time.perf_counter()
-    result = run(QUICK if a.quick else FULL)
-    result["total_wall_s"] = time.perf_counter() - start
-    Path(a.out).parent.mkdir(parents=True, exist_ok=True)
-    Path(a.out).write_text(yaml.safe_dump(_plain(result), sort_keys=False))
-    say(f"wrote {a.out} in {result['total_wall_s']:.0f} s")
-    return 0
 
 
 if __name__ == "__main__":

@@ -38,13 +38,13 @@ the 100 time units after each spike. Also: the cost ratio high_accuracy / plain 
 
 from __future__ import annotations
 
-import argparse
 import datetime as dt
 import math
 import os
 import statistics
 import sys
 import time
+from functools import partial
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
@@ -53,9 +53,11 @@ sys.path.insert(0, str(REPO / "src"))
 import numpy as np
 
 from sleighsim import integrators, lyapunov, model, transient
-from sleighsim.ops import facts
+from sleighsim.ops import benchio, facts
 from sleighsim.params import Params
 from sleighsim.symmetries import REFERENCE_LABEL, REFERENCE_STATE, state_at_label
+
+say = partial(benchio.say, "precision_cost")
 
 SCHEMA = "sleighsim.precision_cost/1"
 PRECISIONS = tuple(integrators.EPSILON)  # double, long double, quad
@@ -73,15 +75,8 @@ QUICK = {"t_transient": 6000.0, "long": 300.0, "short": 10.0, "repeats": 3, "rep
          "quad_reference": False, "cold_compile": False}
 
 
-def say(msg: str) -> None:
-    print(f"[precision_cost {dt.datetime.now():%H:%M:%S}] {msg}", file=sys.stderr, flush=True)
 
 
-def loadavg() -> str:
-    try:
-        return Path("/proc/loadavg").read_text().strip()
-    except OSError:
-        return "unknown"
 
 
 def rows():
@@ -279,7 +274,7 @@ def run(opts) -> dict:
 
     params = Params.paper(**PARAMS)
     y0 = state_at_label(REFERENCE_STATE, params, REFERENCE_LABEL)
-    load = {"start": loadavg()}
+    load = {"start": benchio.loadavg()}
 
     # start-up outside the compile timings: the SymPy model, the runtime parameters, LLVM
     model.heyoka_system(False, integrators.DELTA_SHIFT)
@@ -300,7 +295,7 @@ def run(opts) -> dict:
         table.append({"system": system, "precision": precision, "compact_mode": compact, "high_accuracy": ha,
                       "tol": integrators.EPSILON[precision], "order": int(ta.order), "builder": how,
                       "compile_cpu_s": cpu, "compile_wall_s": wall, "_ta": ta})
-    load["after_compile"] = loadavg()
+    load["after_compile"] = benchio.loadavg()
 
     s = settled_state(params, y0, opts["t_transient"])
     say(f"settled state after {opts['t_transient']:g}: {s.tolist()}")
@@ -319,7 +314,7 @@ def run(opts) -> dict:
         row["steps_per_tu"] = windows[row["window"]]["steps_per_tu"]
         say(f"{what}: {row['cost_s_per_tu']:.3e} s per time unit ({row['window']} window), "
             f"{row['steps_per_tu']:.2f} steps per time unit")
-    load["after_timing"] = loadavg()
+    load["after_timing"] = benchio.loadavg()
 
     def plain_double(row):
         return next(r for r in table if r["system"] == row["system"] and r["compact_mode"] == row["compact_mode"]
@@ -340,7 +335,7 @@ def run(opts) -> dict:
 
     acc = accuracy(params, s, opts)
     acc["cost_ratio_high_accuracy_over_plain"] = ha_cost
-    load["end"] = loadavg()
+    load["end"] = benchio.loadavg()
 
     import numpy
 
@@ -377,35 +372,12 @@ def run(opts) -> dict:
     }
 
 
-def _plain(x):
-    if isinstance(x, dict):
-        return {str(k): _plain(v) for k, v in x.items()}
-    if isinstance(x, (list, tuple)):
-        return [_plain(v) for v in x]
-    if isinstance(x, (np.floating, float)):
-        return float(x)
-    if isinstance(x, (np.integer,)):
-        return int(x)
-    if isinstance(x, np.bool_):
-        return bool(x)
-    return x
 
 
 def main() -> int:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--out", default=str(REPO / "benchmarks" / "precision_cost.yaml"))
-    ap.add_argument("--quick", action="store_true", help="short windows, no quad reference, disk cache as found "
+    return benchio.main("precision_cost", __doc__, run, FULL, QUICK, REPO / "benchmarks" / "precision_cost.yaml",
+                        "short windows, no quad reference, disk cache as found "
                                                          "(a test run; not a measurement)")
-    a = ap.parse_args()
-    import yaml
-
-    start = time.perf_counter()
-    result = run(QUICK if a.quick else FULL)
-    result["total_wall_s"] = time.perf_counter() - start
-    Path(a.out).parent.mkdir(parents=True, exist_ok=True)
-    Path(a.out).write_text(yaml.safe_dump(_plain(result), sort_keys=False))
-    say(f"wrote {a.out} in {result['total_wall_s']:.0f} s")
-    return 0
 
 
 if __name__ == "__main__":
