@@ -194,9 +194,10 @@ def test_gather_keeps_an_answer_only_when_every_realization_gives_it(tmp_path):
                              "reason": ("state", np.array([f"r{k}{'ab'[i]}" + "x" * i])),  # texts of two widths
                              "state_class": ("state", np.array([["undetermined", "regular"][i]])),
                              "indicator_value": ("state", [float(k) * (i + 1)]),
-                             "ln_gain": (("state", "cycle"), [[36.0] * (i + 2)])},
+                             "ln_gain": (("state", "cycle"), [[36.0] * (i + 2)]),
+                             "spike_period": ("state", [2300.0 + k + 10 * i if (k, i) != (2, 1) else np.nan])},
                             coords={"state": [name]},
-                            attrs={"chunk": k, "n_chunks": 3, "wall_time_s": 0.75, "transient_over": 1})
+                            attrs={"chunk": k, "n_chunks": 3, "wall_time_s": 0.75, "transient_over": 1, "tau_gain": 5.0})
             paths.append(tmp_path / f"{2 * k + i}.nc")
             write_dataset(ds, paths[-1])
     write_dataset(gather(paths[::-1], cfg), tmp_path / "gathered.nc")  # as the gather job writes it
@@ -210,6 +211,12 @@ def test_gather_keeps_an_answer_only_when_every_realization_gives_it(tmp_path):
     assert out.indicator_value.values.tolist() == [0.0, 0.0]  # the details are realization 0's
     assert out.ln_gain.values[1].tolist() == [36.0] * 3 and np.isnan(out.ln_gain.values[0, 2])  # padded
     assert out.attrs["transient_over"] == 1
+    # the torus each realization reached, and the report's sentence on it
+    from sleighsim.outputs.report import _tori_note
+
+    assert out.realization_spike_period.values[:, 0].tolist() == [2300.0, 2301.0, 2302.0]
+    assert _tori_note(out, 0).endswith("(median spike interval per realization, to about tau_gain = 5): 2300, 2301, 2302")
+    assert _tori_note(out, 1).endswith("2310, 2311, none")
     assert out.attrs["n_realizations"] == 3 and out.attrs["wall_time_s"] == 4.5 and "chunk" not in out.attrs
     with pytest.raises(ValueError, match="expected 0 ... 2"):
         gather(paths[:4], cfg)

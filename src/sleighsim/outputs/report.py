@@ -123,10 +123,22 @@ def chaos_answers(datasets: dict) -> list[tuple[str, str, str]]:
         if "verdict" in ds.data_vars and "state" in ds.dims:
             for i, st in enumerate(ds.state.values):
                 reason = str(ds.reason.values[i]) if "reason" in ds.data_vars else ""
-                out.append((f"{name}: {st}", str(ds.verdict.values[i]), reason + _arithmetic_note(ds, i)))
+                out.append((f"{name}: {st}", str(ds.verdict.values[i]),
+                            reason + _arithmetic_note(ds, i) + _tori_note(ds, i)))
         elif "verdict" in ds.attrs and "chaotic" in str(ds.attrs.get("rule", "")) + str(ds.attrs["verdict"]):
             out.append((name, str(ds.attrs["verdict"]), str(ds.attrs.get("rule", ""))))
     return out
+
+
+def _tori_note(ds, i: int) -> str:
+    """The tori state i's realizations reached (their median spike intervals), or "" without them."""
+    if "realization_spike_period" not in ds.data_vars:
+        return ""
+    periods = np.asarray(ds.realization_spike_period.values[:, i], float)
+    if not np.isfinite(periods).any():
+        return ". Tori reached: no two spikes within T_gain in any realization"
+    return (f". Tori reached (median spike interval per realization, to about tau_gain = {ds.attrs['tau_gain']:g}): "
+            + ", ".join(f"{p:.0f}" if np.isfinite(p) else "none" for p in periods))
 
 
 def _arithmetic_note(ds, i: int) -> str:

@@ -498,6 +498,12 @@ def _long_double_vars(per_state) -> dict:
     }
 
 
+def spike_period(spike_times) -> float:
+    """The median interval between spikes (NaN with fewer than two)."""
+    t = np.asarray(spike_times, float)
+    return float(np.median(np.diff(t))) if t.size >= 2 else math.nan
+
+
 def _gain_vars(out: list) -> dict:
     """The dataset's faithfulness gauge per state: ln G per spike cycle (NaN-padded), its maximum, and
     per arithmetic log10(G_max x rounding) and whether that arithmetic follows the orbit."""
@@ -507,6 +513,9 @@ def _gain_vars(out: list) -> dict:
                     {"long_name": "ln G: largest singular value of the one-period tangent map, maximised over its start "
                                   "in the cycle (double run)"}),
         "ln_gain_max": ("state", [g["ln_gain_max"] for g in gains], {"long_name": "largest ln G over the cycles"}),
+        "spike_period": ("state", [spike_period(g["spike_times"]) for g in gains],
+                         {"units": "time", "long_name": "median interval between the spikes of the gauge's run: which "
+                                                        "torus of the family the state reached (to about tau_gain)"}),
         "log10_gain_rounding": (("state", "arithmetic"), [[g["log10_gain_rounding"][a] for a in ROUNDING] for g in gains],
                                 {"long_name": "log10(G_max x unit roundoff of the arithmetic)"}),
         "follows_orbit": (("state", "arithmetic"), np.array([[g["follows"][a] for a in ROUNDING] for g in gains],
@@ -603,6 +612,10 @@ def gather(paths, cfg: dict, scene: str = "") -> xr.Dataset:
     for var, out in (("verdict", "realization_verdict"), ("reason", "realization_reason"),
                      ("state_class", "realization_class")):
         ds[out] = (("realization", "state"), np.array([c[var].values for c in chunks], dtype=object))
+    if all("spike_period" in c for c in chunks):
+        ds["realization_spike_period"] = (("realization", "state"), [c.spike_period.values for c in chunks],
+                                          {"units": "time", "long_name": "the torus each realization reached: its "
+                                                                         "median spike interval"})
     verdicts = [agree(ds.realization_verdict.values[:, i]) for i in range(ds.sizes["state"])]
     classes = [agree(ds.realization_class.values[:, i]) for i in range(ds.sizes["state"])]
     ds["verdict"] = ("state", np.array([v for v, _, _ in verdicts], dtype=object))
