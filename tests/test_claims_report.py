@@ -233,3 +233,15 @@ def test_a_claim_whose_realizations_disagree_is_fragile_and_one_whose_realizatio
     row = claims.Row(id="F9", statement="", paper_value="", verdict="reproduced")
     claims._figure_from_claims(row, {"C16": c16}, ("C16",))
     assert row.verdict == "fragile" and "C16" in row.reason
+
+
+def test_the_causes_of_a_claim_judged_in_a_finer_precision_read_that_precision(tmp_path):
+    data = tmp_path / "data"
+    _fig9(data / "fig9_ref.nc", n_loops=4, pairs=0)
+    _fig9(data / "precision" / "long_double" / "fig9_ref.nc", n_loops=4, pairs=3)
+    rows = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures")}
+    c22 = rows["C22"]
+    assert c22.verdict == "reproduced only in double precision"  # long double has near-ties, double none
+    _fig9(data / "fig9_ref.nc", n_loops=4, pairs=3)
+    c22 = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures")}["C22"]
+    assert c22.verdict == "differs" and c22.evidence.endswith("causes: precision/long_double/fig9_ref.nc")

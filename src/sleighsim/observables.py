@@ -88,7 +88,7 @@ def _separation(runs: list[xr.Dataset]):
     vel = [np.stack([r[f"attractor_{v}"].values for v in ("u", "Omega", "omega")], axis=1) for r in runs]
     seps = [np.abs(a - b).max(axis=1) / np.abs(b).max() for a, b in zip(vel[:-1], vel[1:])]
     dt = float(runs[0].attrs.get("attractor_dt", math.nan))
-    first = [float(dt * (np.argmax(s > SEPARATED) + 1)) if np.any(s > SEPARATED) else math.nan for s in seps]
+    first = [float(dt * np.argmax(s > SEPARATED)) if np.any(s > SEPARATED) else math.nan for s in seps]  # sample 0: t = 0
     return seps, first, dt
 
 
@@ -149,7 +149,7 @@ def ladder(kind: str, runs: list[xr.Dataset], precisions: list[str], scene: str 
                             {"long_name": "max |velocity difference| / max |velocity| of the finer run"})
         ds["t_separated"] = ("pair", first, {"long_name": f"time after the settled point when the separation first "
                                                           f"exceeds {SEPARATED:g} (NaN: never)", "units": "time"})
-        ds = ds.assign_coords(pair=pairs, t_separation=dt * np.arange(1, seps[0].size + 1))
+        ds = ds.assign_coords(pair=pairs, t_separation=dt * np.arange(seps[0].size))
     ds.attrs.update({k: v for k, v in runs[0].attrs.items() if k.startswith(("param_", "y0_", "energy_label"))})
     ds.attrs.update(scene=scene, kind=kind, converged_precision=overall, settled_state=starts[0],
                     start_rule="transient in double from the scene's y0, then each precision from that settled point "

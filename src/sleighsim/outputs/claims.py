@@ -219,9 +219,10 @@ def in_precision(double, finest, precision: str):
 
 def judge_claim(row: Row, claim: Claim, load: _Datasets) -> None:
     """A claim row from its judge, in the finest precision its datasets were computed in (beside
-    double's value), then, if it differs, its cause tests."""
+    double's value), then, if it differs, its cause tests (on the datasets of that precision where
+    they were computed in it)."""
     names = EVIDENCE.get(claim.id, ())
-    row.precision = load.finest(names)
+    row.precision = precision = load.finest(names)
     j = j_double = _judged(claim, load(names))
     row.verdict, row.reason = j.verdict, j.reason
     if row.precision != "double":
@@ -239,7 +240,8 @@ def judge_claim(row: Row, claim: Claim, load: _Datasets) -> None:
     if row.verdict == DIFFERS and claim.id.startswith("D"):
         row.cause = "the paper's model as printed (found by the derivation, no run involved): " + (j.reason or j.measured)
     if row.verdict == DIFFERS and claim.id in CAUSE_TESTS:
-        needed = CAUSES[claim.id]
+        needed = [variant(n, precision) if (load.dir / f"{variant(n, precision)}.nc").exists() else n
+                  for n in CAUSES[claim.id]]  # the causes read the arithmetic the verdict was judged in
         try:
             row.cause = CAUSE_TESTS[claim.id](j, claim.values, *load(needed))
             row.evidence += "; causes: " + _files(needed)
