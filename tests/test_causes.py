@@ -109,3 +109,16 @@ def test_d5_energy_normalisations():
     assert causes.d5(J, PAPER["D5"], hit).startswith("explained by an energy normalisation")
     miss = _audit(d5_normalisation_names="m b^2 | m", d5_normalisation_values=np.array([0.0071, 0.5]))
     assert causes.d5(J, PAPER["D5"], miss).startswith(causes.NONE)
+
+
+@pytest.mark.parametrize("slope, explained, level", [(-200.0, True, "-18.5"), (-28.0, False, "-132"),
+                                                     (100.0, False, "37")])
+def test_the_injected_error_explains_the_first_spike_only_at_a_level_some_arithmetic_can_inject(slope, explained,
+                                                                                               level):
+    """8700 = 5000 + slope x level: a level between quad's rounding (1e-34) and 1 explains it; a level
+    below quad's rounding, or above 1 (a law that moves the spike the other way), does not."""
+    k2 = _k2(first_spike=[5000, 5200, 5400, 5600], spike_interval=[2300, 2350, 2400, 2450])
+    text = causes.c04(J, PAPER["C04"], k2, _err(), _audit(printed_first_spike=np.nan, printed_spikes_t_end=2e4),
+                      _law(slope=slope, intercept=5000.0))
+    assert text.startswith("explained by the injected error") == explained, text
+    assert f"8700 would need an error of 10^{level}" in text

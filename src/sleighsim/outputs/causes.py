@@ -81,8 +81,10 @@ def _trigger(law, want):
     """The injected error as a cause: the level log10(tol) at which the fitted trigger law puts the
     first spike at the paper's time; explained when some arithmetic can inject an error that size
     (between quad's rounding, 1e-34, and 1)."""
+    from ..scenes.trigger import level_for
+
     a = law.attrs
-    level = (want - a["law_intercept"]) / a["law_slope"] if finite(a["law_slope"]) and a["law_slope"] else math.nan
+    level = level_for(want, {"slope": a["law_slope"], "intercept": a["law_intercept"]})
     if not finite(level):
         return ("the injected error (trigger law)", False, f"law not determined ({a['law_n_fit']} runs in the fit)")
     text = (f"first spike moves {a['law_slope']:.3g} +- {a['law_slope_stderr']:.2g} time units per decade of injected "
