@@ -44,9 +44,7 @@ scenes.bench.peer_ratios).
 
 from __future__ import annotations
 
-import datetime as dt
 import math
-import os
 import statistics
 import sys
 import time
@@ -59,7 +57,7 @@ sys.path.insert(0, str(REPO / "src"))
 import numpy as np
 
 from sleighsim import integrators, mechanics, model, peers
-from sleighsim.ops import benchio, facts
+from sleighsim.ops import benchio
 from sleighsim.params import Params
 
 say = partial(benchio.say, "extended_peers")
@@ -447,20 +445,8 @@ def run(opts) -> dict:
 
     for r in rows:
         del r["_state"]
-    try:
-        affinity = sorted(os.sched_getaffinity(0))
-    except AttributeError:
-        affinity = None
     return {
-        "schema": SCHEMA,
-        "date": dt.datetime.now(dt.UTC).isoformat(timespec="seconds"),
-        "git_commit": facts.git_commit(),
-        "command": " ".join([Path(sys.executable).name, *sys.argv]),
-        "quick": opts is QUICK,
-        "machine": facts.machine_facts(),
-        "versions": {"heyoka": hy.__version__, "mpmath": mpmath.__version__, "numpy": np.__version__},
-        "cpu_affinity": affinity,
-        "loadavg": load,
+        **benchio.header(SCHEMA, opts is QUICK, {"heyoka": hy.__version__, "mpmath": mpmath.__version__, "numpy": np.__version__}, load),
         "setup": {
             "params": PARAMS, "y0": list(Y0), "t_end": T,
             "error": "max |y(T) - y_ref(T)| over (u, Omega, omega, delta), delta modulo 2 pi, in mpmath at "

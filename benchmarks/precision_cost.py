@@ -38,9 +38,7 @@ the 100 time units after each spike. Also: the cost ratio high_accuracy / plain 
 
 from __future__ import annotations
 
-import datetime as dt
 import math
-import os
 import statistics
 import sys
 import time
@@ -53,7 +51,7 @@ sys.path.insert(0, str(REPO / "src"))
 import numpy as np
 
 from sleighsim import integrators, lyapunov, model, transient
-from sleighsim.ops import benchio, facts
+from sleighsim.ops import benchio
 from sleighsim.params import Params
 from sleighsim.symmetries import REFERENCE_LABEL, REFERENCE_STATE, state_at_label
 
@@ -337,22 +335,8 @@ def run(opts) -> dict:
     acc["cost_ratio_high_accuracy_over_plain"] = ha_cost
     load["end"] = benchio.loadavg()
 
-    import numpy
-
-    try:
-        affinity = sorted(os.sched_getaffinity(0))
-    except AttributeError:
-        affinity = None
     return {
-        "schema": SCHEMA,
-        "date": dt.datetime.now(dt.UTC).isoformat(timespec="seconds"),
-        "git_commit": facts.git_commit(),
-        "command": " ".join([Path(sys.executable).name, *sys.argv]),
-        "quick": opts is QUICK,
-        "machine": facts.machine_facts(),
-        "versions": {"heyoka": hy.__version__, "numpy": numpy.__version__},
-        "cpu_affinity": affinity,
-        "loadavg": load,
+        **benchio.header(SCHEMA, opts is QUICK, {"heyoka": hy.__version__, "numpy": np.__version__}, load),
         "setup": {
             "params": PARAMS, "y0": [float(v) for v in y0], "energy_label": REFERENCE_LABEL,
             "t_transient": opts["t_transient"], "settled_state": [float(v) for v in s],

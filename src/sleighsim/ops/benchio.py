@@ -26,6 +26,24 @@ def loadavg() -> str:
         return "unknown"
 
 
+def header(schema: str, quick: bool, versions: dict, load: dict) -> dict:
+    """The head of a measurement's YAML: schema, date, git commit, command, quick, machine facts,
+    versions, the cores the process may run on and the load averages taken along the way."""
+    import datetime as _dt
+    import os
+
+    from . import facts
+
+    try:
+        affinity = sorted(os.sched_getaffinity(0))
+    except AttributeError:
+        affinity = None
+    return {"schema": schema, "date": _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
+            "git_commit": facts.git_commit(), "command": " ".join([Path(sys.executable).name, *sys.argv]),
+            "quick": quick, "machine": facts.machine_facts(), "versions": versions, "cpu_affinity": affinity,
+            "loadavg": load}
+
+
 def plain(x):
     """x with numpy scalars as Python numbers and mappings' keys as strings (for yaml.safe_dump)."""
     if isinstance(x, dict):
