@@ -71,8 +71,13 @@ def atomic_path(path):
 
 def write_dataset(ds: xr.Dataset, path) -> Path:
     """Write ``ds`` to netCDF at ``path`` atomically, adding the provenance attributes
-    (package versions, git commit, creation time)."""
+    (package versions, git commit, creation time). Text is written at its own width: a fixed text
+    width kept in the encoding of a variable read from a file (or joined from such variables) would
+    truncate longer texts put there since."""
     ds = ds.copy()
+    for v in ds.variables.values():
+        if v.dtype.kind in "UO":
+            v.encoding = {k: e for k, e in v.encoding.items() if k != "dtype"}
     ds.attrs.update(provenance_attrs())
     with atomic_path(path) as tmp:
         ds.to_netcdf(tmp, engine="netcdf4")

@@ -572,14 +572,6 @@ def chunk(cfg: dict, index: int, scene: str = "") -> xr.Dataset:
     return ds
 
 
-def _text_as_objects(ds: xr.Dataset) -> xr.Dataset:
-    """Fixed-width text variables and coordinates as Python strings, so that joining datasets whose
-    texts have different widths truncates none."""
-    text = [n for n, v in ds.variables.items() if v.dtype.kind == "U"]
-    return ds.assign({n: ds[n].astype(object) for n in text if n in ds.data_vars}).assign_coords(
-        {n: ds[n].astype(object) for n in text if n in ds.coords})
-
-
 def _states_together(parts: list, names: list) -> xr.Dataset:
     """One realization's dataset from its per-state jobs, in the config's state order (ln G per cycle
     NaN-padded to the longest); its transient is over when every state's is, its wall time is their sum."""
@@ -588,7 +580,7 @@ def _states_together(parts: list, names: list) -> xr.Dataset:
         raise ValueError(f"realization {parts[0].attrs['chunk']}: states {[str(d.state.values[0]) for d in parts]}, "
                          f"expected {names}")
     width = max(d.sizes.get("cycle", 0) for d in parts)
-    parts = [_text_as_objects(d.pad(cycle=(0, width - d.sizes["cycle"])) if "cycle" in d.dims else d) for d in parts]
+    parts = [d.pad(cycle=(0, width - d.sizes["cycle"])) if "cycle" in d.dims else d for d in parts]
     ds = xr.concat(parts, dim="state", data_vars="minimal", coords="minimal", compat="override",
                    combine_attrs="override")
     ds.attrs.update(transient_over=int(all(d.attrs["transient_over"] == 1 for d in parts)),
