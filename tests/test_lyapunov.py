@@ -207,3 +207,25 @@ def test_megno_in_long_double_matches_double_where_both_are_accurate():
     assert a["log_growth"] == pytest.approx(b["log_growth"], rel=1e-9, abs=1e-11)
     assert a["Y_mean"] == pytest.approx(b["Y_mean"], rel=1e-8)
     assert np.abs(a["log_growth"]).max() > 1e-3  # the vector does change length: the comparison is not vacuous
+
+@pytest.mark.parametrize("precision", ["long double", "quad"])
+def test_lane_loop_runs_the_batch_method_in_extended_precision(precision):
+    """sleigh_tangent_lanes in an extended precision (a LaneLoop over one scalar integrator) gives the
+    SIMD batch's log growth on a short horizon (the orbits have not separated yet), keeps each lane's
+    own state, and refuses a lane clock other than 0."""
+    from sleighsim import integrators
+
+    p = Params.paper(eps=0.1, b=1.0)
+    ys = np.array([state_at_label(y, p, 0.1127) for y in ([0.0, 0.1, 1.0, 0.0], [0.05, 0.1, 1.0, 1.0])])
+    taus = np.array([5.0, 3.0])
+    runs = {}
+    for prec in ("double", precision):
+        lanes, _ = lyapunov.sleigh_tangent_lanes(2, integrators.EPSILON[prec], True, k=2, precision=prec)
+        integrators.set_pars(lanes, p)
+        runs[prec] = lyapunov.batch_benettin(lanes, 4, 2, ys, taus, t_align_steps=2, n_steps=8)
+    assert isinstance(lanes, lyapunov.LaneLoop) and lanes.state.dtype != np.float64
+    assert runs[precision]["log_growth"] == pytest.approx(runs["double"]["log_growth"], rel=1e-8, abs=1e-10)
+    assert runs[precision]["final_state"] == pytest.approx(runs["double"]["final_state"], rel=1e-9, abs=1e-11)
+    assert not np.allclose(runs[precision]["final_state"][0], runs[precision]["final_state"][1])
+    with pytest.raises(ValueError, match="from t = 0"):
+        lanes.set_time(np.ones(2))

@@ -153,8 +153,8 @@ def _run_heyoka(params, y0, t0, times, kinematics, tol, precision, scene, progre
             log.info("%s: t = %.6g / %.6g (%d steps)", scene, origin, times[-1], nsteps)
             next_log += every
     info = dict(backend="heyoka", method="taylor_adaptive", tol=tol, precision=precision, order=int(ta.order),
-                compile_time_s=compile_s, steps=nsteps, min_step=min_h if nsteps else float("nan"),
-                max_step=max_h)
+                compile_time_s=compile_s, steps=nsteps, min_step=float(min_h) if nsteps else float("nan"),
+                max_step=float(max_h))
     return out, info
 
 
@@ -296,12 +296,13 @@ def integrate(
     return ds
 
 
-def orbit_samples(params: Params, y, n: int, spacing: float, *, tol: float = DEFAULT_TOL, samples_per_spacing: int = 400,
-                  scene: str = "") -> tuple[np.ndarray, xr.Dataset]:
-    """n states along the orbit from y, ``spacing`` time units apart (the first is y, bounded), and
-    the sampled record of that stretch (``samples_per_spacing`` samples per spacing)."""
+def orbit_samples(params: Params, y, n: int, spacing: float, *, tol: float = DEFAULT_TOL, precision: str = "double",
+                  samples_per_spacing: int = 400, scene: str = "") -> tuple[np.ndarray, xr.Dataset]:
+    """n states along the orbit from y (in ``precision`` at ``tol``), ``spacing`` time units apart (the
+    first is y, bounded; returned in double), and the sampled record of that stretch
+    (``samples_per_spacing`` samples per spacing)."""
     record = integrate(params, y, sample_grid(0.0, spacing * n, spacing / samples_per_spacing), tol=tol,
-                       scene=f"{scene}.orbit", progress=1)
+                       precision=precision, scene=f"{scene}.orbit", progress=1)
     picks = np.arange(n) * samples_per_spacing
     return np.stack([record[v].values[picks] for v in model.STATE_NAMES], axis=1), record
 

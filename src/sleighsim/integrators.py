@@ -74,6 +74,12 @@ def register(ta, angles: dict) -> None:
     _ANGLES[id(ta)] = (reducer, [(i, shift) for i, shift in angles.values() if shift])
 
 
+def copy_angles(source, target) -> None:
+    """Give ``target`` (an object holding a copy of ``source``'s state) ``source``'s stored angle
+    shifts, so :func:`load` and :func:`read` convert its state the same way."""
+    _ANGLES[id(target)] = (None, _shifts(source))
+
+
 def bounded(ta):
     """The step callback that keeps the registered angles of ``ta`` in [0, 2 pi) (None when it has none)."""
     return _ANGLES.get(id(ta), (None, []))[0]

@@ -41,8 +41,8 @@ def tangent_integrator(sys, k: int, tol: float = 2.0**-52, pars=(), compact_mode
     return ta, n, time.perf_counter() - start
 
 
-def sleigh_tangent(k: int, tol: float, compact: bool, long_double: bool = False):
-    """The sleigh plus k tangent vectors (in long double when asked), compiled once per process.
+def sleigh_tangent(k: int, tol: float, compact: bool, long_double: bool = False, quad: bool = False):
+    """The sleigh plus k tangent vectors (in long double or quad when asked), compiled once per process.
     compact_mode compiles in 0.1-1 s; full mode steps 1.3-2.3x faster here but its first
     compilation takes seconds to about a minute (45 s for 8 lanes and 4 vectors; later ones come
     from heyoka's on-disk cache). Returns
@@ -50,11 +50,11 @@ def sleigh_tangent(k: int, tol: float, compact: bool, long_double: bool = False)
     from . import model
 
     def build():
-        fp = integrators.fp_type(long_double)
+        fp = integrators.fp_type(long_double, quad)
         return tangent_integrator(model.heyoka_system(delta_shift=integrators.DELTA_SHIFT), k, tol,
                                   model.compile_pars(fp), compact_mode=compact, fp_type=fp)[0]
 
-    return integrators.compiled(("tangent", k, tol, compact, long_double), build)
+    return integrators.compiled(("tangent", k, tol, compact, long_double, quad), build)
 
 
 def sleigh_megno(tol: float, long_double: bool = False, compact: bool = True):
@@ -83,6 +83,49 @@ def sleigh_tangent_batch(batch_size: int, tol: float, compact: bool, k: int = 1)
                                         npars=model.n_heyoka_pars(), compact_mode=compact, k=k)[0]
 
     return integrators.compiled(("tangent_batch", batch_size, tol, compact, k), build)
+
+
+class LaneLoop:
+    """B lanes run one after another through one scalar tangent integrator, with the part of a batch
+    integrator's interface :func:`batch_benettin` uses (``batch_size``, ``state`` (n + n k, B),
+    ``pars``, ``set_time``, ``propagate_for``, ``propagate_res``): the batch method in any precision
+    heyoka's scalar integrators have (long double, real128), which its SIMD batch mode lacks. Each
+    lane keeps its own state in ``state``; every lane restarts its clock at 0 (autonomous flow)."""
+
+    def __init__(self, ta, batch_size: int):
+        self.ta, self.batch_size = ta, batch_size
+        self.state = np.repeat(np.array(ta.state)[:, None], batch_size, axis=1)
+        self.propagate_res: list = []
+        integrators.copy_angles(ta, self)
+
+    @property
+    def pars(self):
+        return self.ta.pars
+
+    def set_time(self, times) -> None:
+        """Lanes start every propagation at t = 0 (the flow is autonomous); ``times`` must be zeros."""
+        if np.any(np.asarray(times) != 0):
+            raise ValueError("LaneLoop runs autonomous lanes from t = 0 only")
+
+    def propagate_for(self, taus, callback=None):
+        """Each lane over its tau (``callback`` is the scalar integrator's own angle reducer)."""
+        self.propagate_res = []
+        fp = self.state.dtype.type
+        for j, tau in enumerate(np.broadcast_to(taus, (self.batch_size,))):
+            self.ta.time = fp(0)
+            self.ta.state[:] = self.state[:, j]
+            self.propagate_res.append(self.ta.propagate_for(fp(tau), callback=integrators.bounded(self.ta)))
+            self.state[:, j] = self.ta.state
+
+
+def sleigh_tangent_lanes(batch_size: int, tol: float, compact: bool, k: int = 1, precision: str = "double"):
+    """``batch_size`` lanes of the sleigh plus k tangent vectors for :func:`batch_benettin` and
+    :func:`replica_exponents`: SIMD lanes (:func:`sleigh_tangent_batch`) in double, else a
+    :class:`LaneLoop` over one scalar integrator in ``precision``. Returns (lanes, compile_s)."""
+    if precision == "double":
+        return sleigh_tangent_batch(batch_size, tol, compact, k=k)
+    ta, compile_s = sleigh_tangent(k, tol, compact, *integrators.precision_flags(precision))
+    return LaneLoop(ta, batch_size), compile_s
 
 
 def _divergence_integrator(tol):
@@ -134,7 +177,8 @@ def benettin(ta, n: int, k: int, y0, *, t_align: float, T: float, tau: float, n_
 
     start = time.perf_counter()
     callback = integrators.bounded(ta)
-    ta.time = 0.0
+    fp = ta.state.dtype.type  # float, or the extended type of a long double or quad integrator
+    ta.time = fp(0)
     integrators.load(ta, np.asarray(y0, float))
     ta.state[n:] = initial_directions(n, k, seed).ravel()
     n_steps = int(round(T / tau))
@@ -148,11 +192,11 @@ def benettin(ta, n: int, k: int, y0, *, t_align: float, T: float, tau: float, n_
     r = 0
     last_log = time.perf_counter()
     for i in range(-n_align, n_steps):
-        res = ta.propagate_for(tau, callback=callback)
+        res = ta.propagate_for(fp(tau), callback=callback)
         if res[0] != hy.taylor_outcome.time_limit or not np.all(np.isfinite(ta.state)):
             raise RuntimeError(f"{label}: Lyapunov run failed at t = {ta.time:.6g}: heyoka outcome {res[0].name}")
-        ta.time = 0.0  # autonomous: keep the clock small
-        V = ta.state[n:].reshape(n, k)
+        ta.time = fp(0)  # autonomous: keep the clock small
+        V = ta.state[n:].reshape(n, k).astype(float)  # QR in double (numpy's has no extended precision)
         q, rr = np.linalg.qr(V)
         ta.state[n:] = q.ravel()
         if i < 0:
@@ -177,7 +221,7 @@ def benettin(ta, n: int, k: int, y0, *, t_align: float, T: float, tau: float, n_
         "T_grid": record_at * tau,
         "running": running,
         "log_growth": log_growth,
-        "final_state": integrators.read(ta, n),
+        "final_state": integrators.read(ta, n).astype(float),
         "wall_time_s": time.perf_counter() - start,
     }
 
@@ -209,7 +253,7 @@ def batch_benettin(ta, n: int, k: int, y0s, taus, *, n_steps: int, t_align_steps
     then n_steps are accumulated. With ``resume`` the lanes continue from the integrator's state
     (y0s and the vectors are not reset). Returns the log growth of every step, vector and lane
     (n_steps, k, B), the state at every renormalisation (n_steps, n, B), the final states (B, n)
-    and the wall time."""
+    (all in double, whatever the lanes' arithmetic) and the wall time."""
     import heyoka as hy
 
     B = ta.batch_size
@@ -232,7 +276,7 @@ def batch_benettin(ta, n: int, k: int, y0s, taus, *, n_steps: int, t_align_steps
         ta.propagate_for(taus, callback=callback)
         if any(r[0] != hy.taylor_outcome.time_limit for r in ta.propagate_res) or not np.all(np.isfinite(ta.state)):
             raise RuntimeError(f"{label}: batch Lyapunov run failed: {[r[0].name for r in ta.propagate_res]}")
-        V = np.moveaxis(ta.state[n:].reshape(n, k, B), 2, 0)  # (B, n, k)
+        V = np.moveaxis(ta.state[n:].reshape(n, k, B), 2, 0).astype(float)  # (B, n, k); QR in double
         q, r = np.linalg.qr(V)
         ta.state[n:] = np.moveaxis(q, 0, 2).reshape(n * k, B)
         if i >= 0:
@@ -242,7 +286,7 @@ def batch_benettin(ta, n: int, k: int, y0s, taus, *, n_steps: int, t_align_steps
             last_log = time.perf_counter()
             log.info("%s: batch Lyapunov step %d / %d, running lambda_1 %s", label, i + 1, n_steps,
                      np.array2string(growth[: max(i + 1, 1), 0].sum(axis=0) / (max(i + 1, 1) * taus), precision=3))
-    return {"log_growth": growth, "states": states, "final_state": integrators.read(ta, n).T,
+    return {"log_growth": growth, "states": states, "final_state": integrators.read(ta, n).T.astype(float),
             "wall_time_s": time.perf_counter() - start}
 
 
