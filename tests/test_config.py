@@ -202,6 +202,13 @@ def test_a_precision_ladder_out_of_order_or_unknown_is_refused(bad):
     assert "precisions" in refused(with_value(("scenes", "fig9_ref", "precisions"), bad))
 
 
+def test_a_gauge_without_a_ladder_is_refused():
+    cfg = with_value(("scenes", "fig7", "gain"), {"T": 400.0, "tau": 2.0})
+    assert refused(cfg) == ""
+    del cfg["scenes"]["fig7"]["precisions"]
+    assert "'precisions' is a dependency of 'gain'" in refused(cfg)
+
+
 def test_laddered_scenes_and_their_datasets_are_named_by_the_registry():
     ladders = registry.laddered(SMOKE)
     assert ladders["fig9_ref"] == ["double", "long double"]

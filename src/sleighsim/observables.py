@@ -12,7 +12,12 @@ Uncertainties (how each is estimated):
 - ``return_time_mean``: the difference between the mean return time of the two halves;
 - band edges and peaks of a power spectrum: the Welch frequency bin, 1 / segment (the
   resolution of the estimate; the value cannot be known better);
-- counts (loops, peaks): exact; two counts agree only when equal.
+- counts (loops, peaks, spikes): exact; two counts agree only when equal;
+- any other observable: the uncertainty its dataset states beside it (``<name>_uncertainty``;
+  the dataset's ``observables_rule`` says how it was estimated, e.g. a trajectory's spikes and
+  reach, :func:`sleighsim.scenes.trajectories.observed`).
+An observable a precision's dataset does not state (a run with too few spikes for an interval)
+is NaN there, and NaN never agrees; one that no precision states is left out of the ladder.
 Every uncertainty is floored at :data:`REL_FLOOR` of the value (the agreement of two faithful
 runs from one point is limited by rounding in the observable's own computation).
 """
@@ -44,11 +49,15 @@ def observable(ds: xr.Dataset, name: str) -> tuple[float, float]:
     """(value, uncertainty) of observable ``name`` in a scene's dataset (module docstring: how each
     uncertainty is estimated; 0 for a count)."""
     a = ds.attrs
+    if name not in a:
+        return math.nan, math.nan
+    if f"{name}_uncertainty" in a:
+        return a[name], a[f"{name}_uncertainty"]
     if name == "rotation_number":
         return a[name], abs(a["rotation_number_first_half"] - a["rotation_number_second_half"])
     if name == "return_time_mean":
         return float(np.mean(ds.return_time.values)), _halves(ds.return_time.values)
-    if name == "n_loops" or name.endswith("_n_peaks_near_zero"):
+    if _is_count(name):
         return float(a[name]), 0.0
     if name.endswith(("_band_low", "_band_high", "_band_peak", "_lowest_peak")):
         return a[name], 1.0 / a["psd_segment"]
@@ -124,7 +133,7 @@ def ladder(kind: str, runs: list[xr.Dataset], precisions: list[str], scene: str 
     starts = [np.asarray(r.attrs["settled_state"], float) for r in runs]
     if any(not np.array_equal(starts[0], s) for s in starts[1:]):
         raise ValueError(f"{scene}: the precisions' runs start from different settled states {starts}")
-    names = list(OBSERVABLES[kind])
+    names = [n for n in OBSERVABLES[kind] if any(n in r.attrs for r in runs)]
     vals = np.array([[observable(r, n) for n in names] for r in runs])  # (precision, observable, 2)
     agree = np.array([[[agrees(tuple(vals[i, k]), tuple(vals[j, k]), count=_is_count(n)) for j in range(len(runs))]
                        for i in range(len(runs))] for k, n in enumerate(names)])
@@ -163,4 +172,4 @@ def ladder(kind: str, runs: list[xr.Dataset], precisions: list[str], scene: str 
 
 
 def _is_count(name: str) -> bool:
-    return name == "n_loops" or name.endswith("_n_peaks_near_zero")
+    return name.startswith("n_") or "_n_" in name

@@ -71,6 +71,10 @@ KINDS: dict[str, Kind] = {
 #: precision's dataset and finds the precision they converge in.
 OBSERVABLES: dict[str, tuple[str, ...]] = {
     "poincare": ("rotation_number", "return_time_mean", "n_loops"),
+    "trajectory": ("n_spikes", "first_spike_time", "spike_interval_mean", "path_reach"),
+    "lyapunov_spectrum": ("lambda_1", "lambda_4"),
+    "lyapunov_protocol": ("lambda_1", "lambda_4"),
+    "lyapunov_energy": ("lambda_1_reference", "lambda_1_lowest_label"),
     "psd": ("Omega_band_low", "Omega_band_high", "Omega_band_peak", "u_band_peak", "Omega_n_peaks_near_zero"),
 }
 
@@ -136,7 +140,7 @@ class Figure:
 FIGURES: dict[str, Figure] = {
     "fig1": Figure(paper="F1", schematic="fig1"),
     "fig2": Figure(("fig2",), "F2", ("C01",)),
-    "fig3": Figure(("fig3",), "F3", ("C03", "C04", "C05")),
+    "fig3": Figure(("fig3",), "F3", ("C03", "C04", "C05"), beside=True),
     "fig4": Figure(("fig4",), "F4", ("C06",)),
     "fig5": Figure(("fig5",), "F5", ("C11",)),
     "fig6": Figure(("fig6",), "F6", ("C07", "C08", "C09", "C10")),
@@ -144,13 +148,13 @@ FIGURES: dict[str, Figure] = {
     "perturbation": Figure(("fig5", "pert_audit"),
                            title="Perturbation hierarchy: convergence as eps -> 0 and secular growth (C12)"),
     "fig7": Figure(("fig7",), "F7", ("C13",), steady=("fig7",)),
-    "fig8": Figure(("fig8",), "F8", ("C14",), steady=("fig8",)),
+    "fig8": Figure(("fig8",), "F8", ("C14",), steady=("fig8",), beside=True),
     "fig9": Figure(("fig9_ref", "fig9_highE", "fig9_eps001", "fig9_scaling"), "F9", ("C15", "C16", "C17"),
                    steady=("fig9_ref", "fig9_highE", "fig9_eps001")),
     "fig12": Figure(("fig9_ref", "fig9_eps001"), "F12", ("C22",), steady=("fig9_ref", "fig9_eps001"), beside=True),
     "fig13": Figure(("psd_eps01",), "F13", ("C23",), plot="psd", steady=("psd_eps01",), beside=True),
     "fig14": Figure(("psd_eps001",), "F14", ("C24",), plot="psd", steady=("psd_eps001",), beside=True),
-    "fig10": Figure(("lyap_energy",), "F10", ("C20",), steady=("lyap_energy",)),
+    "fig10": Figure(("lyap_energy",), "F10", ("C20",), steady=("lyap_energy",), beside=True),
     "fig11": Figure(("fig11_grid",), "F11", ("C21",), steady=("fig11_grid",)),
     "lyapunov": Figure(("lyap_spectrum", "lyap_protocol"), title="Lyapunov spectrum and the paper's protocol"),
     "chaos": Figure(("chaos_verdict",), title="Is the steady state chaotic? Indicators per state",

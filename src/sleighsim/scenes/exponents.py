@@ -17,12 +17,15 @@ from ..integrate import final_state, integrate, orbit_samples, sample_grid
 from ..params import Params
 from ..symmetries import state_at_label
 from ..transient import settle
+from .common import steady_arithmetic
 
 log = logging.getLogger("sleighsim")
 
 
 def _run(params, y, *, k, cfg, compact, label, T=None, seed=0):
-    ta, compile_s = lyapunov.sleigh_tangent(k, cfg["tol"], compact)
+    """Benettin from y with k vectors in the block's steady-state arithmetic (:func:`.common.steady_arithmetic`)."""
+    arith = steady_arithmetic(cfg)
+    ta, compile_s = lyapunov.sleigh_tangent(k, arith["tol"], compact, *integrators.precision_flags(arith["precision"]))
     integrators.set_pars(ta, params)
     out = lyapunov.benettin(ta, 4, k, y, t_align=cfg["t_align"], T=cfg["T"] if T is None else T, tau=cfg["tau"],
                             n_blocks=cfg["n_blocks"], seed=seed, label=label)
@@ -32,7 +35,8 @@ def _run(params, y, *, k, cfg, compact, label, T=None, seed=0):
 
 def _common_attrs(params, y0, cfg, scene):
     out = state_attrs(params, y0)
-    out.update(scene=scene, backend="heyoka", method="Benettin QR on var_ode_sys", tol=cfg["tol"],
+    out.update(scene=scene, backend="heyoka", method="Benettin QR on var_ode_sys (QR of the tangent vectors in double)",
+               **steady_arithmetic(cfg), transient_tol=cfg["tol"], transient_precision="double",
                tau=cfg["tau"], t_align=cfg["t_align"])
     return out
 
@@ -55,9 +59,10 @@ def spectrum(cfg: dict, scene: str = "") -> xr.Dataset:
     y0 = state_at_label(cfg["y0"], params, cfg["energy_label"])
     y, transient_attrs = settle(params, y0, cfg["t_transient"], **cfg["transient"], tol=cfg["tol"], label=scene,
                                 progress=1)
-    replicas, _ = orbit_samples(params, y, cfg["replicas"], cfg["replica_spacing"], tol=cfg["tol"], scene=scene)
+    arith = steady_arithmetic(cfg)
+    replicas, _ = orbit_samples(params, y, cfg["replicas"], cfg["replica_spacing"], **arith, scene=scene)
     B = cfg["replicas"]
-    ta, compile_s = lyapunov.sleigh_tangent_batch(B, cfg["tol"], cfg["compact_mode"], k=4)
+    ta, compile_s = lyapunov.sleigh_tangent_lanes(B, arith["tol"], cfg["compact_mode"], k=4, precision=arith["precision"])
     integrators.set_pars(ta, params)
     res = lyapunov.replica_exponents(ta, 4, 4, replicas, cfg["tau"], T_round=cfg["T_round"],
                                      max_rounds=cfg["max_rounds"], target_rel=cfg["target_rel"], t_align=cfg["t_align"],
@@ -86,6 +91,7 @@ def spectrum(cfg: dict, scene: str = "") -> xr.Dataset:
     ds.attrs.update(_common_attrs(params, y0, cfg, scene))
     ds.attrs.update(transient_attrs)
     ds.attrs.update(
+        settled_state=np.asarray(y, float), **_lambda_observables(per),
         t_transient=cfg["t_transient"], T=res["T"], replicas=B, replica_spacing=cfg["replica_spacing"],
         status=res["status"], rule=res["rule"],
         uncertainty="standard error of the mean over independent replicas (points along the settled orbit, "
@@ -103,6 +109,23 @@ def spectrum(cfg: dict, scene: str = "") -> xr.Dataset:
              scene, lam, err, res["status"], res["T"], sums.mean(), ds.attrs["sum_all_stderr"], div.mean(),
              ds.attrs["mean_divergence_stderr"])
     return ds
+
+
+def _lambda_observables(per) -> dict:
+    """The ladder observables of a spectrum or the protocol (1/time): lambda_1 and lambda_4, each the
+    mean over the independent runs ``per`` (runs, 4: replicas along one orbit, or the protocol's
+    states) with its standard error as uncertainty."""
+    err = per.std(axis=0, ddof=1) / math.sqrt(per.shape[0])
+    return {"lambda_1": float(per[:, 0].mean()), "lambda_1_uncertainty": float(err[0]),
+            "lambda_4": float(per[:, 3].mean()), "lambda_4_uncertainty": float(err[3])}
+
+
+def _energy_observables(lam, err, labels, ref: int) -> dict:
+    """The energy sweep's ladder observables (1/time): lambda_1 at the reference label and at the
+    lowest label, each with its lane's block standard error."""
+    low = int(np.argmin(labels))
+    return {"lambda_1_reference": float(lam[ref]), "lambda_1_reference_uncertainty": float(err[ref]),
+            "lambda_1_lowest_label": float(lam[low]), "lambda_1_lowest_label_uncertainty": float(err[low])}
 
 
 def _advance(params, y, t, tol):
@@ -150,7 +173,8 @@ def protocol(cfg: dict, scene: str = "") -> xr.Dataset:
         coords={"i": np.arange(1, 5), "component": list(model.STATE_NAMES)},
     )
     ds.attrs.update(_common_attrs(params, states[0], cfg, scene))
-    ds.attrs.update(t_transient=cfg["t_transient"], T=cfg["T"], n_blocks=cfg["n_blocks"], paper_tau=cfg["paper_tau"],
+    ds.attrs.update(settled_state=np.ravel(settled), **_lambda_observables(np.array(exps)),
+                    t_transient=cfg["t_transient"], T=cfg["T"], n_blocks=cfg["n_blocks"], paper_tau=cfg["paper_tau"],
                     tau_check=cfg["tau_check"], tau_equivalence_max_rel_diff=agreement,
                     tau_equivalence=f"renormalised every {cfg['tau']:g} instead of the paper's {cfg['paper_tau']:g}: equal "
                                     "in exact arithmetic; over the first {:g} time units of state 0 the four exponents "
@@ -174,7 +198,9 @@ def energy_sweep(cfg: dict, scene: str = "") -> xr.Dataset:
     y, transient_attrs = settle(params, y0, cfg["t_transient"], **cfg["transient"], tol=cfg["tol"], label=scene,
                                 progress=1)
     lanes = np.array([np.r_[y[:3] / s, y[3]] for s in scale])  # the time-scaling images of the settled state
-    ta, compile_s = lyapunov.sleigh_tangent_batch(labels.size, cfg["tol"], cfg["compact_mode"])
+    arith = steady_arithmetic(cfg)
+    ta, compile_s = lyapunov.sleigh_tangent_lanes(labels.size, arith["tol"], cfg["compact_mode"],
+                                                  precision=arith["precision"])
     integrators.set_pars(ta, params)
     steps = int(round(cfg["T"] / cfg["tau"]))
     tau, T = cfg["tau"] * scale, steps * cfg["tau"] * scale  # per label
@@ -199,6 +225,7 @@ def energy_sweep(cfg: dict, scene: str = "") -> xr.Dataset:
     ds.attrs.update(_common_attrs(params, y0, cfg, scene))
     ds.attrs.update(transient_attrs)
     ds.attrs.update(
+        settled_state=np.asarray(y, float), **_energy_observables(lam, err, labels, ref),
         reference_label=cfg["reference_label"], T_reference=cfg["T"], t_transient_reference=cfg["t_transient"],
         n_blocks=cfg["n_blocks"], compile_time_s=compile_s,
         horizon_rule="one settled state at the reference label, mapped to every label by the time-scaling law; T, "

@@ -15,8 +15,8 @@ from ..integrate import integrate, sample_grid
 from ..params import Params
 from ..sleigh0 import closed_form
 from ..sleigh0 import rhs as sleigh0_rhs
-from ..transient import settle
-from .common import initial_state
+from ..transient import phases, settle, spike_times
+from .common import initial_state, steady_arithmetic
 
 log = logging.getLogger("sleighsim")
 
@@ -24,7 +24,10 @@ log = logging.getLogger("sleighsim")
 def trajectory(cfg: dict, scene: str = "") -> xr.Dataset:
     """Integrate from ``y0`` at t = 0 and sample the kept variables on [t_sample_start, t_end] with
     step dt (F3, F7, F8). With a ``transient`` block the run to t_sample_start is a checked pre-run
-    (sleighsim.transient.settle) and the path (theta, x, y) is measured from the window's start."""
+    (sleighsim.transient.settle, in double) and the path (theta, x, y) is measured from the window's
+    start. The sampled run is in the block's ``precision`` (:func:`.common.steady_arithmetic`); without
+    a pre-run that is the whole run, transient included. Its key observables (:func:`observed`) are
+    stated with their uncertainties for the precision ladder."""
     params = Params.from_config(cfg["params"])
     y0 = initial_state(cfg, params)
     start = cfg.get("t_sample_start", 0.0)
@@ -34,13 +37,46 @@ def trajectory(cfg: dict, scene: str = "") -> xr.Dataset:
     pre = {}
     if "transient" in cfg and start > 0:
         y0, pre = settle(params, y0, start, **cfg["transient"], tol=cfg["tol"], label=scene)
-    ds = integrate(params, y0, times, t0=0.0 if not pre else start, kinematics=kinematics, tol=cfg["tol"], scene=scene)
-    ds = ds[keep]
+    arith = steady_arithmetic(cfg)
+    run = integrate(params, y0, times, t0=0.0 if not pre else start, kinematics=kinematics, **arith, scene=scene)
+    ds = run[keep]
     ds.attrs.update(pre)
+    ds.attrs.update(observed(run, pre_run=bool(pre), spike_factor=cfg.get("transient", {}).get("spike_factor", 1.8)))
+    ds.attrs.update(**arith, settled_state=np.asarray(y0, float)[:4],
+                    transient_precision="double" if pre else arith["precision"], transient_tol=cfg["tol"])
     if pre:
         ds.attrs.update(state_attrs(params, initial_state(cfg, params)), path_origin="the window's start (t_sample_start)")
         ds.attrs["energy_max_rel_drift"] = max(ds.attrs["energy_max_rel_drift"], pre["pre_run_energy_max_rel_drift"])
     return ds
+
+
+def observed(run: xr.Dataset, *, pre_run: bool, spike_factor: float) -> dict:
+    """A trajectory's key observables (time units, lengths in b) with their uncertainties: the
+    number of Omega spikes (exact), the first spike's time (uncertainty: the sampling step), the
+    mean spike interval (uncertainty: the difference between the means of the intervals' two halves,
+    a block estimate; from four intervals), and with a path its reach, the farthest distance from
+    the window's start (uncertainty: the difference between the farthest distances of the path's two
+    halves, a block estimate). A run from
+    t = 0 finds its spikes after the sleigh-like phase (:func:`sleighsim.transient.phases`, as the
+    judges do), a window after a pre-run from its start. Observables a run cannot state are left out."""
+    t, Omega = run.time.values, run.Omega.values
+    if pre_run:
+        spikes = spike_times(t, Omega, factor=spike_factor, t_min=float(t[0]))
+    else:
+        spikes = phases(t, run.u.values, Omega, run.omega.values, spike_factor=spike_factor)["spikes"]
+    out = {"n_spikes": int(spikes.size), "observables_rule": " ".join(observed.__doc__.split())}
+    if spikes.size:
+        out.update(first_spike_time=float(spikes[0]), first_spike_time_uncertainty=float(t[1] - t[0]))
+    d = np.diff(spikes)
+    if d.size >= 4:
+        h = d.size // 2
+        out.update(spike_interval_mean=float(d.mean()),
+                   spike_interval_mean_uncertainty=float(abs(d[:h].mean() - d[h:].mean())))
+    if "x" in run:
+        r = np.hypot(run.x.values - run.x.values[0], run.y.values - run.y.values[0])
+        h = r.size // 2
+        out.update(path_reach=float(r.max()), path_reach_uncertainty=float(abs(r[:h].max() - r[h:].max())))
+    return out
 
 
 def sleigh0(cfg: dict, scene: str = "") -> xr.Dataset:

@@ -6,16 +6,22 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from ...io import read_dataset
-from .common import finish
+from .common import PRECISION_STYLE, finer_precisions, finish
 
 
 def fig10(sources, png, pdf) -> None:
-    """Max Lyapunov exponent against energy label, with the time-scaling law."""
-    ds = read_dataset(sources[0])
+    """Max Lyapunov exponent against energy label, with the time-scaling law: double (the paper's
+    arithmetic) and, beside it (shifted right by 8% in E), every finer precision from the same settled state."""
+    ds, *others = (read_dataset(s) for s in sources)
     fig, ax = plt.subplots(figsize=(7, 5))
     lam, err, E = ds.lambda_1.values, ds.stderr.values, ds.label.values
     pos = lam > 0
-    ax.errorbar(E[pos], lam[pos], yerr=err[pos], fmt="o", capsize=3, label="direct (Benettin, k = 1)")
+    ax.errorbar(E[pos], lam[pos], yerr=err[pos], fmt="o", capsize=3, label="direct (Benettin, k = 1), double",
+                **PRECISION_STYLE["double"])
+    for k, ((_, precision), other) in enumerate(finer_precisions(others).items(), start=1):
+        ok = other.lambda_1.values > 0
+        ax.errorbar(other.label.values[ok] * 1.08**k, other.lambda_1.values[ok], yerr=other.stderr.values[ok], fmt="s",
+                    ms=4, capsize=2, label=precision, **PRECISION_STYLE[precision])
     if (~pos).any():
         ax.plot(E[~pos], np.abs(lam[~pos]), "x", color="tab:red", label="|lambda_1| where lambda_1 <= 0")
     ax.loglog(E, np.abs(ds.law.values), "-", color="0.4",

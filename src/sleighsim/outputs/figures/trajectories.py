@@ -7,7 +7,7 @@ import numpy as np
 from matplotlib import patches
 
 from ...io import read_dataset
-from .common import LABELS, finish, save_figure
+from .common import LABELS, PRECISION_STYLE, finer_precisions, finish, save_figure
 
 def fig1(cfg: dict, png, pdf) -> None:
     """Schematic: sleigh body, centre C, runner P at distance b, rotor at distance a."""
@@ -74,20 +74,30 @@ def fig2(sources, png, pdf) -> None:
     finish(fig, ds.attrs, png, pdf)
 
 
-def _time_panels(axes, ds, names, lw=0.3):
+def _time_panels(axes, ds, names, lw=0.3, finer=None):
+    """One panel per variable against time: double, and over it every finer precision in ``finer``
+    ({(scene, precision): dataset}, the same window from the same start)."""
     for axk, name in zip(axes, names):
-        axk.plot(ds.time, ds[name], lw=lw, color="tab:blue")
+        axk.plot(ds.time, ds[name], lw=lw, label="double", **PRECISION_STYLE["double"])
+        for (_, precision), other in (finer or {}).items():
+            axk.plot(other.time, other[name], lw=lw, label=precision, **PRECISION_STYLE[precision])
+        if finer:
+            axk.legend(fontsize=6, loc="upper left")
         axk.set_ylabel(LABELS[name])
         axk.set_xlabel("$t$")
 
 
 def fig3(sources, png, pdf) -> None:
-    """u, Omega, omega, theta through both transients into the steady state."""
-    ds = read_dataset(sources[0])
+    """u, Omega, omega, theta through both transients into the steady state, in double (the paper's
+    arithmetic) and every finer precision from the same start (the whole run in that arithmetic)."""
+    ds, *others = (read_dataset(s) for s in sources)
+    finer = finer_precisions(others)
     fig, axes = plt.subplots(2, 2, figsize=(11, 6.5))
-    _time_panels(axes.ravel(), ds, ["u", "Omega", "omega", "theta"])
+    _time_panels(axes.ravel(), ds, ["u", "Omega", "omega", "theta"], finer=finer)
+    spikes = "; ".join(f"{d.attrs['precision']}: first spike at t = {d.attrs.get('first_spike_time', float('nan')):.5g}"
+                       for d in (ds, *finer.values()))
     for axk, tag in zip(axes.ravel(), "abcd"):
-        axk.set_title(f"({tag})", fontsize=9, loc="left")
+        axk.set_title(f"({tag})" + (f" {spikes}" if tag == "b" else ""), fontsize=8, loc="left")
     finish(fig, ds.attrs, png, pdf)
 
 
@@ -115,10 +125,15 @@ def fig7(sources, png, pdf) -> None:
 
 
 def fig8(sources, png, pdf) -> None:
-    """Path of the sleigh over a long steady-state window."""
-    ds = read_dataset(sources[0])
+    """Path of the sleigh over a long steady-state window, in double (the paper's arithmetic) and
+    every finer precision from the same settled point."""
+    ds, *others = (read_dataset(s) for s in sources)
     fig, ax = plt.subplots(figsize=(7, 6.5))
-    ax.plot(ds.x, ds.y, lw=0.4, color="tab:blue")
+    ax.plot(ds.x, ds.y, lw=0.4, label=f"double (reach {ds.attrs.get('path_reach', float('nan')):.4g})",
+            **PRECISION_STYLE["double"])
+    for (_, precision), other in finer_precisions(others).items():
+        ax.plot(other.x, other.y, lw=0.3, label=f"{precision} (reach {other.attrs.get('path_reach', float('nan')):.4g})",
+                **PRECISION_STYLE[precision])
     ax.plot(ds.x[0], ds.y[0], "ks", ms=5, label=f"t = {float(ds.time[0]):g}")
     ax.plot(ds.x[-1], ds.y[-1], "r^", ms=6, label=f"t = {float(ds.time[-1]):g}")
     ax.set_aspect("equal", adjustable="datalim")
