@@ -12,10 +12,15 @@ import xarray as xr
 from sleighsim.outputs import claims
 from sleighsim.io import write_dataset
 
-from test_judges import _ref
+from test_judges import _ref, _spectrum
 
 ROOT = Path(__file__).resolve().parents[1]
 CLAIMS_MD = ROOT / "paper" / "CLAIMS.md"
+#: Configs as the ledger reads them (sleighsim.registry.laddered, realized): one that ladders and
+#: realizes nothing, one that ladders fig9_ref in long double, one that realizes lyap_spectrum 3 times.
+PLAIN = {"scenes": {}}
+LADDERED = {"scenes": {"fig9_ref": {"kind": "poincare", "precisions": ["double", "long double"]}}}
+REALIZED = {"scenes": {"lyap_spectrum": {"kind": "lyapunov_spectrum", "realizations": 3, "realization_rel": 1e-9}}}
 
 
 TEX = ROOT / "paper" / "fedonyuk-tallapragada-sleigh-rotor.tex"
@@ -75,15 +80,15 @@ def test_figure_rows_count_a_missing_transient_check_as_not_checked(tmp_path, mo
     fid, ds_name = claims.FIGURES[name].paper, claims.FIGURES[name].steady[0]
     (figs / f"{name}.png").write_bytes(b"png")
     _steady(data / f"{ds_name}.nc")
-    assert {r.id: r for r in claims.ledger(CLAIMS_MD, data, figs)}[fid].verdict == "not yet computed"
+    assert {r.id: r for r in claims.ledger(CLAIMS_MD, data, figs, PLAIN)}[fid].verdict == "not yet computed"
     _steady(data / f"{ds_name}.nc", transient_over=0)
-    row = {r.id: r for r in claims.ledger(CLAIMS_MD, data, figs)}[fid]
+    row = {r.id: r for r in claims.ledger(CLAIMS_MD, data, figs, PLAIN)}[fid]
     assert row.verdict == "differs" and "not shown to be over" in row.reason
     _steady(data / f"{ds_name}.nc", transient_over=1)
-    row = {r.id: r for r in claims.ledger(CLAIMS_MD, data, figs)}[fid]
+    row = {r.id: r for r in claims.ledger(CLAIMS_MD, data, figs, PLAIN)}[fid]
     assert row.verdict == "reproduced" and "settled" in row.measured
     (figs / f"{name}.png").unlink()
-    assert {r.id: r for r in claims.ledger(CLAIMS_MD, data, figs)}[fid].verdict == "not yet computed"
+    assert {r.id: r for r in claims.ledger(CLAIMS_MD, data, figs, PLAIN)}[fid].verdict == "not yet computed"
 
 
 def _fig9(path, n_loops, pairs):
@@ -96,7 +101,7 @@ def test_ledger_on_synthetic_datasets(tmp_path):
     """Reproduced, differs (with its cause test) and missing rows from hand-made datasets; every id once."""
     data = tmp_path / "data"
     _fig9(data / "fig9_ref.nc", n_loops=4, pairs=3)
-    rows = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures")}
+    rows = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures", PLAIN)}
     assert list(rows) == [c.id for c in claims.parse_claims(CLAIMS_MD)]
     assert rows["C16"].verdict == "reproduced" and "4 loops" in rows["C16"].measured
     assert rows["C22"].verdict == "differs" and rows["C22"].reason
@@ -109,7 +114,7 @@ def test_ledger_on_synthetic_datasets(tmp_path):
     claims._figure_from_claims(row, {"C22": rows["C22"]}, ("C22",))
     assert row.verdict == "differs" and "C22" in row.reason
     _fig9(data / "fig9_ref.nc", n_loops=3, pairs=0)
-    rows = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures")}
+    rows = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures", PLAIN)}
     assert rows["C16"].verdict == "differs" and rows["C22"].verdict == "reproduced" and not rows["C22"].cause
     ds = claims.to_dataset(list(rows.values()))
     assert sum(ds.attrs[f"n_{v.replace(' ', '_')}"] for v in claims.VERDICTS) == len(rows)
@@ -119,7 +124,7 @@ def test_a_cause_whose_datasets_are_missing_says_so(tmp_path):
     data = tmp_path / "data"
     write_dataset(xr.Dataset(attrs=dict(omega_rel_error_at_t_end=7e-4, t_end=100.0, u_rel_error_at_t_end=0.01,
                                         Omega_rel_error_at_t_end=0.01)), data / "fig5.nc")
-    rows = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures")}
+    rows = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures", PLAIN)}
     assert rows["C11"].verdict == "differs" and rows["C11"].cause.startswith("causes not yet computed: dataset")
 
 
@@ -196,14 +201,18 @@ def test_a_claim_in_two_precisions_takes_the_finer_verdict_unless_only_double_re
     assert ("2330" in reason and "2680" in reason) == (want == "reproduced only in double precision")
 
 
+def _ladder(data, scene="fig9_ref", converged="not converged"):
+    write_dataset(xr.Dataset(attrs={"converged_precision": converged}), data / "ladder" / f"{scene}.nc")
+
+
 def test_ledger_judges_in_the_finest_precision_computed_beside_double(tmp_path):
     """fig9_ref in double reproduces C16 (4 loops); its long-double run has 3: the row says so, and
     names the precision, the double value and the ladder's status."""
     data = tmp_path / "data"
     _fig9(data / "fig9_ref.nc", n_loops=4, pairs=0)
     _fig9(data / "precision" / "long_double" / "fig9_ref.nc", n_loops=3, pairs=0)
-    write_dataset(xr.Dataset(attrs={"converged_precision": "not converged"}), data / "ladder" / "fig9_ref.nc")
-    rows = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures")}
+    _ladder(data)
+    rows = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures", LADDERED)}
     c16 = rows["C16"]
     assert c16.verdict == "reproduced only in double precision"
     assert c16.precision == "long double (fig9_ref: not converged)" and "4 loops" in c16.double_value
@@ -215,33 +224,44 @@ def test_ledger_judges_in_the_finest_precision_computed_beside_double(tmp_path):
 
 def test_a_claim_whose_realizations_disagree_is_fragile_and_one_whose_realizations_agree_keeps_its_verdict(tmp_path):
     data = tmp_path / "data"
-    _fig9(data / "fig9_ref.nc", n_loops=4, pairs=0)
-    _fig9(data / "realization" / "1" / "fig9_ref.nc", n_loops=4, pairs=0)
-    _fig9(data / "realization" / "2" / "fig9_ref.nc", n_loops=4, pairs=0)
-    rows = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures")}
-    assert rows["C16"].verdict == "reproduced" and rows["C16"].realizations == "all 3 realizations agree"
+    for k in ("", "realization/1/", "realization/2/"):
+        write_dataset(_spectrum(-1e-3, 1e-4), data / f"{k}lyap_spectrum.nc")
+    rows = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures", REALIZED)}
+    assert rows["C18"].verdict == "reproduced" and rows["C18"].realizations == "all 3 realizations agree"
     assert rows["C02"].realizations == ""  # no dataset, no realizations
-    _fig9(data / "realization" / "2" / "fig9_ref.nc", n_loops=3, pairs=0)
-    rows = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures")}
-    c16 = rows["C16"]
-    assert c16.verdict == "fragile" and c16.realizations == "realizations disagree: reproduced 2, differs 1 of 3"
-    assert c16.reason.startswith(c16.realizations) and "4 loops" in c16.measured
+    write_dataset(_spectrum(1e-3, 1e-4), data / "realization" / "2" / "lyap_spectrum.nc")
+    rows = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures", REALIZED)}
+    c18 = rows["C18"]
+    assert c18.verdict == "fragile" and c18.realizations == "realizations disagree: reproduced 2, differs 1 of 3"
+    assert c18.reason.startswith(c18.realizations) and "mean divergence -0.001" in c18.measured
     assert claims.summary(list(rows.values()))["fragile"] == 1
-    (data / "realization" / "1" / "fig9_ref.nc").unlink()  # realization 2 alone does not count: k runs 1, 2, ...
-    rows = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures")}
-    assert rows["C16"].verdict == "reproduced" and rows["C16"].realizations == ""
-    row = claims.Row(id="F9", statement="", paper_value="", verdict="reproduced")
-    claims._figure_from_claims(row, {"C16": c16}, ("C16",))
-    assert row.verdict == "fragile" and "C16" in row.reason
+    row = claims.Row(id="Fx", statement="", paper_value="", verdict="reproduced")  # a figure showing C18
+    claims._figure_from_claims(row, {"C18": c18}, ("C18",))
+    assert row.verdict == "fragile" and "C18" in row.reason
+
+
+def test_a_claim_judged_in_a_finer_precision_keeps_its_verdict_and_reports_its_double_realizations(tmp_path):
+    """Realizations run in double: C18 judged in long double (one run) keeps long double's verdict when
+    the double realizations disagree, and its column says both."""
+    data = tmp_path / "data"
+    for k, div in (("", -1e-3), ("realization/1/", -1e-3), ("realization/2/", 1e-3)):
+        write_dataset(_spectrum(div, 1e-4), data / f"{k}lyap_spectrum.nc")
+    write_dataset(_spectrum(-1e-3, 1e-4), data / "precision" / "long_double" / "lyap_spectrum.nc")
+    _ladder(data, "lyap_spectrum", "long double")
+    both = {"scenes": {"lyap_spectrum": {**REALIZED["scenes"]["lyap_spectrum"], "precisions": ["double", "long double"]}}}
+    c18 = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures", both)}["C18"]
+    assert c18.verdict == "reproduced" and c18.precision.startswith("long double")
+    assert c18.realizations == "in double: realizations disagree: reproduced 2, differs 1 of 3; long double: one run"
 
 
 def test_the_causes_of_a_claim_judged_in_a_finer_precision_read_that_precision(tmp_path):
     data = tmp_path / "data"
     _fig9(data / "fig9_ref.nc", n_loops=4, pairs=0)
     _fig9(data / "precision" / "long_double" / "fig9_ref.nc", n_loops=4, pairs=3)
-    rows = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures")}
+    _ladder(data)
+    rows = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures", LADDERED)}
     c22 = rows["C22"]
     assert c22.verdict == "reproduced only in double precision"  # long double has near-ties, double none
     _fig9(data / "fig9_ref.nc", n_loops=4, pairs=3)
-    c22 = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures")}["C22"]
+    c22 = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures", LADDERED)}["C22"]
     assert c22.verdict == "differs" and c22.evidence.endswith("causes: precision/long_double/fig9_ref.nc")

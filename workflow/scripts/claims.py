@@ -9,6 +9,6 @@ sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logging_to(sm.log[0]) as log:
     data = Path(sm.input.data[0]).parent if sm.input.data else Path(sm.output.nc).parent / "data"
     figures = Path(sm.output.nc).parent / "figures"
-    rows = claims.ledger(sm.input.claims_md, data, figures)
+    rows = claims.ledger(sm.input.claims_md, data, figures, sm.config)
     claims.write(rows, sm.output.csv, sm.output.nc)
     log.info("claims: %s", {v: sum(r.verdict == v for r in rows) for v in claims.VERDICTS})

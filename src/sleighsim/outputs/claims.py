@@ -11,8 +11,15 @@ Rules: see :mod:`sleighsim.outputs.rules` (a number is reproduced within max(2 s
 10%) of the paper's value; a qualitative claim when its stated criterion holds; "cannot be
 reproduced" only from a computed rule; a missing dataset or check gives "not yet computed").
 
-Command line (re-judges a results tree in seconds, no Snakemake):
-``python -m sleighsim.claims --data results/data --figures results/figures --out results/claims.csv``.
+Which finer-precision variants and realizations a claim is judged on is what the run's config
+declares (:func:`sleighsim.registry.laddered`, :func:`sleighsim.registry.realized`), never which
+files lie in the data directory: a declared one that was not built gives "not yet computed", a
+stale one from an older config is not read.
+
+Command line (re-judges a results tree in seconds, no Snakemake; ``--config`` names the config
+files the tree was run with, merged onto config/config.yaml as ``snakemake --configfile`` does):
+``python -m sleighsim.claims --data results/data --figures results/figures --out results/claims.csv``
+(add ``--config config/smoke.yaml`` for a smoke run's tree).
 """
 
 from __future__ import annotations
@@ -30,9 +37,19 @@ import xarray as xr
 
 from ..chaos.rule import agree
 from ..faithfulness import UNKNOWN
-from ..io import read_dataset, write_dataset, write_text
 from ..integrators import EPSILON
-from ..registry import CAUSES, EVIDENCE, FIGURES, ladder_name, realization_name, variant
+from ..io import read_dataset, write_dataset, write_text
+from ..ops.facts import BASE_CONFIG, merged_config
+from ..registry import (
+    CAUSES,
+    EVIDENCE,
+    FIGURES,
+    ladder_name,
+    laddered,
+    realization_name,
+    realized,
+    variant,
+)
 from . import rules
 from .causes import CAUSE_TESTS
 from .judges import JUDGES
@@ -112,10 +129,14 @@ class MissingDataset(KeyError):
 class _Datasets:
     """The datasets of one data directory, each read once; MissingDataset naming a missing one.
     Names are paths under the directory without .nc (a scene, or its variant in a finer precision,
-    ``sleighsim.registry.variant``)."""
+    ``sleighsim.registry.variant``, or a realization, ``sleighsim.registry.realization_name``).
+    Which variants and realizations exist is what the config declares, never which files are
+    there: ``ladders`` {scene: precisions, coarse to fine} (``registry.laddered``), ``realized``
+    {scene: number of realizations} (``registry.realized``)."""
 
-    def __init__(self, data_dir: Path):
+    def __init__(self, data_dir: Path, ladders: dict[str, list[str]], realized: dict[str, int]):
         self.dir, self.cache = Path(data_dir), {}
+        self.ladders, self.realized = dict(ladders), dict(realized)
 
     def __call__(self, names) -> list:
         for name in names:
@@ -127,30 +148,32 @@ class _Datasets:
         return [self.cache[n] for n in names]
 
     def finest(self, names) -> str:
-        """The finest precision in which every one of ``names`` was computed (double when any was
-        computed in double only)."""
-        for precision in reversed(PRECISIONS):
-            if names and all((self.dir / f"{variant(n, precision)}.nc").exists() for n in names):
-                return precision
-        return "double"
+        """The finest precision the config ladders every one of ``names`` in (double when any is
+        not laddered, or when ``names`` is empty)."""
+        if not names or any(n not in self.ladders for n in names):
+            return "double"
+        common = set.intersection(*(set(self.ladders[n]) for n in names))
+        return max(common, key=PRECISIONS.index, default="double")
+
+    def variants(self, names, precision: str) -> list[str]:
+        """Each of ``names`` in ``precision`` where the config ladders it in that precision, else as is."""
+        return [variant(n, precision) if precision in self.ladders.get(n, ()) else n for n in names]
 
     def realizations(self, names) -> list[list[str]]:
-        """The evidence of realizations 1, 2, ... of ``names``: each name that has realizations
-        (data/realization/<k>/<name>.nc) replaced by its realization k, for every k whose datasets
-        all exist (empty when no name has one)."""
-        realized = [n for n in names if (self.dir / f"{realization_name(n, 1)}.nc").exists()]
-        out, k = [], 1
-        while realized and all((self.dir / f"{realization_name(n, k)}.nc").exists() for n in realized):
-            out.append([realization_name(n, k) if n in realized else n for n in names])
-            k += 1
-        return out
+        """The evidence of realizations k = 1 .. n-1 of ``names`` (n: the fewest realizations the
+        config asks of any of them that is realized): each realized name replaced by its realization
+        k (empty when none is realized). Loading a declared realization that was not built raises
+        MissingDataset."""
+        realized = [n for n in names if n in self.realized]
+        n = min((self.realized[r] for r in realized), default=1)
+        return [[realization_name(m, k) if m in realized else m for m in names] for k in range(1, n)]
 
     def ladder_status(self, names) -> str:
-        """The converged precision of each of ``names`` that has a ladder (data/ladder/<name>.nc), and
+        """The converged precision of each of ``names`` the config ladders (data/ladder/<name>.nc), and
         whether double follows its orbit where the ladder measured the gauge."""
         out = []
         for n in names:
-            if not (self.dir / f"{ladder_name(n)}.nc").exists():
+            if n not in self.ladders:
                 continue
             ds = self([ladder_name(n)])[0]
             c = ds.attrs["converged_precision"]
@@ -218,21 +241,20 @@ def in_precision(double, finest, precision: str):
 
 
 def judge_claim(row: Row, claim: Claim, load: _Datasets) -> None:
-    """A claim row from its judge, in the finest precision its datasets were computed in (beside
-    double's value), then, if it differs, its cause tests (on the datasets of that precision where
-    they were computed in it)."""
+    """A claim row from its judge, in the finest precision the config ladders all its datasets in
+    (beside double's value), then, if it differs, its cause tests (on the datasets of that precision
+    where the config ladders them in it)."""
     names = EVIDENCE.get(claim.id, ())
     row.precision = precision = load.finest(names)
     j = j_double = _judged(claim, load(names))
     row.verdict, row.reason = j.verdict, j.reason
     if row.precision != "double":
-        j = _judged(claim, load([variant(n, row.precision) for n in names]))
+        j = _judged(claim, load(load.variants(names, precision)))
         row.verdict, row.reason = in_precision(j_double, j, row.precision)
         row.double_value = j_double.measured
         status = load.ladder_status(names)
         row.precision += f" ({status})" if status else ""
-    if row.precision == "double":
-        judge_realizations(row, claim, names, load, j_double)
+    judge_realizations(row, claim, names, load, j_double, judged_in=precision)
     row.measured, row.rule = j.measured, j.rule
     row.uncertainty, row.units, row.difference = j.uncertainty, j.units, float(j.difference)
     row.evidence = _files(names) + (" " + j.note if names and j.note.startswith("(") else
@@ -240,8 +262,7 @@ def judge_claim(row: Row, claim: Claim, load: _Datasets) -> None:
     if row.verdict == DIFFERS and claim.id.startswith("D"):
         row.cause = "the paper's model as printed (found by the derivation, no run involved): " + (j.reason or j.measured)
     if row.verdict == DIFFERS and claim.id in CAUSE_TESTS:
-        needed = [variant(n, precision) if (load.dir / f"{variant(n, precision)}.nc").exists() else n
-                  for n in CAUSES[claim.id]]  # the causes read the arithmetic the verdict was judged in
+        needed = load.variants(CAUSES[claim.id], precision)  # the arithmetic the verdict was judged in
         try:
             row.cause = CAUSE_TESTS[claim.id](j, claim.values, *load(needed))
             row.evidence += "; causes: " + _files(needed)
@@ -249,15 +270,20 @@ def judge_claim(row: Row, claim: Claim, load: _Datasets) -> None:
             row.cause = f"causes not yet computed: dataset {missing} not built"
 
 
-def judge_realizations(row: Row, claim: Claim, names, load: _Datasets, first) -> None:
+def judge_realizations(row: Row, claim: Claim, names, load: _Datasets, first, judged_in: str = "double") -> None:
     """The claim judged again on every realization of its datasets (``_Datasets.realizations``;
-    ``first`` is the judgement of realization 0): the row keeps its verdict when all agree, else it
-    is "fragile" with the count of each verdict (``chaos.rule.agree``)."""
+    ``first`` is the judgement of realization 0 in double): the row keeps its verdict when all agree,
+    else it is "fragile" with the count of each verdict (``chaos.rule.agree``). Realizations run in
+    double: a claim judged in a finer precision (``judged_in``, one run) keeps that verdict, and its
+    column says how the double realizations agree."""
     sets = load.realizations(names)
     if not sets:
         return
     verdicts = [first.verdict] + [_judged(claim, load(s)).verdict for s in sets]
     answer, _, why = agree(verdicts)
+    if judged_in != "double":
+        row.realizations = f"in double: {why}; {judged_in}: one run"
+        return
     row.realizations = why
     if answer == FRAGILE:
         row.verdict, row.reason = FRAGILE, f"{why}; realization 0: {row.reason or first.measured}"
@@ -276,10 +302,11 @@ def _figure_from_claims(row: Row, judged: dict, claims: tuple) -> None:
         row.verdict, row.reason = FRAGILE, "its claims are fragile: " + ", ".join(fragile)
 
 
-def ledger(claims_md, data_dir, figures_dir) -> list[Row]:
-    """Judge every id of CLAIMS.md once, in file order."""
+def ledger(claims_md, data_dir, figures_dir, config: dict) -> list[Row]:
+    """Judge every id of CLAIMS.md once, in file order, from the datasets ``config`` (the workflow's
+    merged config) declares: its precision ladders and realizations, on-request scenes included."""
     by_paper_id = {f.paper: name for name, f in FIGURES.items() if f.paper}
-    load = _Datasets(data_dir)
+    load = _Datasets(data_dir, laddered(config, on_request=True), realized(config, on_request=True))
     rows = []
     for claim in parse_claims(claims_md):
         row = Row(claim.id, claim.statement, claim.paper_value)
@@ -343,11 +370,18 @@ def main(argv=None) -> int:
     ap.add_argument("--figures", default="results/figures", help="directory of the figures (default results/figures)")
     ap.add_argument("--out", default="results/claims.csv",
                     help="the ledger as CSV; the netCDF copy goes beside it (default results/claims.csv)")
+    ap.add_argument("--config", nargs="+", default=[], metavar="FILE",
+                    help="the run's config files, merged in order onto config/config.yaml as snakemake "
+                         "--configfile merges them: which precision ladders and realizations were asked for "
+                         f"(default: {BASE_CONFIG} alone)")
     a = ap.parse_args(argv)
     out = Path(a.out)
     if out.suffix != ".csv":
         ap.error(f"--out {a.out}: give a .csv path")
-    rows = ledger(a.claims, a.data, a.figures)
+    for f in a.config:
+        if not Path(f).is_file():
+            ap.error(f"--config {f}: no such file")
+    rows = ledger(a.claims, a.data, a.figures, merged_config(a.config))
     write(rows, out, out.with_suffix(".nc"))
     print(", ".join(f"{v}: {n}" for v, n in summary(rows).items()), f"-> {out}, {out.with_suffix('.nc')}")
     return 0
