@@ -225,3 +225,37 @@ def test_smoke_grid_through_a_cluster_executor_equals_the_local_run(smoke_run, t
     a, b = read_dataset(smoke_run / target), read_dataset(tmp_path / target)
     for name in ("lambda_1", "stderr", "flagged"):
         assert np.array_equal(a[name].values, b[name].values, equal_nan=True), name
+
+
+@pytest.mark.workflow
+def test_the_smoke_ledger_judges_what_the_smoke_config_declares(smoke_run):
+    """The claims rule passes the run's config to the ledger: C16 (fig9_ref, laddered in smoke.yaml)
+    is judged in long double, C18 (lyap_spectrum, realized) on every realization; re-judging the
+    tree from the command line's merged config gives the same rows."""
+    from sleighsim.ops.facts import merged_config
+    from sleighsim.outputs import claims
+
+    assert "long double" in registry.laddered(SMOKE_CFG)["fig9_ref"] and "lyap_spectrum" in registry.realized(SMOKE_CFG)
+    results = smoke_run / "results"
+    rows = {r.id: r for r in claims.read(results / "claims.nc")}
+    assert rows["C16"].precision.startswith("long double") and rows["C18"].realizations
+    again = claims.ledger(ROOT / "paper" / "CLAIMS.md", results / "data", results / "figures", merged_config([SMOKE]))
+    assert [(r.id, r.verdict, r.precision, r.realizations) for r in again] == \
+        [(r.id, r.verdict, r.precision, r.realizations) for r in rows.values()]
+
+
+@pytest.mark.workflow
+def test_every_laddered_scene_of_the_smoke_run_has_its_ladder_from_one_settled_state(smoke_run):
+    """Every scene smoke.yaml ladders (a chunked grid among them: chunk_in_precision, gather_in_precision)
+    has its variant, run in that arithmetic after the double pre-run, and a ladder naming a converged
+    precision or "not converged"; F3, F8, F10 and F11 are drawn beside it."""
+    data = smoke_run / "results" / "data"
+    ladders = registry.laddered(SMOKE_CFG)
+    assert {"fig3", "fig8", "lyap_energy", "lyap_protocol", "fig11_grid"} <= set(ladders)
+    for scene, precisions in ladders.items():
+        ds = read_dataset(data / f"{registry.ladder_name(scene)}.nc")
+        assert ds.attrs["converged_precision"] in (*precisions[:-1], "not converged"), scene
+        assert list(ds.precision.values) == precisions and ds.sizes["observable"] >= 1, scene
+        finer = read_dataset(data / f"{registry.variant(scene, precisions[-1])}.nc")
+        assert finer.attrs["precision"] == precisions[-1] and finer.attrs["transient_precision"] in ("double", precisions[-1])
+    assert all(registry.FIGURES[f].beside for f in ("fig3", "fig8", "fig10", "fig11"))

@@ -131,7 +131,7 @@ def ladder(kind: str, runs: list[xr.Dataset], precisions: list[str], scene: str 
     ``gain`` ({T, tau, spike_factor, tol, params}) also the faithfulness gauge from the settled point.
     Raises when the runs did not start from one settled point."""
     starts = [np.asarray(r.attrs["settled_state"], float) for r in runs]
-    if any(not np.array_equal(starts[0], s) for s in starts[1:]):
+    if any(not np.array_equal(starts[0], s, equal_nan=True) for s in starts[1:]):  # NaN: a row computed elsewhere
         raise ValueError(f"{scene}: the precisions' runs start from different settled states {starts}")
     names = [n for n in OBSERVABLES[kind] if any(n in r.attrs for r in runs)]
     vals = np.array([[observable(r, n) for n in names] for r in runs])  # (precision, observable, 2)

@@ -75,6 +75,7 @@ OBSERVABLES: dict[str, tuple[str, ...]] = {
     "lyapunov_spectrum": ("lambda_1", "lambda_4"),
     "lyapunov_protocol": ("lambda_1", "lambda_4"),
     "lyapunov_energy": ("lambda_1_reference", "lambda_1_lowest_label"),
+    "lyapunov_grid": ("lambda_1_reference", "lambda_1_smallest"),
     "psd": ("Omega_band_low", "Omega_band_high", "Omega_band_peak", "u_band_peak", "Omega_n_peaks_near_zero"),
 }
 
@@ -155,7 +156,7 @@ FIGURES: dict[str, Figure] = {
     "fig13": Figure(("psd_eps01",), "F13", ("C23",), plot="psd", steady=("psd_eps01",), beside=True),
     "fig14": Figure(("psd_eps001",), "F14", ("C24",), plot="psd", steady=("psd_eps001",), beside=True),
     "fig10": Figure(("lyap_energy",), "F10", ("C20",), steady=("lyap_energy",), beside=True),
-    "fig11": Figure(("fig11_grid",), "F11", ("C21",), steady=("fig11_grid",)),
+    "fig11": Figure(("fig11_grid",), "F11", ("C21",), steady=("fig11_grid",), beside=True),
     "lyapunov": Figure(("lyap_spectrum", "lyap_protocol"), title="Lyapunov spectrum and the paper's protocol"),
     "chaos": Figure(("chaos_verdict",), title="Is the steady state chaotic? Indicators per state",
                     steady=("chaos_verdict",)),

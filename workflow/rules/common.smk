@@ -19,6 +19,9 @@ PLAIN = [n for n in ALL_DATASETS if n not in CHUNKED and n not in FIRST]
 # Scenes run in several precisions from one settled point ({scene: precisions}), the datasets of
 # their finer precisions and their ladders (sleighsim.observables), by name under data/.
 LADDERED = registry.laddered(config, on_request=True)
+LADDERED_CHUNKED = [
+    s for s in LADDERED if s in CHUNKED
+]  # their variants are chunked too
 TAG_PRECISION = {
     registry.precision_tag(p): p
     for ps in LADDERED.values()
@@ -120,18 +123,22 @@ def scene_inputs(wildcards):
 
 
 def chunk_files(wildcards):
+    """The chunk files of a chunked scene, or of its variant in a finer precision (wildcard ``tag``)."""
     n = scenes.chunk_count(SCENES[wildcards.scene])
-    return expand(f"{R}/chunks/{wildcards.scene}/{{k}}.nc", k=range(n))
+    where = f"precision/{wildcards.tag}/" if "tag" in wildcards.keys() else ""
+    return expand(f"{R}/chunks/{where}{wildcards.scene}/{{k}}.nc", k=range(n))
 
 
 def benchmark_files(datasets, figures):
     """{"data/<name>" or "figure/<name>": the Snakemake benchmark files of the jobs that made it}."""
     out = {}
     for name in datasets:
-        if name in CHUNKED:
+        # a chunked scene, or its variant precision/<tag>/<scene> (not its ladder)
+        scene = name.rsplit("/", 1)[-1]
+        if scene in CHUNKED and (name == scene or name.startswith("precision/")):
             chunks = expand(
                 f"{R}/benchmarks/chunk/{name}/{{k}}.tsv",
-                k=range(scenes.chunk_count(SCENES[name])),
+                k=range(scenes.chunk_count(SCENES[scene])),
             )
             out[f"data/{name}"] = [f"{R}/benchmarks/gather/{name}.tsv"] + chunks
         else:

@@ -31,7 +31,7 @@ rule scene_in_precision:
     benchmark:
         f"{R}/benchmarks/scene/precision/{{tag}}/{{scene}}.tsv"
     wildcard_constraints:
-        scene=alternatives(LADDERED),
+        scene=alternatives([s for s in LADDERED if s not in CHUNKED]),
         tag=alternatives(TAG_PRECISION),
     conda:
         "../envs/sleighsim.yaml"
@@ -141,3 +141,33 @@ rule gather:
         cfg=lambda w: SCENE_CFG[w.scene],
     script:
         "../scripts/gather.py"
+
+
+# A chunked laddered scene in a finer precision: its chunks' steady-state parts in that arithmetic.
+use rule chunk as chunk_in_precision with:
+    output:
+        nc=f"{R}/chunks/precision/{{tag}}/{{scene}}/{{chunk}}.nc",
+    log:
+        f"{R}/logs/chunk/precision/{{tag}}/{{scene}}/{{chunk}}.log",
+    benchmark:
+        f"{R}/benchmarks/chunk/precision/{{tag}}/{{scene}}/{{chunk}}.tsv"
+    wildcard_constraints:
+        scene=alternatives(LADDERED_CHUNKED),
+        tag=alternatives(TAG_PRECISION),
+        chunk=r"\d+",
+    params:
+        cfg=lambda w: {**SCENE_CFG[w.scene], "precision": TAG_PRECISION[w.tag]},
+
+
+use rule gather as gather_in_precision with:
+    output:
+        nc=f"{R}/data/precision/{{tag}}/{{scene}}.nc",
+    log:
+        f"{R}/logs/gather/precision/{{tag}}/{{scene}}.log",
+    benchmark:
+        f"{R}/benchmarks/gather/precision/{{tag}}/{{scene}}.tsv"
+    wildcard_constraints:
+        scene=alternatives(LADDERED_CHUNKED),
+        tag=alternatives(TAG_PRECISION),
+    params:
+        cfg=lambda w: {**SCENE_CFG[w.scene], "precision": TAG_PRECISION[w.tag]},

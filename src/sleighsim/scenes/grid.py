@@ -23,6 +23,7 @@ from ..io import read_dataset
 from ..params import Params
 from ..symmetries import b_image, state_at_label
 from ..transient import settle
+from .common import steady_arithmetic
 
 log = logging.getLogger("sleighsim")
 
@@ -78,9 +79,11 @@ def _row_transient(cfg: dict, t_pre: float) -> dict:
 
 
 def _replicas(params, y, cfg, s, label):
-    """``replicas`` states along the settled orbit, replica_spacing (slow time units) apart, and the
-    steady spike interval of that stretch (mean and standard deviation)."""
-    states, run = orbit_samples(params, y, cfg["replicas"], cfg["replica_spacing"] * s, tol=cfg["tol"], scene=label)
+    """``replicas`` states along the settled orbit, replica_spacing (slow time units) apart (in the
+    block's steady-state arithmetic), and the steady spike interval of that stretch (mean and
+    standard deviation)."""
+    states, run = orbit_samples(params, y, cfg["replicas"], cfg["replica_spacing"] * s, **steady_arithmetic(cfg),
+                                scene=label)
     try:
         spikes = transient.spike_times(run.time.values, run.Omega.values, factor=cfg["transient"]["spike_factor"])
     except ValueError:  # a record shorter than two spike-detection blocks
@@ -110,8 +113,8 @@ def row(cfg: dict, eps: float, label: str = "", check_b: bool = False) -> dict:
     y, pre = settle(p, state_at_label(cfg["y0"], p, cfg["energy_label"]), t_pre, **_row_transient(cfg, t_pre),
                     tol=cfg["tol"], label=label, progress=1)
     replicas, interval, interval_std = _replicas(p, y, cfg, s, label)
-    B = cfg["replicas"]
-    ta, _ = lyapunov.sleigh_tangent_batch(B, cfg["tol"], cfg["compact_mode"])
+    B, arith = cfg["replicas"], steady_arithmetic(cfg)
+    ta, _ = lyapunov.sleigh_tangent_lanes(B, arith["tol"], cfg["compact_mode"], precision=arith["precision"])
     integrators.set_pars(ta, p)
     kw = dict(T_round=cfg["T_round"] * s, max_rounds=cfg["max_rounds"], target_rel=cfg["target_rel"],
               regular_floor=cfg["regular_floor"] / s, t_align=cfg["t_align"] * s, sigma=cfg["sigma"], label=label)
@@ -122,10 +125,10 @@ def row(cfg: dict, eps: float, label: str = "", check_b: bool = False) -> dict:
            "omega_block_drift": drift, "steady": int(steady), "settling_time": pre["transient_settling_time"],
            "t_pre": t_pre, "spike_interval": interval, "spike_interval_std": interval_std,
            "rotation_number": math.nan, "curve_thickness": math.nan, "b_check_max_diff": math.nan,
-           "b_check_bound": math.nan,
+           "b_check_bound": math.nan, "settled": y,
            "rule": r["rule"]}
     if cfg["poincare_span"] > 0:
-        c = poincare.crossings(p, replicas[0], 0.0, cfg["poincare_span"] * s, tol=cfg["tol"], scene=label)
+        c = poincare.crossings(p, replicas[0], 0.0, cfg["poincare_span"] * s, **arith, scene=label)
         pts = np.c_[c["u"], c["Omega"], c["omega"]][c["k"] == 0]
         if len(pts) > 10:
             out["rotation_number"] = poincare.rotation_number(pts)["rotation_number"]
@@ -161,6 +164,8 @@ def chunk(cfg: dict, index: int, scene: str = "") -> xr.Dataset:
     eps = np.array(list(rows), float)
     ds = xr.Dataset({v: ("eps", np.array([rows[e][v] for e in eps], float)) for v in ROW_VARIABLES},
                     coords={"eps": eps})
+    ds["row_settled_state"] = (("eps", "component"), np.array([rows[e]["settled"] for e in eps], float),
+                           {"long_name": "the row's settled state (double pre-run; its steady part starts here)"})
     computed = [r["rule"] for r in rows.values() if r["rule"]]
     ds.attrs.update(chunk=index, n_chunks=cfg["n_chunks"], rule=computed[0] if computed else "")
     return ds
@@ -169,7 +174,7 @@ def chunk(cfg: dict, index: int, scene: str = "") -> xr.Dataset:
 def _not_here() -> dict:
     """A row left to another config: every variable NaN, status "elsewhere"."""
     out = dict.fromkeys(ROW_VARIABLES, math.nan)
-    out.update(status_code=STATUS.index("elsewhere"), wall_time_s=0.0, rule="")
+    out.update(status_code=STATUS.index("elsewhere"), wall_time_s=0.0, rule="", settled=np.full(4, math.nan))
     return out
 
 
@@ -207,7 +212,18 @@ def gather(paths, cfg: dict, scene: str = "") -> xr.Dataset:
         n_rows=int(eps.size), n_points=int(eps.size * bs.size), fraction_flagged=float(flagged.mean()),
         min_lambda_1=float(np.nanmin(ds.lambda_1.values)), max_lambda_1=float(np.nanmax(ds.lambda_1.values)),
         min_lambda_1_unflagged=float(np.nanmin(ds.lambda_1.values[ok])) if ok.any() else math.nan,
-        cost_total_s=float(np.nansum(ds.wall_time_s.values)), tol=cfg["tol"], energy_label=cfg["energy_label"],
-        scene=scene,
+        cost_total_s=float(np.nansum(ds.wall_time_s.values)), transient_tol=cfg["tol"], transient_precision="double",
+        **steady_arithmetic(cfg), energy_label=cfg["energy_label"], scene=scene,
+        settled_state=ds.row_settled_state.values.ravel(), **_observed(ds, ref),
     )
     return ds
+
+
+def _observed(ds: xr.Dataset, ref: int) -> dict:
+    """The grid's ladder observables (1/time): lambda_1 at the reference row and at the row where it
+    is smallest (over the rows computed), each with its row's standard error over replicas."""
+    lam = ds.lambda_1.values
+    low = int(np.nanargmin(lam))
+    return {"lambda_1_reference": float(lam[ref]), "lambda_1_reference_uncertainty": float(ds.stderr.values[ref]),
+            "lambda_1_smallest": float(lam[low]), "lambda_1_smallest_uncertainty": float(ds.stderr.values[low]),
+            "lambda_1_smallest_eps": float(ds.eps.values[low])}
