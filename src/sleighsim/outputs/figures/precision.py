@@ -43,7 +43,7 @@ def precision(sources, png, pdf) -> None:
 
 def trigger(sources, png, pdf) -> None:
     """The first (and second) Omega spike against the Taylor tolerance, per arithmetic; filled
-    markers: runs in the fit (rounding far below the tolerance); the fitted law."""
+    markers: runs in the fit (rounding far below the tolerance, one per tolerance); the fitted law."""
     ds = read_dataset(sources[0])
     a = ds.attrs
     fig, ax = plt.subplots(figsize=(8, 5))
@@ -64,6 +64,7 @@ def trigger(sources, png, pdf) -> None:
     ax.set_xlabel("Taylor tolerance (the injected error where rounding lies far below it)")
     ax.set_ylabel("spike time (time units)")
     ax.set_title(f"From y0 = ({a['y0_u']:g}, {a['y0_Omega']:g}, {a['y0_omega']:g}, {a['y0_delta']:g}): open markers: "
-                 f"rounding within {a['far']:g}x of the tolerance (not fitted)", fontsize=8)
+                 f"not fitted (rounding within {a['far']:g}x of the tolerance, or the tolerance fitted in a finer "
+                 "arithmetic)", fontsize=8)
     ax.legend(fontsize=7)
     finish(fig, a, png, pdf)
