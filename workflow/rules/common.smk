@@ -153,3 +153,6 @@ PAPER_TEX = str(
     Path(workflow.basedir) / "paper" / "fedonyuk-tallapragada-sleigh-rotor.tex"
 )
 CLAIMS_MD = str(Path(workflow.basedir) / "paper" / "CLAIMS.md")
+# The measured cost per time unit of each arithmetic, and the config that makes what the default run cannot afford.
+PRECISION_COST = str(Path(workflow.basedir) / "benchmarks" / "precision_cost.yaml")
+CLUSTER_CONFIG = str(Path(workflow.basedir) / "config" / "cluster.yaml")

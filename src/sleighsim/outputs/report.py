@@ -17,6 +17,7 @@ from pathlib import Path
 
 import latex2mathml.converter
 import numpy as np
+import yaml
 
 from ..ops import plots
 from ..io import read_dataset
@@ -152,9 +153,24 @@ def _arithmetic_note(ds, i: int) -> str:
     return f". Rounding amplified by ln G = {float(ds.ln_gain_max.values[i]):.1f} per spike cycle: " + "; ".join(cells)
 
 
-def _answers(rows: list[Row], datasets: dict, n_largest: int = 5) -> tuple[list[str], list[str]]:
-    """The report's first section: is the steady state chaotic, how many claims are reproduced, the
-    largest differences with their tested causes."""
+def decisive_cost(precision_cost, cluster_config) -> str:
+    """What the quad frequency run the default config leaves to the cluster config costs: its horizon
+    there (chaos_verdict.frequency.quad_T) times quad's measured cost per time unit (the flow in
+    compact mode, benchmarks/precision_cost.yaml; one core), per state and realization."""
+    cost = yaml.safe_load(Path(precision_cost).read_text())
+    per_tu = next(r["cost_s_per_tu"] for r in cost["rows"]
+                  if (r["system"], r["precision"], r["compact_mode"], r["high_accuracy"]) == ("flow", "quad", True, False))
+    quad_T = yaml.safe_load(Path(cluster_config).read_text())["scenes"]["chaos_verdict"]["frequency"]["quad_T"]
+    return (f"The decisive computation left to {Path(cluster_config).name}, frequency analysis in quad over quad_T = "
+            f"{quad_T:g} time units, costs {per_tu:.2g} s per time unit on one core of the measuring machine "
+            f"({cost['machine']['cpu_model']}, {str(cost['date'])[:10]}; benchmarks/precision_cost.yaml): about "
+            f"{quad_T * per_tu / 60:.0f} min per state and realization.")
+
+
+def _answers(rows: list[Row], datasets: dict, n_largest: int = 5, decisive: str = "") -> tuple[list[str], list[str]]:
+    """The report's first section: is the steady state chaotic (with ``decisive``, what the run that
+    would decide an undecided state costs, when a verdict says its quad run was not made), how many
+    claims are reproduced, the largest differences with their tested causes."""
     counts = {v: sum(r.verdict == v for r in rows) for v in COLOURS}
     claims_only = [r for r in rows if r.id[0] in "CD"]
     reproduced = sum(r.verdict == "reproduced" for r in claims_only)
@@ -168,6 +184,9 @@ def _answers(rows: list[Row], datasets: dict, n_largest: int = 5) -> tuple[list[
             f"<tr><td>{html.escape(st)}</td><td>{_badge(v)}</td><td>{html.escape(why)}</td></tr>" for st, v, why in chaos)
             + "</table>")
         md += [f"- **{st}**: {v}. {why}" for st, v, why in chaos]
+        if decisive and any("quad run not made" in why for _, _, why in chaos):
+            h.append(f"<p>{html.escape(decisive)}</p>")
+            md += ["", decisive]
     else:
         h.append("<p>not yet computed (no chaos-verdict dataset in this run)</p>")
         md.append("not yet computed (no chaos-verdict dataset in this run)")
@@ -199,14 +218,15 @@ _IMAGE_CHECK = ("<div id='image-check'></div><script>window.addEventListener('lo
 
 
 def build(rows: list[Row], *, out_dir, tex_path, labels: dict, figures: dict, datasets: dict,
-          benchmarks: dict) -> None:
+          benchmarks: dict, precision_cost=None, cluster_config=None) -> None:
     """Write index.html and README.md into ``out_dir`` with the figures copied beside them: the
     answers first, a table of contents, the paper's figures (each with its verdict and the claims it
     illustrates), the ledger, the figures with no counterpart in the paper and the tables.
 
     labels: {figure: paper LaTeX label}; figures: {figure: PNG path} of the figures built;
     datasets: {dataset: netCDF path}; benchmarks: {"data/<dataset>" or "figure/<figure>": [Snakemake
-    benchmark files]}."""
+    benchmark files]}; precision_cost, cluster_config: benchmarks/precision_cost.yaml and
+    config/cluster.yaml, for the cost of the computation an undecided verdict leaves to the cluster."""
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     paper_figs = [f for f in figures if FIGURES[f].paper]
@@ -214,7 +234,8 @@ def build(rows: list[Row], *, out_dir, tex_path, labels: dict, figures: dict, da
     h = ["<!doctype html><html><head><meta charset='utf-8'><title>sleighsim reproduction report</title>",
          _STYLE, "</head><body><h1>sleighsim: reproduction of Fedonyuk &amp; Tallapragada</h1>"]
     md = ["# sleighsim reproduction report", ""]
-    ah, am = _answers(rows, datasets)
+    decisive = decisive_cost(precision_cost, cluster_config) if precision_cost and cluster_config else ""
+    ah, am = _answers(rows, datasets, decisive=decisive)
     fh, fm = precision_findings(rows, datasets)
     h += ah + fh
     md += am + [""] + fm
