@@ -91,6 +91,6 @@ def test_the_report_tables_each_peer_ratio_with_its_compile_time():
                      "peer_engine_compile_s": ("peer", [0.5, 1.25])},
                     coords={"error_target": [1e-8], "peer": ["diffrax Dopri8", "scipy LSODA + numba rhs"]},
                     attrs={"peer_ratio_rule": "rule", "peer_versions": "diffrax 0.7.2"})
-    _, md = report._peer_table(ds)
-    assert "| error target | diffrax Dopri8 (compile 0.5 s) | scipy LSODA + numba rhs (compile 1.2 s) |" in md
-    assert "| 1e-08 | 12x | not reached |" in md
+    t = report.peer_table(ds)
+    assert t.head == ["error target", "diffrax Dopri8 (compile 0.5 s)", "scipy LSODA + numba rhs (compile 1.2 s)"]
+    assert t.rows == [["1e-08", "12x", "not reached"]] and t.note == "rule; versions: diffrax 0.7.2"

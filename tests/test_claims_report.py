@@ -10,7 +10,7 @@ import pytest
 import xarray as xr
 
 from sleighsim.outputs import claims
-from sleighsim.io import write_dataset
+from sleighsim.io import read_dataset, write_dataset
 
 from test_judges import _ref, _spectrum
 
@@ -144,7 +144,7 @@ def test_command_line_rejudges_without_snakemake(tmp_path):
 
 
 def test_caption_math_becomes_mathml():
-    from sleighsim.outputs.report import math_html
+    from sleighsim.outputs.page import math_html
     out = math_html("energy $E_0=0.1127$ and $\\epsilon=0.1$ <b>")
     assert "$" not in out and out.count("<math") == 2 and "&lt;b&gt;" in out
 
@@ -156,31 +156,53 @@ def _chromium():
     return None
 
 
+def _first_screen_colours(shot: Path) -> set[str]:
+    """The verdict colours (report.COLOURS) found in the top 900 px of a screenshot."""
+    from matplotlib.image import imread
+
+    from sleighsim.outputs.page import COLOURS
+
+    img = (imread(shot)[:900, :, :3] * 255).round().astype(int)
+    found = set()
+    for verdict, hexcol in COLOURS.items():
+        rgb = [int(hexcol[i:i + 2], 16) for i in (1, 3, 5)]
+        if (abs(img - rgb).max(axis=-1) <= 1).sum() > 200:
+            found.add(verdict)
+    return found
+
+
 @pytest.mark.workflow
 def test_report_renders_in_headless_chromium(smoke_run, tmp_path):
-    """Render the smoke workflow's report: every image loads and every claim id appears."""
+    """Render the smoke workflow's report in a 1280 x 900 window: every image loads, every claim id
+    has its row, the first screen holds the whole claims grid and the chaos answer (measured by the
+    browser's layout, and seen in a screenshot as the verdicts' colours)."""
     browser = _chromium()
     if browser is None:
         pytest.skip("Chromium is not installed (apt-get install chromium); .ci/run installs it")
     page = smoke_run / "results" / "report" / "index.html"
     flags = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
              "--disable-component-update", "--disable-sync", "--no-first-run", f"--user-data-dir={tmp_path / 'chrome'}",
-             "--virtual-time-budget=10000"]
+             "--virtual-time-budget=10000", "--window-size=1280,900", "--hide-scrollbars"]
     dom = subprocess.run([browser, *flags, "--dump-dom", page.as_uri()], capture_output=True, text=True, timeout=120)
     m = re.search(r"images: (\d+) broken: (\d+)", dom.stdout)
     assert m, dom.stdout[-2000:] + dom.stderr[-2000:]
     assert int(m.group(1)) >= 12 and int(m.group(2)) == 0
-    for c in claims.parse_claims(CLAIMS_MD):
-        assert f"id='{c.id}'" in page.read_text() or f'id="{c.id}"' in dom.stdout, c.id
+    assert "claims-grid: whole; chaos: whole" in dom.stdout, re.search(r"first-screen-check.{0,120}", dom.stdout)
+    ids = [c.id for c in claims.parse_claims(CLAIMS_MD)]
+    grid = dom.stdout[dom.stdout.index('id="claims-grid"'): dom.stdout.index('id="chaos"')]
+    assert all(f'href="#{i}"' in grid and f'<tr id="{i}"' in dom.stdout for i in ids)
+    assert "Is the steady state chaotic?" in dom.stdout and "decided in" in dom.stdout
+    assert dom.stdout.index('id="answers"') < dom.stdout.index('id="figures"') < dom.stdout.index('id="ledger"') \
+        < dom.stdout.index('id="methods"') < dom.stdout.index('id="costs"')
     body = re.sub(r"<script.*?</script>", "", dom.stdout, flags=re.S)
     text = re.sub(r"<[^>]+>", " ", body)
     assert "$" not in text, text[text.index("$") - 200: text.index("$") + 200]
-    assert 'id="answers"' in dom.stdout and "Is the steady state chaotic?" in dom.stdout
-    assert dom.stdout.index('id="answers"') < dom.stdout.index('id="contents"') < dom.stdout.index('id="ledger"')
+    answers = dom.stdout[dom.stdout.index('id="answers"'): dom.stdout.index('id="findings"')]
+    assert "chaos_verdict" not in answers  # no dataset names in the first screen's labels
     shot = tmp_path / "shot.png"
-    subprocess.run([browser, *flags, f"--screenshot={shot}", "--window-size=1200,2000", page.as_uri()],
-                   capture_output=True, timeout=120)
-    assert shot.exists() and shot.stat().st_size > 10000
+    subprocess.run([browser, *flags, f"--screenshot={shot}", page.as_uri()], capture_output=True, timeout=120)
+    ledger = read_dataset(smoke_run / "results" / "claims.nc")
+    assert _first_screen_colours(shot) == set(ledger.verdict.values)
     md = (smoke_run / "results" / "report" / "README.md").read_text()
     assert "## Claims ledger" in md and "| C16 |" in md
 

@@ -94,7 +94,8 @@ def test_the_report_names_the_arithmetic_that_follows_each_orbit(tmp_path):
                                        np.array([["does not follow", "follows", "follows"], ["unknown"] * 3], dtype=object))},
                     coords={"state": ["main", "rotor"], "arithmetic": list(fa.ROUNDING)})
     write_dataset(ds, tmp_path / "v.nc")
-    (main, v0, why0), (_, _, why1) = chaos_answers({"chaos_verdict": tmp_path / "v.nc"})
+    (main, v0, why0, decided, _), (_, _, why1, _, _) = chaos_answers({"chaos_verdict": tmp_path / "v.nc"})
+    assert main == "main" and decided == "follows the orbit: long double, quad"
     assert v0 == "undecided" and why0.startswith("r0. Rounding amplified by ln G = 36.2")
     assert "double: does not follow (G x rounding = 10^-0.2); long double: follows" in why0
     assert why1 == "r1. Faithfulness gauge: no complete spike cycle within T_gain, so which arithmetic follows the orbit is unknown"
@@ -102,12 +103,12 @@ def test_the_report_names_the_arithmetic_that_follows_each_orbit(tmp_path):
 
 def test_the_report_prices_the_decisive_run_only_where_a_verdict_left_it_undone(tmp_path):
     """decisive_cost: quad_T from the cluster config times quad's measured cost per time unit; the
-    answers show it only when a state's reason says its quad run was not made."""
+    answers show it only when a state is neither chaotic nor regular and its quad run was not made."""
     import xarray as xr
     import yaml
 
     from sleighsim.io import write_dataset
-    from sleighsim.outputs.report import _answers, decisive_cost
+    from sleighsim.outputs.report import answers, decisive_cost
 
     cost = tmp_path / "cost.yaml"
     rows = [{"system": s, "precision": p, "compact_mode": c, "high_accuracy": False, "cost_s_per_tu": v}
@@ -117,9 +118,11 @@ def test_the_report_prices_the_decisive_run_only_where_a_verdict_left_it_undone(
     cluster.write_text(yaml.safe_dump({"scenes": {"chaos_verdict": {"frequency": {"quad_T": 1e5}}}}))
     text = decisive_cost(cost, cluster)
     assert "quad_T = 100000" in text and "0.006 s per time unit" in text and "about 10 min per state" in text
-    for reason, shown in (("only megno says regular; quad run not made (frequency.quad_T = 0)", True), ("r", False)):
-        ds = xr.Dataset({"verdict": ("state", np.array(["undecided"], dtype=object)),
-                         "reason": ("state", np.array([reason], dtype=object))}, coords={"state": ["main"]})
+    for verdict, quad_T, shown in (("undecided", 0.0, True), ("fragile", 0.0, True), ("regular", 0.0, False),
+                                   ("undecided", 3e4, False)):
+        ds = xr.Dataset({"verdict": ("state", np.array([verdict], dtype=object)),
+                         "reason": ("state", np.array(["r"], dtype=object))}, coords={"state": ["main"]},
+                        attrs={"frequency_quad_T": quad_T})
         write_dataset(ds, tmp_path / "v.nc")
-        h, md = _answers([], {"chaos_verdict": tmp_path / "v.nc"}, decisive=text)
-        assert (text in md) == shown and any(text in line for line in h) == shown
+        a = answers([], {"chaos_verdict": tmp_path / "v.nc"}, {}, decisive=text)
+        assert a["decisive"] == (text if shown else ""), (verdict, quad_T)

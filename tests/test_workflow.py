@@ -89,8 +89,8 @@ def test_smoke_workflow_builds_every_figure_and_dataset(smoke_run):
     assert ledger.sizes["id"] == n_ids and set(ledger.verdict.values) <= set(VERDICTS)
     assert (results / "claims.csv").read_text().count("\n") == n_ids + 1
     html = (results / "report" / "index.html").read_text()
-    assert all(f"id='{i}'" in html for i in ledger.id.values)
-    assert "<img src='costs.png'" in html and (results / "report" / "costs.png").stat().st_size > 5000
+    assert all(f'id="{i}"' in html for i in ledger.id.values)
+    assert '<img src="costs.png"' in html and (results / "report" / "costs.png").stat().st_size > 5000
     # Nothing left to do on a second run: outputs are complete and up to date.
     dry = snakemake(smoke_run, SMOKE, "-n")
     assert "Nothing to be done" in dry.stdout + dry.stderr

@@ -1,16 +1,16 @@
 """The report's precision findings, composed from the datasets (never typed by hand): for each
 steady state, what the paper claims, what double precision shows, what the finer arithmetic shows,
-and the mechanism (how much one spike cycle amplifies rounding)."""
+and the mechanism (how much one spike cycle amplifies rounding). Data for the report's templates."""
 
 from __future__ import annotations
 
-import html
 import math
 
 import numpy as np
 
 from ..io import read_dataset
 from ..symmetries import REFERENCE_STATE
+from .page import Table
 
 
 def _interval(ds, k: int, j: int) -> str:
@@ -44,57 +44,54 @@ def _cell(value: float, uncertainty: float) -> str:
     return f"{value:.6g}" if uncertainty == 0 else f"{value:.6g} +- {uncertainty:.2g}"
 
 
-def scene_ladders(datasets: dict) -> tuple[list[str], list[str]]:
+def scene_ladders(datasets: dict) -> Table | None:
     """The ladders of the steady-state scenes (datasets ``ladder/<scene>``): each key observable per
-    precision with its stated uncertainty, the precision it converges in, and when the sampled
-    orbits separate. Empty when no scene was laddered."""
+    precision with its stated uncertainty and the precision it converges in, then one row per scene
+    saying when the sampled orbits separate and which arithmetic follows them. None when no scene
+    was laddered."""
     names = sorted(n for n in datasets if n.startswith("ladder/"))
     if not names:
-        return [], []
-    h = ["<p>Steady-state scenes, each computed in every precision from one settled point (value +- the "
-         "uncertainty each observable states, sleighsim.observables):</p><table><tr><th>scene</th><th>observable</th>"
-         "<th>values per precision</th><th>converged in</th></tr>"]
-    md = ["| scene | observable | values per precision | converged in |", "|---|---|---|---|"]
+        return None
+    rows = []
     for name in names:
         ds = read_dataset(datasets[name])
         scene = name.split("/", 1)[1]
         for k, obs in enumerate(ds.observable.values):
             cells = "; ".join(f"{p}: {_cell(float(ds.value.values[j, k]), float(ds.uncertainty.values[j, k]))}"
                               for j, p in enumerate(ds.precision.values))
-            row = [scene, str(obs), cells, str(ds.converged_precision_of.values[k])]
-            h.append("<tr>" + "".join(f"<td>{html.escape(c)}</td>" for c in row) + "</tr>")
-            md.append("| " + " | ".join(row) + " |")
-        sep = ([f"{pair}: " + (f"separate (1e-3) at t = {t:g} after the settled point" if math.isfinite(t)
-                               else "within 1e-3 over the sampled stretch")
-                for pair, t in zip(ds.pair.values, ds.t_separated.values)] if "t_separated" in ds else [])
-        summary = f"{scene} converges in {ds.attrs['converged_precision']}" + (f"; orbits {'; '.join(sep)}" if sep else "")
-        if "follows_orbit" in ds and math.isfinite(ds.attrs["ln_gain_max"]):
-            summary += (f"; one spike cycle amplifies errors by up to e^{ds.attrs['ln_gain_max']:.1f}: "
-                        + ", ".join(f"{p} {f}" for p, f in zip(ds.precision.values, ds.follows_orbit.values)))
-        elif "follows_orbit" in ds:
-            summary += f"; no complete spike cycle within T_gain = {ds.attrs['T_gain']:g}: faithfulness unknown"
-        h.append(f"<tr><td colspan='4'><i>{html.escape(summary)}</i></td></tr>")
-        md.append(f"| {scene} | all | {summary} | {ds.attrs['converged_precision']} |")
-    h.append("</table>")
-    return h, md + [""]
+            rows.append([scene, str(obs), cells, str(ds.converged_precision_of.values[k])])
+        rows.append([scene, "the scene", _ladder_summary(ds), str(ds.attrs["converged_precision"])])
+    return Table(["scene", "observable", "values per precision", "converged in"], rows,
+                 note="Steady-state scenes, each computed in every precision from one settled point (value +- the "
+                      "uncertainty each observable states, sleighsim.observables).")
 
 
-def precision_findings(rows: list, datasets: dict) -> tuple[list[str], list[str]]:
-    """The findings section (HTML lines, Markdown lines): the verdict states' precision ladder (a note
-    when it was not run), then the steady-state scenes' ladders."""
-    h = ["<section id='findings'><h3>Does the arithmetic decide the steady state?</h3>"]
-    md = ["### Does the arithmetic decide the steady state?", ""]
-    sh, smd = scene_ladders(datasets)
-    if "precision_ladder" not in datasets:
-        h.append("<p>not yet computed (no precision-ladder dataset in this run)</p>")
-        return h + sh + ["</section>"], md + ["not yet computed (no precision-ladder dataset in this run)", ""] + smd
+def _ladder_summary(ds) -> str:
+    """When a scene ladder's orbits separate, and which arithmetic follows them (faithfulness gauge)."""
+    sep = ([f"{pair}: " + (f"separate (1e-3) at t = {t:g} after the settled point" if math.isfinite(t)
+                           else "within 1e-3 over the sampled stretch")
+            for pair, t in zip(ds.pair.values, ds.t_separated.values)] if "t_separated" in ds else [])
+    out = f"orbits {'; '.join(sep)}" if sep else "no orbit comparison"
+    if "follows_orbit" in ds and math.isfinite(ds.attrs["ln_gain_max"]):
+        out += (f"; one spike cycle amplifies errors by up to e^{ds.attrs['ln_gain_max']:.1f}: "
+                + ", ".join(f"{p} {f}" for p, f in zip(ds.precision.values, ds.follows_orbit.values)))
+    elif "follows_orbit" in ds:
+        out += f"; no complete spike cycle within T_gain = {ds.attrs['T_gain']:g}: faithfulness unknown"
+    return out
+
+
+def precision_findings(rows: list, datasets: dict) -> dict:
+    """The findings: per state of the verdict states' precision ladder (``states``: [(state,
+    sentences)]; empty and ``missing`` true when it was not run), then the steady-state scenes'
+    ladders (``ladders``, a Table or None)."""
+    out = {"states": [], "missing": "precision_ladder" not in datasets, "ladders": scene_ladders(datasets)}
+    if out["missing"]:
+        return out
     ladder = read_dataset(datasets["precision_ladder"])
     verdict = read_dataset(datasets["chaos_verdict"]) if "chaos_verdict" in datasets else None
     paper = next((r.paper_value for r in rows if r.id == "C05"), "not stated")
     for k, st in enumerate(ladder.state.values):
         from_reference = np.array_equal(ladder.start.values[k], np.asarray(REFERENCE_STATE, float))
         claim = f"{paper} (C05)" if from_reference else "no value for this state"
-        sentences = _state_sentences(ladder, verdict, k, claim)
-        h.append(f"<p><b>{html.escape(str(st))}</b>: " + " ".join(html.escape(s) for s in sentences) + "</p>")
-        md += [f"- **{st}**: " + " ".join(sentences)]
-    return h + sh + ["</section>"], md + [""] + smd
+        out["states"].append((str(st), _state_sentences(ladder, verdict, k, claim)))
+    return out
