@@ -4,7 +4,7 @@
     python benchmarks/full_run.py [--configfile CONFIG ...] [--cores 2] [--workdir DIR]
                                   [--out benchmarks/full_run.yaml] [--reuse DIR] [--plot PNG]
 
-Runs ``python -m snakemake -s <repo>/Snakefile -d <fresh workdir> -c<cores> [--configfile ...]``,
+Runs ``python -m snakemake -s <repo>/workflow/Snakefile -d <fresh workdir> -c<cores> [--configfile ...]``,
 timing the whole command, then saves the run's job graph beside it (``<workdir>/costs/dag.dot`` from
 ``--forceall -n --dag`` and ``<workdir>/costs/dryrun.txt`` from ``--forceall -n``, same workdir and
 config) and writes the summary of sleighsim.ops.summary.summarize: wall and CPU seconds in total, per rule,
@@ -45,7 +45,7 @@ def say(msg: str) -> None:
 def snakemake_cmd(workdir: Path, cores: int, configfiles: list[str], *extra: str) -> list[str]:
     # the Snakefile's own configfile is relative to the working directory, which is not the repository:
     # name it, then the overlays merged onto it (as snakemake --configfile does in the repository)
-    cmd = [sys.executable, "-m", "snakemake", "-s", str(REPO / "Snakefile"), "-d", str(workdir), f"-c{cores}",
+    cmd = [sys.executable, "-m", "snakemake", "-s", str(REPO / "workflow" / "Snakefile"), "-d", str(workdir), f"-c{cores}",
            "--configfile", str(REPO / "config" / "config.yaml"), *configfiles]
     return cmd + list(extra)
 

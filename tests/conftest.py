@@ -12,7 +12,7 @@ SMOKE = ROOT / "config" / "smoke.yaml"
 
 def snakemake(workdir, configfile, *args, timeout=900, cores=2):
     """Run the workflow in ``workdir`` with ``configfile`` merged onto the paper config."""
-    cmd = [sys.executable, "-m", "snakemake", "-s", str(ROOT / "Snakefile"), "-d", str(workdir),
+    cmd = [sys.executable, "-m", "snakemake", "-s", str(ROOT / "workflow" / "Snakefile"), "-d", str(workdir),
            "--configfile", str(configfile), f"-c{cores}", *args]
     return subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
 

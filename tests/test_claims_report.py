@@ -128,17 +128,29 @@ def test_a_cause_whose_datasets_are_missing_says_so(tmp_path):
     assert rows["C11"].verdict == "differs" and rows["C11"].cause.startswith("causes not yet computed: dataset")
 
 
-def test_command_line_rejudges_without_snakemake(tmp_path):
+def test_command_line_rejudges_without_snakemake_and_names_what_is_missing(tmp_path):
+    """An empty tree: the ledger is written (every row but the model-only C02 not yet computed) and
+    the exit status is 3 with every missing product named; absent directories, an absent or empty
+    claims list and a bad --out stop it with status 2 before anything is judged."""
     out = tmp_path / "ledger" / "claims.csv"
-    run = subprocess.run([sys.executable, "-m", "sleighsim.claims", "--data", str(tmp_path / "none"), "--figures",
-                          str(tmp_path / "none"), "--out", str(out)], capture_output=True, text=True, timeout=120)
-    assert run.returncode == 0, run.stderr
+    (tmp_path / "data").mkdir()
+    (tmp_path / "figures").mkdir()
+    run = subprocess.run([sys.executable, "-m", "sleighsim.claims", "--data", str(tmp_path / "data"), "--figures",
+                          str(tmp_path / "figures"), "--out", str(out)], capture_output=True, text=True, timeout=120)
+    assert run.returncode == 3 and "missing or unreadable" in run.stderr, run.stderr
+    assert str(tmp_path / "data" / "fig2.nc") in run.stderr and str(tmp_path / "figures" / "fig1.png") in run.stderr
     rows = claims.read(out.with_suffix(".nc"))
     assert {r.verdict for r in rows if r.id != "C02"} == {"not yet computed"}
-    assert "not yet computed: 46" in run.stdout or "not yet computed" in run.stdout
-    bad = subprocess.run([sys.executable, "-m", "sleighsim.claims", "--out", str(tmp_path / "x.txt")],
-                         capture_output=True, text=True, timeout=120)
-    assert bad.returncode == 2 and ".csv" in bad.stderr
+    (tmp_path / "garbage.md").write_text("no table here\n")
+    for args, says in ((["--data", str(tmp_path / "none")], "--data"), (["--figures", str(tmp_path / "none")], "--figures"),
+                       (["--claims", str(tmp_path / "none.md")], "none.md"), (["--claims", str(tmp_path / "garbage.md")],
+                                                                              "no claim rows"),
+                       (["--out", str(tmp_path / "x.txt")], ".csv")):
+        base = {"--data": str(tmp_path / "data"), "--figures": str(tmp_path / "figures"), "--out": str(out)}
+        base.update(dict(zip(args[::2], args[1::2])))
+        bad = subprocess.run([sys.executable, "-m", "sleighsim.claims", *[x for kv in base.items() for x in kv]],
+                             capture_output=True, text=True, timeout=120)
+        assert bad.returncode == 2 and says in bad.stderr, (args, bad.stderr)
     helped = subprocess.run([sys.executable, "-m", "sleighsim.claims", "--help"], capture_output=True, text=True)
     assert helped.returncode == 0 and "--figures" in helped.stdout
 

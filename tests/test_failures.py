@@ -17,7 +17,7 @@ GRID = "results/data/fig11_grid.nc"
 
 
 def _cmd(workdir, configfile, *args):
-    return [sys.executable, "-m", "snakemake", "-s", str(ROOT / "Snakefile"), "-d", str(workdir),
+    return [sys.executable, "-m", "snakemake", "-s", str(ROOT / "workflow" / "Snakefile"), "-d", str(workdir),
             "--configfile", str(configfile), *args]
 
 
@@ -97,3 +97,48 @@ def test_changing_the_grid_runtime_resource_reruns_nothing(smoke_run, tmp_path):
     changed.write_text(yaml.safe_dump(cfg))
     dry = snakemake(smoke_run, changed, "-n", GRID, timeout=120)
     assert "rule chunk:" in dry.stdout + dry.stderr
+
+
+def test_set_aside_moves_only_unreadable_products_and_a_dry_run_moves_nothing(tmp_path):
+    import xarray as xr
+
+    from sleighsim.io import write_dataset
+    from sleighsim.ops.integrity import set_aside
+
+    results = tmp_path / "results"
+    write_dataset(xr.Dataset({"u": ("t", [1.0, 2.0])}), results / "data" / "good.nc")
+    write_dataset(xr.Dataset({"u": ("t", np.arange(1000.0))}), results / "data" / "ladder" / "cut.nc")
+    cut = results / "data" / "ladder" / "cut.nc"
+    cut.write_bytes(cut.read_bytes()[:3000])
+    (results / "data" / "empty.nc").write_bytes(b"")
+    to = results / "unreadable" / "data"
+    planned = set_aside(results, dry_run=True)
+    assert planned == [(results / "data" / "empty.nc", to / "empty.nc"), (cut, to / "ladder" / "cut.nc")]
+    assert cut.exists() and not to.exists()
+    assert set_aside(results) == planned and not cut.exists() and (to / "ladder" / "cut.nc").stat().st_size == 3000
+    assert set_aside(results) == [] and (results / "data" / "good.nc").exists()  # the set-aside files are not re-read
+
+
+@pytest.mark.workflow
+def test_a_deleted_or_truncated_dataset_is_rebuilt_by_the_default_target(smoke_run, tmp_path):
+    """Snakemake alone would not rebuild a missing intermediate file whose products are up to date,
+    and would fail on a truncated one at every run: rule all declares every dataset, and an
+    unreadable product is set aside (results/unreadable/) before the jobs are planned."""
+    import shutil
+
+    run = tmp_path / "run"
+    shutil.copytree(smoke_run / "results", run / "results")
+    shutil.copytree(smoke_run / ".snakemake" / "metadata", run / ".snakemake" / "metadata")
+    (run / "results" / "data" / "fig2.nc").unlink()
+    cut = run / "results" / "data" / "fig4.nc"
+    cut.write_bytes(cut.read_bytes()[:4000])
+    dry = subprocess.run(_cmd(run, SMOKE, "-n"), capture_output=True, text=True, timeout=300)
+    out = dry.stdout + dry.stderr
+    assert dry.returncode == 0 and "(dry run: not moved)" in out and cut.stat().st_size == 4000, out[-3000:]
+    assert "wildcards: scene=fig2" in out and "wildcards: scene=fig4" in out and "scene=fig7" not in out
+    res = subprocess.run(_cmd(run, SMOKE, "-c2"), capture_output=True, text=True, timeout=600)
+    assert res.returncode == 0, (res.stdout + res.stderr)[-3000:]
+    assert (run / "results" / "unreadable" / "data" / "fig4.nc").stat().st_size == 4000
+    for name in ("fig2", "fig4"):
+        new, old = read_dataset(run / "results" / "data" / f"{name}.nc"), read_dataset(smoke_run / "results" / "data" / f"{name}.nc")
+        assert all(np.array_equal(new[v].values, old[v].values, equal_nan=True) for v in old.data_vars if old[v].dtype.kind == "f")

@@ -38,7 +38,7 @@ def test_scene_names_appear_only_in_the_config_and_the_registry():
     named like its figure or its kind, fig3 or bench, shares that name with a plot function or module.)"""
     names = [n for n in PAPER_CFG["scenes"] if n not in registry.FIGURES and n not in registry.KINDS]
     assert len(names) >= 10
-    places = [ROOT / "Snakefile", *sorted((ROOT / "workflow").rglob("*.smk")), *sorted((ROOT / "workflow").rglob("*.py")),
+    places = [ROOT / "workflow" / "Snakefile", *sorted((ROOT / "workflow").rglob("*.smk")), *sorted((ROOT / "workflow").rglob("*.py")),
               *sorted((ROOT / "src").rglob("*.py"))]
     allowed = {ROOT / "src" / "sleighsim" / "registry.py"}
     found = [(p.relative_to(ROOT), n) for p in places if p not in allowed for n in names
@@ -173,7 +173,7 @@ def test_atlas_builds_the_regime_diagram_and_the_basin_fractions(tmp_path):
 
 def test_commands_without_a_core_count_parse_the_workflow(tmp_path):
     """`snakemake --unlock` (after a killed run) takes no --cores: no rule may need workflow.cores."""
-    cmd = [sys.executable, "-m", "snakemake", "-s", str(ROOT / "Snakefile"), "-d", str(tmp_path),
+    cmd = [sys.executable, "-m", "snakemake", "-s", str(ROOT / "workflow" / "Snakefile"), "-d", str(tmp_path),
            "--configfile", str(SMOKE), "--unlock"]
     res = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
     assert res.returncode == 0, res.stderr[-2000:]

@@ -117,6 +117,15 @@ def realized(config: dict, *, on_request: bool = False) -> dict[str, int]:
             if KINDS[scenes[name]["kind"]].realizable and scenes[name].get("realizations", 1) > 1}
 
 
+def run_datasets(config: dict) -> list[str]:
+    """Every dataset the config's default run builds, by name under data/: its scenes, their
+    finer-precision variants and precision ladders, and their realizations (on-request scenes not)."""
+    lad = laddered(config)
+    return (datasets(config) + [variant(s, p) for s, ps in lad.items() for p in ps if p != "double"]
+            + [ladder_name(s) for s in lad]
+            + [realization_name(s, k) for s, n in realized(config).items() for k in range(1, n)])
+
+
 @dataclass(frozen=True)
 class Figure:
     """A figure: ``data`` are the datasets its plot function reads, in order; ``plot`` names the

@@ -28,28 +28,20 @@ TAG_PRECISION = {
     for p in ps
     if p != "double"
 }
-LADDER_DATA = [
-    registry.variant(s, p)
-    for s, ps in registry.laddered(config).items()
-    for p in ps
-    if p != "double"
-] + [registry.ladder_name(s) for s in registry.laddered(config)]
 # Scenes run again from perturbed start states ({scene: realizations}) and those datasets by name.
 REALIZED = registry.realized(config, on_request=True)
-REALIZATION_DATA = [
-    registry.realization_name(s, k)
-    for s, n in registry.realized(config).items()
-    for k in range(1, n)
-]
 # Runtime resource (minutes) of a scene job whose block sets no runtime_min (the SLURM profile's default).
 SCENE_RUNTIME_MIN = 60
+# Every dataset of the default run: the scenes, their finer precisions, ladders and realizations.
+CLAIMS_DATA = registry.run_datasets(config)
+LADDER_DATA = [n for n in CLAIMS_DATA if n.startswith(("precision/", "ladder/"))]
+REALIZATION_DATA = [n for n in CLAIMS_DATA if n.startswith("realization/")]
 # What the report reads: the datasets of the figures shown and of the tables built.
 REPORT_DATA = sorted(
     {d for f in FIGURES_BUILT for d in registry.FIGURES[f].data}
     | {t.data for t in registry.TABLES.values() if t.data in DATASETS}
     | set(LADDER_DATA)
 )
-CLAIMS_DATA = DATASETS + LADDER_DATA + REALIZATION_DATA
 
 
 def canonical(value):
@@ -149,10 +141,10 @@ def benchmark_files(datasets, figures):
 
 
 REPORT_BENCHMARKS = benchmark_files(REPORT_DATA + REALIZATION_DATA, FIGURES_BUILT)
-PAPER_TEX = str(
-    Path(workflow.basedir) / "paper" / "fedonyuk-tallapragada-sleigh-rotor.tex"
-)
-CLAIMS_MD = str(Path(workflow.basedir) / "paper" / "CLAIMS.md")
+# The repository: the workflow's parent directory (workflow.basedir is where workflow/Snakefile lies).
+ROOT = Path(workflow.basedir).parent
+PAPER_TEX = str(ROOT / "paper" / "fedonyuk-tallapragada-sleigh-rotor.tex")
+CLAIMS_MD = str(ROOT / "paper" / "CLAIMS.md")
 # The measured cost per time unit of each arithmetic, and the config that makes what the default run cannot afford.
-PRECISION_COST = str(Path(workflow.basedir) / "benchmarks" / "precision_cost.yaml")
-CLUSTER_CONFIG = str(Path(workflow.basedir) / "config" / "cluster.yaml")
+PRECISION_COST = str(ROOT / "benchmarks" / "precision_cost.yaml")
+CLUSTER_CONFIG = str(ROOT / "config" / "cluster.yaml")

@@ -111,7 +111,7 @@ def write_table(ds: xr.Dataset, csv_path) -> None:
 def run(config: dict, base_nc, out_csv, *, cores: int = 2, snakefile=None) -> xr.Dataset:
     """Run every variant's ledger with Snakemake (its own results directory; no lock, since the
     outputs differ from the calling run's) and write the table."""
-    snakefile = snakefile or Path(__file__).resolve().parents[3] / "Snakefile"
+    snakefile = snakefile or Path(__file__).resolve().parents[3] / "workflow" / "Snakefile"
     out_csv = Path(out_csv)
     ncs = {}
     for name, cfg in variants(config).items():

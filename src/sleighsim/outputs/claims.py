@@ -29,9 +29,11 @@ import csv
 import io
 import math
 import re
+import sys
 from dataclasses import astuple, dataclass, field, fields
 from pathlib import Path
 
+import netCDF4
 import numpy as np
 import xarray as xr
 
@@ -44,10 +46,12 @@ from ..registry import (
     CAUSES,
     EVIDENCE,
     FIGURES,
+    figures_built,
     ladder_name,
     laddered,
     realization_name,
     realized,
+    run_datasets,
     variant,
 )
 from . import rules
@@ -123,7 +127,10 @@ def parse_claims(path) -> list[Claim]:
 
 
 class MissingDataset(KeyError):
-    """A dataset the ledger needs was not built."""
+    """A dataset the ledger needs was not built, or cannot be read (args: name[, why])."""
+
+    def __str__(self) -> str:
+        return f"dataset {self.args[0]} " + (self.args[1] if len(self.args) > 1 else "not built")
 
 
 class _Datasets:
@@ -144,7 +151,10 @@ class _Datasets:
                 path = self.dir / f"{name}.nc"
                 if not path.exists():
                     raise MissingDataset(name)
-                self.cache[name] = read_dataset(path)
+                try:
+                    self.cache[name] = read_dataset(path)
+                except OSError as err:
+                    raise MissingDataset(name, f"unreadable ({err})") from err
         return [self.cache[n] for n in names]
 
     def finest(self, names) -> str:
@@ -267,7 +277,7 @@ def judge_claim(row: Row, claim: Claim, load: _Datasets) -> None:
             row.cause = CAUSE_TESTS[claim.id](j, claim.values, *load(needed))
             row.evidence += "; causes: " + _files(needed)
         except MissingDataset as missing:
-            row.cause = f"causes not yet computed: dataset {missing} not built"
+            row.cause = f"causes not yet computed: {missing}"
 
 
 def judge_realizations(row: Row, claim: Claim, names, load: _Datasets, first, judged_in: str = "double") -> None:
@@ -318,7 +328,7 @@ def ledger(claims_md, data_dir, figures_dir, config: dict) -> list[Row]:
             else:
                 row.reason = "no judge for this id"
         except MissingDataset as missing:
-            row.verdict, row.reason = NOT_YET, f"dataset {missing} not built"
+            row.verdict, row.reason = NOT_YET, str(missing)
             row.measured = row.uncertainty = ""
         rows.append(row)
     judged = {r.id: r for r in rows}
@@ -381,10 +391,39 @@ def main(argv=None) -> int:
     for f in a.config:
         if not Path(f).is_file():
             ap.error(f"--config {f}: no such file")
-    rows = ledger(a.claims, a.data, a.figures, merged_config(a.config))
+    for flag, d in (("--data", a.data), ("--figures", a.figures)):
+        if not Path(d).is_dir():
+            ap.error(f"{flag} {d}: no such directory")
+    try:
+        n_claims = len(parse_claims(a.claims))
+    except OSError as err:
+        ap.error(f"--claims {a.claims}: {err.strerror or err}")
+    if not n_claims:
+        ap.error(f"--claims {a.claims}: no claim rows (table rows whose first cell is an id such as F1, C01, D1)")
+    config = merged_config(a.config)
+    rows = ledger(a.claims, a.data, a.figures, config)
     write(rows, out, out.with_suffix(".nc"))
     print(", ".join(f"{v}: {n}" for v, n in summary(rows).items()), f"-> {out}, {out.with_suffix('.nc')}")
+    absent = missing_products(a.data, a.figures, config)
+    if absent:
+        print(f"error: {len(absent)} product(s) of the run the config declares are missing or unreadable "
+              "(their claims read 'not yet computed'): " + ", ".join(absent), file=sys.stderr)
+        return 3
     return 0
+
+
+def missing_products(data_dir, figures_dir, config: dict) -> list[str]:
+    """The datasets (``registry.run_datasets``) and figures of the config's default run that are
+    absent from ``data_dir`` / ``figures_dir`` or cannot be opened, as paths."""
+    out = []
+    for name in run_datasets(config):
+        path = Path(data_dir) / f"{name}.nc"
+        try:
+            netCDF4.Dataset(path).close()
+        except OSError:
+            out.append(str(path))
+    out += [str(p) for f in figures_built(config) if not (p := Path(figures_dir) / f"{f}.png").is_file()]
+    return out
 
 
 if __name__ == "__main__":

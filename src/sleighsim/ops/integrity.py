@@ -1,0 +1,40 @@
+"""Products that cannot be read are set aside before the workflow plans its jobs, so that the run
+rebuilds them instead of failing on them (a truncated netCDF file from a killed copy or a full
+disk, for example: the workflow's own writes are atomic and never leave one)."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import netCDF4
+
+#: Where unreadable products go, under the results directory, keeping their relative paths.
+SET_ASIDE = "unreadable"
+
+
+def unreadable(results) -> list[Path]:
+    """The netCDF files under ``results`` (outside ``SET_ASIDE``) that netCDF4 cannot open."""
+    results = Path(results)
+    bad = []
+    for path in sorted(results.rglob("*.nc")):
+        if SET_ASIDE in path.relative_to(results).parts[:1]:
+            continue
+        try:
+            netCDF4.Dataset(path).close()
+        except OSError:
+            bad.append(path)
+    return bad
+
+
+def set_aside(results, *, dry_run: bool = False) -> list[tuple[Path, Path]]:
+    """Move every unreadable product to ``results/unreadable/<its relative path>`` (replacing an
+    older one there), so that the run sees it missing and rebuilds it; nothing is deleted. With
+    ``dry_run``, only say where each would go. Returns [(product, where it goes)]."""
+    results = Path(results)
+    moves = [(p, results / SET_ASIDE / p.relative_to(results)) for p in unreadable(results)]
+    if not dry_run:
+        for src, dst in moves:
+            dst.parent.mkdir(parents=True, exist_ok=True)
+            os.replace(src, dst)
+    return moves
