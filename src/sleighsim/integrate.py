@@ -23,11 +23,12 @@ import xarray as xr
 
 from . import integrators, model
 from .attrs import UNITS, state_attrs
-from .params import Params
+from .params import Params, finite
 
 log = logging.getLogger("sleighsim")
 
 DEFAULT_TOL = 2.0**-52  # heyoka's default: double-precision epsilon
+SCIPY_METHODS = ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA")
 TWO_PI = 2.0 * math.pi
 
 
@@ -52,16 +53,57 @@ def sample_grid(t_start: float, t_end: float, dt: float) -> np.ndarray:
     return t_start + dt * np.arange(n)
 
 
+def check_tol(tol, precision: str = "double") -> None:
+    """A heyoka tolerance in [epsilon of ``precision``, 1) (integrators.EPSILON: double 2.2e-16, long
+    double 1.08e-19, quad 1.93e-34): a finer one asks for more than the arithmetic holds, and the
+    integrator then steps without end. TypeError or ValueError naming ``tol`` and the range."""
+    integrators.precision_flags(precision)  # an unknown precision fails here
+    eps = integrators.EPSILON[precision]
+    if not eps <= finite("tol", tol) < 1:
+        raise ValueError(f"tol = {tol} is outside the admissible range [{eps:.3g}, 1) of {precision} "
+                         f"(not below its machine epsilon)")
+
+
+#: SciPy raises a relative tolerance below this (100 x double's epsilon) to it, with a warning.
+SCIPY_MIN_RTOL = 100 * 2.0**-52
+
+
+def _check_options(params, backend, tol, precision, method, rtol, atol) -> None:
+    """The arguments of :func:`integrate` that select the arithmetic: TypeError or ValueError naming
+    the argument and its admissible range, before any work."""
+    if not isinstance(params, Params):
+        raise TypeError(f"params = {params!r} must be a Params (Params.paper or Params.physical)")
+    if backend == "heyoka":
+        check_tol(tol, precision)
+    elif backend == "scipy":
+        if precision != "double":
+            raise ValueError(f"precision {precision!r}: the SciPy backend runs in double only")
+        if method not in SCIPY_METHODS:
+            raise ValueError(f"unknown SciPy method {method!r}; choose one of {sorted(SCIPY_METHODS)}")
+        if not SCIPY_MIN_RTOL <= finite("rtol", rtol) < 1:
+            raise ValueError(f"rtol = {rtol} is outside the admissible range [{SCIPY_MIN_RTOL:.3g}, 1) (SciPy raises "
+                             "a smaller one to 100 x double's machine epsilon)")
+        if not finite("atol", atol) > 0:
+            raise ValueError(f"atol = {atol} is outside the admissible range (0, inf)")
+    else:
+        raise ValueError(f"unknown backend {backend!r}; choose 'heyoka' or 'scipy'")
+
+
 def _initial_state(y0, kinematics: bool) -> np.ndarray:
-    y0 = np.asarray(y0, dtype=float).ravel()
+    if y0 is None or isinstance(y0, (str, bytes)):
+        raise TypeError(f"y0 = {y0!r} must be a sequence of numbers (u, Omega, omega, delta)")
+    try:
+        y0 = np.asarray(y0, dtype=float).ravel()
+    except (TypeError, ValueError):
+        raise TypeError(f"y0 = {y0!r} must be a sequence of numbers (u, Omega, omega, delta)") from None
     want = 7 if kinematics else 4
     if y0.size == 4 and kinematics:
         y0 = np.concatenate([y0, np.zeros(3)])
     if y0.size != want:
         extra = " or 7 with (theta, x, y)" if kinematics else ""
-        raise ValueError(f"initial state has {y0.size} components; expected 4 (u, Omega, omega, delta){extra}")
+        raise ValueError(f"y0 (initial state) has {y0.size} components; expected 4 (u, Omega, omega, delta){extra}")
     if not np.all(np.isfinite(y0)):
-        raise ValueError(f"initial state {y0.tolist()} is not finite")
+        raise ValueError(f"y0 = {y0.tolist()} (initial state) is not finite")
     return y0
 
 
@@ -161,10 +203,7 @@ def _run_heyoka(params, y0, t0, times, kinematics, tol, precision, scene, progre
 def _run_scipy(params, y0, t0, times, method, rtol, atol, kinematics, compiled, scene, progress, max_steps):
     from scipy.integrate import _ivp
 
-    solvers = {"DOP853": _ivp.DOP853, "RK45": _ivp.RK45, "RK23": _ivp.RK23, "Radau": _ivp.Radau,
-               "BDF": _ivp.BDF, "LSODA": _ivp.LSODA}
-    if method not in solvers:
-        raise ValueError(f"unknown SciPy method {method!r}; choose one of {sorted(solvers)}")
+    solvers = {m: getattr(_ivp, m) for m in SCIPY_METHODS}
 
     if compiled:
         f = integrators.rhs_function(kinematics, params=params)
@@ -250,30 +289,21 @@ def integrate(
     the error scale of the dynamics; the samples of theta, x and y are the unwrapped, absolute
     values.
     """
+    _check_options(params, backend, tol, precision, method, rtol, atol)
     times = np.asarray(times, dtype=float).ravel()
     if times.size == 0 or not np.all(np.isfinite(times)) or np.any(np.diff(times) <= 0):
         raise ValueError("sample times must be a non-empty, finite, strictly increasing sequence")
     t0 = float(times[0]) if t0 is None else float(t0)
-    if t0 > times[0]:
-        raise ValueError(f"t0 = {t0} is after the first sample time {times[0]}")
-    if backend == "heyoka" and not (0 < tol < 1):
-        raise ValueError(f"tol = {tol} is outside the admissible range (0, 1)")
-    if backend == "heyoka":
-        integrators.precision_flags(precision)  # an unknown precision fails here, before any work
-    elif precision != "double":
-        raise ValueError(f"precision {precision!r}: the SciPy backend runs in double only")
-    if backend == "scipy" and not (rtol > 0 and atol > 0):
-        raise ValueError(f"rtol = {rtol}, atol = {atol}: both must be > 0")
+    if not (math.isfinite(t0) and t0 <= times[0]):
+        raise ValueError(f"t0 = {t0} is outside the admissible range (-inf, first sample time {times[0]}]")
     y0 = _initial_state(y0, kinematics)
 
     start = time.perf_counter()
     if backend == "heyoka":
         states, info = _run_heyoka(params, y0, t0, times, kinematics, tol, precision, scene, progress, max_steps)
-    elif backend == "scipy":
+    else:
         states, info = _run_scipy(params, y0, t0, times, method, rtol, atol, kinematics, compiled, scene, progress,
                                   max_steps)
-    else:
-        raise ValueError(f"unknown backend {backend!r}; choose 'heyoka' or 'scipy'")
     wall = time.perf_counter() - start
     states[:, model.DELTA] %= TWO_PI
 

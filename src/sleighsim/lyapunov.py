@@ -19,6 +19,7 @@ import time
 import numpy as np
 
 from . import integrators
+from .integrate import check_tol
 
 log = logging.getLogger("sleighsim")
 
@@ -145,7 +146,10 @@ def _divergence_integrator(tol):
 
 
 def mean_divergence(params, y0, T, tol) -> float:
-    """(1/T) integral of trace J along the sleigh's orbit from y0 over [0, T]."""
+    """(1/T) integral of trace J along the sleigh's orbit from y0 over [0, T] (T > 0, in double at tol)."""
+    if not (math.isfinite(T) and T > 0):
+        raise ValueError(f"T = {T} is outside the admissible range (0, inf): the mean is over [0, T]")
+    check_tol(tol)
     ta = _divergence_integrator(tol)
     ta.time = 0.0
     y = np.array([*np.asarray(y0, float), 0.0])

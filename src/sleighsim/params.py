@@ -11,11 +11,19 @@ import math
 from dataclasses import dataclass
 
 PARAM_NAMES = ("m_c", "m_r", "I_c", "I_r", "a", "b")
+#: The keys of the paper form (a config's parameter block holds one form's keys only).
+PAPER_NAMES = ("eps", "b", "K2")
 
 
 def finite(name, value) -> float:
-    """``value`` as a float; ValueError naming ``name`` when it is NaN or infinite."""
-    value = float(value)
+    """``value`` as a float; TypeError naming ``name`` when it is not a real number (a string, a
+    bool, None, a sequence), ValueError when it is NaN or infinite."""
+    try:
+        if isinstance(value, (str, bytes, bool)):
+            raise TypeError
+        value = float(value)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name} = {value!r} must be a real number") from None
     if not math.isfinite(value):
         raise ValueError(f"{name} = {value} is not a finite number")
     return value
@@ -85,12 +93,21 @@ class Params:
 
     @classmethod
     def from_config(cls, cfg: dict) -> "Params":
-        """From a config block: either {eps, b, K2} or {m_c, m_r, I_c, I_r, a, b}."""
-        if "eps" in cfg:
+        """From a config block: either the paper form {eps, b, K2} or the physical form {m_c, m_r,
+        I_c, I_r, a, b}, one form only; the physical form's rotor mass m_r > 0 (eps > 0, as the paper
+        form requires: the rotor-free sleigh is :meth:`sleigh0`)."""
+        form, names = ("paper", PAPER_NAMES) if "eps" in cfg else ("physical", PARAM_NAMES)
+        other = [k for k in cfg if k not in names]
+        if other:
+            raise ValueError(f"{other[0]} is not a key of the {form} form {names}; give one form only")
+        if form == "paper":
             return cls.paper(eps=cfg["eps"], b=cfg.get("b", 1.0), K2=cfg.get("K2"))
         missing = [k for k in PARAM_NAMES if k not in cfg]
         if missing:
             raise ValueError(f"parameter block needs eps (paper form) or all of {PARAM_NAMES}; missing {missing}")
+        if finite("m_r", cfg["m_r"]) <= 0:
+            raise ValueError(f"m_r = {cfg['m_r']} is outside the admissible range (0, inf): eps = m_r / m must be "
+                             "positive (the rotor-free sleigh is the sleigh0 kind)")
         return cls.physical(**{k: cfg[k] for k in PARAM_NAMES})
 
     def _check_positive_definite(self):

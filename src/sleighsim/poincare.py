@@ -19,7 +19,7 @@ import time
 import numpy as np
 
 from . import integrators, model
-from .integrate import IntegrationError
+from .integrate import IntegrationError, check_tol
 from .params import Params
 
 log = logging.getLogger("sleighsim")
@@ -66,6 +66,9 @@ def crossings(params: Params, y0, t0: float, t_end: float, *, tol: float = 2.0**
     """
     import heyoka as hy
 
+    if not (math.isfinite(t0) and math.isfinite(t_end) and t_end > t0):
+        raise ValueError(f"t_end = {t_end} is outside the admissible range (t0 = {t0}, inf): crossings need t_end > t0")
+    check_tol(tol, precision)
     ta, compile_s = event_integrator(tol, precision)
     fp = ta.state.dtype.type
     callback = integrators.bounded(ta)
