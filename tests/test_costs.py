@@ -15,6 +15,7 @@ from sleighsim.ops import costs, jobgraph, plots, workmodel
 from sleighsim.ops.benchmark_files import read_benchmark
 from sleighsim.ops.estimate import estimate
 from sleighsim.ops.summary import SCHEMA, summarize
+from sleighsim.outputs.figures.common import legibility
 
 ROOT = Path(__file__).resolve().parents[1]
 HEADER = "s\th:m:s\tmax_rss\tmax_vms\tmax_uss\tmax_pss\tio_in\tio_out\tmean_load\tcpu_time\n"
@@ -196,6 +197,7 @@ def test_plot_costs_writes_png_and_pdf(tmp_path):
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 5000
     assert pdf.read_bytes()[:5] == b"%PDF-" and pdf.stat().st_size > 1000
     assert sorted(p.name for p in png.parent.iterdir()) == ["costs.pdf", "costs.png"]  # no temporary left
+    assert legibility(plots.costs_figure(s)) == []
 
 
 def test_job_costs_from_the_reports_benchmark_files_and_their_figure(tmp_path):
@@ -211,6 +213,9 @@ def test_job_costs_from_the_reports_benchmark_files_and_their_figure(tmp_path):
     png.parent.mkdir()
     plots.plot_job_costs(jobs, png, pdf, top=3)
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and pdf.read_bytes()[:5] == b"%PDF-"
+    assert legibility(plots.job_costs_figure(jobs, top=3)) == []
+    plots.plot_job_costs(jobs, png.with_name("beside.png"))  # as the report calls it: the PDF beside the PNG
+    assert png.with_name("beside.pdf").read_bytes()[:5] == b"%PDF-"
     with pytest.raises(ValueError, match="no benchmark"):
         plots.plot_job_costs([], png, pdf)
 

@@ -1,13 +1,16 @@
-"""Figures. Each plot function reads datasets (never integrates) and writes PNG and PDF; every
-figure carries a footer with the numbers that say how its data were made. Which datasets a
-figure reads is declared in :data:`sleighsim.registry.FIGURES`."""
+"""Figures. Each plot function reads datasets (never integrates) and returns the matplotlib Figure,
+which :func:`draw` saves as PNG (for the report) and PDF (for a paper); every figure carries a
+footer with the numbers that say how its data were made. Which datasets a figure reads is
+declared in :data:`sleighsim.registry.FIGURES`."""
 
 from __future__ import annotations
 
 from ...registry import plot_name
 from .audit import audit
 from .bench import bench
-from .exponents import chaos, drift, fig10, fig11, lyapunov, regimes
+from .chaos import chaos
+from .common import save_figure
+from .exponents import drift, fig10, fig11, lyapunov, regimes
 from .precision import precision, trigger
 from .steady_state import fig9, fig12, psd
 from .trajectories import fig1, fig2, fig3, fig7, fig8
@@ -18,6 +21,11 @@ PLOTS = {f.__name__: f for f in (fig1, fig2, fig3, fig4, fig5, fig6, fig7, fig8,
                                   drift, precision, trigger)}
 
 
+def build(figure: str, source):
+    """The Figure of ``figure`` from its datasets (a list of paths) or, for a schematic, its config block."""
+    return PLOTS[plot_name(figure)](source)
+
+
 def draw(figure: str, source, png, pdf) -> None:
-    """Draw ``figure`` from its datasets (a list of paths) or, for a schematic, its config block."""
-    PLOTS[plot_name(figure)](source, png, pdf)
+    """Draw ``figure`` (see :func:`build`) into ``png`` and ``pdf``."""
+    save_figure(build(figure, source), png, pdf)

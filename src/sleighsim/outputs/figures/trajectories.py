@@ -7,12 +7,13 @@ import numpy as np
 from matplotlib import patches
 
 from ...io import read_dataset
-from .common import LABELS, PRECISION_STYLE, finer_precisions, finish, save_figure
+from .common import LABELS, PRECISION_STYLE, finer_precisions, finish, subplots
 
-def fig1(cfg: dict, png, pdf) -> None:
+
+def fig1(cfg: dict):
     """Schematic: sleigh body, centre C, runner P at distance b, rotor at distance a."""
     b, a, th, be = cfg["b"], cfg["a"], cfg["theta"], cfg["beta"]
-    fig, ax = plt.subplots(figsize=(5.5, 4.5))
+    fig, ax = subplots(5.5, 4.5)
     ex, ey = np.array([np.cos(th), np.sin(th)]), np.array([-np.sin(th), np.cos(th)])
     C = np.zeros(2)
     P = C - b * ex
@@ -44,14 +45,13 @@ def fig1(cfg: dict, png, pdf) -> None:
     ax.set_ylim(-1.2 * b, 1.3 * b)
     ax.axis("off")
     ax.set_title(r"Chaplygin sleigh with a passive rotor; $\delta = \theta - \beta$", fontsize=10)
-    save_figure(fig, png, pdf)
+    return fig
 
 
-def fig2(sources, png, pdf) -> None:
+def fig2(sources):
     """(a) eps = 0 phase portrait with sample trajectories; (b) path from (u, Omega) = (0, 1)."""
     ds = read_dataset(sources[0])
-    fig, (ax, bx) = plt.subplots(1, 2, figsize=(10, 4.6))
-    U, O = np.meshgrid(ds.u_grid, ds.Omega_grid, indexing="ij")
+    fig, (ax, bx) = subplots(10, 4.6, 1, 2)
     ax.streamplot(ds.u_grid.values, ds.Omega_grid.values, ds.du.values.T, ds.dOmega.values.T,
                   color="0.75", density=0.9, linewidth=0.6, arrowsize=0.7)
     for k in range(ds.sizes["trajectory"]):
@@ -63,15 +63,15 @@ def fig2(sources, png, pdf) -> None:
     ax.set_xlim(ds.u_grid.values[[0, -1]])
     ax.set_ylim(ds.Omega_grid.values[[0, -1]])
     ax.set_title(f"(a) $\\epsilon=0$: closed form (lines), heyoka (dots)\nmax |difference| = "
-                 f"{ds.attrs['closed_form_max_abs_error']:.1e}", fontsize=9)
-    ax.legend(loc="lower left", fontsize=7)
+                 f"{ds.attrs['closed_form_max_abs_error']:.1e}")
+    ax.legend(loc="lower left")
     bx.plot(ds.path_x, ds.path_y, color="tab:blue")
     bx.plot(ds.path_x[0], ds.path_y[0], "ko", ms=4)
     bx.set_aspect("equal", adjustable="datalim")
-    bx.set_xlabel("$x$")
-    bx.set_ylabel("$y$")
-    bx.set_title(f"(b) path from $u=0$, $\\Omega=1$, $t\\leq{float(ds.path_time[-1]):g}$", fontsize=9)
-    finish(fig, ds.attrs, png, pdf)
+    bx.set_xlabel(LABELS["x"])
+    bx.set_ylabel(LABELS["y"])
+    bx.set_title(f"(b) path from $u=0$, $\\Omega=1$, $t\\leq{float(ds.path_time[-1]):g}$")
+    return finish(fig, ds.attrs)
 
 
 def _time_panels(axes, ds, names, lw=0.3, finer=None):
@@ -82,53 +82,58 @@ def _time_panels(axes, ds, names, lw=0.3, finer=None):
         for (_, precision), other in (finer or {}).items():
             axk.plot(other.time, other[name], lw=lw, label=precision, **PRECISION_STYLE[precision])
         if finer:
-            axk.legend(fontsize=6, loc="upper left")
+            axk.legend(loc="upper left")
         axk.set_ylabel(LABELS[name])
-        axk.set_xlabel("$t$")
+        axk.set_xlabel(LABELS["t"])
 
 
-def fig3(sources, png, pdf) -> None:
+def _first_spike(ds) -> str:
+    """Where the run's first Omega spike lies, in words."""
+    t = ds.attrs.get("first_spike_time", float("nan"))
+    return f"{ds.attrs['precision']}: " + (f"first spike at t = {t:.5g}" if np.isfinite(t) else "no spike in the run")
+
+
+def fig3(sources):
     """u, Omega, omega, theta through both transients into the steady state, in double (the paper's
     arithmetic) and every finer precision from the same start (the whole run in that arithmetic)."""
     ds, *others = (read_dataset(s) for s in sources)
     finer = finer_precisions(others)
-    fig, axes = plt.subplots(2, 2, figsize=(11, 6.5))
+    fig, axes = subplots(11, 6.5, 2, 2)
     _time_panels(axes.ravel(), ds, ["u", "Omega", "omega", "theta"], finer=finer)
-    spikes = "; ".join(f"{d.attrs['precision']}: first spike at t = {d.attrs.get('first_spike_time', float('nan')):.5g}"
-                       for d in (ds, *finer.values()))
+    spikes = "; ".join(_first_spike(d) for d in (ds, *finer.values()))
     for axk, tag in zip(axes.ravel(), "abcd"):
-        axk.set_title(f"({tag})" + (f" {spikes}" if tag == "b" else ""), fontsize=8, loc="left")
-    finish(fig, ds.attrs, png, pdf)
+        axk.set_title(f"({tag})" + (f" {spikes}" if tag == "b" else ""), loc="left")
+    return finish(fig, ds.attrs)
 
 
-def fig7(sources, png, pdf) -> None:
+def fig7(sources):
     """Steady-state window: u, Omega, omega, theta and the path over the window."""
     ds = read_dataset(sources[0])
-    fig = plt.figure(figsize=(11, 9))
+    fig = plt.figure(figsize=(11, 9), layout="constrained")
     grid = fig.add_gridspec(3, 2, height_ratios=[1, 1.4, 1])
     axes = [fig.add_subplot(grid[0, 0]), fig.add_subplot(grid[0, 1]),
             fig.add_subplot(grid[2, 0]), fig.add_subplot(grid[2, 1])]
     _time_panels(axes, ds, ["u", "Omega", "omega", "theta"], lw=0.4)
     for axk, tag in zip(axes, "abde"):
-        axk.set_title(f"({tag})", fontsize=9, loc="left")
+        axk.set_title(f"({tag})", loc="left")
     px = fig.add_subplot(grid[1, :])
     sc = px.scatter(ds.x, ds.y, c=ds.time, s=0.3, cmap="viridis")
     px.plot(ds.x[0], ds.y[0], "ks", ms=5, label=f"t = {float(ds.time[0]):g}")
     px.plot(ds.x[-1], ds.y[-1], "k^", ms=6, label=f"t = {float(ds.time[-1]):g}")
     px.set_aspect("equal", adjustable="datalim")
-    px.set_xlabel("$x$")
-    px.set_ylabel("$y$")
-    px.legend(fontsize=7)
-    px.set_title("(c) path over the window (colour: time)", fontsize=9, loc="left")
-    fig.colorbar(sc, ax=px, label="$t$")
-    finish(fig, ds.attrs, png, pdf)
+    px.set_xlabel(LABELS["x"])
+    px.set_ylabel(LABELS["y"])
+    px.legend()
+    px.set_title("(c) path over the window (colour: time)", loc="left")
+    fig.colorbar(sc, ax=px, label=LABELS["t"])
+    return finish(fig, ds.attrs)
 
 
-def fig8(sources, png, pdf) -> None:
+def fig8(sources):
     """Path of the sleigh over a long steady-state window, in double (the paper's arithmetic) and
     every finer precision from the same settled point."""
     ds, *others = (read_dataset(s) for s in sources)
-    fig, ax = plt.subplots(figsize=(7, 6.5))
+    fig, ax = subplots(7, 6.5)
     ax.plot(ds.x, ds.y, lw=0.4, label=f"double (reach {ds.attrs.get('path_reach', float('nan')):.4g})",
             **PRECISION_STYLE["double"])
     for (_, precision), other in finer_precisions(others).items():
@@ -137,9 +142,9 @@ def fig8(sources, png, pdf) -> None:
     ax.plot(ds.x[0], ds.y[0], "ks", ms=5, label=f"t = {float(ds.time[0]):g}")
     ax.plot(ds.x[-1], ds.y[-1], "r^", ms=6, label=f"t = {float(ds.time[-1]):g}")
     ax.set_aspect("equal", adjustable="datalim")
-    ax.set_xlabel("$x$")
-    ax.set_ylabel("$y$")
-    ax.legend(fontsize=8)
+    ax.set_xlabel(LABELS["x"])
+    ax.set_ylabel(LABELS["y"])
+    ax.legend()
     ax.set_title(f"Path over {float(ds.time[-1] - ds.time[0]):g} time units after the transient", fontsize=10)
-    finish(fig, ds.attrs, png, pdf)
+    return finish(fig, ds.attrs)
 
