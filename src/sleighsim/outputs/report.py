@@ -268,7 +268,8 @@ def run_cost(benchmarks: dict, out_dir: Path) -> str:
     file name, or "" (and no stale figure from an earlier run) without records."""
     jobs = plots.job_costs(benchmarks)
     if not jobs:
-        (out_dir / "costs.png").unlink(missing_ok=True)
+        for stale in ("costs.png", "costs.pdf"):
+            (out_dir / stale).unlink(missing_ok=True)
         return ""
     plots.plot_job_costs(jobs, out_dir / "costs.png")
     return "costs.png"
