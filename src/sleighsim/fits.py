@@ -1,7 +1,7 @@
 """Least-squares fits: power laws (log-log), a line plus one sinusoid, a phase.
 
 Power laws: :func:`loglog`. Line plus sinusoid: x(t) ~ c0 + r t + A sin(w t) + B cos(w t), w free (scipy.optimize.curve_fit
-started from the periodogram peak near a guess; samples uniform in t). The
+started from the periodogram peak near a guess, scipy.signal.periodogram; samples uniform in t). The
 record is deterministic, so the formal standard errors of the fit understate
 the error of the model; the uncertainty reported is the larger of the formal
 error and the half-difference between fits on the two halves of the window
@@ -14,6 +14,7 @@ import math
 
 import numpy as np
 from scipy.optimize import curve_fit
+from scipy.signal import periodogram
 
 METHOD = ("least-squares fit of c0 + r t + A sin(w t) + B cos(w t), w free (scipy curve_fit); uncertainty = "
           "max(formal standard error, half-difference of the fits on the two halves of the window)")
@@ -24,12 +25,12 @@ def _model(t, c0, r, A, B, w):
 
 
 def refine_frequency(t, x, w_guess: float) -> float:
-    """Angular frequency of the largest periodogram peak of the detrended x within a factor 1.5
-    of w_guess (zero-padded FFT on a uniform grid): a start the nonlinear fit cannot miss."""
-    r = x - np.polyval(np.polyfit(t, x, 1), t)
-    n = 16 * t.size
-    w = 2 * np.pi * np.fft.rfftfreq(n, t[1] - t[0])
-    power = np.abs(np.fft.rfft(r * np.hanning(t.size), n))
+    """Angular frequency (rad per unit of t) of the largest periodogram peak of x within a factor 1.5
+    of w_guess: scipy.signal.periodogram, linear trend removed, Hann window, zero-padded 16 times
+    (samples uniform in t); w_guess when no padded bin lies in that band. A start the nonlinear
+    fit cannot miss."""
+    f, power = periodogram(x, fs=1.0 / (t[1] - t[0]), window="hann", nfft=16 * t.size, detrend="linear")
+    w = 2 * np.pi * f
     band = (w > w_guess / 1.5) & (w < w_guess * 1.5)
     return float(w[band][np.argmax(power[band])]) if band.any() else w_guess
 
