@@ -5,19 +5,22 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import cf
 from .model import STATE_NAMES, energy
 from .params import Params
 from .symmetries import energy_label
 
-UNITS = {
-    "u": ("runner longitudinal speed", "length/time"),
-    "Omega": ("sleigh angular velocity", "rad/time"),
-    "omega": ("rotor angular velocity", "rad/time"),
-    "delta": ("relative angle theta - beta", "rad"),
-    "theta": ("sleigh heading", "rad"),
-    "x": ("centre C, x", "length"),
-    "y": ("centre C, y", "length"),
-}
+#: name -> (long_name, units) of the state and kinematic variables (CF, :mod:`sleighsim.cf`: units
+#: "1" or "rad", the model unit in the long_name).
+UNITS = {n: (a["long_name"], a["units"]) for n, a in (
+    ("u", cf.attrs("runner longitudinal speed u", "speed")),
+    ("Omega", cf.attrs("sleigh angular velocity Omega", "angular_velocity")),
+    ("omega", cf.attrs("rotor angular velocity omega", "angular_velocity")),
+    ("delta", cf.attrs("relative angle delta = theta - beta", "angle")),
+    ("theta", cf.attrs("sleigh heading theta", "angle")),
+    ("x", cf.attrs("centre C, x", "length")),
+    ("y", cf.attrs("centre C, y", "length")),
+)}
 
 
 def state_attrs(params: Params, y0) -> dict:

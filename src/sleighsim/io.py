@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import contextlib
 import datetime as _dt
+import logging
 import os
 import platform
 import subprocess
@@ -13,6 +14,10 @@ from importlib import metadata
 from pathlib import Path
 
 import xarray as xr
+
+from . import cf
+
+log = logging.getLogger("sleighsim")
 
 _PACKAGES = ("sleighsim", "numpy", "scipy", "sympy", "heyoka", "xarray", "netCDF4", "matplotlib")
 
@@ -71,14 +76,23 @@ def atomic_path(path):
 
 def write_dataset(ds: xr.Dataset, path) -> Path:
     """Write ``ds`` to netCDF at ``path`` atomically, adding the provenance attributes
-    (package versions, git commit, creation time). Text is written at its own width: a fixed text
-    width kept in the encoding of a variable read from a file (or joined from such variables) would
-    truncate longer texts put there since."""
-    ds = ds.copy()
-    for v in ds.variables.values():
+    (package versions, git commit, creation time) and the CF-1.11 attributes (:mod:`sleighsim.cf`:
+    Conventions, title from the path, history, source, references; long_name and units of every
+    variable the vocabulary knows; a variable still without them is logged, and the tests fail on it;
+    no _FillValue on coordinate variables).
+    Text is written at its own width: a fixed text width kept in the encoding of a variable read from
+    a file (or joined from such variables) would truncate longer texts put there since."""
+    ds = cf.complete(ds)
+    for name, v in ds.variables.items():
         if v.dtype.kind in "UO":
             v.encoding = {k: e for k, e in v.encoding.items() if k != "dtype"}
-    ds.attrs.update(provenance_attrs())
+        if v.dims == (name,):  # a coordinate variable: CF 2.5.1 forbids it a _FillValue
+            v.encoding = {**v.encoding, "_FillValue": None}
+    provenance = provenance_attrs()
+    ds.attrs.update(provenance)
+    ds.attrs.update(cf.global_attrs(path, provenance, history=ds.attrs.get("history", "")))
+    if lacking := cf.missing(ds):
+        log.warning("%s: no CF attributes known for: %s", path, "; ".join(lacking))
     with atomic_path(path) as tmp:
         ds.to_netcdf(tmp, engine="netcdf4")
     return Path(path)

@@ -20,7 +20,8 @@ import numpy as np
 from ..io import read_dataset
 
 #: Names of attributes and variables that measure the run, not its result.
-VOLATILE = re.compile(r"wall|compile_time|created_utc|git_commit|^version_|python_version|seconds_per_step"
+# history and source (CF) carry the time of writing and the commit
+VOLATILE = re.compile(r"wall|compile_time|created_utc|git_commit|^version_|python_version|seconds_per_step|^history$|^source$"
                       r"|^cost_|_estimate_s$|^overhead_|speedup|fastest_at|^lambda_1_wall|^lyap_scipy_wall")
 
 

@@ -10,7 +10,7 @@ import time
 import numpy as np
 import xarray as xr
 
-from .. import integrators, lyapunov, model, transient, windows
+from .. import cf, integrators, lyapunov, model, transient, windows
 from ..attrs import state_attrs
 from ..params import Params
 from ..symmetries import state_at_label
@@ -56,15 +56,16 @@ def drift_windows(cfg: dict, scene: str = "") -> xr.Dataset:
               for name, x in (("spike_interval", interval), ("lambda_1", lam))}
     ds = xr.Dataset(
         {
-            "spike_interval": ("window", interval, {"units": "time", "long_name": "mean interval between Omega spikes"}),
-            "spike_interval_sd": ("window", interval_sd, {"units": "time"}),
+            "spike_interval": ("window", interval, cf.attrs("mean interval between Omega spikes", "time")),
+            "spike_interval_sd": ("window", interval_sd,
+                                  cf.attrs("standard deviation of the intervals between Omega spikes", "time")),
             "n_spikes": ("window", n_spikes),
-            "lambda_1": ("window", lam, {"units": "1/time",
-                                         "long_name": f"finite-time lambda_1 of the window (one tangent vector, {precision})"}),
-            "energy_rel_drift": ("window", drift, {"long_name": "E / E(settled) - 1 at the window's end"}),
+            "lambda_1": ("window", lam, {"units": "1", "long_name": "finite-time lambda_1 of the window per model "
+                                                                    f"time unit (one tangent vector, {precision})"}),
+            "energy_rel_drift": ("window", drift, cf.attrs("E / E(settled) - 1 at the window's end")),
         },
-        coords={"window": np.arange(n_windows), "t_start": ("window", t_start, {"units": "time"}),
-                "t_mid": ("window", t_mid, {"units": "time"})},
+        coords={"window": np.arange(n_windows), "t_start": ("window", t_start, cf.attrs("start of the window", "time")),
+                "t_mid": ("window", t_mid, cf.attrs("middle of the window", "time"))},
     )
     ds.attrs.update(state_attrs(params, y0))
     ds.attrs.update(transient_attrs)

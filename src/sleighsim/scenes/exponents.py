@@ -11,7 +11,7 @@ import time
 import numpy as np
 import xarray as xr
 
-from .. import fits, integrators, lyapunov, model, transient
+from .. import cf, fits, integrators, lyapunov, model, transient
 from ..attrs import state_attrs
 from ..integrate import final_state, integrate, orbit_samples, sample_grid
 from ..params import Params
@@ -76,16 +76,15 @@ def spectrum(cfg: dict, scene: str = "") -> xr.Dataset:
     sums = per.sum(axis=1)
     ds = xr.Dataset(
         {
-            "exponent": ("i", lam, {"long_name": "Lyapunov exponent (mean over replicas)", "units": "1/time"}),
-            "stderr": ("i", err, {"long_name": "standard error over independent replicas", "units": "1/time"}),
-            "replica_exponent": (("replica", "i"), per, {"units": "1/time"}),
-            "replica_divergence": ("replica", div, {"long_name": "mean trace of J over the replica's window",
-                                                    "units": "1/time"}),
+            "exponent": ("i", lam, cf.attrs("Lyapunov exponent lambda_i (mean over replicas)", "rate")),
+            "stderr": ("i", err, cf.attrs("standard error over independent replicas", "rate")),
+            "replica_exponent": (("replica", "i"), per, cf.attrs("Lyapunov exponent lambda_i of each replica", "rate")),
+            "replica_divergence": ("replica", div, cf.attrs("mean trace of J over the replica's window", "rate")),
             "replica_y0": (("replica", "component"), replicas),
-            "running": (("T", "i"), running, {"long_name": "finite-time estimate lambda_i(T), mean over replicas",
-                                              "units": "1/time"}),
+            "running": (("T", "i"), running, cf.attrs("finite-time estimate lambda_i(T), mean over replicas", "rate")),
         },
-        coords={"i": np.arange(1, 5), "T": ("T", T_grid, {"units": "time"}), "replica": np.arange(B),
+        coords={"i": np.arange(1, 5), "T": ("T", T_grid, cf.attrs("horizon T of the finite-time estimate", "time")),
+                "replica": np.arange(B),
                 "component": list(model.STATE_NAMES)},
     )
     ds.attrs.update(_common_attrs(params, y0, cfg, scene))
@@ -167,8 +166,8 @@ def protocol(cfg: dict, scene: str = "") -> xr.Dataset:
                        label=f"{scene}[0, tau = {tau:g}]")["exponents"] for tau in (cfg["tau"], cfg["paper_tau"])}
     agreement = float(np.max(np.abs(check[cfg["paper_tau"]] / check[cfg["tau"]] - 1.0)))
     ds = xr.Dataset(
-        {"exponent": (("state", "i"), np.array(exps), {"units": "1/time"}),
-         "stderr": (("state", "i"), np.array(errs), {"units": "1/time"}),
+        {"exponent": (("state", "i"), np.array(exps), cf.attrs("Lyapunov exponent lambda_i of each state", "rate")),
+         "stderr": (("state", "i"), np.array(errs), cf.attrs("block standard error of the exponent", "rate")),
          "y0": (("state", "component"), np.array(states))},
         coords={"i": np.arange(1, 5), "component": list(model.STATE_NAMES)},
     )
@@ -216,11 +215,12 @@ def energy_sweep(cfg: dict, scene: str = "") -> xr.Dataset:
     ok = lam > 0
     slope, _, slope_err = fits.loglog(labels[ok], lam[ok], err[ok], min_points=3)
     ds = xr.Dataset(
-        {"lambda_1": ("label", lam, {"units": "1/time"}), "stderr": ("label", err, {"units": "1/time"}),
-         "law": ("label", law, {"long_name": "time-scaling law from the reference label", "units": "1/time"}),
-         "T": ("label", T, {"long_name": "horizon per label", "units": "time"}),
-         "tau": ("label", tau, {"long_name": "renormalisation interval per label", "units": "time"})},
-        coords={"label": ("label", labels, {"long_name": "paper energy label"})},
+        {"lambda_1": ("label", lam, cf.attrs("largest Lyapunov exponent lambda_1 per label", "rate")),
+         "stderr": ("label", err, cf.attrs("block standard error of lambda_1 within the label's run", "rate")),
+         "law": ("label", law, cf.attrs("time-scaling law from the reference label", "rate")),
+         "T": ("label", T, cf.attrs("horizon per label", "time")),
+         "tau": ("label", tau, cf.attrs("renormalisation interval per label", "time"))},
+        coords={"label": ("label", labels, cf.attrs("paper energy label"))},
     )
     ds.attrs.update(_common_attrs(params, y0, cfg, scene))
     ds.attrs.update(transient_attrs)
@@ -260,9 +260,12 @@ def small_eps_cost(cfg: dict, scene: str = "") -> xr.Dataset:
     t_tr = np.exp(c_t) * targets**k_t
     steps = t_tr * np.exp(c_s) * targets**k_s
     ds = xr.Dataset(
-        {"first_spike": ("eps", a[:, 1], {"units": "time"}), "steps_per_time": ("eps", a[:, 2]),
-         "transient_estimate": ("target", t_tr, {"units": "time"}), "steps_estimate": ("target", steps),
-         "wall_estimate_s": ("target", steps * us, {"units": "s"})},
+        {"first_spike": ("eps", a[:, 1], cf.attrs("time of the first Omega spike from the reference state", "time")),
+         "steps_per_time": ("eps", a[:, 2]),
+         "transient_estimate": ("target", t_tr, cf.attrs("transient length (first Omega spike), extrapolated", "time")),
+         "steps_estimate": ("target", steps),
+         "wall_estimate_s": ("target", steps * us, cf.attrs("wall-clock time of the transient, extrapolated (one core)",
+                                                           "s"))},
         coords={"eps": a[:, 0], "target": targets},
     )
     ds.attrs.update(
@@ -302,8 +305,9 @@ def formal_exponents(cfg: dict, scene: str = "") -> xr.Dataset:
         log.info("%s: lambda_1 = %.3g +- %.2g (%s, T = %.3g)", label, *rows[-1][1:5])
     eps, lam, err, status, T, over, drift = (np.array(c) for c in zip(*rows))
     ds = xr.Dataset(
-        {"lambda_1": ("eps", lam, {"units": "1/time"}), "stderr": ("eps", err, {"units": "1/time"}),
-         "status": ("eps", status.astype(object)), "T": ("eps", T, {"units": "time"}),
+        {"lambda_1": ("eps", lam, cf.attrs("largest Lyapunov exponent lambda_1 of the formal system", "rate")),
+         "stderr": ("eps", err, cf.attrs("standard error of lambda_1 over independent replicas", "rate")),
+         "status": ("eps", status.astype(object)), "T": ("eps", T, cf.attrs("horizon T per replica", "time")),
          "transient_over": ("eps", over), "energy_max_rel_drift": ("eps", drift)},
         coords={"eps": eps},
     )

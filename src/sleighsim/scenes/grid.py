@@ -17,7 +17,7 @@ import time
 import numpy as np
 import xarray as xr
 
-from .. import integrators, lyapunov, poincare, transient
+from .. import cf, integrators, lyapunov, poincare, transient
 from ..integrate import orbit_samples
 from ..io import read_dataset
 from ..params import Params
@@ -165,7 +165,8 @@ def chunk(cfg: dict, index: int, scene: str = "") -> xr.Dataset:
     ds = xr.Dataset({v: ("eps", np.array([rows[e][v] for e in eps], float)) for v in ROW_VARIABLES},
                     coords={"eps": eps})
     ds["row_settled_state"] = (("eps", "component"), np.array([rows[e]["settled"] for e in eps], float),
-                           {"long_name": "the row's settled state (double pre-run; its steady part starts here)"})
+                           cf.attrs("the row's settled state (u, Omega, omega, delta) in model units (double "
+                                    "pre-run; its steady part starts here)"))
     computed = [r["rule"] for r in rows.values() if r["rule"]]
     ds.attrs.update(chunk=index, n_chunks=cfg["n_chunks"], rule=computed[0] if computed else "")
     return ds
@@ -192,7 +193,7 @@ def gather(paths, cfg: dict, scene: str = "") -> xr.Dataset:
     flagged = (ds.transient_over.values == 0) | (ds.steady.values == 0) | (ds.status_code.values != 0)
     ds["flagged"] = ("eps", flagged.astype(np.int8))
     ds["lambda_1_grid"] = (("eps", "b"), np.repeat(ds.lambda_1.values[:, None], bs.size, axis=1),
-                           {"long_name": "lambda_1(eps, b) = lambda_1(eps, 1) by the length-scale symmetry"})
+                           cf.attrs("lambda_1(eps, b) = lambda_1(eps, 1) by the length-scale symmetry", "rate"))
     ds["status"] = ("eps", np.array([STATUS[int(c)] for c in ds.status_code.values], dtype=object))
     ref = reference_row(cfg)
     ok = ~flagged

@@ -13,7 +13,7 @@ import numpy as np
 import sympy as sp
 import xarray as xr
 
-from .. import fits
+from .. import cf, fits
 from .. import perturbation as pert
 from ..attrs import state_attrs
 from ..integrate import integrate, sample_grid
@@ -64,12 +64,13 @@ def series_errors(exact: xr.Dataset, h: xr.Dataset, eps: float, order: int) -> d
     data = {}
     for v in ("u", "Omega", "omega"):
         s = pert.partial_sum(h, v, eps, order)
-        data[f"{v}_exact"] = ("time", exact[v].values, {"long_name": f"{v}, exact flow"})
-        data[f"{v}_series"] = ("time", s, {"long_name": f"{v}, sum of orders 0..{order}"})
+        kind = cf.STATE_KINDS[v]
+        data[f"{v}_exact"] = ("time", exact[v].values, cf.attrs(f"{v}, exact flow", kind))
+        data[f"{v}_series"] = ("time", s, cf.attrs(f"{v}, sum of orders 0..{order}", kind))
         err = np.abs(s - exact[v].values)
-        data[f"{v}_abs_error"] = ("time", err)
+        data[f"{v}_abs_error"] = ("time", err, cf.attrs(f"|series - exact|, {v}", kind))
         data[f"{v}_rel_error"] = ("time", err / np.maximum(np.maximum.accumulate(np.abs(exact[v].values)), 1e-300),
-                                  {"long_name": f"|series - exact| / max |exact| up to t, {v}"})
+                                  cf.attrs(f"|series - exact| / max |exact| up to t, {v}"))
     return data
 
 
@@ -88,8 +89,9 @@ def series_vs_exact(cfg: dict, scene: str = "") -> xr.Dataset:
     cc = cfg["convergence"]
     for o, (errs, slope, predicted) in conv.items():
         data[f"convergence_error_order{o}"] = (("eps_study",), errs,
-                                               {"long_name": f"max error of the order-{o} partial sum on "
-                                                f"[0, {cc['t_end']:g}] (u, Omega, omega, delta)"})
+                                               cf.attrs(f"max error of the order-{o} partial sum on "
+                                                        f"[0, {cc['t_end']:g}] (u, Omega, omega, delta, in their "
+                                                        "model units)"))
     ds = xr.Dataset(data, coords={"time": times, "eps_study": np.asarray(cc["eps"], float)})
     ds.attrs.update(state_attrs(params, y0))
     t_end = float(times[-1])

@@ -17,7 +17,7 @@ import time
 import numpy as np
 import xarray as xr
 
-from .. import integrators
+from .. import cf, integrators
 from ..faithfulness import ROUNDING
 from ..model import energy
 from ..params import Params
@@ -114,25 +114,25 @@ def precision_ladder(cfg: dict, scene: str = "") -> xr.Dataset:
     ds = xr.Dataset(
         {
             "spike_time": (("state", "precision", "spike"), spikes,
-                           {"long_name": "times of the Omega spikes after the settled point", "units": "time"}),
+                           cf.attrs("times of the Omega spikes after the settled point", "time")),
             "interval_mean": (("state", "precision"), [[r["interval_mean"] for r in o["runs"]] for o in out],
-                              {"units": "time"}),
+                              cf.attrs("mean interval between the Omega spikes of the run", "time")),
             "interval_sd": (("state", "precision"), [[r["interval_sd"] for r in o["runs"]] for o in out],
-                            {"units": "time", "long_name": "standard deviation of the intervals within the run"}),
+                            cf.attrs("standard deviation of the intervals within the run", "time")),
             "run_wall_s": (("state", "precision"), [[r["wall_s"] for r in o["runs"]] for o in out]),
             "run_energy_max_rel_drift": (("state", "precision"),
                                          [[r["energy_max_rel_drift"] for r in o["runs"]] for o in out]),
             "separation": (("state", "pair", "t_separation"), [[s[every - 1::every] for s in o["separations"]]
                                                               for o in out],
-                           {"long_name": "max |velocity difference| / max |velocity| of the finer run, computed in double "
-                                        "(resolves differences above about 1e-16)"}),
+                           cf.attrs("max |velocity difference| / max |velocity| of the finer run, computed in double "
+                                    "(resolves differences above about 1e-16)")),
             "t_separated": (("state", "pair"), [o["t_separated"] for o in out],
-                            {"long_name": f"first time the separation exceeds {SEPARATED:g} (NaN: never)",
-                             "units": "time"}),
+                            cf.attrs(f"first time the separation exceeds {SEPARATED:g} (NaN: never)", "time")),
             "converged_precision": ("state", np.array([o["converged"] for o in out], dtype=object)),
             "transient_over": ("state", [o["transient_over"] for o in out]),
             "start": (("state", "component"), [cfg["states"][n] for n in names],
-                      {"long_name": "configured start state (u, Omega, omega, delta), before scaling to the label"}),
+                      cf.attrs("configured start state (u, Omega, omega, delta) in model units, before scaling to "
+                               "the label")),
         },
         coords={"state": names, "precision": precs, "component": ["u", "Omega", "omega", "delta"], "pair": [f"{a} / {b}" for a, b in zip(precs[:-1], precs[1:])],
                 "t_separation": cfg["dt"] * every * np.arange(1, out[0]["separations"][0][every - 1::every].size + 1),

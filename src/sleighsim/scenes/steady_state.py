@@ -10,8 +10,8 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from .. import model, poincare, spectra
-from ..attrs import UNITS, state_attrs
+from .. import cf, model, poincare, spectra
+from ..attrs import state_attrs
 from ..integrate import integrate, sample_grid
 from ..io import read_dataset
 from ..params import Params
@@ -42,15 +42,18 @@ def poincare_maps(cfg: dict, scene: str = "") -> xr.Dataset:
     rot = poincare.rotation_number(pts[is2pi])
     E = model.energy(np.c_[pts, c["k"] * (np.pi / 2)], params)
     E0 = float(model.energy(y0, params))
-    units = {"u": UNITS["u"][1], "Omega": UNITS["Omega"][1], "omega": UNITS["omega"][1]}
-    data = {f"p2pi_{v}": ("n2pi", c[v][is2pi], {"units": units[v]}) for v in ("u", "Omega", "omega")}
-    data["p2pi_time"] = ("n2pi", c["time"][is2pi], {"units": "time"})
-    data["return_time"] = ("nret", rt, {"long_name": "t_{n+1} - t_n of P_2pi", "units": "time"})
-    data.update({f"ppi2_{v}": ("npi2", c[v][::stride], {"units": units[v]}) for v in ("u", "Omega", "omega")})
-    data["ppi2_class"] = ("npi2", (c["k"][::stride] % 4).astype(np.int8), {"long_name": "k mod 4, delta = k pi/2"})
+    kind, vel = cf.STATE_KINDS, ("u", "Omega", "omega")
+    data = {f"p2pi_{v}": ("n2pi", c[v][is2pi], cf.attrs(f"{v} at the P_2pi iterates (delta = 0 mod 2 pi)", kind[v]))
+            for v in vel}
+    data["p2pi_time"] = ("n2pi", c["time"][is2pi], cf.attrs("time of the P_2pi iterates", "time"))
+    data["return_time"] = ("nret", rt, cf.attrs("t_{n+1} - t_n of P_2pi", "time"))
+    data.update({f"ppi2_{v}": ("npi2", c[v][::stride], cf.attrs(f"{v} at the P_pi/2 iterates (delta = k pi/2)",
+                                                                  kind[v])) for v in vel})
+    data["ppi2_class"] = ("npi2", (c["k"][::stride] % 4).astype(np.int8), cf.attrs("k mod 4, delta = k pi/2"))
     data["ppi2_cluster"] = ("npi2", loops["labels"].astype(np.int32),
-                            {"long_name": "k-NN graph component in the (u, Omega, omega) projection"})
-    data.update({f"attractor_{v}": ("natt", att[v].values, {"units": units[v]}) for v in ("u", "Omega", "omega")})
+                            cf.attrs("k-NN graph component in the (u, Omega, omega) projection"))
+    data.update({f"attractor_{v}": ("natt", att[v].values, cf.attrs(f"{v} along a sampled stretch of the attractor",
+                                                                    kind[v])) for v in vel})
     ds = xr.Dataset(data)
     ds.attrs.update(state_attrs(params, y0))
     ds.attrs.update(attrs)
@@ -102,7 +105,7 @@ def psd(cfg: dict, scene: str = "") -> xr.Dataset:
     data, out_attrs = {}, {}
     for v in ("u", "Omega"):
         f, S = spectra.psd(run[v].values, cfg["dt"], segment=sc["segment"])
-        data[f"psd_{v}"] = ("frequency", S, {"long_name": f"PSD of {v}", "units": f"({UNITS[v][1]})^2 * time"})
+        data[f"psd_{v}"] = ("frequency", S, cf.attrs(f"PSD of {v}", f"psd_{cf.STATE_KINDS[v]}"))
         lo, hi, fpk = spectra.band_edges(f, S, f_split=sc["f_split"], rel_threshold=sc["rel_threshold"])
         peaks = spectra.peaks_near_zero(f, S, f_split=sc["f_split"], prominence_decades=sc["prominence_decades"],
                                         floor_rel=sc["floor_rel"])
@@ -113,8 +116,9 @@ def psd(cfg: dict, scene: str = "") -> xr.Dataset:
             fc, Sc = spectra.psd(rec[v].values, dt, segment=sc["check_segment"])
             lo_c, hi_c, _ = spectra.band_edges(fc, Sc, f_split=sc["f_split"], rel_threshold=sc["rel_threshold"])
             out_attrs.update({f"{v}_check_{tag}_band_low": lo_c, f"{v}_check_{tag}_band_high": hi_c})
-    ds = xr.Dataset(data, coords={"frequency": ("frequency", f, {"units": "cycles/time"}),
-                                  "angular_frequency": ("frequency", 2 * np.pi * f, {"units": "rad/time"})})
+    ds = xr.Dataset(data, coords={"frequency": ("frequency", f, cf.attrs("frequency", "frequency")),
+                                  "angular_frequency": ("frequency", 2 * np.pi * f,
+                                                        cf.attrs("angular frequency", "angular_frequency"))})
     ds.attrs.update(state_attrs(params, y0))
     ds.attrs.update(attrs)
     ds.attrs.update(out_attrs)

@@ -9,8 +9,8 @@ import time
 import numpy as np
 import xarray as xr
 
-from .. import model
-from ..attrs import UNITS, state_attrs
+from .. import cf, model
+from ..attrs import state_attrs
 from ..integrate import integrate, sample_grid
 from ..params import Params
 from ..sleigh0 import closed_form
@@ -123,15 +123,16 @@ def sleigh0(cfg: dict, scene: str = "") -> xr.Dataset:
 
     out = xr.Dataset(
         {
-            "u_closed": (("trajectory", "t"), u_cf, {"long_name": "u, closed form", "units": UNITS["u"][1]}),
-            "Omega_closed": (("trajectory", "t"), Om_cf, {"long_name": "Omega, closed form", "units": UNITS["Omega"][1]}),
-            "u_integrated": (("trajectory", "t"), u_num, {"long_name": "u, heyoka", "units": UNITS["u"][1]}),
-            "Omega_integrated": (("trajectory", "t"), Om_num, {"long_name": "Omega, heyoka", "units": UNITS["Omega"][1]}),
-            "du": (("u_grid", "Omega_grid"), field[..., 0], {"long_name": "udot on the grid"}),
-            "dOmega": (("u_grid", "Omega_grid"), field[..., 1], {"long_name": "Omegadot on the grid"}),
-            "path_x": ("path_time", path.x.values, {"units": "length"}),
-            "path_y": ("path_time", path.y.values, {"units": "length"}),
-            "path_theta": ("path_time", path.theta.values, {"units": "rad"}),
+            "u_closed": (("trajectory", "t"), u_cf, cf.attrs("u, closed form", "speed")),
+            "Omega_closed": (("trajectory", "t"), Om_cf, cf.attrs("Omega, closed form", "angular_velocity")),
+            "u_integrated": (("trajectory", "t"), u_num, cf.attrs("u, heyoka", "speed")),
+            "Omega_integrated": (("trajectory", "t"), Om_num, cf.attrs("Omega, heyoka", "angular_velocity")),
+            "du": (("u_grid", "Omega_grid"), field[..., 0], cf.attrs("udot on the grid", "acceleration")),
+            "dOmega": (("u_grid", "Omega_grid"), field[..., 1],
+                       cf.attrs("Omegadot on the grid", "angular_acceleration")),
+            "path_x": ("path_time", path.x.values, cf.attrs("path: centre C, x", "length")),
+            "path_y": ("path_time", path.y.values, cf.attrs("path: centre C, y", "length")),
+            "path_theta": ("path_time", path.theta.values, cf.attrs("path: sleigh heading theta", "angle")),
         },
         coords={"t": t, "u_grid": ug, "Omega_grid": Og, "path_time": tp,
                 "u_start": ("trajectory", starts[:, 0]), "Omega_start": ("trajectory", starts[:, 1])},

@@ -10,7 +10,7 @@ import time
 import numpy as np
 import xarray as xr
 
-from .. import fits, model, transient
+from .. import cf, fits, model, transient
 from ..integrate import final_state, integrate, sample_grid
 from ..params import Params
 from ..symmetries import REFERENCE_LABEL, state_at_label
@@ -200,17 +200,19 @@ def attractor_levels(cfg: dict, scene: str = "") -> xr.Dataset:
                            cfg, f"{scene}.long[group {group[r]}]") for r in reps]
     ds = xr.Dataset(
         {
-            "omega_aligned": (("run", "tau"), raw, {"long_name": "omega(t_first + tau / c) / c (sign: mirrored)"}),
+            "omega_aligned": (("run", "tau"), raw, cf.attrs("omega(t_first + tau / c) / c (sign: mirrored)",
+                                                            "angular_velocity")),
             "omega_aligned_smooth": (("run", "tau"), smoothed,
-                                     {"long_name": f"running mean over {smooth:g} of omega_aligned"}),
+                                     cf.attrs(f"running mean over {smooth:g} of omega_aligned", "angular_velocity")),
             "y0": (("run", "component"), np.array(y0s)),
             **{k: ("run", np.asarray(v, float)) for k, v in per.items()},
             "spike_interval_level0_units": ("run", interval),
-            "group": ("run", group, {"long_name": "steady spike interval group (group_rel_tol)"}),
+            "group": ("run", group, cf.attrs("steady spike interval group (group_rel_tol)")),
             "long_spike_time": (("group", "spike"), nan_padded([sp for sp, _ in long_sp])),
             "long_representative_run": ("group", np.array(reps)),
         },
-        coords={"tau": tau, "component": list(model.STATE_NAMES), "label": ("run", runs["label"]),
+        coords={"tau": ("tau", tau, cf.attrs("time tau after the first spike, on level 0's time scale", "time")),
+                "component": list(model.STATE_NAMES), "label": ("run", runs["label"]),
                 "level": ("run", run_level), "state_index": ("run", runs["state"]), "scale_c": ("run", runs["c"]),
                 "group_id": ("group", np.array([group[r] for r in reps]))},
     )

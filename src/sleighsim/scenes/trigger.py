@@ -23,6 +23,7 @@ import numpy as np
 import xarray as xr
 from scipy import stats
 
+from .. import cf
 from ..integrate import integrate, sample_grid
 from ..integrators import EPSILON
 from ..model import STATE_NAMES
@@ -96,14 +97,14 @@ def trigger_law(cfg: dict, scene: str = "") -> xr.Dataset:
     law = fit(np.log10(tol[in_fit]), out[in_fit, 0])
     ds = xr.Dataset(
         {"precision": ("run", np.array([p for p, _ in runs], dtype=object)),
-         "tol": ("run", tol, {"long_name": "Taylor tolerance: the size of the injected error where in_fit"}),
-         "rounding": ("run", [EPSILON[p] for p, _ in runs], {"long_name": "machine epsilon of the arithmetic"}),
-         "in_fit": ("run", in_fit.astype(np.int8), {"long_name": f"tol >= {FAR:g} x rounding (the tolerance sets "
-                                                                  "the injected error), in the finest such arithmetic "
-                                                                  "that ran this tol"}),
-         "first_spike": ("run", out[:, 0], {"units": "time"}),
-         "second_spike": ("run", out[:, 1], {"units": "time"}),
-         "run_wall_s": ("run", out[:, 2], {"units": "s"}),
+         "tol": ("run", tol, cf.attrs("Taylor tolerance: the size of the injected error where in_fit")),
+         "rounding": ("run", [EPSILON[p] for p, _ in runs], cf.attrs("machine epsilon of the arithmetic")),
+         "in_fit": ("run", in_fit.astype(np.int8), cf.attrs(f"1 when tol >= {FAR:g} x rounding (the tolerance sets "
+                                                            "the injected error), in the finest such arithmetic that "
+                                                            "ran this tol, else 0")),
+         "first_spike": ("run", out[:, 0], cf.attrs("time of the first Omega spike", "time")),
+         "second_spike": ("run", out[:, 1], cf.attrs("time of the second Omega spike", "time")),
+         "run_wall_s": ("run", out[:, 2], cf.attrs("wall-clock time of the run", "s")),
          "run_energy_max_rel_drift": ("run", out[:, 3])},
         coords={"run": np.arange(len(runs))},
     )

@@ -14,7 +14,7 @@ import time
 import numpy as np
 import xarray as xr
 
-from .. import frequencies, integrators, lyapunov, model
+from .. import cf, frequencies, integrators, lyapunov, model
 from ..chaos.frequency import (
     frequency_drift,
     frequency_log_ratio,
@@ -400,9 +400,10 @@ def _verdict_vars(per_state, out: list, ind: list) -> dict:
         "verdict": ("state", per_state("verdict").astype(object)),
         "reason": ("state", per_state("reason").astype(object)),
         "state_class": ("state", per_state("klass").astype(object)),
-        "indicator_value": (("state", "indicator"), [[o["values"][i] for i in ind] for o in out], {"units": "1/time"}),
+        "indicator_value": (("state", "indicator"), [[o["values"][i] for i in ind] for o in out],
+                            cf.attrs("value of the chaos indicator (an exponent, a growth rate or a slope)", "rate")),
         "indicator_uncertainty": (("state", "indicator"), [[o["errors"][i] for i in ind] for o in out],
-                                  {"units": "1/time", "long_name": "standard error (replicas or blocks)"}),
+                                  cf.attrs("standard error (replicas or blocks)", "rate")),
         "indicator_verdict": (("state", "indicator"), np.array([[o["verdicts"][i][0] for i in ind] for o in out],
                                                                 dtype=object)),
         "indicator_reason": (("state", "indicator"), np.array([[o["verdicts"][i][1] for i in ind] for o in out],
@@ -413,18 +414,20 @@ def _verdict_vars(per_state, out: list, ind: list) -> dict:
 def _state_vars(per_state) -> dict:
     """The dataset's Lyapunov exponents, class facts and settling facts per state, and the two-trajectory rates."""
     return {
-        "exponent": (("state", "i"), per_state("exponents"), {"units": "1/time"}),
-        "stderr": (("state", "i"), per_state("stderr"), {"units": "1/time"}),
-        "sum_exponents": ("state", per_state("sum_all"), {"units": "1/time"}),
-        "sum_exponents_stderr": ("state", per_state("sum_err"), {"units": "1/time"}),
+        "exponent": (("state", "i"), per_state("exponents"), cf.attrs("Lyapunov exponent lambda_i (Benettin)", "rate")),
+        "stderr": (("state", "i"), per_state("stderr"), cf.attrs("standard error over independent replicas", "rate")),
+        "sum_exponents": ("state", per_state("sum_all"), cf.attrs("sum of the four Lyapunov exponents", "rate")),
+        "sum_exponents_stderr": ("state", per_state("sum_err"), cf.attrs("standard error of the sum", "rate")),
         "R_image": ("state", per_state("r_image").astype(object)),
         "R_image_distance": ("state", per_state("r_image_distance")),
         "mean_u": ("state", per_state("mean_u")), "mean_omega": ("state", per_state("mean_omega")),
         "transient_over": ("state", per_state("transient_over")),
-        "T": ("state", per_state("T"), {"long_name": "Benettin horizon per replica", "units": "time"}),
+        "T": ("state", per_state("T"), cf.attrs("Benettin horizon per replica", "time")),
         "energy_max_rel_drift": ("state", per_state("drift")),
-        "two_trajectory_rate": (("state", "d0"), per_state("two_rates"), {"units": "1/time"}),
-        "two_trajectory_stderr": (("state", "d0"), per_state("two_stderrs"), {"units": "1/time"}),
+        "two_trajectory_rate": (("state", "d0"), per_state("two_rates"),
+                                cf.attrs("growth rate of the two trajectories' separation", "rate")),
+        "two_trajectory_stderr": (("state", "d0"), per_state("two_stderrs"),
+                                  cf.attrs("standard error of the growth rate (consecutive blocks)", "rate")),
     }
 
 
@@ -432,18 +435,20 @@ def _megno_vars(per_state) -> dict:
     """The dataset's MEGNO runs per state."""
     return {
         "megno_Y_mean": (("state", "megno_sample"), per_state("megno_Y_mean"),
-                         {"long_name": "MEGNO running mean <Y> (2: torus with shear, 0: periodic, ~lambda t / 2: chaos)"}),
-        "megno_t": (("state", "megno_sample"), per_state("megno_t"), {"units": "time"}),
-        "megno_final": ("state", per_state("megno_final"), {"long_name": "MEGNO <Y> at T_megno, double run"}),
+                         cf.attrs("MEGNO running mean <Y> (2: torus with shear, 0: periodic, ~lambda t / 2: chaos)")),
+        "megno_t": (("state", "megno_sample"), per_state("megno_t"), cf.attrs("time of the MEGNO sample", "time")),
+        "megno_final": ("state", per_state("megno_final"), cf.attrs("MEGNO <Y> at T_megno, double run")),
         "megno_rate_double": ("state", per_state("megno_rate_double"),
-                              {"units": "1/time", "long_name": "2 x slope of <Y>, double run (~ lambda_1)"}),
-        "megno_rate_double_stderr": ("state", per_state("megno_rate_double_err"), {"units": "1/time"}),
+                              cf.attrs("2 x slope of <Y>, double run (~ lambda_1)", "rate")),
+        "megno_rate_double_stderr": ("state", per_state("megno_rate_double_err"),
+                                     cf.attrs("least-squares error of 2 x slope of <Y>, double run", "rate")),
         "megno_verdict_double": ("state", per_state("megno_verdict_double").astype(object)),
         "megno_precision": ("state", per_state("megno_precision").astype(object),
                             {"long_name": "precision of the run the MEGNO indicator is judged from"}),
         "megno_Y_mean_long_double": (("state", "megno_sample"), per_state("megno_Y_mean_ld"),
-                                     {"long_name": "MEGNO <Y> of the long-double precision check (NaN: not run)"}),
-        "megno_t_long_double": (("state", "megno_sample"), per_state("megno_t_ld"), {"units": "time"}),
+                                     cf.attrs("MEGNO <Y> of the long-double precision check (NaN: not run)")),
+        "megno_t_long_double": (("state", "megno_sample"), per_state("megno_t_ld"),
+                                cf.attrs("time of the long-double MEGNO sample", "time")),
     }
 
 
@@ -451,25 +456,25 @@ def _loschmidt_vars(per_state) -> dict:
     """The dataset's Loschmidt return errors and fits per state."""
     return {
         "loschmidt_rel_error": (("state", "T_loschmidt"), per_state("loschmidt_error"),
-                                {"long_name": "return error (forward T, R, forward T) / max |velocity|, double at tol"}),
+                                cf.attrs("return error (forward T, R, forward T) / max |velocity|, double at tol")),
         "loschmidt_rel_error_long_double": (("state", "T_loschmidt"), per_state("loschmidt_error_ld"),
-                                            {"long_name": "the same in long double at tol_long_double (judged)"}),
+                                            cf.attrs("the same in long double at tol_long_double (judged)")),
         "loschmidt_verdict_double": ("state", per_state("loschmidt_verdict_double").astype(object),
                                      {"long_name": "the Loschmidt verdict of the double run (reported, not judged)"}),
         "loschmidt_power": ("state", per_state("loschmidt_power"),
-                            {"long_name": "exponent p of the power fit error ~ T^p over all usable points, long double"}),
+                            cf.attrs("exponent p of the power fit error ~ T^p over all usable points, long double")),
         "loschmidt_power_stderr": ("state", per_state("loschmidt_power_err"),
-                                   {"long_name": "least-squares error of that exponent"}),
+                                   cf.attrs("least-squares error of that exponent")),
         "loschmidt_tail_power": ("state", per_state("loschmidt_tail_power"),
-                                 {"long_name": "the same over the tail (the last half of the usable points)"}),
+                                 cf.attrs("the same over the tail (the last half of the usable points)")),
         "loschmidt_tail_power_stderr": ("state", per_state("loschmidt_tail_power_err"),
-                                        {"long_name": "least-squares error of the tail's exponent"}),
+                                        cf.attrs("least-squares error of the tail's exponent")),
         "loschmidt_n_used": (("state", "precision"), per_state("loschmidt_n_used"),
-                             {"long_name": "return errors between rounding floor and saturation"}),
+                             cf.attrs("return errors between rounding floor and saturation")),
         "loschmidt_tail_n": (("state", "precision"), per_state("loschmidt_tail_n"),
-                             {"long_name": "of which in the tail"}),
+                             cf.attrs("of which in the tail")),
         "loschmidt_floor": (("state", "precision"), per_state("loschmidt_floor"),
-                            {"long_name": "rounding floor (relative): floor_factor x machine epsilon"}),
+                            cf.attrs("rounding floor (relative): floor_factor x machine epsilon")),
     }
 
 
@@ -477,24 +482,27 @@ def _frequency_vars(ft: dict) -> dict:
     """The dataset's frequency analysis per state and precision (``frequency_table``)."""
     return {
         "frequency_drift": (("state", "frequency_precision", "split"), ft["D"],
-                            {"long_name": "spread of the leading frequency over the windows T / split, relative to "
-                                          "its mean (NaN: split left out, or run not made)"}),
-        "frequency_window": (("state", "frequency_precision", "split"), ft["W"], {"units": "time"}),
+                            cf.attrs("spread of the leading frequency over the windows T / split, relative to its "
+                                     "mean (NaN: split left out, or run not made)")),
+        "frequency_window": (("state", "frequency_precision", "split"), ft["W"],
+                             cf.attrs("window length W = T / split", "time")),
         "frequency_slope": (("state", "frequency_precision"), ft["slope"],
-                            {"long_name": "convergence exponent of that spread, D ~ W^slope, longest to shortest window"}),
-        "frequency_slope_stderr": (("state", "frequency_precision"), ft["slope_err"]),
-        "frequency_leading": (("state", "frequency_precision"), ft["f"],
-                              {"units": "1/time", "long_name": "leading frequency"}),
+                            cf.attrs("convergence exponent of that spread, D ~ W^slope, longest to shortest window")),
+        "frequency_slope_stderr": (("state", "frequency_precision"), ft["slope_err"],
+                                   cf.attrs("least-squares error of that exponent")),
+        "frequency_leading": (("state", "frequency_precision"), ft["f"], cf.attrs("leading frequency", "frequency")),
     }
 
 
 def _long_double_vars(per_state) -> dict:
     """The dataset's long-double precision check per state."""
     return {
-        "lambda_1_long_double": ("state", per_state("ld_lambda_1"), {"units": "1/time"}),
-        "lambda_1_long_double_stderr": ("state", per_state("ld_stderr"), {"units": "1/time"}),
+        "lambda_1_long_double": ("state", per_state("ld_lambda_1"),
+                                 cf.attrs("largest Lyapunov exponent lambda_1 of the long-double check", "rate")),
+        "lambda_1_long_double_stderr": ("state", per_state("ld_stderr"),
+                                        cf.attrs("standard error of that lambda_1 (consecutive blocks)", "rate")),
         "precision_check": ("state", per_state("ld_check").astype(object),
-                            {"long_name": "long-double check of tangent-based chaotic verdicts (precision_rule)"}),
+                            cf.attrs("long-double check of tangent-based chaotic verdicts (precision_rule)", "text")),
     }
 
 
@@ -510,14 +518,14 @@ def _gain_vars(out: list) -> dict:
     gains = [o["gain"] for o in out]
     return {
         "ln_gain": (("state", "cycle"), nan_padded([g["ln_gain"] for g in gains], min_width=1),
-                    {"long_name": "ln G: largest singular value of the one-period tangent map, maximised over its start "
-                                  "in the cycle (double run)"}),
-        "ln_gain_max": ("state", [g["ln_gain_max"] for g in gains], {"long_name": "largest ln G over the cycles"}),
+                    cf.attrs("ln G: largest singular value of the one-period tangent map, maximised over its start "
+                             "in the cycle (double run)")),
+        "ln_gain_max": ("state", [g["ln_gain_max"] for g in gains], cf.attrs("largest ln G over the cycles")),
         "spike_period": ("state", [spike_period(g["spike_times"]) for g in gains],
-                         {"units": "time", "long_name": "median interval between the spikes of the gauge's run: which "
-                                                        "torus of the family the state reached (to about tau_gain)"}),
+                         cf.attrs("median interval between the spikes of the gauge's run: which torus of the family "
+                                  "the state reached (to about tau_gain)", "time")),
         "log10_gain_rounding": (("state", "arithmetic"), [[g["log10_gain_rounding"][a] for a in ROUNDING] for g in gains],
-                                {"long_name": "log10(G_max x unit roundoff of the arithmetic)"}),
+                                cf.attrs("log10(G_max x unit roundoff of the arithmetic)")),
         "follows_orbit": (("state", "arithmetic"), np.array([[g["follows"][a] for a in ROUNDING] for g in gains],
                                                             dtype=object),
                           {"long_name": "does the arithmetic follow the exact orbit (G x rounding below "
@@ -606,8 +614,8 @@ def gather(paths, cfg: dict, scene: str = "") -> xr.Dataset:
         ds[out] = (("realization", "state"), np.array([c[var].values for c in chunks], dtype=object))
     if all("spike_period" in c for c in chunks):
         ds["realization_spike_period"] = (("realization", "state"), [c.spike_period.values for c in chunks],
-                                          {"units": "time", "long_name": "the torus each realization reached: its "
-                                                                         "median spike interval"})
+                                          cf.attrs("the torus each realization reached: its median spike interval",
+                                                   "time"))
     verdicts = [agree(ds.realization_verdict.values[:, i]) for i in range(ds.sizes["state"])]
     classes = [agree(ds.realization_class.values[:, i]) for i in range(ds.sizes["state"])]
     ds["verdict"] = ("state", np.array([v for v, _, _ in verdicts], dtype=object))
@@ -615,7 +623,7 @@ def gather(paths, cfg: dict, scene: str = "") -> xr.Dataset:
                                        zip(verdicts, chunks[0].reason.values)], dtype=object))
     ds["state_class"] = ("state", np.array([v for v, _, _ in classes], dtype=object))
     ds["n_realizations_agreeing"] = ("state", [n for _, n, _ in verdicts],
-                                     {"long_name": "realizations that give the most common verdict"})
+                                     cf.attrs("realizations that give the most common verdict"))
     ds = ds.assign_coords(realization=np.arange(len(chunks)))
     ds.attrs.pop("chunk", None)
     ds.attrs.update(n_realizations=len(chunks), realization_rel=cfg["realization_rel"],
