@@ -27,14 +27,13 @@ def unreadable(results) -> list[Path]:
     return bad
 
 
-def set_aside(results, *, dry_run: bool = False) -> list[tuple[Path, Path]]:
+def set_aside(results) -> list[tuple[Path, Path]]:
     """Move every unreadable product to ``results/unreadable/<its relative path>`` (replacing an
-    older one there), so that the run sees it missing and rebuilds it; nothing is deleted. With
-    ``dry_run``, only say where each would go. Returns [(product, where it goes)]."""
+    older one there), so that the run sees it missing and rebuilds it; nothing is deleted.
+    Returns [(product, where it went)]."""
     results = Path(results)
     moves = [(p, results / SET_ASIDE / p.relative_to(results)) for p in unreadable(results)]
-    if not dry_run:
-        for src, dst in moves:
-            dst.parent.mkdir(parents=True, exist_ok=True)
-            os.replace(src, dst)
+    for src, dst in moves:
+        dst.parent.mkdir(parents=True, exist_ok=True)
+        os.replace(src, dst)
     return moves
