@@ -364,9 +364,11 @@ fi
 # 6. The jobs' states, from the accounting database (print_jobs, above).
 # ---------------------------------------------------------------------------------------------------
 print_jobs
+n_jobs=$("${SACCT[@]}" -n -P -o State | grep -c . || true)
 n_bad=$("${SACCT[@]}" -n -P -o State | grep -vc '^COMPLETED$' || true)
 echo "SLURM run wall time: $slurm_wall s; script time so far: $(($(date +%s) - script_start)) s"
 
+((n_jobs > 0)) || die "sacct lists no job of the run: the accounting did not record it"
 ((n_bad == 0)) || die "$n_bad job(s) did not complete (a retry may have hidden it from Snakemake); logs under $SLURM_RUN/.snakemake/slurm_logs"
 ((diff_rc == 0)) || die "the SLURM results differ from the local ones (see above; $WORK/resultdiff.txt)"
 passed=1

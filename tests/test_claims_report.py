@@ -199,9 +199,11 @@ def test_report_renders_in_headless_chromium(smoke_run, tmp_path):
     m = re.search(r"images: (\d+) broken: (\d+)", dom.stdout)
     assert m, dom.stdout[-2000:] + dom.stderr[-2000:]
     assert int(m.group(1)) >= 12 and int(m.group(2)) == 0
-    assert "claims-grid: whole; chaos: whole" in dom.stdout, re.search(r"first-screen-check.{0,120}", dom.stdout)
+    ids = re.findall(r' id="([^"]+)"', dom.stdout)
+    assert len(ids) == len(set(ids)), sorted(i for i in set(ids) if ids.count(i) > 1)  # every link has one target
+    assert "claims-grid: whole; chaos-answer: whole" in dom.stdout, re.search(r"first-screen-check.{0,120}", dom.stdout)
     ids = [c.id for c in claims.parse_claims(CLAIMS_MD)]
-    grid = dom.stdout[dom.stdout.index('id="claims-grid"'): dom.stdout.index('id="chaos"')]
+    grid = dom.stdout[dom.stdout.index('id="claims-grid"'): dom.stdout.index('id="chaos-answer"')]
     assert all(f'href="#{i}"' in grid and f'<tr id="{i}"' in dom.stdout for i in ids)
     assert "Is the steady state chaotic?" in dom.stdout and "decided in" in dom.stdout
     assert dom.stdout.index('id="answers"') < dom.stdout.index('id="figures"') < dom.stdout.index('id="ledger"') \

@@ -118,6 +118,11 @@ def test_the_report_prices_the_decisive_run_only_where_a_verdict_left_it_undone(
     cluster.write_text(yaml.safe_dump({"scenes": {"chaos_verdict": {"frequency": {"quad_T": 1e5}}}}))
     text = decisive_cost(cost, cluster)
     assert "quad_T = 100000" in text and "0.006 s per time unit" in text and "about 10 min per state" in text
+    assert "(cpu X, 2026-11-24; cost.yaml)" in text
+    unmeasured = tmp_path / "unmeasured.yaml"
+    unmeasured.write_text(yaml.safe_dump({"date": "2026-11-24", "machine": {"cpu_model": "cpu X"}, "rows": rows[2:]}))
+    with pytest.raises(ValueError, match="no measured cost of the flow in quad"):
+        decisive_cost(unmeasured, cluster)
     for verdict, quad_T, shown in (("undecided", 0.0, True), ("fragile", 0.0, True), ("regular", 0.0, False),
                                    ("undecided", 3e4, False)):
         ds = xr.Dataset({"verdict": ("state", np.array([verdict], dtype=object)),

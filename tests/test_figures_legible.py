@@ -77,6 +77,8 @@ def test_fig11_states_the_spread_across_b_from_its_data(tmp_path):
     assert {"grid at b = 0.5", "grid at b = 1", "grid at b = 2"} <= set(labels)
     assert legibility(fig) == []
     plt.close(fig)
+    copies = figures.build("fig11", [grid_dataset(tmp_path / "copies.nc", spread=0.0)]).axes[0].get_title(loc="left")
+    assert "the 3 b columns are copies (filled by the symmetry, not computed)" in copies and "largest spread" not in copies
 
 
 def figure_source(results, name):
@@ -101,3 +103,14 @@ def test_every_smoke_figure_is_legible_and_saved_for_a_paper(smoke_run):
         problems[name] = legibility(fig)
         plt.close(fig)
     assert not any(problems.values()), {k: v for k, v in problems.items() if v}
+
+
+@pytest.mark.parametrize("word, colour", [("chaotic", "chaotic"), ("strange attractor", "chaotic"),
+                                          ("mixed dynamics", "chaotic"), ("regular", "regular"),
+                                          ("undecided", "undecided"), ("undetermined", "undecided"),
+                                          ("fragile", "fragile"), ("a word it does not know", "undecided")])
+def test_the_chaos_table_colours_each_verdict_and_class_as_the_report_does(word, colour):
+    from sleighsim.outputs.figures.chaos import _shade
+    from sleighsim.outputs.page import CHAOS_COLOURS
+
+    assert _shade(word) == CHAOS_COLOURS[colour]

@@ -26,7 +26,6 @@ this 2-core machine (medians over seeds or repeats, after a warm-up call):
 """
 
 import math
-import time
 from fractions import Fraction
 
 import numpy as np
@@ -37,16 +36,6 @@ from sleighsim import frequencies as fq
 from sleighsim.chaos.common import linfit
 
 LINES = ((0.1, 1.0, 0.0), (0.1 * math.sqrt(2), 0.4, 0.3), (0.1 * (1 + math.sqrt(2)), 0.1, 1.1))
-
-
-def _median_time(fn, repeats=7):
-    fn()
-    times = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return float(np.median(times))
 
 
 def _nafflib_frequency(x, dt, band=None, lines=8):
@@ -94,26 +83,23 @@ def _lorenz_records(hy, n_records, T=2000.0, dt=0.02):
 
 def test_naff_ours_finds_the_line_in_chaotic_windows_where_nafflib_does_not(hy):
     """drift's banded windows (around f_ref, splits 2 to 16) of Lorenz x(t): windows without a
-    frequency and splits lost (a split with such a window leaves the convergence exponent), and the
-    time over all windows."""
+    frequency and splits lost (a split with such a window leaves the convergence exponent). Speed is
+    measured in the module docstring, not asserted (a loaded CI machine would make it flaky)."""
     pytest.importorskip("nafflib")
     _nafflib_frequency(np.cos(np.arange(64.0)), 1.0)  # numba compiles nafflib on its first call
     dt = 0.02
-    lost = {"ours": [0, 0, 0.0], "nafflib": [0, 0, 0.0]}
+    lost = {"ours": [0, 0], "nafflib": [0, 0]}
     for x in _lorenz_records(hy, 4):
         f_ref = fq.drift(x, dt)["f_ref"]
         band = (0.5 * f_ref, 1.5 * f_ref)
         for k in (2, 4, 8, 16):
             m = x.size // k
             for name, fn in (("ours", fq.leading_frequency), ("nafflib", _nafflib_frequency)):
-                t0 = time.perf_counter()
                 f = np.array([fn(x[i * m:(i + 1) * m], dt, band) for i in range(k)])
-                lost[name][2] += time.perf_counter() - t0
                 lost[name][0] += int(np.isnan(f).sum())
                 lost[name][1] += bool(np.isnan(f).any())
-    print(f"Lorenz banded windows (120): NaN windows, splits lost of 16, seconds: {lost}")
+    print(f"Lorenz banded windows (120): NaN windows, splits lost of 16: {lost}")
     assert lost["ours"][0] <= lost["nafflib"][0] and lost["ours"][1] <= lost["nafflib"][1], lost
-    assert lost["ours"][2] <= 3 * lost["nafflib"][2], lost  # time: not far behind
 
 
 def _exact_line(x, y):
@@ -141,8 +127,6 @@ def test_linfit_is_as_accurate_as_linregress_and_keeps_its_stderr_on_a_near_exac
         assert got == pytest.approx(want, rel=1e-13)
     err_ours, err_lr = abs(ours[1] / se - 1), abs(lr.stderr / se - 1)
     assert err_ours <= max(err_lr, 1e-14) and err_ours < 1e-8, (err_ours, err_lr)
-    t_ours, t_lr = _median_time(lambda: linfit(x, y), 51), _median_time(lambda: linregress(x, y), 51)
-    assert t_ours <= t_lr, (t_ours, t_lr)
 
 
 def _former_refine_frequency(t, x, w_guess):

@@ -29,7 +29,8 @@ def unreadable(results) -> list[Path]:
 
 def set_aside(results) -> list[tuple[Path, Path]]:
     """Move every unreadable product to ``results/unreadable/<its relative path>`` (replacing an
-    older one there), so that the run sees it missing and rebuilds it; nothing is deleted.
+    older unreadable copy there, the only file it removes), so that a run that needs it sees it
+    missing and builds it again.
     Returns [(product, where it went)]."""
     results = Path(results)
     moves = [(p, results / SET_ASIDE / p.relative_to(results)) for p in unreadable(results)]

@@ -167,12 +167,15 @@ def decisive_cost(precision_cost, cluster_config) -> str:
     there (chaos_verdict.frequency.quad_T) times quad's measured cost per time unit (the flow in
     compact mode, benchmarks/precision_cost.yaml; one core), per state and realization."""
     cost = yaml.safe_load(Path(precision_cost).read_text())
-    per_tu = next(r["cost_s_per_tu"] for r in cost["rows"]
-                  if (r["system"], r["precision"], r["compact_mode"], r["high_accuracy"]) == ("flow", "quad", True, False))
+    rows = [r["cost_s_per_tu"] for r in cost["rows"]
+            if (r["system"], r["precision"], r["compact_mode"], r["high_accuracy"]) == ("flow", "quad", True, False)]
+    if not rows:
+        raise ValueError(f"{precision_cost}: no measured cost of the flow in quad (compact mode)")
+    per_tu = rows[0]
     quad_T = yaml.safe_load(Path(cluster_config).read_text())["scenes"]["chaos_verdict"]["frequency"]["quad_T"]
     return (f"The decisive computation left to {Path(cluster_config).name}, frequency analysis in quad over quad_T = "
             f"{quad_T:g} time units, costs {per_tu:.2g} s per time unit on one core of the measuring machine "
-            f"({cost['machine']['cpu_model']}, {str(cost['date'])[:10]}; benchmarks/precision_cost.yaml): about "
+            f"({cost['machine']['cpu_model']}, {str(cost['date'])[:10]}; {Path(precision_cost).name}): about "
             f"{quad_T * per_tu / 60:.0f} min per state and realization.")
 
 

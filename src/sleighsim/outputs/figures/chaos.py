@@ -9,16 +9,18 @@ from matplotlib.lines import Line2D
 from matplotlib.ticker import NullFormatter
 
 from ...io import read_dataset
+from ..page import CHAOS_COLOURS
 from .common import LABELS, RATE, WIDTH, finish
 
-#: Cell colours of a verdict or class: red chaotic (any chaotic class), blue regular, grey undecided.
-SHADES = {"chaotic": "#f4b0b0", "regular": "#b3cdf2", "undecided": "#dddddd", "undetermined": "#dddddd"}
+#: The chaotic classes of a state (chaos.rule.classify), drawn in the chaotic colour.
+CHAOTIC_CLASSES = ("strange attractor", "conservative-type chaos", "mixed dynamics")
 PRECISION_LINES = {"double": "o:", "long double": "s-", "quad": "^--"}
 
 
 def _shade(word: str) -> str:
-    """The cell colour of a verdict or class (the chaotic classes are red)."""
-    return SHADES.get(word, SHADES["chaotic"])
+    """The cell colour of a verdict or class, as the report colours verdicts (page.CHAOS_COLOURS):
+    the chaotic classes as chaotic, "undetermined" and any word it does not know as undecided."""
+    return CHAOS_COLOURS.get("chaotic" if word in CHAOTIC_CLASSES else word, CHAOS_COLOURS["undecided"])
 
 
 def _cell(ds, k: int, j: int) -> str:
