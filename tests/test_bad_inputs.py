@@ -86,6 +86,8 @@ LONG_RUNS = [
      r"scenes.hardcases: about 1e\+15 time units .* at least 1.39e\+05 CPU days \(limit 30\); its longest horizon "
      r"T_long = 1e\+15 must be shorter"),
     (("scenes", "main_drift", "T"), 1e12, r"scenes.main_drift: .* 139 CPU days .* horizon T = 1e\+12"),
+    (("scenes", "fig11_grid", "T_round"), 1e13,  # chunked: the largest chunk's rows decide
+     r"scenes.fig11_grid: .* CPU days \(limit 30\); more chunks \(n_chunks = \d+\) or shorter horizons \(the longest: "),
     (("scenes", "chaos_verdict", "n_chunks"), 400,
      r"scenes.chaos_verdict.n_chunks = 400 would make 1200 jobs; at most 1000"),
     (("scenes", "lyap_spectrum", "realizations"), 5000, r"scenes.lyap_spectrum.realizations = 5000 would make"),
@@ -182,3 +184,15 @@ def _call(fn, kw):
 def test_library_calls_refuse_bad_arguments_naming_them(fn, kw, error, message):
     with pytest.raises(error, match=message):
         _call(fn, kw)
+
+
+def test_the_runtime_bound_is_the_cheapest_measured_cost_per_time_unit(root):
+    """configcheck's runtime refusal is a lower bound: its cost per time unit may not exceed the
+    cheapest double-precision flow measured in benchmarks/precision_cost.yaml, nor lie far below it."""
+    import yaml
+
+    from sleighsim.configcheck import SECONDS_PER_TIME_UNIT
+
+    rows = yaml.safe_load((root / "benchmarks" / "precision_cost.yaml").read_text())["rows"]
+    cheapest = min(r["cost_s_per_tu"] for r in rows if r["system"] == "flow" and r["precision"] == "double")
+    assert 0.5 * cheapest <= SECONDS_PER_TIME_UNIT <= cheapest, (SECONDS_PER_TIME_UNIT, cheapest)

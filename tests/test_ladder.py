@@ -82,8 +82,8 @@ def test_the_findings_are_composed_from_the_datasets(tmp_path):
     (st0, main), (st1, rotor) = [(st, " ".join(s)) for st, s in found["states"]]
     assert (st0, st1) == ("main", "rotor_a") and not found["missing"] and found["ladders"] is None
     assert "double 2311.5 +- 14.0; long double 2338.5 +- 7.6 (the paper: about 2200 (C05))" in main
-    assert "separate (1e-3) at t = 2062" in main and "e^36.3; double does not follow (G x rounding 10^-0.2)" in main
+    assert "separate (0.001) at t = 2062" in main and "e^36.3; double does not follow (G x rounding 10^-0.2)" in main
     assert "Chaos verdict: undecided (all 3 realizations agree)" in main
     assert "no spike train within the run" in rotor and "(the paper: no value for this state)" in rotor
-    assert "stay within 1e-3" in rotor and "Mechanism" not in rotor
+    assert "stay within 0.001" in rotor and "Mechanism" not in rotor
     assert precision_findings(rows, {}) == {"states": [], "missing": True, "ladders": None}

@@ -351,9 +351,10 @@ def check_runtime(name: str, kind: str, cfg: dict) -> None:
     days = units * SECONDS_PER_TIME_UNIT / 86400
     if days > MAX_JOB_CPU_DAYS:
         key, value = _longest_horizon(cfg)
+        fix = (f"more chunks (n_chunks = {cfg.get('n_chunks', 1)}) or shorter horizons (the longest: {key} = {value:g})"
+               if KINDS[kind].chunked else f"its longest horizon {key} = {value:g} must be shorter")
         raise ConfigError(f"scenes.{name}: about {units:.3g} time units integrated in one job would take at least "
-                          f"{days:.3g} CPU days (limit {MAX_JOB_CPU_DAYS:g}); its longest horizon {key} = {value:g} "
-                          f"must be shorter")
+                          f"{days:.3g} CPU days (limit {MAX_JOB_CPU_DAYS:g}); {fix}")
 
 
 def _precisions(w, cfg):

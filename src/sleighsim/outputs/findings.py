@@ -9,6 +9,7 @@ import math
 import numpy as np
 
 from ..io import read_dataset
+from ..observables import SEPARATED
 from ..symmetries import REFERENCE_STATE
 from .page import Table
 
@@ -27,8 +28,8 @@ def _state_sentences(ladder, verdict, k: int, paper_interval: str) -> list[str]:
            + f" (the paper: {paper_interval}). Converged precision: {ladder.converged_precision.values[k]}."]
     for i, pair in enumerate(ladder.pair.values):
         t = float(ladder.t_separated.values[k, i])
-        out.append(f"The {pair} orbits " + (f"separate (1e-3) at t = {t:g}." if math.isfinite(t)
-                                            else "stay within 1e-3 over the whole run."))
+        out.append(f"The {pair} orbits " + (f"separate ({SEPARATED:g}) at t = {t:g}." if math.isfinite(t)
+                                            else f"stay within {SEPARATED:g} over the whole run."))
     if verdict is not None and st in verdict.state.values and "ln_gain_max" in verdict:
         i = list(verdict.state.values).index(st)
         g = float(verdict.ln_gain_max.values[i])
@@ -68,8 +69,8 @@ def scene_ladders(datasets: dict) -> Table | None:
 
 def _ladder_summary(ds) -> str:
     """When a scene ladder's orbits separate, and which arithmetic follows them (faithfulness gauge)."""
-    sep = ([f"{pair}: " + (f"separate (1e-3) at t = {t:g} after the settled point" if math.isfinite(t)
-                           else "within 1e-3 over the sampled stretch")
+    sep = ([f"{pair}: " + (f"separate ({SEPARATED:g}) at t = {t:g} after the settled point" if math.isfinite(t)
+                           else f"within {SEPARATED:g} over the sampled stretch")
             for pair, t in zip(ds.pair.values, ds.t_separated.values)] if "t_separated" in ds else [])
     out = f"orbits {'; '.join(sep)}" if sep else "no orbit comparison"
     if "follows_orbit" in ds and math.isfinite(ds.attrs["ln_gain_max"]):

@@ -20,6 +20,7 @@ import xarray as xr
 from .. import cf, integrators
 from ..faithfulness import ROUNDING
 from ..model import energy
+from ..observables import SEPARATED
 from ..params import Params
 from ..symmetries import state_at_label
 from ..transient import settle, spike_times
@@ -29,8 +30,6 @@ log = logging.getLogger("sleighsim")
 
 #: Taylor tolerance of each precision's run (its machine epsilon).
 TOL = {"double": 2.0**-52, "long double": 2.0**-63, "quad": 2.0**-112}
-#: The separation at which two runs no longer follow one orbit.
-SEPARATED = 1e-3
 
 
 # the docstring is written into the precision_ladder dataset (attribute agreement_rule)
