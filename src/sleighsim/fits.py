@@ -16,6 +16,8 @@ import numpy as np
 from scipy.optimize import curve_fit
 from scipy.signal import periodogram
 
+from .chaos.common import linfit
+
 METHOD = ("least-squares fit of c0 + r t + A sin(w t) + B cos(w t), w free (scipy curve_fit); uncertainty = "
           "max(formal standard error, half-difference of the fits on the two halves of the window)")
 
@@ -86,12 +88,8 @@ def loglog(x, y, yerr=None, *, min_points: int = 2) -> tuple[float, float, float
         return nan, nan, nan
     lx, ly = np.log(x), np.log(y)
     if yerr is None:
-        k, c = np.polyfit(lx, ly, 1)
-        if x.size < 3:
-            return float(k), float(c), nan
-        resid = ly - (k * lx + c)
-        se = math.sqrt(float(np.sum(resid**2)) / (x.size - 2) / float(np.sum((lx - lx.mean()) ** 2)))
-        return float(k), float(c), se
+        k, se, _, c = linfit(lx, ly)
+        return k, c, se
     w = 1.0 / np.maximum(np.asarray(yerr, float) / y, 1e-12) ** 2
     X = np.c_[lx, np.ones(x.size)]
     cov = np.linalg.inv(X.T @ (w[:, None] * X))
