@@ -13,18 +13,20 @@ import netCDF4
 SET_ASIDE = "unreadable"
 
 
+def readable(path) -> bool:
+    """Whether netCDF4 can open ``path`` (False when it is absent, empty or truncated)."""
+    try:
+        netCDF4.Dataset(path).close()
+    except OSError:
+        return False
+    return True
+
+
 def unreadable(results) -> list[Path]:
     """The netCDF files under ``results`` (outside ``SET_ASIDE``) that netCDF4 cannot open."""
     results = Path(results)
-    bad = []
-    for path in sorted(results.rglob("*.nc")):
-        if SET_ASIDE in path.relative_to(results).parts[:1]:
-            continue
-        try:
-            netCDF4.Dataset(path).close()
-        except OSError:
-            bad.append(path)
-    return bad
+    return [p for p in sorted(results.rglob("*.nc"))
+            if SET_ASIDE not in p.relative_to(results).parts[:1] and not readable(p)]
 
 
 def set_aside(results) -> list[tuple[Path, Path]]:

@@ -33,7 +33,6 @@ import sys
 from dataclasses import astuple, dataclass, field, fields
 from pathlib import Path
 
-import netCDF4
 import numpy as np
 import xarray as xr
 
@@ -42,6 +41,7 @@ from ..faithfulness import UNKNOWN
 from ..integrators import EPSILON
 from ..io import read_dataset, write_dataset, write_text
 from ..ops.facts import BASE_CONFIG, merged_config
+from ..ops.integrity import readable
 from ..registry import (
     CAUSES,
     EVIDENCE,
@@ -415,15 +415,9 @@ def main(argv=None) -> int:
 def missing_products(data_dir, figures_dir, config: dict) -> list[str]:
     """The datasets (``registry.run_datasets``) and figures of the config's default run that are
     absent from ``data_dir`` / ``figures_dir`` or cannot be opened, as paths."""
-    out = []
-    for name in run_datasets(config):
-        path = Path(data_dir) / f"{name}.nc"
-        try:
-            netCDF4.Dataset(path).close()
-        except OSError:
-            out.append(str(path))
-    out += [str(p) for f in figures_built(config) if not (p := Path(figures_dir) / f"{f}.png").is_file()]
-    return out
+    data = [Path(data_dir) / f"{name}.nc" for name in run_datasets(config)]
+    figures = [Path(figures_dir) / f"{f}.png" for f in figures_built(config)]
+    return [str(p) for p in data if not readable(p)] + [str(p) for p in figures if not p.is_file()]
 
 
 if __name__ == "__main__":
