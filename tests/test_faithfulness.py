@@ -131,3 +131,22 @@ def test_the_report_prices_the_decisive_run_only_where_a_verdict_left_it_undone(
         write_dataset(ds, tmp_path / "v.nc")
         a = answers([], {"chaos_verdict": tmp_path / "v.nc"}, {}, decisive=text)
         assert a["decisive"] == (text if shown else ""), (verdict, quad_T)
+
+
+def test_the_first_screen_names_the_arithmetic_each_state_was_decided_in():
+    """report._decided_in: MEGNO's precision, the frequency analysis' precisions, and which arithmetic
+    follows the orbit (some, none, or unknown when the gauge saw no complete cycle)."""
+    import xarray as xr
+
+    from sleighsim.outputs.report import _decided_in
+
+    follows = np.array([["does not follow", "follows", "follows"], ["does not follow"] * 3, ["unknown"] * 3], dtype=object)
+    ds = xr.Dataset({"megno_precision": ("state", np.array(["long double", "double", "double"], dtype=object)),
+                     "follows_orbit": (("state", "arithmetic"), follows)},
+                    coords={"state": ["a", "b", "c"], "arithmetic": list(fa.ROUNDING),
+                            "frequency_precision": ["double", "long double"]})
+    assert _decided_in(ds, 0) == ("MEGNO: long double; frequency analysis: double, long double; "
+                                  "follows the orbit: long double, quad")
+    assert _decided_in(ds, 1).endswith("follows the orbit: none")
+    assert _decided_in(ds, 2).endswith("follows the orbit: unknown")
+    assert _decided_in(xr.Dataset(coords={"state": ["a"]}), 0) == ""
