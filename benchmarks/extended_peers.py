@@ -22,7 +22,7 @@ The paper's sleigh (eps 0.1, b 1, K2 1.1) from y0 = (0, 0.1, 1, 0) (peers.Y0_REF
 
 Every method starts from the same state and parameters: the physical parameters are doubles, exact in
 every arithmetic; heyoka's runtime coefficients K_j are computed in each integrator's own arithmetic
-(model.heyoka_pars, as integrators.set_pars gives them), mpmath computes them inside the rhs.
+(equations.heyoka_pars, as integrators.set_pars gives them), mpmath computes them inside the rhs.
 
 Error: the end state at T against a reference by heyoka ``real`` at 200 bits, tol 2^-200 (checked
 against 240 bits, tol 2^-240: ``reference.check``), as max |y - y_ref| over the four components, delta
@@ -56,9 +56,12 @@ sys.path.insert(0, str(REPO / "src"))
 
 import numpy as np
 
-from sleighsim import integrators, mechanics, model, peers
+from sleighsim.engine import integrators
+from sleighsim.model import mechanics
+from sleighsim.model import equations
+from sleighsim.engine import peers
 from sleighsim.ops import benchio
-from sleighsim.params import Params
+from sleighsim.model.params import Params
 
 say = partial(benchio.say, "extended_peers")
 
@@ -217,7 +220,7 @@ def flow_real(prec: int, tol, pars, cold: bool):
     def build():
         y0 = real_values([0.0, 0.1, 1.0, integrators.DELTA_SHIFT], prec)
         t = tol if isinstance(tol, hy.real) else hy.real(tol, prec)
-        return hy.taylor_adaptive(model.heyoka_system(False, integrators.DELTA_SHIFT), y0, tol=t, pars=pars,
+        return hy.taylor_adaptive(equations.heyoka_system(False, integrators.DELTA_SHIFT), y0, tol=t, pars=pars,
                                   fp_type=hy.real, prec=prec, compact_mode=True)
 
     return _build(("extended_peers real", prec, str(tol)), build, cold)
@@ -372,9 +375,9 @@ def run(opts) -> dict:
 
     # start-up outside every setup timing: the SymPy model, the runtime parameters, LLVM
     mechanics.derive()
-    model.heyoka_system(False, integrators.DELTA_SHIFT)
+    equations.heyoka_system(False, integrators.DELTA_SHIFT)
     for fp in (np.longdouble, hy.real128):
-        model.compile_pars(fp)
+        equations.compile_pars(fp)
     x = hy.make_vars("x")
     hy.taylor_adaptive([(x, -x)], [1.0])
     if cold:
@@ -404,7 +407,7 @@ def run(opts) -> dict:
     def heyoka_rows(method, precision, tols):
         for tol in tols:
             ta, wall, cpu = flow_native(precision, tol, cold)
-            pars = model.heyoka_pars(params, ta.pars.dtype)  # as integrators.set_pars computes them
+            pars = equations.heyoka_pars(params, ta.pars.dtype)  # as integrators.set_pars computes them
             t = timed(heyoka_runner(ta, pars, T, f"{method} tol {tol:g}"), opts["repeats"])
             raw, steps = t["result"]
             add(method, tol, wall, t, model_state(raw, True), steps, int(ta.order), {"setup_cpu_s": cpu})
@@ -412,8 +415,8 @@ def run(opts) -> dict:
     heyoka_rows("heyoka long double", "long double", opts["ld_tols"])
     heyoka_rows("heyoka real128", "quad", opts["quad_tols"])
 
-    # real at 113 bits: real128's own parameter values (model.heyoka_pars in real128), converted exactly
-    pars113 = real_values(model.heyoka_pars(params, hy.real128), QUAD_BITS)
+    # real at 113 bits: real128's own parameter values (equations.heyoka_pars in real128), converted exactly
+    pars113 = real_values(equations.heyoka_pars(params, hy.real128), QUAD_BITS)
     for tol in opts["quad_tols"]:
         ta, wall, cpu = flow_real(QUAD_BITS, tol, pars113, cold)
         t = timed(heyoka_runner(ta, pars113, T, f"real 113 tol {tol:g}"), opts["repeats"])

@@ -34,7 +34,9 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO / "src"))
 
-from sleighsim.ops import facts, jobgraph, plots
+from sleighsim.ops import facts
+from sleighsim.ops import jobgraph
+from sleighsim.report.figures import costs as plots
 from sleighsim.ops import summary as costsummary
 
 

@@ -6,7 +6,7 @@ quad, compact mode on and off, and heyoka's high_accuracy mode in double (its co
 
 Rows: every (system, precision, compact_mode, high_accuracy) with system "flow" (the 4-state sleigh) or
 "tangent" (the sleigh plus one tangent vector, heyoka's variational equations, k = 1), precision one of
-sleighsim.integrators.EPSILON, each at its own machine epsilon as tolerance, and high_accuracy on only in
+sleighsim.engine.integrators.EPSILON, each at its own machine epsilon as tolerance, and high_accuracy on only in
 double. Integrators come from the project's builders (integrators.flow: compact mode off in double and
 long double, on in quad; lyapunov.sleigh_tangent; lyapunov.tangent_integrator for quad); where they have no such option
 (compact_mode for the flow, high_accuracy anywhere) the integrator is built the way they build it with that
@@ -50,10 +50,13 @@ sys.path.insert(0, str(REPO / "src"))
 
 import numpy as np
 
-from sleighsim import integrators, lyapunov, model, transient
+from sleighsim.engine import integrators
+from sleighsim.chaos import lyapunov
+from sleighsim.model import equations
+from sleighsim.engine import transient
 from sleighsim.ops import benchio
-from sleighsim.params import Params
-from sleighsim.symmetries import REFERENCE_LABEL, REFERENCE_STATE, state_at_label
+from sleighsim.model.params import Params
+from sleighsim.model.symmetries import REFERENCE_LABEL, REFERENCE_STATE, state_at_label
 
 say = partial(benchio.say, "precision_cost")
 
@@ -93,8 +96,8 @@ def _flow_variant(tol, long_double, quad, compact, ha):
         import heyoka as hy
 
         y0 = np.array([0.0, 0.1, 1.0, integrators.DELTA_SHIFT]).astype(fp)
-        return hy.taylor_adaptive(model.heyoka_system(False, integrators.DELTA_SHIFT), y0, tol=fp(tol),
-                                  pars=model.compile_pars(fp), fp_type=fp, compact_mode=compact, high_accuracy=ha)
+        return hy.taylor_adaptive(equations.heyoka_system(False, integrators.DELTA_SHIFT), y0, tol=fp(tol),
+                                  pars=equations.compile_pars(fp), fp_type=fp, compact_mode=compact, high_accuracy=ha)
 
     return integrators.compiled(("precision_cost flow", tol, long_double, quad, compact, ha), build)[0]
 
@@ -102,16 +105,16 @@ def _flow_variant(tol, long_double, quad, compact, ha):
 def _tangent_variant(tol, long_double, quad, compact, ha):
     """lyapunov.sleigh_tangent's build (k = 1) in any precision, with high_accuracy set."""
     fp = integrators.fp_type(long_double, quad)
-    sys_ = model.heyoka_system(delta_shift=integrators.DELTA_SHIFT)
+    sys_ = equations.heyoka_system(delta_shift=integrators.DELTA_SHIFT)
 
     def build():
         if not ha:
-            return lyapunov.tangent_integrator(sys_, 1, tol, model.compile_pars(fp), compact_mode=compact,
+            return lyapunov.tangent_integrator(sys_, 1, tol, equations.compile_pars(fp), compact_mode=compact,
                                                fp_type=fp)[0]
         import heyoka as hy  # lyapunov.tangent_integrator with high_accuracy on
 
         vsys = hy.var_ode_sys(sys_, [v for v, _ in sys_[:1]], order=1)
-        return hy.taylor_adaptive(vsys, np.full(len(sys_), 0.1, dtype=fp), tol=fp(tol), pars=model.compile_pars(fp),
+        return hy.taylor_adaptive(vsys, np.full(len(sys_), 0.1, dtype=fp), tol=fp(tol), pars=equations.compile_pars(fp),
                                   compact_mode=compact, fp_type=fp, high_accuracy=True)
 
     return integrators.compiled(("precision_cost tangent", 1, tol, long_double, quad, compact, ha), build)[0]
@@ -275,9 +278,9 @@ def run(opts) -> dict:
     load = {"start": benchio.loadavg()}
 
     # start-up outside the compile timings: the SymPy model, the runtime parameters, LLVM
-    model.heyoka_system(False, integrators.DELTA_SHIFT)
+    equations.heyoka_system(False, integrators.DELTA_SHIFT)
     for fp in (float, np.longdouble, hy.real128):
-        model.compile_pars(fp)
+        equations.compile_pars(fp)
     x = hy.make_vars("x")
     hy.taylor_adaptive([(x, -x)], [1.0])
     if opts["cold_compile"]:

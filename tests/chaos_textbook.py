@@ -28,7 +28,8 @@ import math
 
 import numpy as np
 
-from sleighsim.chaos import orbits, tangent
+from sleighsim.chaos import orbits
+from sleighsim.chaos import tangent
 from sleighsim.chaos.verdicts import UNDECIDED
 
 LORENZ_LAMBDA = 0.9056

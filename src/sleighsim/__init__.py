@@ -1,24 +1,26 @@
 """sleighsim: computational companion to "Chaotic dynamics of the Chaplygin sleigh
 with a passive internal rotor" (Fedonyuk and Tallapragada).
 
-Layout: engines with plain arguments live in this package's top-level modules (mechanics,
-params, model, symmetries, integrate, poincare, lyapunov, transient, spectra, fits, ...);
-:mod:`sleighsim.scenes` turns config blocks into datasets, one module per analysis stage;
-:mod:`sleighsim.outputs` draws the figures, judges the claims and writes the report; what the
-workflow builds is declared once in :mod:`sleighsim.registry`.
+Layout, in layers whose imports run downward only (docs/layout.md; import-linter contracts in
+pyproject.toml): ``io`` (datasets, CF, integrity), ``model`` (mechanics, parameters, equations,
+symmetries), ``engine`` (integrators), ``chaos`` (indicators and their judges), ``analysis``
+(spectra, fits, windows, observables), ``scenes`` (config blocks to datasets, one module per
+kind), ``claims`` (the ledger), ``report`` (figures and the page), ``ops`` (registry, config
+checks, costs) and ``cli``.
 """
 
 import importlib
 
 #: The package-level names and the module each comes from, imported on first use (PEP 562), so a
 #: job that only draws or reads datasets does not import SymPy (0.6 s). The integrator is
-#: sleighsim.integrate.integrate (the package attribute ``integrate`` is its module).
+#: sleighsim.engine.integrate.integrate (the package attribute ``integrate`` is its module).
 _EXPORTS = {
-    "IntegrationError": "integrate", "final_state": "integrate", "sample_grid": "integrate",
-    "benettin": "lyapunov", "mean_divergence": "lyapunov", "tangent_integrator": "lyapunov", "derive": "mechanics",
-    "energy": "model", "jacobian": "model", "rhs": "model", "Params": "params", "REFERENCE_LABEL": "symmetries",
-    "REFERENCE_STATE": "symmetries", "energy_label": "symmetries", "reverse": "symmetries",
-    "state_at_label": "symmetries",
+    "IntegrationError": "engine.integrate", "final_state": "engine.integrate", "sample_grid": "engine.integrate",
+    "integrate": "engine.integrate", "benettin": "chaos.lyapunov", "mean_divergence": "chaos.lyapunov",
+    "tangent_integrator": "chaos.lyapunov", "derive": "model.mechanics", "energy": "model.equations",
+    "jacobian": "model.equations", "rhs": "model.equations", "Params": "model.params",
+    "REFERENCE_LABEL": "model.symmetries", "REFERENCE_STATE": "model.symmetries", "energy_label": "model.symmetries",
+    "reverse": "model.symmetries", "state_at_label": "model.symmetries",
 }
 
 

@@ -1,5 +1,6 @@
-# Names the rules share, all derived from the config and sleighsim.registry (nothing listed here).
-from sleighsim import registry, scenes
+# Names the rules share, all derived from the config and sleighsim.ops.registry (nothing listed here).
+from sleighsim import scenes
+from sleighsim.ops import registry
 
 R = config["results"]
 SCENES = config["scenes"]
@@ -17,7 +18,7 @@ FIRST = [
 ]
 PLAIN = [n for n in ALL_DATASETS if n not in CHUNKED and n not in FIRST]
 # Scenes run in several precisions from one settled point ({scene: precisions}), the datasets of
-# their finer precisions and their ladders (sleighsim.observables), by name under data/.
+# their finer precisions and their ladders (sleighsim.analysis.observables), by name under data/.
 LADDERED = registry.laddered(config, on_request=True)
 LADDERED_CHUNKED = [
     s for s in LADDERED if s in CHUNKED

@@ -69,7 +69,7 @@ for _target in [d for d in ALL_DATASETS if d not in ALL_FIGURES]:
         localrule: True
 
 
-# The atlas of on-request chaos surveys (sleighsim.registry.ATLAS): snakemake -c2 atlas
+# The atlas of on-request chaos surveys (sleighsim.ops.registry.ATLAS): snakemake -c2 atlas
 rule atlas:
     input:
         figure_files([f for f in registry.ATLAS if f in ALL_FIGURES]),

@@ -3,7 +3,7 @@
 from pathlib import Path
 
 from sleighsim.ops.runlog import logging_to
-from sleighsim.outputs import claims
+from sleighsim.claims import ledger as claims
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logging_to(sm.log[0]) as log:

@@ -1,7 +1,7 @@
 """Draw one figure from its datasets (or, for a schematic, its config block) (Snakemake script)."""
 
 from sleighsim.ops.runlog import logging_to
-from sleighsim.outputs import figures
+from sleighsim.report import figures
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logging_to(sm.log[0]):

@@ -1,11 +1,12 @@
 """Compare a laddered scene's key observables across its precisions (Snakemake script)."""
 
-from sleighsim import io, observables
+from sleighsim.io import netcdf
+from sleighsim.analysis import observables
 from sleighsim.ops.runlog import logging_to
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logging_to(sm.log[0]):
-    runs = [io.read_dataset(p) for p in sm.input.runs]
+    runs = [netcdf.read_dataset(p) for p in sm.input.runs]
     ds = observables.ladder(sm.params.kind, runs, list(sm.params.precisions), scene=sm.wildcards.scene,
                             gain=sm.params.gain)
-    io.write_dataset(ds, sm.output.nc)
+    netcdf.write_dataset(ds, sm.output.nc)

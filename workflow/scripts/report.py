@@ -3,8 +3,9 @@
 from pathlib import Path
 
 from sleighsim.ops.runlog import logging_to
-from sleighsim.outputs import claims, report
-from sleighsim.registry import FIGURES
+from sleighsim.claims import ledger as claims
+from sleighsim.report import build as report
+from sleighsim.ops.registry import FIGURES
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logging_to(sm.log[0]):

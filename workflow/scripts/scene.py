@@ -1,10 +1,11 @@
 """Compute one scene's dataset: config block (and its input datasets) in, netCDF out (Snakemake script)."""
 
-from sleighsim import io, scenes
+from sleighsim.io import netcdf
+from sleighsim import scenes
 from sleighsim.ops.runlog import logging_to
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logging_to(sm.log[0]):
     ds = scenes.compute(sm.wildcards.scene, sm.params.cfg, dict(sm.input.items()))
     ds.attrs.update(getattr(sm.params, "attrs", {}))  # a realization's index and perturbation size
-    io.write_dataset(ds, sm.output.nc)
+    netcdf.write_dataset(ds, sm.output.nc)

@@ -10,7 +10,7 @@ Import from the submodules (nothing is re-exported here):
   trajectories (``two_trajectory``, ``judge_two_trajectory``, ``d0_independent``) and the Loschmidt
   return error (``loschmidt``, ``loschmidt_fit``, ``judge_loschmidt``, ``judge_loschmidt_run``).
 * ``frequency``: frequency analysis without tangent dynamics (``frequency_drift``,
-  ``judge_frequency``, ``frequency_log_ratio``; the analysis itself is ``sleighsim.frequencies``).
+  ``judge_frequency``, ``frequency_log_ratio``; the analysis itself is ``sleighsim.chaos.naff``).
 * ``rule``: the decision rule (``DECISION_RULE``, ``decide``, ``consistent``, ``precision_gate``),
   the indicator names (``INDICATORS``, ``TANGENT_BASED``) and the state's class (``classify``).
 * ``verdicts``: the verdicts (``CHAOTIC``, ``REGULAR``, ``UNDECIDED``) and the judges' shared helpers

@@ -2,7 +2,7 @@
 
 Engine: ``frequency_drift``: frequency analysis of one component of the orbit (Laskar 1993; no
 tangent dynamics): how its leading frequency changes from window to window (the analysis itself:
-``sleighsim.frequencies``). Times in the flow's own time unit, frequencies in cycles per time
+``sleighsim.chaos.naff``). Times in the flow's own time unit, frequencies in cycles per time
 unit, natural logs. Judge: ``judge_frequency`` on one or more runs of one orbit in precisions of
 decreasing rounding (``judged_run``, ``frequency_log_ratio``); it says regular or undecided, never
 chaotic. Engine conventions: ``propagate``; verdict conventions: ``verdicts``.
@@ -14,9 +14,9 @@ import math
 
 import numpy as np
 
-from .. import frequencies
-from .common import _positive, _state
-from .verdicts import REGULAR, UNDECIDED, _g, _is_finite
+from sleighsim.chaos import naff as frequencies
+from sleighsim.chaos.common import _positive, _state
+from sleighsim.chaos.verdicts import REGULAR, UNDECIDED, _g, _is_finite
 
 
 def frequency_drift(ta, y0, *, T, dt, component, splits=(2, 4, 8, 16), min_cycles=8.0, callback=None):

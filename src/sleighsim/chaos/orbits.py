@@ -20,9 +20,9 @@ import math
 
 import numpy as np
 
-from .common import _n_intervals, _positive, _state, linfit
-from .propagate import _propagate, _propagate_until
-from .verdicts import (
+from sleighsim.chaos.common import _n_intervals, _positive, _state, linfit
+from sleighsim.chaos.propagate import _propagate, _propagate_until
+from sleighsim.chaos.verdicts import (
     CHAOTIC,
     REGULAR,
     UNDECIDED,
@@ -233,7 +233,7 @@ def _growth_fits(T, e) -> dict:
     return out
 
 
-#: The largest G x rounding (the most one spike cycle amplifies the rounding, ``sleighsim.faithfulness``)
+#: The largest G x rounding (the most one spike cycle amplifies the rounding, ``sleighsim.chaos.faithfulness``)
 #: at which a Loschmidt run can still tell exponential from power-law growth: its return error starts
 #: near G x rounding after the first spike and saturates at 1e-2 (``loschmidt_fit``'s saturation), and
 #: the fits need two decades between.

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import math
 
-from .verdicts import CHAOTIC, REGULAR, UNDECIDED, VERDICTS
+from sleighsim.chaos.verdicts import CHAOTIC, REGULAR, UNDECIDED, VERDICTS
 
 # written into the chaos_verdict dataset (attribute rule, with ``consistent``'s docstring)
 DECISION_RULE = (
@@ -83,7 +83,7 @@ def precision_gate(verdicts: dict, ld: dict) -> None:
 def faithful_gate(verdicts: dict, arithmetic: dict, follows: dict) -> list[str]:
     """Set aside, in place, every indicator whose verdict was judged in an arithmetic shown not to
     follow the state's orbit closely enough for that indicator (the faithfulness gauge,
-    ``sleighsim.faithfulness``: G x rounding >= 1e-3 in a spike cycle; for the Loschmidt test
+    ``sleighsim.chaos.faithfulness``: G x rounding >= 1e-3 in a spike cycle; for the Loschmidt test
     G x rounding >= 1e-4, ``chaos.orbits.LOSCHMIDT_GAIN_ROUNDING_MAX``, since its return error must
     stay two decades below saturation after a spike): a chaotic or regular verdict becomes
     undecided, naming the arithmetic. An indicator whose gauge is "unknown" (no complete cycle

@@ -19,16 +19,9 @@ import math
 
 import numpy as np
 
-from .common import _n_intervals, _positive, _state, linfit
-from .propagate import _propagate_until
-from .verdicts import (
-    CHAOTIC,
-    REGULAR,
-    UNDECIDED,
-    _check_judge,
-    _g,
-    polynomial_rate_bound,
-)
+from sleighsim.chaos.common import _n_intervals, _positive, _state, linfit
+from sleighsim.chaos.propagate import _propagate_until
+from sleighsim.chaos.verdicts import CHAOTIC, REGULAR, UNDECIDED, _check_judge, _g, polynomial_rate_bound
 
 # ----------------------------------------------------------------------------- engines
 

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 
-from .common import _positive
+from sleighsim.chaos.common import _positive
 
 CHAOTIC, REGULAR, UNDECIDED = "chaotic", "regular", "undecided"
 VERDICTS = (CHAOTIC, REGULAR, UNDECIDED)

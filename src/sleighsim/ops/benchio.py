@@ -32,7 +32,7 @@ def header(schema: str, quick: bool, versions: dict, load: dict) -> dict:
     import datetime as _dt
     import os
 
-    from . import facts
+    from sleighsim.ops import facts
 
     try:
         affinity = sorted(os.sched_getaffinity(0))

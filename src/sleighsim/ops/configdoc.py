@@ -20,7 +20,7 @@ fidelity, `config/smoke.yaml` the same scenes tiny (CI), `config/cluster.yaml` a
 for a SLURM cluster. Snakemake merges a `--configfile` onto `config/config.yaml`.
 
 Every value is checked before any job starts: the schema (types, bounds, unknown keys) and
-`sleighsim.configcheck` (finite numbers, tolerances in (0, 1), cross-field constraints,
+`sleighsim.ops.configcheck` (finite numbers, tolerances in (0, 1), cross-field constraints,
 inputs, memory). Times are in the model's time unit, angles in rad.
 """
 

@@ -8,7 +8,7 @@ The command line over the cost modules of :mod:`sleighsim.ops`::
 - :mod:`~sleighsim.ops.jobgraph`: the run's job graph from Snakemake's dry runs, its critical path;
 - :mod:`~sleighsim.ops.benchmark_files`: Snakemake's benchmark files, one per job;
 - :mod:`~sleighsim.ops.summary`: a finished run's cost summary (``benchmarks/full_run.py`` writes it);
-- :mod:`~sleighsim.ops.plots`: the cost figures;
+- :mod:`~sleighsim.report.figures.costs`: the cost figures;
 - :mod:`~sleighsim.ops.workmodel` and :mod:`~sleighsim.ops.estimate`: a measured summary scaled to
   the run another config would launch, with the chunk jobs checked against ``chunk_runtime_min``;
 - :mod:`~sleighsim.ops.facts`: merged config, git commit and machine facts.
@@ -21,10 +21,10 @@ import math
 import sys
 from pathlib import Path
 
-from .estimate import changed_keys, estimate, format_estimate
-from .facts import BASE_CONFIG, REPO, merged_config
-from .plots import plot_costs
-from .summary import SCHEMA, read_summary
+from sleighsim.ops.estimate import changed_keys, estimate, format_estimate
+from sleighsim.ops.facts import BASE_CONFIG, REPO, merged_config
+from sleighsim.report.figures.costs import plot_costs
+from sleighsim.ops.summary import SCHEMA, read_summary
 
 DEFAULT_MEASURED = REPO / "benchmarks" / "full_run.yaml"
 PROG = "python -m sleighsim.ops.costs"

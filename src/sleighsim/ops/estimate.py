@@ -9,9 +9,9 @@ from __future__ import annotations
 from collections import defaultdict
 from pathlib import Path
 
-from .. import registry
-from .facts import BASE_CONFIG, REPO
-from .workmodel import chunk_work, grid_rows, is_modelled, work
+from sleighsim.ops import registry
+from sleighsim.ops.facts import BASE_CONFIG, REPO
+from sleighsim.ops.workmodel import chunk_work, grid_rows, is_modelled, work
 
 
 def changed_keys(a, b, prefix="") -> list[str]:

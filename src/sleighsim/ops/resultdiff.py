@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..io import read_dataset
+from sleighsim.io.netcdf import read_dataset
 
 #: Names of attributes and variables that measure the run, not its result.
 # history and source (CF) carry the time of writing and the commit

@@ -31,10 +31,10 @@ import datetime as _dt
 import os
 from pathlib import Path
 
-from ..io import atomic_path
-from .benchmark_files import read_benchmark, rule_from_path
-from .facts import BASE_CONFIG, git_commit, machine_facts, merged_config
-from .jobgraph import COSTS_DIR, DAG_FILE, DRYRUN_FILE, critical_path, job_graph, predicted_wall
+from sleighsim.io.netcdf import atomic_path
+from sleighsim.ops.benchmark_files import read_benchmark, rule_from_path
+from sleighsim.ops.facts import BASE_CONFIG, git_commit, machine_facts, merged_config
+from sleighsim.ops.jobgraph import COSTS_DIR, DAG_FILE, DRYRUN_FILE, critical_path, job_graph, predicted_wall
 
 #: Core counts the summary predicts the wall for (list scheduling of the measured jobs).
 PREDICTED_CORES = (2, 4, 8, 16)

@@ -49,7 +49,7 @@ def grid_rows(cfg: dict) -> list[tuple[float, float]]:
 
     n_b costs nothing: b is an exact symmetry and every row is computed once at b = 1; a row left to
     another config (``elsewhere``) costs nothing here."""
-    from ..scenes.grid import axes, elsewhere, pre_run, reference_row, slow_time
+    from sleighsim.scenes.grid import axes, elsewhere, pre_run, reference_row, slow_time
 
     eps_all, _ = axes(cfg)
     ref, away = reference_row(cfg), elsewhere(cfg)
@@ -83,7 +83,7 @@ def chunk_work(cfg: dict) -> list[float]:
 
 
 def work(kind: str, cfg: dict) -> float:
-    """The work measure of a scene block (as :func:`sleighsim.registry.scene_config` gives it)."""
+    """The work measure of a scene block (as :func:`sleighsim.ops.registry.scene_config` gives it)."""
     if kind == "lyapunov_grid":
         return sum(w for _, w in grid_rows(cfg))
     if kind == "chaos_verdict":

@@ -1,6 +1,6 @@
 """Scenes: one module per analysis stage; each function takes its config block (and the paths
 of the datasets it reads, by role) and returns one Dataset. :func:`function` imports the function
-of each kind (:data:`sleighsim.registry.KINDS` says how the kind runs), so a job loads only the
+of each kind (:data:`sleighsim.ops.registry.KINDS` says how the kind runs), so a job loads only the
 module it needs and a reader can follow a kind to its code."""
 
 from __future__ import annotations
@@ -9,58 +9,58 @@ from collections.abc import Callable
 
 import xarray as xr
 
-from ..registry import KINDS
+from sleighsim.ops.registry import KINDS
 
 
 def function(kind: str) -> Callable[..., xr.Dataset]:
     """The function that computes a scene of ``kind`` (a chunked kind: see :func:`chunk_functions`)."""
     match kind:
         case "sleigh0":
-            from .trajectories import sleigh0 as f
+            from sleighsim.scenes.trajectories import sleigh0 as f
         case "trajectory":
-            from .trajectories import trajectory as f
+            from sleighsim.scenes.trajectories import trajectory as f
         case "attractor_levels":
-            from .transients import attractor_levels as f
+            from sleighsim.scenes.transients import attractor_levels as f
         case "transient_scaling":
-            from .transients import transient_scaling as f
+            from sleighsim.scenes.transients import transient_scaling as f
         case "series_vs_exact":
-            from .hierarchy import series_vs_exact as f
+            from sleighsim.scenes.hierarchy import series_vs_exact as f
         case "hierarchy_terms":
-            from .hierarchy import hierarchy_terms as f
+            from sleighsim.scenes.hierarchy import hierarchy_terms as f
         case "hierarchy_audit":
-            from .hierarchy import hierarchy_audit as f
+            from sleighsim.scenes.hierarchy import hierarchy_audit as f
         case "poincare":
-            from .steady_state import poincare_maps as f
+            from sleighsim.scenes.steady_state import poincare_maps as f
         case "psd":
-            from .steady_state import psd as f
+            from sleighsim.scenes.steady_state import psd as f
         case "attractor_scaling":
-            from .steady_state import attractor_scaling as f
+            from sleighsim.scenes.steady_state import attractor_scaling as f
         case "lyapunov_spectrum":
-            from .exponents import spectrum as f
+            from sleighsim.scenes.exponents import spectrum as f
         case "lyapunov_protocol":
-            from .exponents import protocol as f
+            from sleighsim.scenes.exponents import protocol as f
         case "lyapunov_energy":
-            from .exponents import energy_sweep as f
+            from sleighsim.scenes.exponents import energy_sweep as f
         case "small_eps_cost":
-            from .exponents import small_eps_cost as f
+            from sleighsim.scenes.exponents import small_eps_cost as f
         case "formal_exponents":
-            from .exponents import formal_exponents as f
+            from sleighsim.scenes.exponents import formal_exponents as f
         case "precision_ladder":
-            from .ladder import precision_ladder as f
+            from sleighsim.scenes.ladder import precision_ladder as f
         case "trigger_law":
-            from .trigger import trigger_law as f
+            from sleighsim.scenes.trigger import trigger_law as f
         case "drift_windows":
-            from .drift import drift_windows as f
+            from sleighsim.scenes.drift import drift_windows as f
         case "printed_model":
-            from .audit import printed_model as f
+            from sleighsim.scenes.audit import printed_model as f
         case "k2_sweep":
-            from .causes import k2_sweep as f
+            from sleighsim.scenes.causes import k2_sweep as f
         case "integration_error":
-            from .causes import integration_error as f
+            from sleighsim.scenes.causes import integration_error as f
         case "hardcases":
-            from .hardcases import hardcases as f
+            from sleighsim.scenes.hardcases import hardcases as f
         case "bench":
-            from .bench import bench as f
+            from sleighsim.scenes.bench import bench as f
         case _:
             raise KeyError(f"scene kind {kind!r} has no function here (chunked or drawn without a dataset?)")
     return f
@@ -70,11 +70,11 @@ def chunk_functions(kind: str) -> tuple[Callable[..., xr.Dataset], Callable[...,
     """(chunk, gather) of a chunked kind: chunk k of the scene, and the dataset from its chunk files."""
     match kind:
         case "lyapunov_grid":
-            from .grid import chunk, gather
+            from sleighsim.scenes.grid import chunk, gather
         case "basins":
-            from .basins import chunk, gather
+            from sleighsim.scenes.basins import chunk, gather
         case "chaos_verdict":
-            from .verdict import chunk, gather
+            from sleighsim.scenes.verdict import chunk, gather
         case _:
             raise KeyError(f"scene kind {kind!r} is not chunked")
     return chunk, gather

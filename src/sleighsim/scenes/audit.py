@@ -9,11 +9,13 @@ import numpy as np
 import sympy as sp
 import xarray as xr
 
-from .. import mechanics as mech
-from .. import model, printed, transient
-from ..integrate import sample_grid
-from ..params import Params
-from ..symmetries import REFERENCE_LABEL, REFERENCE_STATE, energy_label
+from sleighsim.model import mechanics as mech
+from sleighsim.model import equations
+from sleighsim.model import printed
+from sleighsim.engine import transient
+from sleighsim.engine.integrate import sample_grid
+from sleighsim.model.params import Params
+from sleighsim.model.symmetries import REFERENCE_LABEL, REFERENCE_STATE, energy_label
 
 log = logging.getLogger("sleighsim")
 
@@ -22,7 +24,7 @@ def printed_model(cfg: dict, scene: str = "") -> xr.Dataset:
     """D1-D6: the printed model against the derivation.
 
     D1 energy drift of the printed udot (integrated beside the derived equations);
-    D2 which inertia makes the printed Omegadot hold (I_c as docs/model.md says, or I_r as
+    D2 which inertia makes the printed Omegadot hold (I_c as docs/equations.md says, or I_r as
     printed); D3 entries of the printed locked inertia and right-hand side that differ;
     D4 the term missing from the printed beta equation (dL/dbeta); D5 the physical energy
     of the reference state; D6 whether eps > 1 is admissible."""
@@ -33,9 +35,9 @@ def printed_model(cfg: dict, scene: str = "") -> xr.Dataset:
     Y = rng.uniform(-1, 1, (200, 4))
     eps, b, K2 = params.eps, params.b, params.K2
     as_printed_rhs = printed.rhs(Y, eps, b, K2)[:, 1]
-    as_science = model.rhs(Y, params)[:, 1]
+    as_science = equations.rhs(Y, params)[:, 1]
     swapped = Params.physical(m_c=params.m_c, m_r=params.m_r, I_c=params.I_r, I_r=params.I_c, a=params.a, b=b)
-    as_printed = model.rhs(Y, swapped)[:, 1]
+    as_printed = equations.rhs(Y, swapped)[:, 1]
     scale = np.max(np.abs(as_printed_rhs))
     # D3: printed locked inertia and right-hand side against the derivation.
     d = mech.derive()
@@ -56,7 +58,7 @@ def printed_model(cfg: dict, scene: str = "") -> xr.Dataset:
         d2_Omegadot_residual_with_Ir=float(np.max(np.abs(as_printed_rhs - as_printed)) / scale),
         d3_differences=" | ".join(diffs), d3_n_differences=len(diffs),
         d4_dL_dbeta=str(dL_dbeta),
-        d5_reference_energy_physical=float(model.energy(REFERENCE_STATE, params)),
+        d5_reference_energy_physical=float(equations.energy(REFERENCE_STATE, params)),
         d5_reference_label=REFERENCE_LABEL,
         d6_eps_25=d6,
     )
@@ -73,7 +75,7 @@ def _energy_normalisations(params: Params, y) -> dict:
     """D5's likely cause: the reference state's energy under the normalisations a reader might have
     used, to see whether any gives the paper's 0.1127."""
     u, Om, om, de = y
-    E = float(model.energy(y, params))
+    E = float(equations.energy(y, params))
     sleigh = 0.5 * (u**2 + params.K2 * params.b**2 * Om**2)
     rotor = 0.5 * (params.I_r + params.m_r * params.a**2) * om**2
     candidates = {

@@ -5,7 +5,7 @@ k + n_chunks, ...) gathered into one dataset.
 
 The sampling measure: the velocity direction (u, Omega, omega) from an isotropic standard normal,
 scaled along itself (the time-scaling symmetry) onto the level; delta uniform on [0, 2 pi). A
-steady state is named by its steady spike interval (the C06 rule, sleighsim.transient): a run
+steady state is named by its steady spike interval (the C06 rule, sleighsim.engine.transient): a run
 joins the group of the first reference state (the chaos verdict's states, run in chunk 0) whose
 interval is within ``group_rel_tol``; runs matching no reference form further groups; runs whose
 transient is not over by the cap are "unsettled", settled runs with fewer than ``min_spikes``
@@ -24,12 +24,12 @@ import numpy as np
 import xarray as xr
 from scipy.stats import binomtest
 
-from .. import transient
-from ..integrate import integrate, sample_grid
-from ..io import read_dataset
-from ..params import Params
-from ..symmetries import state_at_label
-from ..transient import settle
+from sleighsim.engine import transient
+from sleighsim.engine.integrate import integrate, sample_grid
+from sleighsim.io.netcdf import read_dataset
+from sleighsim.model.params import Params
+from sleighsim.model.symmetries import state_at_label
+from sleighsim.engine.transient import settle
 
 log = logging.getLogger("sleighsim")
 

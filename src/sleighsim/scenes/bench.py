@@ -7,7 +7,7 @@ long one. Wall times are medians of ``repeats`` runs; heyoka's JIT compile time 
 reported apart. The scene observables (spike interval, end of the second transient,
 lambda_1 over a fixed horizon, P_2pi rotation number) are measured against tolerance.
 
-The peer comparison (``cfg["peers"]``, sleighsim.peers) runs every engine a Python user would
+The peer comparison (``cfg["peers"]``, sleighsim.engine.peers) runs every engine a Python user would
 pick instead (SciPy with the Python and with compiled right-hand sides, diffrax) and heyoka's bare
 propagation at the same rtols, all against the same long-double reference with the same error
 metric, each timed after a warm-up as the median of ``repeats``, compile times beside; the
@@ -27,10 +27,15 @@ import time
 import numpy as np
 import xarray as xr
 
-from .. import integrators, lyapunov, model, peers, poincare, transient
-from ..integrate import final_state, integrate, sample_grid
-from ..io import write_dataset
-from ..params import Params
+from sleighsim.engine import integrators
+from sleighsim.chaos import lyapunov
+from sleighsim.model import equations
+from sleighsim.engine import peers
+from sleighsim.engine import poincare
+from sleighsim.engine import transient
+from sleighsim.engine.integrate import final_state, integrate, sample_grid
+from sleighsim.io.netcdf import write_dataset
+from sleighsim.model.params import Params
 
 log = logging.getLogger("sleighsim")
 
@@ -40,8 +45,8 @@ def reference(params, y0, t_end, tol):
     import heyoka as hy
 
     start = time.perf_counter()
-    ta = hy.taylor_adaptive(model.heyoka_system(delta_shift=integrators.DELTA_SHIFT), np.zeros(4, np.longdouble),
-                            pars=model.heyoka_pars(params, np.longdouble), fp_type=np.longdouble,
+    ta = hy.taylor_adaptive(equations.heyoka_system(delta_shift=integrators.DELTA_SHIFT), np.zeros(4, np.longdouble),
+                            pars=equations.heyoka_pars(params, np.longdouble), fp_type=np.longdouble,
                             tol=np.longdouble(tol))
     integrators.register(ta, integrators.SLEIGH_ANGLES)
     integrators.load(ta, np.asarray(y0, np.longdouble))
@@ -64,7 +69,7 @@ def work_precision(cfg: dict) -> xr.Dataset:
     y0 = np.asarray(cfg["y0"], float)
     ref, ref_wall = reference(params, y0, cfg["t_short"], cfg["reference_tols"][0])
     ref2, _ = reference(params, y0, cfg["t_short"], cfg["reference_tols"][1])
-    model.full_rhs(y0, params)  # build the NumPy right-hand side once, outside the timed SciPy runs
+    equations.full_rhs(y0, params)  # build the NumPy right-hand side once, outside the timed SciPy runs
     rows = []
     runs = [("heyoka", "taylor", tol, True) for tol in cfg["heyoka_tols"]]
     runs += [("scipy", m, r, True) for m, rtols in cfg["scipy"].items() for r in rtols]
@@ -77,7 +82,7 @@ def work_precision(cfg: dict) -> xr.Dataset:
             integrators.flow(False, tol)  # compile outside the timed runs
         reps = cfg["repeats"] if backend == "heyoka" else cfg["scipy_repeats"]
         short, wall_short = _median_run(lambda: integrate(params, y0, [0.0, cfg["t_short"]], **kw), reps)
-        err = float(np.max(np.abs(model.state_difference(final_state(short), ref))))
+        err = float(np.max(np.abs(equations.state_difference(final_state(short), ref))))
         row = dict(backend=backend, method=method, tol=tol, error_short=err, wall_short=wall_short,
                    drift_long=np.nan, wall_long=np.nan, steps_long=-1,
                    compile_s=integrators.flow(False, tol)[1] if backend == "heyoka" else 0.0,
@@ -134,11 +139,11 @@ def observables_vs_tol(cfg: dict) -> xr.Dataset:
 def scipy_max_le(params, y, T, tau, method, rtol, atol, seed=0) -> tuple[float, float]:
     """Benettin's largest exponent with SciPy: the flow and one tangent vector (J(y) v, with
     the derived Jacobian) integrated over T in segments of tau, renormalised after each.
-    The same initial tangent vector as sleighsim.lyapunov. Returns (lambda_1, wall seconds)."""
+    The same initial tangent vector as sleighsim.chaos.lyapunov. Returns (lambda_1, wall seconds)."""
     from scipy.integrate import solve_ivp
 
     def f(t, z):
-        return np.concatenate([model.rhs(z[:4], params), model.jacobian(z[:4], params) @ z[4:]])
+        return np.concatenate([equations.rhs(z[:4], params), equations.jacobian(z[:4], params) @ z[4:]])
 
     z = np.r_[np.asarray(y, float), lyapunov.initial_directions(4, 1, seed)[:, 0]]
     n, total = int(round(T / tau)), 0.0
@@ -392,7 +397,7 @@ def main(argv=None):
     if args.summarize:
         import yaml
 
-        from ..io import read_dataset, write_text
+        from sleighsim.io.netcdf import read_dataset, write_text
 
         write_text(args.summarize, yaml.safe_dump(summary(read_dataset(args.out))))
         return

@@ -18,12 +18,15 @@ import time
 import numpy as np
 import xarray as xr
 
-from .. import lyapunov, perturbation as pert, spectra, transient
-from ..integrate import final_state, integrate, sample_grid
-from ..params import Params
-from ..symmetries import state_at_label
-from ..transient import settle
-from .hierarchy import hierarchy_numbers, series_errors
+from sleighsim.chaos import lyapunov
+from sleighsim.model import perturbation as pert
+from sleighsim.analysis import spectra
+from sleighsim.engine import transient
+from sleighsim.engine.integrate import final_state, integrate, sample_grid
+from sleighsim.model.params import Params
+from sleighsim.model.symmetries import state_at_label
+from sleighsim.engine.transient import settle
+from sleighsim.scenes.hierarchy import hierarchy_numbers, series_errors
 
 log = logging.getLogger("sleighsim")
 
@@ -51,7 +54,7 @@ def _series_omega_error(params, y0, sc, tol) -> float:
 
 
 def _band(params, y0, pc, tol, label) -> tuple[float, float]:
-    """The Omega band of the PSD on the attractor (sleighsim.spectra.band_edges)."""
+    """The Omega band of the PSD on the attractor (sleighsim.analysis.spectra.band_edges)."""
     y, _ = settle(params, y0, pc["t_settle"], **pc["transient"], tol=tol, label=label, progress=1)
     run = integrate(params, y, sample_grid(0.0, pc["duration"], pc["dt"]), tol=tol, progress=1)
     f, S = spectra.psd(run.Omega.values, pc["dt"], segment=pc["welch"]["segment"])
@@ -93,7 +96,7 @@ def k2_sweep(cfg: dict, scene: str = "") -> xr.Dataset:
         scene=scene, param_eps=cfg["params"]["eps"], param_b=cfg["params"]["b"], tol=cfg["tol"], t_end=cfg["t_end"],
         y0=y0, backend="heyoka", wall_time_s=time.perf_counter() - start,
         observables=" ; ".join(f"{k}: {c}" for k, c in K2_OBSERVABLES.items()),
-        method="first spike and interval: sleighsim.transient.phases on a run from y0 to t_end; C09, C10: the "
+        method="first spike and interval: sleighsim.engine.transient.phases on a run from y0 to t_end; C09, C10: the "
                "order-2 hierarchy with kappa = (K2 - 1) / eps fitted on the hierarchy fit window; C11: omega's error "
                "at series.t_end; C23: Omega band of the Welch PSD after a checked pre-run",
     )

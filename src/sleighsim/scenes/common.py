@@ -5,9 +5,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..integrators import EPSILON, precision_flags
-from ..params import Params
-from ..symmetries import state_at_label
+from sleighsim.engine.integrators import EPSILON, precision_flags
+from sleighsim.model.params import Params
+from sleighsim.model.symmetries import state_at_label
 
 
 def initial_state(cfg: dict, params: Params) -> np.ndarray:

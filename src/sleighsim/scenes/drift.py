@@ -10,11 +10,16 @@ import time
 import numpy as np
 import xarray as xr
 
-from .. import cf, integrators, lyapunov, model, transient, windows
-from ..attrs import state_attrs
-from ..params import Params
-from ..symmetries import state_at_label
-from ..transient import settle
+from sleighsim.io import cf
+from sleighsim.engine import integrators
+from sleighsim.chaos import lyapunov
+from sleighsim.model import equations
+from sleighsim.engine import transient
+from sleighsim.analysis import windows
+from sleighsim.model.attrs import state_attrs
+from sleighsim.model.params import Params
+from sleighsim.model.symmetries import state_at_label
+from sleighsim.engine.transient import settle
 
 log = logging.getLogger("sleighsim")
 
@@ -42,12 +47,12 @@ def drift_windows(cfg: dict, scene: str = "") -> xr.Dataset:
     integrators.set_pars(ta, params)
     precision = "double" if ta.state.dtype == np.float64 else f"long double (epsilon {float(np.finfo(ta.state.dtype).eps):.2g})"
     n_windows = int(round(cfg["T"] / cfg["window"]))
-    E0 = model.energy(y, params)
+    E0 = equations.energy(y, params)
     rows, steps = [], 0
     for w in windows.windowed_orbit(ta, 4, y, n_windows=n_windows, window=cfg["window"], tau=cfg["tau"],
                                     component=1, t_align=cfg["t_align"], label=scene):
         mean, sd, count = _intervals(w["t"], w["x"], cfg["spike"])
-        rows.append((w["t_start"], mean, sd, count, w["lambda_1"], float(model.energy(w["state"], params) / E0 - 1)))
+        rows.append((w["t_start"], mean, sd, count, w["lambda_1"], float(equations.energy(w["state"], params) / E0 - 1)))
         steps += w["steps"]
     t_start, interval, interval_sd, n_spikes, lam, drift = (np.array(c) for c in zip(*rows))
     t_mid = t_start + cfg["window"] / 2

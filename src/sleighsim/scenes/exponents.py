@@ -1,6 +1,6 @@
 """Lyapunov scenes at one eps: the four-exponent spectrum (C18, C19), the paper's protocol
 (C19), the largest exponent against energy (F10, C20), and what small eps costs (C25).
-The Benettin engine is :mod:`sleighsim.lyapunov`."""
+The Benettin engine is :mod:`sleighsim.chaos.lyapunov`."""
 
 from __future__ import annotations
 
@@ -11,13 +11,18 @@ import time
 import numpy as np
 import xarray as xr
 
-from .. import cf, fits, integrators, lyapunov, model, transient
-from ..attrs import state_attrs
-from ..integrate import final_state, integrate, orbit_samples, sample_grid
-from ..params import Params
-from ..symmetries import state_at_label
-from ..transient import settle
-from .common import steady_arithmetic
+from sleighsim.io import cf
+from sleighsim.analysis import fits
+from sleighsim.engine import integrators
+from sleighsim.chaos import lyapunov
+from sleighsim.model import equations
+from sleighsim.engine import transient
+from sleighsim.model.attrs import state_attrs
+from sleighsim.engine.integrate import final_state, integrate, orbit_samples, sample_grid
+from sleighsim.model.params import Params
+from sleighsim.model.symmetries import state_at_label
+from sleighsim.engine.transient import settle
+from sleighsim.scenes.common import steady_arithmetic
 
 log = logging.getLogger("sleighsim")
 
@@ -85,7 +90,7 @@ def spectrum(cfg: dict, scene: str = "") -> xr.Dataset:
         },
         coords={"i": np.arange(1, 5), "T": ("T", T_grid, cf.attrs("horizon T of the finite-time estimate", "time")),
                 "replica": np.arange(B),
-                "component": list(model.STATE_NAMES)},
+                "component": list(equations.STATE_NAMES)},
     )
     ds.attrs.update(_common_attrs(params, y0, cfg, scene))
     ds.attrs.update(transient_attrs)
@@ -102,7 +107,7 @@ def spectrum(cfg: dict, scene: str = "") -> xr.Dataset:
         sum_minus_divergence_max=float(np.max(np.abs(sums - div))),
         lambda_1_decay_slope_last_decade=_decay_slope(T_grid, running[:, 0]),
         compile_time_s=compile_s, wall_time_s=time.perf_counter() - start,
-        energy_max_rel_drift=float(np.max(np.abs(model.energy(res["final_state"], params) / model.energy(y0, params) - 1))),
+        energy_max_rel_drift=float(np.max(np.abs(equations.energy(res["final_state"], params) / equations.energy(y0, params) - 1))),
     )
     log.info("%s: exponents %s +- %s (%s, T = %.4g per replica); sum %.3g +- %.2g vs mean divergence %.3g +- %.2g",
              scene, lam, err, res["status"], res["T"], sums.mean(), ds.attrs["sum_all_stderr"], div.mean(),
@@ -169,7 +174,7 @@ def protocol(cfg: dict, scene: str = "") -> xr.Dataset:
         {"exponent": (("state", "i"), np.array(exps), cf.attrs("Lyapunov exponent lambda_i of each state", "rate")),
          "stderr": (("state", "i"), np.array(errs), cf.attrs("block standard error of the exponent", "rate")),
          "y0": (("state", "component"), np.array(states))},
-        coords={"i": np.arange(1, 5), "component": list(model.STATE_NAMES)},
+        coords={"i": np.arange(1, 5), "component": list(equations.STATE_NAMES)},
     )
     ds.attrs.update(_common_attrs(params, states[0], cfg, scene))
     ds.attrs.update(settled_state=np.ravel(settled), **_lambda_observables(np.array(exps)),
@@ -238,7 +243,7 @@ def energy_sweep(cfg: dict, scene: str = "") -> xr.Dataset:
 
 def small_eps_cost(cfg: dict, scene: str = "") -> xr.Dataset:
     """C25: what small eps costs. Measures, from the reference state at a few eps, the
-    length of the transient (first Omega spike, sleighsim.transient) and the steps per time
+    length of the transient (first Omega spike, sleighsim.engine.transient) and the steps per time
     unit on the attractor; fits power laws in eps and extrapolates both, with the measured
     time per step, to the target eps values."""
     start = time.perf_counter()
@@ -299,7 +304,7 @@ def formal_exponents(cfg: dict, scene: str = "") -> xr.Dataset:
                                          max_rounds=cfg["max_rounds"], target_rel=cfg["target_rel"],
                                          t_align=cfg["t_align"], regular_floor=cfg["regular_floor"],
                                          sigma=cfg["sigma"], label=label)
-        drift = float(np.max(np.abs(model.energy(res["final_state"], params) / model.energy(y0, params) - 1)))
+        drift = float(np.max(np.abs(equations.energy(res["final_state"], params) / equations.energy(y0, params) - 1)))
         rows.append((eps, float(res["exponents"][0]), float(res["stderr"][0]), res["status"], float(res["T"]),
                      int(pre["transient_over"]), drift))
         log.info("%s: lambda_1 = %.3g +- %.2g (%s, T = %.3g)", label, *rows[-1][1:5])

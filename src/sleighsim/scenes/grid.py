@@ -17,13 +17,17 @@ import time
 import numpy as np
 import xarray as xr
 
-from .. import cf, integrators, lyapunov, poincare, transient
-from ..integrate import orbit_samples
-from ..io import read_dataset
-from ..params import Params
-from ..symmetries import b_image, state_at_label
-from ..transient import settle
-from .common import steady_arithmetic
+from sleighsim.io import cf
+from sleighsim.engine import integrators
+from sleighsim.chaos import lyapunov
+from sleighsim.engine import poincare
+from sleighsim.engine import transient
+from sleighsim.engine.integrate import orbit_samples
+from sleighsim.io.netcdf import read_dataset
+from sleighsim.model.params import Params
+from sleighsim.model.symmetries import b_image, state_at_label
+from sleighsim.engine.transient import settle
+from sleighsim.scenes.common import steady_arithmetic
 
 log = logging.getLogger("sleighsim")
 

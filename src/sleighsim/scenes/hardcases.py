@@ -14,11 +14,11 @@ import time
 import numpy as np
 import xarray as xr
 
-from .. import poincare
-from ..integrate import final_state, integrate, sample_grid
-from ..model import state_difference
-from ..params import Params
-from ..symmetries import REFERENCE_LABEL, REFERENCE_STATE, state_at_label
+from sleighsim.engine import poincare
+from sleighsim.engine.integrate import final_state, integrate, sample_grid
+from sleighsim.model.equations import state_difference
+from sleighsim.model.params import Params
+from sleighsim.model.symmetries import REFERENCE_LABEL, REFERENCE_STATE, state_at_label
 
 log = logging.getLogger("sleighsim")
 REF = np.array(REFERENCE_STATE)

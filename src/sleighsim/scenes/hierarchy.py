@@ -1,7 +1,7 @@
 """Scenes of the perturbation hierarchy: the exact flow against the truncated series (F5, C11)
 and its convergence as eps -> 0, the order-0 and order-2 terms with the paper's numbers (F6,
 C07-C10), and the printed hierarchy against the derived one with orders 3 and 4 (C12).
-The hierarchy itself is derived in :mod:`sleighsim.perturbation`."""
+The hierarchy itself is derived in :mod:`sleighsim.model.perturbation`."""
 
 from __future__ import annotations
 
@@ -13,12 +13,13 @@ import numpy as np
 import sympy as sp
 import xarray as xr
 
-from .. import cf, fits
-from .. import perturbation as pert
-from ..attrs import state_attrs
-from ..integrate import integrate, sample_grid
-from ..model import state_difference
-from ..params import Params
+from sleighsim.io import cf
+from sleighsim.analysis import fits
+from sleighsim.model import perturbation as pert
+from sleighsim.model.attrs import state_attrs
+from sleighsim.engine.integrate import integrate, sample_grid
+from sleighsim.model.equations import state_difference
+from sleighsim.model.params import Params
 
 log = logging.getLogger("sleighsim")
 

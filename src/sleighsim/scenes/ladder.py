@@ -17,14 +17,15 @@ import time
 import numpy as np
 import xarray as xr
 
-from .. import cf, integrators
-from ..faithfulness import ROUNDING
-from ..model import energy
-from ..observables import SEPARATED
-from ..params import Params
-from ..symmetries import state_at_label
-from ..transient import settle, spike_times
-from .common import nan_padded
+from sleighsim.io import cf
+from sleighsim.engine import integrators
+from sleighsim.chaos.faithfulness import ROUNDING
+from sleighsim.model.equations import energy
+from sleighsim.analysis.observables import SEPARATED
+from sleighsim.model.params import Params
+from sleighsim.model.symmetries import state_at_label
+from sleighsim.engine.transient import settle, spike_times
+from sleighsim.scenes.common import nan_padded
 
 log = logging.getLogger("sleighsim")
 

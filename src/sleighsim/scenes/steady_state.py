@@ -10,13 +10,16 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from .. import cf, model, poincare, spectra
-from ..attrs import state_attrs
-from ..integrate import integrate, sample_grid
-from ..io import read_dataset
-from ..params import Params
-from ..transient import settle
-from .common import initial_state, steady_arithmetic
+from sleighsim.io import cf
+from sleighsim.model import equations
+from sleighsim.engine import poincare
+from sleighsim.analysis import spectra
+from sleighsim.model.attrs import state_attrs
+from sleighsim.engine.integrate import integrate, sample_grid
+from sleighsim.io.netcdf import read_dataset
+from sleighsim.model.params import Params
+from sleighsim.engine.transient import settle
+from sleighsim.scenes.common import initial_state, steady_arithmetic
 
 log = logging.getLogger("sleighsim")
 
@@ -40,8 +43,8 @@ def poincare_maps(cfg: dict, scene: str = "") -> xr.Dataset:
     stride += 1 - stride % 2  # odd, so thinning keeps all four classes k mod 4
     loops = poincare.count_loops(pts[::stride], c["k"][::stride] % 4, cfg["loop_knn"])
     rot = poincare.rotation_number(pts[is2pi])
-    E = model.energy(np.c_[pts, c["k"] * (np.pi / 2)], params)
-    E0 = float(model.energy(y0, params))
+    E = equations.energy(np.c_[pts, c["k"] * (np.pi / 2)], params)
+    E0 = float(equations.energy(y0, params))
     kind, vel = cf.STATE_KINDS, ("u", "Omega", "omega")
     data = {f"p2pi_{v}": ("n2pi", c[v][is2pi], cf.attrs(f"{v} at the P_2pi iterates (delta = 0 mod 2 pi)", kind[v]))
             for v in vel}

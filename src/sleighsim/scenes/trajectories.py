@@ -9,14 +9,15 @@ import time
 import numpy as np
 import xarray as xr
 
-from .. import cf, model
-from ..attrs import state_attrs
-from ..integrate import integrate, sample_grid
-from ..params import Params
-from ..sleigh0 import closed_form
-from ..sleigh0 import rhs as sleigh0_rhs
-from ..transient import phases, settle, spike_times
-from .common import initial_state, steady_arithmetic
+from sleighsim.io import cf
+from sleighsim.model import equations
+from sleighsim.model.attrs import state_attrs
+from sleighsim.engine.integrate import integrate, sample_grid
+from sleighsim.model.params import Params
+from sleighsim.model.sleigh0 import closed_form
+from sleighsim.model.sleigh0 import rhs as sleigh0_rhs
+from sleighsim.engine.transient import phases, settle, spike_times
+from sleighsim.scenes.common import initial_state, steady_arithmetic
 
 log = logging.getLogger("sleighsim")
 
@@ -24,7 +25,7 @@ log = logging.getLogger("sleighsim")
 def trajectory(cfg: dict, scene: str = "") -> xr.Dataset:
     """Integrate from ``y0`` at t = 0 and sample the kept variables on [t_sample_start, t_end] with
     step dt (F3, F7, F8). With a ``transient`` block the run to t_sample_start is a checked pre-run
-    (sleighsim.transient.settle, in double) and the path (theta, x, y) is measured from the window's
+    (sleighsim.engine.transient.settle, in double) and the path (theta, x, y) is measured from the window's
     start. The sampled run is in the block's ``precision`` (:func:`.common.steady_arithmetic`); without
     a pre-run that is the whole run, transient included. Its key observables (:func:`observed`) are
     stated with their uncertainties for the precision ladder."""
@@ -33,7 +34,7 @@ def trajectory(cfg: dict, scene: str = "") -> xr.Dataset:
     start = cfg.get("t_sample_start", 0.0)
     times = sample_grid(start, cfg["t_end"], cfg["dt"])
     keep = list(cfg["keep"])
-    kinematics = any(v in model.KINEMATIC_NAMES for v in keep)
+    kinematics = any(v in equations.KINEMATIC_NAMES for v in keep)
     pre = {}
     if "transient" in cfg and start > 0:
         y0, pre = settle(params, y0, start, **cfg["transient"], tol=cfg["tol"], label=scene)
@@ -57,7 +58,7 @@ def observed(run: xr.Dataset, *, pre_run: bool, spike_factor: float) -> dict:
     a block estimate; from four intervals), and with a path its reach, the farthest distance from
     the window's start (uncertainty: the difference between the farthest distances of the path's two
     halves, a block estimate). A run from
-    t = 0 finds its spikes after the sleigh-like phase (:func:`sleighsim.transient.phases`, as the
+    t = 0 finds its spikes after the sleigh-like phase (:func:`sleighsim.engine.transient.phases`, as the
     judges do), a window after a pre-run from its start. Observables a run cannot state are left out."""
     t, Omega = run.time.values, run.Omega.values
     if pre_run:

@@ -10,17 +10,20 @@ import time
 import numpy as np
 import xarray as xr
 
-from .. import cf, fits, model, transient
-from ..integrate import final_state, integrate, sample_grid
-from ..params import Params
-from ..symmetries import REFERENCE_LABEL, state_at_label
-from .common import nan_padded
+from sleighsim.io import cf
+from sleighsim.analysis import fits
+from sleighsim.model import equations
+from sleighsim.engine import transient
+from sleighsim.engine.integrate import final_state, integrate, sample_grid
+from sleighsim.model.params import Params
+from sleighsim.model.symmetries import REFERENCE_LABEL, state_at_label
+from sleighsim.scenes.common import nan_padded
 
 log = logging.getLogger("sleighsim")
 
 
 def _record_phases(rec, tc):
-    """sleighsim.transient.phases of a trajectory dataset with a scene's ``transient`` block."""
+    """sleighsim.engine.transient.phases of a trajectory dataset with a scene's ``transient`` block."""
     return transient.phases(rec.time.values, rec.u.values, rec.Omega.values, rec.omega.values, **tc)
 
 
@@ -30,7 +33,7 @@ def _phases_of(params, y0, t_end, cfg, scene):
 
 
 def transient_scaling(cfg: dict, scene: str = "") -> xr.Dataset:
-    """The transient phases (sleighsim.transient.phases) for each eps from the reference state
+    """The transient phases (sleighsim.engine.transient.phases) for each eps from the reference state
     (label 0.1127 at every eps), over t_end = t_scale / eps^2, and the log-log slope against eps."""
     start = time.perf_counter()
     eps_list = np.asarray(cfg["eps"], float)
@@ -57,7 +60,7 @@ def transient_scaling(cfg: dict, scene: str = "") -> xr.Dataset:
     slope_i = fits.loglog(eps_list[ok_i], ds.spike_interval_mean.values[ok_i])[0]
     ds.attrs.update(
         scene=scene, b=cfg["b"], kappa=cfg["kappa"], K2_rule="K2 = 1 + kappa eps",
-        **{f"y0_{n}": float(v) for n, v in zip(model.STATE_NAMES, cfg["y0"])}, energy_label=REFERENCE_LABEL,
+        **{f"y0_{n}": float(v) for n, v in zip(equations.STATE_NAMES, cfg["y0"])}, energy_label=REFERENCE_LABEL,
         t_scale=cfg["t_scale"], dt=cfg["dt"], tol=cfg["tol"], backend="heyoka", rule=transient.PHASES_RULE,
         spike_rule=transient.RULE, first_spike_slope=float(slope), first_spike_prefactor=float(np.exp(icpt)),
         spike_interval_slope=float(slope_i), predicted_slope=-2.0,
@@ -85,8 +88,8 @@ def _until_steady(params, y0, cfg, scene):
         window_end = ph["first_spike"] + cfg["compare_window"] * cfg["time_unit"]
         reached = ph["n_spikes"] > cfg["spikes_after"] and t >= window_end
         if reached or t >= cfg["t_max"] * cfg["time_unit"]:
-            E = model.energy(np.stack([rec[v].values for v in model.STATE_NAMES], axis=-1), params)
-            E0 = float(model.energy(y0, params))
+            E = equations.energy(np.stack([rec[v].values for v in equations.STATE_NAMES], axis=-1), params)
+            E0 = float(equations.energy(y0, params))
             return rec, ph, reached, float(np.max(np.abs(E / E0 - 1.0)))
 
 
@@ -212,7 +215,7 @@ def attractor_levels(cfg: dict, scene: str = "") -> xr.Dataset:
             "long_representative_run": ("group", np.array(reps)),
         },
         coords={"tau": ("tau", tau, cf.attrs("time tau after the first spike, on level 0's time scale", "time")),
-                "component": list(model.STATE_NAMES), "label": ("run", runs["label"]),
+                "component": list(equations.STATE_NAMES), "label": ("run", runs["label"]),
                 "level": ("run", run_level), "state_index": ("run", runs["state"]), "scale_c": ("run", runs["c"]),
                 "group_id": ("group", np.array([group[r] for r in reps]))},
     )
@@ -221,7 +224,7 @@ def attractor_levels(cfg: dict, scene: str = "") -> xr.Dataset:
     ds.attrs.update(
         scene=scene, tol=cfg["tol"], backend="heyoka", labels=np.asarray(labels, float), n_runs=len(raw),
         n_reached=int(ok.sum()), main_group=int(main), group_rel_tol=cfg["group_rel_tol"],
-        alignment="first Omega spike after the sleigh-like phase (sleighsim.transient.phases); level k is mapped "
+        alignment="first Omega spike after the sleigh-like phase (sleighsim.engine.transient.phases); level k is mapped "
                   "onto level 0 by the time-scaling law (tau -> tau / c, omega -> omega / c); omega < 0 runs "
                   "are mirrored",
         phase_rule=transient.PHASES_RULE, compare_window=window, compare_dt=dt_cmp, smooth=smooth,

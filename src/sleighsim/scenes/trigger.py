@@ -23,12 +23,12 @@ import numpy as np
 import xarray as xr
 from scipy import stats
 
-from .. import cf
-from ..integrate import integrate, sample_grid
-from ..integrators import EPSILON
-from ..model import STATE_NAMES
-from ..params import Params
-from ..transient import spike_times
+from sleighsim.io import cf
+from sleighsim.engine.integrate import integrate, sample_grid
+from sleighsim.engine.integrators import EPSILON
+from sleighsim.model.equations import STATE_NAMES
+from sleighsim.model.params import Params
+from sleighsim.engine.transient import spike_times
 
 log = logging.getLogger("sleighsim")
 

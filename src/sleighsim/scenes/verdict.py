@@ -14,14 +14,13 @@ import time
 import numpy as np
 import xarray as xr
 
-from .. import cf, frequencies, integrators, lyapunov, model
-from ..chaos.frequency import (
-    frequency_drift,
-    frequency_log_ratio,
-    judge_frequency,
-    judged_run,
-)
-from ..chaos.orbits import (
+from sleighsim.io import cf
+from sleighsim.chaos import naff as frequencies
+from sleighsim.engine import integrators
+from sleighsim.chaos import lyapunov
+from sleighsim.model import equations
+from sleighsim.chaos.frequency import frequency_drift, frequency_log_ratio, judge_frequency, judged_run
+from sleighsim.chaos.orbits import (
     LOSCHMIDT_GAIN_ROUNDING_MAX,
     d0_independent,
     judge_loschmidt,
@@ -32,7 +31,7 @@ from ..chaos.orbits import (
     two_trajectory,
     two_trajectory_indicator,
 )
-from ..chaos.rule import (
+from sleighsim.chaos.rule import (
     DECISION_RULE,
     agree,
     INDICATORS,
@@ -43,7 +42,7 @@ from ..chaos.rule import (
     faithful_gate,
     precision_gate,
 )
-from ..chaos.tangent import (
+from sleighsim.chaos.tangent import (
     finite_time_exponents,
     growth_confirmed,
     judge_benettin,
@@ -53,14 +52,14 @@ from ..chaos.tangent import (
     megno,
     megno_in_long_double,
 )
-from ..chaos.verdicts import CHAOTIC, REGULAR
-from ..faithfulness import FAITHFUL_MAX, ROUNDING, cycle_gains, follows, spike_cycle_gains
-from ..integrate import integrate, orbit_samples, sample_grid
-from ..io import read_dataset
-from ..params import Params
-from ..symmetries import state_at_label
-from ..transient import settle
-from .common import nan_padded, realization_states
+from sleighsim.chaos.verdicts import CHAOTIC, REGULAR
+from sleighsim.chaos.faithfulness import FAITHFUL_MAX, ROUNDING, cycle_gains, follows, spike_cycle_gains
+from sleighsim.engine.integrate import integrate, orbit_samples, sample_grid
+from sleighsim.io.netcdf import read_dataset
+from sleighsim.model.params import Params
+from sleighsim.model.symmetries import state_at_label
+from sleighsim.engine.transient import settle
+from sleighsim.scenes.common import nan_padded, realization_states
 
 log = logging.getLogger("sleighsim")
 
@@ -124,7 +123,7 @@ def one_state(params, y0, cfg: dict, scene: str) -> dict:
             "sum_err": s_err, "r_image": image, "r_image_distance": image_dist, "mean_u": float(mean_u_omega[0]),
             "mean_omega": float(mean_u_omega[1]), "transient_over": int(pre["transient_over"]), "T_two": float(tt["T"]),
             "gain": gain,
-            "drift": float(abs(model.energy(integrators.read(flow, 4), params) / model.energy(y0, params) - 1))}
+            "drift": float(abs(equations.energy(integrators.read(flow, 4), params) / equations.energy(y0, params) - 1))}
 
 
 def gain_run(params, y, cfg: dict) -> dict:
@@ -185,7 +184,7 @@ def two_trajectory_runs(params, y, cfg: dict) -> tuple:
     integrators.set_pars(flow, params)
     y_int = _stored(y)
     tts = [two_trajectory(flow, y_int, d0=d0, tau=cfg["tau"], T=cfg["T_two"], t_align=cfg["t_align"],
-                          callback=integrators.bounded(flow), difference=model.state_difference,
+                          callback=integrators.bounded(flow), difference=equations.state_difference,
                           project=lambda ref, p: _on_level(ref, p, params)) for d0 in cfg["d0"]]
     return flow, tts
 
@@ -215,7 +214,7 @@ def loschmidt_run(params, y, cfg: dict, *, long_double: bool = False) -> dict:
     flow, _ = integrators.flow(False, cfg["tol_long_double"] if long_double else cfg["tol"], long_double)
     integrators.set_pars(flow, params)
     return loschmidt(flow, _stored(y), loschmidt_T(cfg), lambda z: R * z, callback=integrators.bounded(flow),
-                     difference=model.state_difference, scale=float(np.max(np.abs(np.asarray(y)[:3]))))
+                     difference=equations.state_difference, scale=float(np.max(np.abs(np.asarray(y)[:3]))))
 
 
 PRECISIONS = ("double", "long double", "quad")  # the frequency indicator's runs, in order
@@ -234,7 +233,7 @@ def frequency_run(params, y, cfg: dict, precision: str = "double") -> dict:
     T = fc["quad_T"] if precision == "quad" else fc["T"]
     flow, _ = integrators.flow(False, _frequency_tol(cfg, precision), precision == "long double", precision == "quad")
     integrators.set_pars(flow, params)
-    return frequency_drift(flow, _stored(y), T=T, dt=fc["dt"], component=model.STATE_NAMES.index(fc["component"]),
+    return frequency_drift(flow, _stored(y), T=T, dt=fc["dt"], component=equations.STATE_NAMES.index(fc["component"]),
                            splits=fc["splits"], min_cycles=fc["min_cycles"], callback=integrators.bounded(flow))
 
 
@@ -356,7 +355,7 @@ def _on_level(ref, partner, params):
     velocities scale, delta is kept (E is quadratic in the velocities at fixed delta)."""
     shift = np.array([0.0, 0.0, 0.0, integrators.DELTA_SHIFT])
     out = np.array(partner, float)
-    out[:3] *= math.sqrt(model.energy(ref - shift, params) / model.energy(out - shift, params))
+    out[:3] *= math.sqrt(equations.energy(ref - shift, params) / equations.energy(out - shift, params))
     return out
 
 

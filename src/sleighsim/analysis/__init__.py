@@ -1,0 +1,1 @@
+"""Analysis of orbits: spectra, fits, windows, and the precision ladder's observables."""

@@ -1,0 +1,1 @@
+"""The claims ledger: judges grouped by the paper's sections, verdict rules, causes."""

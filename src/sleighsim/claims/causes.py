@@ -1,0 +1,221 @@
+"""The ledger's ``cause`` column: each "differs" tested against its likely causes, from the datasets
+named in :data:`sleighsim.ops.registry.CAUSES`. A cause explains a number when, at some setting, it
+moves our value to within the judge's tolerance of the paper's; the text says which setting, or
+that none of the causes tested explains the difference and what they gave."""
+
+from __future__ import annotations
+
+import math
+import re
+
+import numpy as np
+
+from sleighsim.claims.rules import REL_TOL, finite, fmt
+
+NONE = "not explained by the causes tested"
+
+
+def _crossing(x, y, target):
+    """x values where the piecewise-linear y(x) crosses target (log-interpolated in x)."""
+    x, y = np.asarray(x, float), np.asarray(y, float)
+    out = []
+    for i in range(len(x) - 1):
+        a, b = y[i] - target, y[i + 1] - target
+        if finite(a, b) and a * b <= 0 and a != b:
+            w = a / (a - b)
+            out.append(float(np.exp((1 - w) * np.log(x[i]) + w * np.log(x[i + 1]))))
+    return out
+
+
+def _sweep(name, unit, x, y, target, rel_tol=REL_TOL, fmt_x="{:.3g}"):
+    """(explained?, text) for one observable swept against one setting."""
+    ok = np.isfinite(y)
+    if not ok.any():
+        return False, f"{name}: not determined at any {unit}"
+    span = f"{name} from {np.nanmin(y):.4g} to {np.nanmax(y):.4g} over {unit} {fmt_x.format(np.min(x[ok]))} to " \
+           f"{fmt_x.format(np.max(x[ok]))}"
+    hits = _crossing(x, y, target)
+    close = [fmt_x.format(v) for v, w in zip(x, y) if finite(w) and abs(w - target) <= rel_tol * abs(target)]
+    if hits:
+        return True, f"{span}; {target:g} at {unit} " + ", ".join(fmt_x.format(h) for h in hits)
+    if close:
+        return True, f"{span}; within {rel_tol:.0%} of {target:g} at {unit} " + ", ".join(close)
+    return False, span
+
+
+def _verdict(findings):
+    """'explained by A, B: details' or 'not explained by the causes tested: details' (findings of one
+    cause grouped)."""
+    names = list(dict.fromkeys(name for name, _, _ in findings))
+    explained = [n for n in names if any(ok for m, ok, _ in findings if m == n)]
+    details = "; ".join(f"{n}: " + "; ".join(text for m, _, text in findings if m == n) for n in names)
+    return (f"explained by {', '.join(explained)}: " if explained else f"{NONE}: ") + details
+
+
+def _k2_joint(k2, targets: dict):
+    """One K2 for several numbers: explained only when a single K2 of the sweep puts every
+    number within REL_TOL of its paper value."""
+    K2 = k2.K2.values
+    fits = np.ones(K2.size, bool)
+    texts = []
+    for var, want in targets.items():
+        y = k2[var].values
+        fits &= np.isfinite(y) & (np.abs(y - want) <= REL_TOL * abs(want))
+        texts.append(_sweep(var, "K2", K2, y, want)[1])
+    joint = (f"one K2 fits them all: {', '.join(f'{v:g}' for v in K2[fits])}" if fits.any() else
+             "no single K2 of the sweep fits them all")
+    return ("the unstated K", bool(fits.any()), "; ".join(texts) + "; " + joint)
+
+
+def _k2(k2, var, target):
+    ok, text = _sweep(var, "K2", k2.K2.values, k2[var].values, target)
+    return ("the unstated K", ok, text)
+
+
+def _ode45(err, var, target):
+    ok, text = _sweep(var, "rtol", err.rtol.values, err[var].values, target, fmt_x="{:.0e}")
+    return (f"integration error ({err.attrs['method']})", ok, text)
+
+
+def _trigger(law, want):
+    """The injected error as a cause: the level log10(tol) at which the fitted trigger law puts the
+    first spike at the paper's time; explained when some arithmetic can inject an error that size
+    (between quad's rounding, 1e-34, and 1)."""
+    from sleighsim.scenes.trigger import level_for
+
+    a = law.attrs
+    level = level_for(want, {"slope": a["law_slope"], "intercept": a["law_intercept"]})
+    if not finite(level):
+        return ("the injected error (trigger law)", False, f"law not determined ({a['law_n_fit']} runs in the fit)")
+    text = (f"first spike moves {a['law_slope']:.3g} +- {a['law_slope_stderr']:.2g} time units per decade of injected "
+            f"error ({a['law_n_fit']} runs, tol {law.tol.values[law.in_fit.values == 1].min():.0e} to "
+            f"{law.tol.values[law.in_fit.values == 1].max():.0e}); {want:g} would need an error of 10^{level:.3g}")
+    return ("the injected error (trigger law)", -34 <= level <= 0, text)
+
+
+def c04(judgement, paper, k2, err, audit, law):
+    want = paper["first_spike"]
+    printed = audit.attrs["printed_first_spike"]
+    return _verdict([_k2(k2, "first_spike", want), _ode45(err, "first_spike", want),
+                     ("the printed udot", finite(printed) and abs(printed - want) <= REL_TOL * want,
+                      f"first spike {printed:.5g}" if finite(printed) else
+                      f"no spike by t = {audit.attrs['printed_spikes_t_end']:g}"), _trigger(law, want)])
+
+
+def c05(judgement, paper, k2, err, audit):
+    want = paper["spike_interval"]
+    printed = audit.attrs["printed_spike_interval"]
+    return _verdict([_k2(k2, "spike_interval", want), _ode45(err, "spike_interval", want),
+                     ("the printed udot", finite(printed) and abs(printed - want) <= REL_TOL * want,
+                      f"interval {printed:.5g}" if finite(printed) else "no steady spike interval")])
+
+
+def c09(judgement, paper, k2):
+    return _verdict([_k2_joint(k2, {"Omega2_amplitude": paper["Omega2_amplitude"],
+                                    "phi1_over_pi": paper["phi1_over_pi"]})])
+
+
+def c10(judgement, paper, k2):
+    return _verdict([_k2_joint(k2, {"T2": paper["T2"], "B": paper["B"], "omega2_growth": paper["growth"]})])
+
+
+def c11(judgement, paper, k2, err):
+    want = paper["omega_rel_error"]
+    return _verdict([_k2(k2, "omega_rel_error", want), _ode45(err, "omega_rel_error", want)])
+
+
+def c13(judgement, paper, k2):
+    """The spike times near t = 10000 follow the first spike and the interval: does some K2 put one there?"""
+    want = paper["spike_time"]
+    times = [(K, f + n * d) for K, f, d in zip(k2.K2.values, k2.first_spike.values, k2.spike_interval.values)
+             if finite(f, d) for n in range(0, 8)]
+    near = sorted({f"{K:g}" for K, t in times if abs(t - want) <= 0.05 * want})
+    text = ("a spike within 5% of t = {:g} at K2 ".format(want) + ", ".join(near)) if near else \
+        f"no K2 in [{k2.K2.values.min():g}, {k2.K2.values.max():g}] puts a spike within 5% of t = {want:g}"
+    return _verdict([("the unstated K (spike times = first spike + n x interval)", bool(near), text)])
+
+
+def c18(judgement, paper, err):
+    """Numerical dissipation of a loose explicit solver can fake a contraction: the sum of the protocol's exponents."""
+    sums = err.protocol_exponent.values.sum(axis=1)
+    rtols = err.lyapunov_rtol.values
+    fakes = [f"{r:.0e}" for r, s in zip(rtols, sums) if s < 0]
+    text = "sum of the protocol's exponents " + ", ".join(f"{s:.2g} at rtol {r:.0e}" for r, s in zip(rtols, sums))
+    return _verdict([(f"integration error ({err.attrs['method']}: numerical dissipation)", bool(fakes), text)])
+
+
+def c19(judgement, paper, err):
+    want = np.sort(np.asarray(paper["exponents"], float))[::-1]
+    rows = []
+    for r, lam in zip(err.lyapunov_rtol.values, err.protocol_exponent.values):
+        close = all(abs(o - w) <= REL_TOL * abs(w) for o, w in zip(lam, want))
+        rows.append((r, close, lam))
+    hits = [f"{r:.0e}" for r, c, _ in rows if c]
+    text = "; ".join(f"rtol {r:.0e}: {fmt(lam, 2)}" for r, _, lam in rows)
+    return _verdict([(f"integration error ({err.attrs['method']} protocol)", bool(hits), text)])
+
+
+def c20(judgement, paper, err):
+    lam1 = err.protocol_exponent.values[:, 0]
+    text = "lambda_1 of the protocol " + ", ".join(f"{v:.2g} at rtol {r:.0e}" for r, v in zip(err.lyapunov_rtol.values, lam1))
+    hit = any(abs(v - paper["smallest"]) <= REL_TOL * paper["smallest"] for v in lam1)
+    return _verdict([(f"integration error ({err.attrs['method']} protocol)", hit, text)])
+
+
+def c21(judgement, paper, err):
+    return c20(judgement, {"smallest": paper["smallest_above"]}, err)
+
+
+def c22(judgement, paper, ref):
+    a = ref.attrs
+    N, width = a["n_p2pi"] - 1, a["return_time_max"] - a["return_time_min"]
+    expected = N * N * paper["tie"] / width
+    return _verdict([("the number of return times (near-ties by chance)", expected >= 1,
+                      f"{N} values over a range of {width:.3g} give about {expected:.3g} pairs closer than "
+                      f"{paper['tie']:g}")])
+
+
+def _units_and_sampling(paper, psd):
+    """Our Omega band in rad/time, and the sampling intervals that would alias it onto the paper's band."""
+    a = psd.attrs
+    want = np.asarray(paper["band"], float)
+    ours = np.array([a["Omega_band_low"], a["Omega_band_high"]])
+    tol = max(REL_TOL * (want[1] - want[0]), 1.0 / a["psd_segment"])
+    radians = 2 * math.pi * ours
+    rad_ok = bool(np.all(np.abs(radians - want) <= tol))
+    hits = []
+    for dt in np.geomspace(0.01, 2.0, 2000):
+        fs = 1.0 / dt
+        alias = np.abs(ours - fs * np.round(ours / fs))
+        if np.all(np.abs(np.sort(alias) - want) <= tol):
+            hits.append(dt)
+    return [("units (rad/time for cycles/time)", rad_ok, f"our band x 2 pi = [{radians[0]:.4g}, {radians[1]:.4g}]"),
+            ("sampling (aliasing)", bool(hits),
+             (f"sampling intervals {hits[0]:.3g} to {hits[-1]:.3g} alias our band onto the paper's" if hits else
+              "no sampling interval in [0.01, 2] aliases our band onto the paper's"))]
+
+
+def c23(judgement, paper, psd, k2):
+    want = paper["band"]
+    k2_low, k2_high = _k2(k2, "band_low", want[0]), _k2(k2, "band_high", want[1])
+    both = k2_low[1] and k2_high[1]
+    return _verdict([*_units_and_sampling(paper, psd),
+                     ("the unstated K", both, f"{k2_low[2]}; {k2_high[2]}")])
+
+
+def c24(judgement, paper, psd):
+    return _verdict(_units_and_sampling(paper, psd))
+
+
+def d5(judgement, paper, audit):
+    a = audit.attrs
+    names = a["d5_normalisation_names"].split(" | ")
+    values = np.asarray(a["d5_normalisation_values"], float)
+    want = paper["label"]
+    hits = [n for n, v in zip(names, values) if abs(v - want) <= REL_TOL * want]
+    return _verdict([("an energy normalisation", bool(hits),
+                      "; ".join(f"{n}: {v:.4g}" for n, v in zip(names, values)))])
+
+
+#: Claim id -> cause test (called only for rows that differ).
+CAUSE_TESTS = {name.upper(): fn for name, fn in dict(globals()).items() if re.fullmatch(r"[cd]\d+", name)}

@@ -1,0 +1,424 @@
+"""The claims ledger: one row per id of paper/CLAIMS.md, judged by code from the datasets.
+
+A claim (C.., D..) is judged by its function in :mod:`sleighsim.claims.judges` from the paper's
+values (the ``value`` column of CLAIMS.md, parsed) and the datasets of
+:data:`sleighsim.ops.registry.EVIDENCE`; a row that differs is then tested against its likely causes
+(:mod:`sleighsim.claims.causes`, datasets of :data:`sleighsim.ops.registry.CAUSES`). A figure row
+(F..) counts when its figure was built, every steady-state dataset it shows carries a passed
+transient check, and no claim it illustrates differs.
+
+Rules: see :mod:`sleighsim.claims.rules` (a number is reproduced within max(2 standard errors,
+10%) of the paper's value; a qualitative claim when its stated criterion holds; "cannot be
+reproduced" only from a computed rule; a missing dataset or check gives "not yet computed").
+
+Which finer-precision variants and realizations a claim is judged on is what the run's config
+declares (:func:`sleighsim.ops.registry.laddered`, :func:`sleighsim.ops.registry.realized`), never which
+files lie in the data directory: a declared one that was not built gives "not yet computed", a
+stale one from an older config is not read.
+
+Command line (re-judges a results tree in seconds, no Snakemake; ``--config`` names the config
+files the tree was run with, merged onto config/config.yaml as ``snakemake --configfile`` does):
+``python -m sleighsim.claims --data results/data --figures results/figures --out results/claims.csv``
+(add ``--config config/smoke.yaml`` for a smoke run's tree).
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import io
+import math
+import re
+import sys
+from dataclasses import astuple, dataclass, field, fields
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from sleighsim.chaos.rule import agree
+from sleighsim.chaos.faithfulness import UNKNOWN
+from sleighsim.engine.integrators import EPSILON
+from sleighsim.io.netcdf import read_dataset, write_dataset, write_text
+from sleighsim.ops.facts import BASE_CONFIG, merged_config
+from sleighsim.io.integrity import readable
+from sleighsim.ops.registry import (
+    CAUSES,
+    EVIDENCE,
+    FIGURES,
+    figures_built,
+    ladder_name,
+    laddered,
+    realization_name,
+    realized,
+    run_datasets,
+    variant,
+)
+from sleighsim.claims import rules
+from sleighsim.claims.causes import CAUSE_TESTS
+from sleighsim.claims.judges import JUDGES
+from sleighsim.claims.rules import CANNOT, DIFFERS, DOUBLE_ONLY, FRAGILE, NOT_YET, REPRODUCED, VERDICTS
+
+ID = re.compile(r"[FCD]\d+")
+PRECISIONS = tuple(EPSILON)  # coarse to fine
+PAIR = re.compile(r"\s*(\w+)\s*=\s*(\[[^\]]*\]|[^;]+)")
+
+
+@dataclass
+class Claim:
+    """A row of CLAIMS.md: ``values`` are the parsed ``value`` column (numbers or lists of
+    numbers), with the numbers' spellings under ``values["_text"]``."""
+
+    id: str
+    statement: str
+    paper_value: str
+    values: dict = field(default_factory=dict)
+
+
+@dataclass
+class Row:
+    id: str
+    statement: str
+    paper_value: str
+    measured: str = ""
+    uncertainty: str = ""
+    units: str = ""
+    verdict: str = NOT_YET
+    evidence: str = ""
+    reason: str = ""
+    rule: str = ""
+    cause: str = ""
+    difference: float = math.nan
+    precision: str = ""
+    double_value: str = ""
+    realizations: str = ""
+
+
+def parse_values(cell: str) -> dict:
+    """``name=number; name=[number, ...]`` -> {name: float or list}, with the spellings in ``_text``."""
+    values, text = {}, {}
+    for m in PAIR.finditer(cell or ""):
+        name, raw = m.group(1), m.group(2).strip()
+        if raw.startswith("["):
+            items = [s.strip() for s in raw.strip("[]").split(",")]
+            values[name], text[name] = [float(s) for s in items], items
+        else:
+            values[name], text[name] = float(raw), raw
+    if values:
+        values["_text"] = text
+    return values
+
+
+def parse_claims(path) -> list[Claim]:
+    """Every table row of CLAIMS.md whose first cell is an id, in file order. Figure rows: (id, label,
+    what it shows); claims: (id, claim, paper value, value); model rows: (id, item, what to show, value)."""
+    out = []
+    for line in Path(path).read_text().splitlines():
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if len(cells) < 3 or not ID.fullmatch(cells[0]):
+            continue
+        kind = cells[0][0]
+        if kind == "F":
+            out.append(Claim(cells[0], cells[2], cells[1]))
+        else:
+            value = cells[3] if len(cells) > 3 else ""
+            out.append(Claim(cells[0], cells[1], cells[2], parse_values(value)))
+    return out
+
+
+class MissingDataset(KeyError):
+    """A dataset the ledger needs was not built, or cannot be read (args: name[, why])."""
+
+    def __str__(self) -> str:
+        return f"dataset {self.args[0]} " + (self.args[1] if len(self.args) > 1 else "not built")
+
+
+class _Datasets:
+    """The datasets of one data directory, each read once; MissingDataset naming a missing one.
+    Names are paths under the directory without .nc (a scene, or its variant in a finer precision,
+    ``sleighsim.ops.registry.variant``, or a realization, ``sleighsim.ops.registry.realization_name``).
+    Which variants and realizations exist is what the config declares, never which files are
+    there: ``ladders`` {scene: precisions, coarse to fine} (``registry.laddered``), ``realized``
+    {scene: number of realizations} (``registry.realized``)."""
+
+    def __init__(self, data_dir: Path, ladders: dict[str, list[str]], realized: dict[str, int]):
+        self.dir, self.cache = Path(data_dir), {}
+        self.ladders, self.realized = dict(ladders), dict(realized)
+
+    def __call__(self, names) -> list:
+        for name in names:
+            if name not in self.cache:
+                path = self.dir / f"{name}.nc"
+                if not path.exists():
+                    raise MissingDataset(name)
+                try:
+                    self.cache[name] = read_dataset(path)
+                except OSError as err:
+                    raise MissingDataset(name, f"unreadable ({err})") from err
+        return [self.cache[n] for n in names]
+
+    def finest(self, names) -> str:
+        """The finest precision the config ladders every one of ``names`` in (double when any is
+        not laddered, or when ``names`` is empty)."""
+        if not names or any(n not in self.ladders for n in names):
+            return "double"
+        common = set.intersection(*(set(self.ladders[n]) for n in names))
+        return max(common, key=PRECISIONS.index, default="double")
+
+    def variants(self, names, precision: str) -> list[str]:
+        """Each of ``names`` in ``precision`` where the config ladders it in that precision, else as is."""
+        return [variant(n, precision) if precision in self.ladders.get(n, ()) else n for n in names]
+
+    def realizations(self, names) -> list[list[str]]:
+        """The evidence of realizations k = 1 .. n-1 of ``names`` (n: the fewest realizations the
+        config asks of any of them that is realized): each realized name replaced by its realization
+        k (empty when none is realized). Loading a declared realization that was not built raises
+        MissingDataset."""
+        realized = [n for n in names if n in self.realized]
+        n = min((self.realized[r] for r in realized), default=1)
+        return [[realization_name(m, k) if m in realized else m for m in names] for k in range(1, n)]
+
+    def ladder_status(self, names) -> str:
+        """The converged precision of each of ``names`` the config ladders (data/ladder/<name>.nc), and
+        whether double follows its orbit where the ladder measured the gauge."""
+        out = []
+        for n in names:
+            if n not in self.ladders:
+                continue
+            ds = self([ladder_name(n)])[0]
+            c = ds.attrs["converged_precision"]
+            text = f"{n}: " + (f"converged in {c}" if c != "not converged" else c)
+            if "follows_orbit" in ds:
+                f = str(ds.follows_orbit.sel(precision="double").values)
+                text += (", double " + f) if f != UNKNOWN else ", double's faithfulness not measured (no full spike cycle)"
+            out.append(text)
+        return "; ".join(out)
+
+
+def _files(names) -> str:
+    return ", ".join(f"{n}.nc" for n in names)
+
+
+def transient_checked(ds) -> tuple[bool, str]:
+    """(passed, text): the dataset's transient check, an attribute or a per-row variable; a missing
+    check is not a passed one."""
+    if "transient_over" in ds.data_vars:
+        v = np.asarray(ds.transient_over.values)
+        return bool(v.size and np.all(v == 1)), f"{int(np.sum(v == 1))} of {v.size} rows settled"
+    if "transient_over" in ds.attrs:
+        return ds.attrs["transient_over"] == 1, "settled" if ds.attrs["transient_over"] == 1 else "not settled"
+    return False, "no transient check"
+
+
+def judge_figure(row: Row, name: str, load: _Datasets, figures_dir: Path) -> None:
+    """A figure row: built from its datasets, and every steady-state dataset's transient check passed."""
+    fig = FIGURES[name]
+    png = Path(figures_dir) / f"{name}.png"
+    row.evidence = ", ".join([*(f"{n}.nc" for n in fig.data), png.name])
+    row.rule = "the figure is built from its datasets" + (
+        f" and the transient check passed in {_files(fig.steady)}" if fig.steady else "")
+    if not png.exists():
+        row.verdict, row.reason = NOT_YET, f"figure {png.name} not built"
+        return
+    checks = {n: transient_checked(ds) for n, ds in zip(fig.steady, load(fig.steady))}
+    row.measured = f"figure {png.name}" + "".join(f"; {n}: {text}" for n, (_, text) in checks.items())
+    failed = [n for n, (ok, _) in checks.items() if not ok]
+    missing = [n for n in failed if checks[n][1] == "no transient check"]
+    if missing:
+        row.verdict, row.reason = NOT_YET, f"no transient check in {_files(missing)}"
+    elif failed:
+        row.verdict, row.reason = DIFFERS, f"the transient is not shown to be over in {_files(failed)}"
+    else:
+        row.verdict = REPRODUCED
+
+
+def _judged(claim: Claim, datasets: list):
+    j = JUDGES[claim.id](claim.values, *datasets)
+    if j.verdict not in VERDICTS or j.verdict == DOUBLE_ONLY:
+        raise ValueError(f"{claim.id}: judge returned {j.verdict!r}")
+    return j
+
+
+# the docstring is written into the ledger (attribute precision_rule)
+def in_precision(double, finest, precision: str):
+    """The verdict of a claim whose datasets were computed in double and in a finer ``precision``:
+    the finer arithmetic's verdict, except "reproduced only in double precision" when double
+    reproduces the paper's value and the finer arithmetic does not. Returns (verdict, reason)."""
+    if double.verdict == REPRODUCED and finest.verdict in (DIFFERS, CANNOT):
+        return DOUBLE_ONLY, (f"double reproduces the paper ({double.measured}); {precision} does not "
+                             f"({finest.measured}){': ' + finest.reason if finest.reason else ''}")
+    return finest.verdict, finest.reason
+
+
+def judge_claim(row: Row, claim: Claim, load: _Datasets) -> None:
+    """A claim row from its judge, in the finest precision the config ladders all its datasets in
+    (beside double's value), then, if it differs, its cause tests (on the datasets of that precision
+    where the config ladders them in it)."""
+    names = EVIDENCE.get(claim.id, ())
+    row.precision = precision = load.finest(names)
+    j = j_double = _judged(claim, load(names))
+    row.verdict, row.reason = j.verdict, j.reason
+    if row.precision != "double":
+        j = _judged(claim, load(load.variants(names, precision)))
+        row.verdict, row.reason = in_precision(j_double, j, row.precision)
+        row.double_value = j_double.measured
+        status = load.ladder_status(names)
+        row.precision += f" ({status})" if status else ""
+    judge_realizations(row, claim, names, load, j_double, judged_in=precision)
+    row.measured, row.rule = j.measured, j.rule
+    row.uncertainty, row.units, row.difference = j.uncertainty, j.units, float(j.difference)
+    row.evidence = _files(names) + (" " + j.note if names and j.note.startswith("(") else
+                                    "; " + j.note if names and j.note else j.note)
+    if row.verdict == DIFFERS and claim.id.startswith("D"):
+        row.cause = "the paper's model as printed (found by the derivation, no run involved): " + (j.reason or j.measured)
+    if row.verdict == DIFFERS and claim.id in CAUSE_TESTS:
+        needed = load.variants(CAUSES[claim.id], precision)  # the arithmetic the verdict was judged in
+        try:
+            row.cause = CAUSE_TESTS[claim.id](j, claim.values, *load(needed))
+            row.evidence += "; causes: " + _files(needed)
+        except MissingDataset as missing:
+            row.cause = f"causes not yet computed: {missing}"
+
+
+def judge_realizations(row: Row, claim: Claim, names, load: _Datasets, first, judged_in: str = "double") -> None:
+    """The claim judged again on every realization of its datasets (``_Datasets.realizations``;
+    ``first`` is the judgement of realization 0 in double): the row keeps its verdict when all agree,
+    else it is "fragile" with the count of each verdict (``chaos.rule.agree``). Realizations run in
+    double: a claim judged in a finer precision (``judged_in``, one run) keeps that verdict, and its
+    column says how the double realizations agree."""
+    sets = load.realizations(names)
+    if not sets:
+        return
+    verdicts = [first.verdict] + [_judged(claim, load(s)).verdict for s in sets]
+    answer, _, why = agree(verdicts)
+    if judged_in != "double":
+        row.realizations = f"in double: {why}; {judged_in}: one run"
+        return
+    row.realizations = why
+    if answer == FRAGILE:
+        row.verdict, row.reason = FRAGILE, f"{why}; realization 0: {row.reason or first.measured}"
+
+
+def _figure_from_claims(row: Row, judged: dict, claims: tuple) -> None:
+    """A built figure is no better than the claims it illustrates."""
+    if claims:
+        row.rule += "; then no better than the claims it illustrates (" + ", ".join(claims) + ")"
+    differing = [c for c in claims if c in judged and judged[c].verdict in (DIFFERS, DOUBLE_ONLY)]
+    fragile = [c for c in claims if c in judged and judged[c].verdict == FRAGILE]
+    if row.verdict == REPRODUCED and differing:
+        row.verdict, row.reason = DIFFERS, "its claims differ: " + ", ".join(differing)
+        row.cause = "; ".join(f"{c}: {judged[c].cause or 'no cause test yet'}" for c in differing)
+    elif row.verdict == REPRODUCED and fragile:
+        row.verdict, row.reason = FRAGILE, "its claims are fragile: " + ", ".join(fragile)
+
+
+def ledger(claims_md, data_dir, figures_dir, config: dict) -> list[Row]:
+    """Judge every id of CLAIMS.md once, in file order, from the datasets ``config`` (the workflow's
+    merged config) declares: its precision ladders and realizations, on-request scenes included."""
+    by_paper_id = {f.paper: name for name, f in FIGURES.items() if f.paper}
+    load = _Datasets(data_dir, laddered(config, on_request=True), realized(config, on_request=True))
+    rows = []
+    for claim in parse_claims(claims_md):
+        row = Row(claim.id, claim.statement, claim.paper_value)
+        try:
+            if claim.id in by_paper_id:
+                judge_figure(row, by_paper_id[claim.id], load, Path(figures_dir))
+            elif claim.id in JUDGES:
+                judge_claim(row, claim, load)
+            else:
+                row.reason = "no judge for this id"
+        except MissingDataset as missing:
+            row.verdict, row.reason = NOT_YET, str(missing)
+            row.measured = row.uncertainty = ""
+        rows.append(row)
+    judged = {r.id: r for r in rows}
+    for row in rows:
+        if row.id in by_paper_id:
+            _figure_from_claims(row, judged, FIGURES[by_paper_id[row.id]].claims)
+    return rows
+
+
+def write(rows: list[Row], csv_path, nc_path) -> None:
+    """The ledger as CSV (one row per claim) and as a netCDF dataset."""
+    buf = io.StringIO()
+    writer = csv.writer(buf)
+    writer.writerow([f.name for f in fields(Row)])
+    writer.writerows(astuple(r) for r in rows)
+    write_text(csv_path, buf.getvalue())
+    write_dataset(to_dataset(rows), nc_path)
+
+
+def read(nc_path) -> list[Row]:
+    """The rows of a ledger written by :func:`write`."""
+    ds = read_dataset(nc_path)
+    return [Row(id=str(i), **{k: (float(ds[k].values[j]) if k == "difference" else str(ds[k].values[j]))
+                              for k in ds.data_vars}) for j, i in enumerate(ds.id.values)]
+
+
+def to_dataset(rows: list[Row]) -> xr.Dataset:
+    names = [f.name for f in fields(Row) if f.name != "id"]
+    data = {n: ("id", np.array([getattr(r, n) for r in rows], dtype=float if n == "difference" else object))
+            for n in names}
+    ds = xr.Dataset(data, coords={"id": [r.id for r in rows]})
+    ds.attrs.update({f"n_{v.replace(' ', '_')}": sum(r.verdict == v for r in rows) for v in VERDICTS})
+    ds.attrs.update(rel_tol=rules.REL_TOL, k_sigma=rules.K_SIGMA, rules=rules.__doc__.strip(),
+                    precision_rule=" ".join(in_precision.__doc__.split()))
+    return ds
+
+
+def summary(rows: list[Row]) -> dict[str, int]:
+    """Rows per verdict."""
+    return {v: sum(r.verdict == v for r in rows) for v in VERDICTS}
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(prog="python -m sleighsim.claims",
+                                 description="Judge every claim of CLAIMS.md from a results tree; write the ledger.")
+    ap.add_argument("--claims", default=str(Path(__file__).resolve().parents[3] / "paper" / "CLAIMS.md"),
+                    help="the claims list (default: the project's paper/CLAIMS.md)")
+    ap.add_argument("--data", default="results/data", help="directory of the datasets (default results/data)")
+    ap.add_argument("--figures", default="results/figures", help="directory of the figures (default results/figures)")
+    ap.add_argument("--out", default="results/claims.csv",
+                    help="the ledger as CSV; the netCDF copy goes beside it (default results/claims.csv)")
+    ap.add_argument("--config", nargs="+", default=[], metavar="FILE",
+                    help="the run's config files, merged in order onto config/config.yaml as snakemake "
+                         "--configfile merges them: which precision ladders and realizations were asked for "
+                         f"(default: {BASE_CONFIG} alone)")
+    a = ap.parse_args(argv)
+    out = Path(a.out)
+    if out.suffix != ".csv":
+        ap.error(f"--out {a.out}: give a .csv path")
+    for f in a.config:
+        if not Path(f).is_file():
+            ap.error(f"--config {f}: no such file")
+    for flag, d in (("--data", a.data), ("--figures", a.figures)):
+        if not Path(d).is_dir():
+            ap.error(f"{flag} {d}: no such directory")
+    try:
+        n_claims = len(parse_claims(a.claims))
+    except OSError as err:
+        ap.error(f"--claims {a.claims}: {err.strerror or err}")
+    if not n_claims:
+        ap.error(f"--claims {a.claims}: no claim rows (table rows whose first cell is an id such as F1, C01, D1)")
+    config = merged_config(a.config)
+    rows = ledger(a.claims, a.data, a.figures, config)
+    write(rows, out, out.with_suffix(".nc"))
+    print(", ".join(f"{v}: {n}" for v, n in summary(rows).items()), f"-> {out}, {out.with_suffix('.nc')}")
+    absent = missing_products(a.data, a.figures, config)
+    if absent:
+        print(f"error: {len(absent)} product(s) of the run the config declares are missing or unreadable "
+              "(their claims read 'not yet computed'): " + ", ".join(absent), file=sys.stderr)
+        return 3
+    return 0
+
+
+def missing_products(data_dir, figures_dir, config: dict) -> list[str]:
+    """The datasets (``registry.run_datasets``) and figures of the config's default run that are
+    absent from ``data_dir`` / ``figures_dir`` or cannot be opened, as paths."""
+    data = [Path(data_dir) / f"{name}.nc" for name in run_datasets(config)]
+    figures = [Path(figures_dir) / f"{f}.png" for f in figures_built(config)]
+    return [str(p) for p in data if not readable(p)] + [str(p) for p in figures if not p.is_file()]
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,1 @@
+"""Integration: heyoka integrators, the integrate entry point, Poincare sections, transients, peers."""

@@ -1,0 +1,162 @@
+"""Detecting the end of transients from sampled data.
+
+Definitions (stated in every dataset that uses them):
+- spike: a local maximum of |Omega| above ``factor`` times the typical steady
+  oscillation amplitude, taken as the median of the per-block maxima of |Omega|
+  over the second half of the record (blocks of ``block`` time units); spikes
+  closer than ``min_separation`` are merged; spikes before ``t_min`` (the
+  sleigh-like first phase, where Omega starts large) are ignored.
+- settling time of omega: blocks of ``window`` time units; the reference is the
+  mean of omega over the second half of the record; the settling time is the
+  start of the first block after which every block mean lies within
+  ``rtol`` * |reference| of it.
+"""
+
+from __future__ import annotations
+
+import logging
+
+import numpy as np
+
+from sleighsim.engine.integrate import final_state, integrate, sample_grid
+
+log = logging.getLogger("sleighsim")
+
+
+def _blocks(t, x, length):
+    t, x = np.asarray(t, float), np.asarray(x, float)
+    dt = t[1] - t[0]
+    n = max(1, int(round(length / dt)))
+    m = len(x) // n
+    if m < 2:
+        raise ValueError(f"record of {t[-1] - t[0]:g} time units is too short for blocks of {length:g}")
+    return t[: m * n].reshape(m, n), x[: m * n].reshape(m, n)
+
+
+RULE = ("spike: |Omega| block maximum (50 time units) above spike_factor x median block maximum of the "
+        "second half, after t_min; settling: block means of omega (window) within rtol of the second-half mean "
+        "from the settling time on")
+
+
+def spike_times(t, Omega, *, factor=1.8, block=50.0, min_separation=300.0, t_min=0.0) -> np.ndarray:
+    """Times of the Omega spikes (see module docstring)."""
+    tb, xb = _blocks(t, np.abs(Omega), block)
+    peaks = xb.max(axis=1)
+    typical = np.median(peaks[len(peaks) // 2:])
+    idx = np.flatnonzero(peaks > factor * typical)
+    times = tb[idx, np.argmax(xb[idx], axis=1)]
+    heights = peaks[idx]
+    late = times >= t_min
+    times, heights = times[late], heights[late]
+    keep: list[int] = []
+    for k in range(len(times)):
+        if keep and times[k] - times[keep[-1]] < min_separation:
+            if heights[k] > heights[keep[-1]]:
+                keep[-1] = k
+        else:
+            keep.append(k)
+    return times[keep]
+
+
+def interval_stats(spikes) -> tuple[float, float]:
+    """Mean and standard deviation (ddof 1) of the intervals between successive spike times (time
+    units); NaN when there are too few spikes (the mean needs two, the deviation three)."""
+    d = np.diff(np.asarray(spikes, float))
+    return (float(d.mean()) if d.size else float("nan")), (float(d.std(ddof=1)) if d.size > 1 else float("nan"))
+
+
+def settling_time(t, omega, *, window=2500.0, rtol=0.02) -> float:
+    """Settling time of the block means of omega (see module docstring); NaN if never settled."""
+    tb, xb = _blocks(t, omega, window)
+    means = xb.mean(axis=1)
+    ref = means[len(means) // 2:].mean()
+    bad = np.flatnonzero(np.abs(means - ref) > rtol * abs(ref))
+    if bad.size == 0:
+        return float(tb[0, 0])
+    if bad[-1] == len(means) - 1:
+        return float("nan")
+    return float(tb[bad[-1] + 1, 0])
+
+
+def steady_state_report(t, Omega, omega, *, spike_factor=1.8, window=2500.0, rtol=0.02, t_min=0.0) -> dict:
+    """Settling time, spikes and spike intervals over each half of the record."""
+    spikes = spike_times(t, Omega, factor=spike_factor, t_min=t_min)
+    settle = settling_time(t, omega, window=window, rtol=rtol)
+    mid = 0.5 * (t[0] + t[-1])
+    out = {"settling_time": settle, "n_spikes": int(spikes.size),
+           "first_spike": float(spikes[0]) if spikes.size else float("nan")}
+    for half, sel in (("first", spikes < mid), ("second", spikes >= mid)):
+        out[f"spike_interval_mean_{half}_half"], out[f"spike_interval_std_{half}_half"] = interval_stats(spikes[sel])
+    return out
+
+
+def settle(params, y0, t_settle: float, *, dt: float, window: float, rtol: float, spike_factor: float,
+           t_min: float, tol: float, label: str = "", progress: int = 20):
+    """Integrate the pre-run [0, t_settle] from y0, sampled every dt, and judge it with the rules
+    above: the transient is over when omega's block means (``window``) have settled within ``rtol``
+    at least two windows before t_settle. Returns (end state, attributes): ``transient_over``, the
+    settling time, spikes and spike intervals of each half, the rule and the pre-run's energy drift."""
+    pre = integrate(params, y0, sample_grid(0.0, t_settle, dt), tol=tol, scene=f"{label}.pre", progress=progress)
+    report = steady_state_report(pre.time.values, pre.Omega.values, pre.omega.values, spike_factor=spike_factor,
+                                 window=window, rtol=rtol, t_min=t_min)
+    settled = report["settling_time"]
+    over = bool(np.isfinite(settled) and settled <= t_settle - 2 * window)
+    attrs = {f"transient_{k}": v for k, v in report.items()}
+    attrs.update(transient_over=int(over), transient_window=window, transient_rtol=rtol,
+                 transient_spike_factor=spike_factor, transient_rule=RULE,
+                 pre_run_energy_max_rel_drift=pre.attrs["energy_max_rel_drift"], pre_run_steps=pre.attrs["steps"])
+    log.info("%s: transient %s (settling time %.6g, pre-run to %.6g)", label, "over" if over else "NOT over",
+             settled, t_settle)
+    return final_state(pre), attrs
+
+
+PHASES_RULE = ("sleigh-like phase ends when the running mean of u (window mean_window) first reaches sleigh_frac "
+               "(0.99) of its maximum before the first spike; the second transient ends at the first Omega spike "
+               "after four times that time (spike rule above); steady spike interval: mean and standard deviation "
+               "of the intervals between later spikes")
+
+
+def interval_groups(intervals, rel_tol: float) -> np.ndarray:
+    """Label runs by steady spike interval: a run joins the first group whose first member's
+    interval is within rel_tol (so runs listed first head the groups); NaN intervals get -1."""
+    labels, heads = np.full(len(intervals), -1), []
+    for i, x in enumerate(intervals):
+        if not np.isfinite(x):
+            continue
+        for g, h in enumerate(heads):
+            if abs(x - h) <= rel_tol * h:
+                labels[i] = g
+                break
+        else:
+            heads.append(x)
+            labels[i] = len(heads) - 1
+    return labels
+
+
+def running_mean(x, n: int) -> np.ndarray:
+    """Centred running mean over n samples (valid part, length len(x) - n + 1)."""
+    c = np.cumsum(np.insert(np.asarray(x, float), 0, 0.0))
+    return (c[n:] - c[:-n]) / n
+
+
+def phases(t, u, Omega, omega, *, mean_window=25.0, sleigh_frac=0.99, spike_factor=1.8, window=2500.0,
+           rtol=0.02) -> dict:
+    """The transient phases of one record (see PHASES_RULE); times in the record's units, NaN when absent."""
+    t = np.asarray(t, float)
+    dt = t[1] - t[0]
+    n = max(1, int(round(mean_window / dt)))
+    um = running_mean(u, n)
+    tm = t[(n - 1) // 2: (n - 1) // 2 + um.size]
+    first_guess = spike_times(t, Omega, factor=spike_factor, t_min=t[0] + 10 * mean_window)
+    stop = np.searchsorted(tm, first_guess[0]) if first_guess.size else um.size
+    early = um[: max(1, stop)]
+    t_sleigh = float(tm[int(np.argmax(early >= sleigh_frac * early.max()))])
+    spikes = spike_times(t, Omega, factor=spike_factor, t_min=4.0 * t_sleigh)
+    interval_mean, interval_std = interval_stats(spikes)
+    try:
+        settle = settling_time(t, omega, window=window, rtol=rtol)
+    except ValueError:
+        settle = float("nan")
+    return {"sleigh_phase_end": t_sleigh, "first_spike": float(spikes[0]) if spikes.size else float("nan"),
+            "n_spikes": int(spikes.size), "spike_interval_mean": interval_mean, "spike_interval_std": interval_std,
+            "omega_settling_time": settle, "spikes": spikes}

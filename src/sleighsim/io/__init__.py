@@ -1,0 +1,1 @@
+"""Reading and writing results: netCDF datasets with CF conventions, atomic files, integrity."""

@@ -1,0 +1,111 @@
+"""Reading and writing results: atomic files with the umask's permissions, provenance on every dataset."""
+
+from __future__ import annotations
+
+import contextlib
+import datetime as _dt
+import logging
+import os
+import platform
+import subprocess
+import tempfile
+from functools import lru_cache
+from importlib import metadata
+from pathlib import Path
+
+import xarray as xr
+
+from sleighsim.io import cf
+
+log = logging.getLogger("sleighsim")
+
+_PACKAGES = ("sleighsim", "numpy", "scipy", "sympy", "heyoka", "xarray", "netCDF4", "matplotlib")
+
+
+@lru_cache(maxsize=None)
+def _git_commit() -> str:
+    here = Path(__file__).resolve().parent
+    try:
+        commit = subprocess.run(
+            ["git", "rev-parse", "HEAD"], cwd=here, capture_output=True, text=True, timeout=10, check=True
+        ).stdout.strip()
+        dirty = subprocess.run(
+            ["git", "status", "--porcelain", "--untracked-files=no"],
+            cwd=here, capture_output=True, text=True, timeout=10, check=True,
+        ).stdout.strip()
+    except (OSError, subprocess.SubprocessError):
+        return "unknown"
+    return commit + ("-dirty" if dirty else "")
+
+
+def provenance_attrs() -> dict:
+    """Package versions, Python version, git commit and creation time (UTC)."""
+    out = {"python_version": platform.python_version(), "git_commit": _git_commit()}
+    for pkg in _PACKAGES:
+        try:
+            out[f"version_{pkg}"] = metadata.version(pkg)
+        except metadata.PackageNotFoundError:
+            out[f"version_{pkg}"] = "not installed"
+    out["created_utc"] = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
+    return out
+
+
+def _umask() -> int:
+    current = os.umask(0)
+    os.umask(current)
+    return current
+
+
+@contextlib.contextmanager
+def atomic_path(path):
+    """Yield a temporary path beside ``path``; on success rename it onto ``path`` with the
+    permissions a plain ``open`` would give (0666 minus the umask), on failure delete it.
+    An interrupted write therefore never leaves a partial file under the final name."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=f"{path.suffix}.tmp", dir=path.parent)
+    os.close(fd)
+    try:
+        yield Path(tmp)
+        os.chmod(tmp, 0o666 & ~_umask())
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def write_dataset(ds: xr.Dataset, path) -> Path:
+    """Write ``ds`` to netCDF at ``path`` atomically, adding the provenance attributes
+    (package versions, git commit, creation time) and the CF-1.11 attributes (:mod:`sleighsim.io.cf`:
+    Conventions, title from the path, history, source, references; long_name and units of every
+    variable the vocabulary knows; a variable still without them is logged, and the tests fail on it;
+    no _FillValue on coordinate variables).
+    Text is written at its own width: a fixed text width kept in the encoding of a variable read from
+    a file (or joined from such variables) would truncate longer texts put there since."""
+    ds = cf.complete(ds)
+    for name, v in ds.variables.items():
+        if v.dtype.kind in "UO":
+            v.encoding = {k: e for k, e in v.encoding.items() if k != "dtype"}
+        if v.dims == (name,):  # a coordinate variable: CF 2.5.1 forbids it a _FillValue
+            v.encoding = {**v.encoding, "_FillValue": None}
+    provenance = provenance_attrs()
+    ds.attrs.update(provenance)
+    ds.attrs.update(cf.global_attrs(path, provenance, history=ds.attrs.get("history", "")))
+    if lacking := cf.missing(ds):
+        log.warning("%s: no CF attributes known for: %s", path, "; ".join(lacking))
+    with atomic_path(path) as tmp:
+        ds.to_netcdf(tmp, engine="netcdf4")
+    return Path(path)
+
+
+def read_dataset(path) -> xr.Dataset:
+    """Load a dataset fully into memory and close the file."""
+    with xr.open_dataset(path, engine="netcdf4") as ds:
+        return ds.load()
+
+
+def write_text(path, text: str) -> Path:
+    """Write text atomically."""
+    with atomic_path(path) as tmp:
+        tmp.write_text(text)
+    return Path(path)

@@ -1,0 +1,1 @@
+"""The report: figures, the page, its templates and findings."""

@@ -1,0 +1,300 @@
+"""The reproduction report: results/report/index.html and README.md, rendered from the Jinja2
+templates of ``report/templates`` (:mod:`sleighsim.report.page`).
+
+The first screen answers a referee's two questions: which of the paper's claims hold (every claim
+and model item as a badge by verdict, linked to its ledger row) and whether the steady state is
+chaotic (per state, with the arithmetic it was decided in and the figure that shows why). Then the
+precision findings, the paper's figures (our figure copied beside the page, the paper's caption
+parsed from the LaTeX source, parameters, accuracy and run time from the datasets and Snakemake
+benchmark files), the claims ledger, the methods figures with no counterpart in the paper, the
+tables of :data:`sleighsim.ops.registry.TABLES` and the run's cost. Every file it reads is passed in.
+"""
+
+from __future__ import annotations
+
+import csv
+import re
+import shutil
+from pathlib import Path
+from typing import NamedTuple
+
+import numpy as np
+import yaml
+
+from sleighsim.io.netcdf import read_dataset, write_text
+from sleighsim.report.figures import costs as plots
+from sleighsim.ops.registry import FIGURES, TABLES
+from sleighsim.claims.ledger import Row
+from sleighsim.report.findings import precision_findings
+from sleighsim.report.page import COLOURS, Table, math_html, render
+
+OUTCOME_COLOURS = {"reliable": COLOURS["reproduced"], "degraded": COLOURS["differs"],
+                   "refused": COLOURS["not yet computed"]}
+SETTINGS = ("param_eps", "param_b", "param_K2", "energy_label", "energy_physical", "backend", "method", "tol",
+            "steps", "t_end", "T", "transient_over")
+#: Groups of the claims grid, by the first letter of an id.
+GROUPS = {"F": "Figures", "C": "Claims", "D": "Model as printed"}
+#: The figure that shows why a chaos verdict is what it is, in order of preference.
+WHY_FIGURES = ("precision", "chaos")
+
+__all__ = ["build", "captions", "chaos_answers", "decisive_cost", "math_html"]
+
+
+class ChaosAnswer(NamedTuple):
+    """One steady state's chaos verdict: its name, verdict, why, the arithmetic it was decided in, and
+    whether the quad frequency run that could decide it was left undone (frequency_quad_T = 0)."""
+
+    state: str
+    verdict: str
+    why: str
+    arithmetic: str = ""
+    quad_left: bool = False
+
+
+def captions(tex_path) -> dict[str, str]:
+    """{label: caption text} for every figure of the LaTeX source (balanced braces)."""
+    text = Path(tex_path).read_text()
+    out = {}
+    for m in re.finditer(r"\\caption\{", text):
+        depth, i = 1, m.end()
+        while depth and i < len(text):
+            depth += {"{": 1, "}": -1}.get(text[i], 0)
+            i += 1
+        body = text[m.end(): i - 1]
+        label = re.search(r"\\label\{([^}]*)\}", body) or re.search(r"\\label\{([^}]*)\}", text[i: i + 200])
+        if label:
+            out[label.group(1)] = " ".join(re.sub(r"\\label\{[^}]*\}", "", body).split())
+    return out
+
+
+def _runtime(tsvs) -> float:
+    """Total wall seconds of Snakemake benchmark files."""
+    total = 0.0
+    for tsv in tsvs:
+        with Path(tsv).open() as fh:
+            total += float(next(csv.DictReader(fh, delimiter="\t"))["s"])
+    return total
+
+
+def _scene_facts(datasets: dict, names) -> list[str]:
+    """Per dataset: its parameters and settings, energy drift, wall time and commit."""
+    facts = []
+    for name in names:
+        a = read_dataset(datasets[name]).attrs
+        settings = ", ".join(f"{k.replace('param_', '')} = {a[k]:.4g}" if isinstance(a[k], float) else f"{k} = {a[k]}"
+                             for k in SETTINGS if k in a)
+        acc = f"max |dE/E| = {a['energy_max_rel_drift']:.2g}" if "energy_max_rel_drift" in a else ""
+        facts.append(f"{name}: {settings}; {acc}; wall {a.get('wall_time_s', float('nan')):.3g} s; "
+                     f"commit {str(a.get('git_commit', '?'))[:12]}")
+    return facts
+
+
+def _copy_figure(png: Path, out_dir: Path) -> str:
+    """Copy the figure beside the page; its file name, or "" when it was not built."""
+    if not png.exists():
+        return ""
+    shutil.copy2(png, out_dir / png.name)
+    return png.name
+
+
+def dataset_table(ds, key, cols, colour_of=None) -> Table:
+    """A dataset's variables ``cols`` along ``key`` (first column), numbers to 3 digits."""
+    rows, colours = [], []
+    for i, first in enumerate(ds[key].values):
+        vals = [ds[c].values[i] for c in cols]
+        rows.append([str(first)] + [f"{v:.3g}" if isinstance(v, float) else str(v) for v in vals])
+        colours.append(colour_of(vals) if colour_of else "")
+    return Table([key, *cols], rows, colours)
+
+
+def chaos_answers(datasets: dict) -> list[ChaosAnswer]:
+    """Per state of every dataset with per-state chaos verdicts (a ``state`` dimension with
+    ``verdict``): its verdict, the arithmetic of its indicators and the orbit's faithfulness, and the
+    reason with the tori its realizations reached."""
+    out = []
+    for path in datasets.values():
+        ds = read_dataset(path)
+        if "verdict" not in ds.data_vars or "state" not in ds.dims:
+            continue
+        for i, st in enumerate(ds.state.values):
+            reason = str(ds.reason.values[i]) if "reason" in ds.data_vars else ""
+            verdict = str(ds.verdict.values[i])
+            out.append(ChaosAnswer(str(st), verdict, reason + _arithmetic_note(ds, i) + _tori_note(ds, i),
+                                   _decided_in(ds, i), verdict not in ("chaotic", "regular")
+                                   and ds.attrs.get("frequency_quad_T", 1.0) == 0))
+    return out
+
+
+def _decided_in(ds, i: int) -> str:
+    """The arithmetic state i's indicators ran in (MEGNO's, the frequency analysis') and which
+    arithmetic follows its orbit by the faithfulness gauge; "" without them."""
+    parts = []
+    if "megno_precision" in ds.data_vars:
+        parts.append(f"MEGNO: {ds.megno_precision.values[i]}")
+    if "frequency_precision" in ds.coords:
+        parts.append("frequency analysis: " + ", ".join(str(p) for p in ds.frequency_precision.values))
+    if "follows_orbit" in ds.data_vars:
+        follow = [str(a) for a, f in zip(ds.arithmetic.values, ds.follows_orbit.values[i]) if f == "follows"]
+        parts.append("follows the orbit: " + (", ".join(follow) if follow else
+                                              "unknown" if (ds.follows_orbit.values[i] == "unknown").all() else "none"))
+    return "; ".join(parts)
+
+
+def _tori_note(ds, i: int) -> str:
+    """The tori state i's realizations reached (their median spike intervals), or "" without them."""
+    if "realization_spike_period" not in ds.data_vars:
+        return ""
+    periods = np.asarray(ds.realization_spike_period.values[:, i], float)
+    if not np.isfinite(periods).any():
+        return ". Tori reached: no two spikes within T_gain in any realization"
+    return (f". Tori reached (median spike interval per realization, to about tau_gain = {ds.attrs['tau_gain']:g}): "
+            + ", ".join(f"{p:.0f}" if np.isfinite(p) else "none" for p in periods))
+
+
+def _arithmetic_note(ds, i: int) -> str:
+    """Which arithmetic follows state i's orbit, from the faithfulness gauge (``follows_orbit``), or "" without it."""
+    if "follows_orbit" not in ds.data_vars:
+        return ""
+    if not np.isfinite(ds.ln_gain_max.values[i]):
+        return ". Faithfulness gauge: no complete spike cycle within T_gain, so which arithmetic follows the orbit is unknown"
+    cells = [f"{a}: {ds.follows_orbit.values[i, k]} (G x rounding = 10^{ds.log10_gain_rounding.values[i, k]:.1f})"
+             for k, a in enumerate(ds.arithmetic.values)]
+    return f". Rounding amplified by ln G = {float(ds.ln_gain_max.values[i]):.1f} per spike cycle: " + "; ".join(cells)
+
+
+def decisive_cost(precision_cost, cluster_config) -> str:
+    """What the quad frequency run the default config leaves to the cluster config costs: its horizon
+    there (chaos_verdict.frequency.quad_T) times quad's measured cost per time unit (the flow in
+    compact mode, benchmarks/precision_cost.yaml; one core), per state and realization."""
+    cost = yaml.safe_load(Path(precision_cost).read_text())
+    rows = [r["cost_s_per_tu"] for r in cost["rows"]
+            if (r["system"], r["precision"], r["compact_mode"], r["high_accuracy"]) == ("flow", "quad", True, False)]
+    if not rows:
+        raise ValueError(f"{precision_cost}: no measured cost of the flow in quad (compact mode)")
+    per_tu = rows[0]
+    quad_T = yaml.safe_load(Path(cluster_config).read_text())["scenes"]["chaos_verdict"]["frequency"]["quad_T"]
+    return (f"The decisive computation left to {Path(cluster_config).name}, frequency analysis in quad over quad_T = "
+            f"{quad_T:g} time units, costs {per_tu:.2g} s per time unit on one core of the measuring machine "
+            f"({cost['machine']['cpu_model']}, {str(cost['date'])[:10]}; {Path(precision_cost).name}): about "
+            f"{quad_T * per_tu / 60:.0f} min per state and realization.")
+
+
+def answers(rows: list[Row], datasets: dict, figures: dict, decisive: str = "", n_largest: int = 5) -> dict:
+    """The first screen: the claims grid by group with the verdict counts (one denominator, every
+    row), the chaos answer per state with the figure that shows why (``decisive``, the cost of the
+    run that would decide, only when an undecided state's quad frequency run was not made), and the largest
+    differences with their tested causes."""
+    chaos = chaos_answers(datasets)
+    counts = {v: sum(r.verdict == v for r in rows) for v in COLOURS}
+    return {
+        "groups": [(name, [r for r in rows if r.id[0] == g]) for g, name in GROUPS.items()
+                   if any(r.id[0] == g for r in rows)],
+        "counts": [(v, n) for v, n in counts.items() if n],
+        "n_rows": len(rows),
+        "chaos": chaos,
+        "why_figure": next((f for f in WHY_FIGURES if f in figures), ""),
+        "decisive": decisive if any(a.quad_left for a in chaos) else "",
+        "differs": sorted((r for r in rows if r.verdict == "differs" and np.isfinite(r.difference)),
+                          key=lambda r: -r.difference)[:n_largest],
+    }
+
+
+def build(rows: list[Row], *, out_dir, tex_path, labels: dict, figures: dict, datasets: dict,
+          benchmarks: dict, precision_cost=None, cluster_config=None) -> None:
+    """Write index.html and README.md into ``out_dir`` with the figures copied beside them.
+
+    labels: {figure: paper LaTeX label}; figures: {figure: PNG path} of the figures built;
+    datasets: {dataset: netCDF path}; benchmarks: {"data/<dataset>" or "figure/<figure>": [Snakemake
+    benchmark files]}; precision_cost, cluster_config: benchmarks/precision_cost.yaml and
+    config/cluster.yaml, for the cost of the computation an undecided verdict leaves to the cluster."""
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    decisive = decisive_cost(precision_cost, cluster_config) if precision_cost and cluster_config else ""
+    context = {
+        "answers": answers(rows, datasets, figures, decisive),
+        "findings": precision_findings(rows, datasets),
+        "paper_figures": paper_figures(rows, out_dir=out_dir, tex_path=tex_path, labels=labels, figures=figures,
+                                       datasets=datasets, benchmarks=benchmarks),
+        "ledger": rows,
+        "other_figures": other_figures(out_dir, figures, datasets),
+        "tables": tables(datasets),
+        "costs_image": run_cost(benchmarks, out_dir),
+    }
+    write_text(out_dir / "index.html", render("report.html.j2", **context))
+    write_text(out_dir / "README.md", render("report.md.j2", **context))
+
+
+def paper_figures(rows: list[Row], *, out_dir, tex_path, labels, figures, datasets, benchmarks) -> list[dict]:
+    """The paper's figures, each with the paper's caption, its verdict, the claims it illustrates,
+    the facts of its datasets and its run time."""
+    caps = captions(tex_path)
+    by_id = {r.id: r for r in rows}
+    out = []
+    for fig in (f for f in figures if FIGURES[f].paper):
+        names = list(FIGURES[fig].data)
+        row = by_id.get(FIGURES[fig].paper)
+        run = _runtime(t for key in [f"data/{n}" for n in names] + [f"figure/{fig}"] for t in benchmarks.get(key, []))
+        out.append({"id": fig, "paper": FIGURES[fig].paper, "verdict": row.verdict if row else "not yet computed",
+                    "caption": caps.get(labels.get(fig, ""), "(no counterpart in the paper)"),
+                    "claims": [by_id[c] for c in FIGURES[fig].claims if c in by_id],
+                    "image": _copy_figure(Path(figures[fig]), out_dir), "facts": _scene_facts(datasets, names),
+                    "run_s": run})
+    return out
+
+
+def other_figures(out_dir, figures, datasets) -> list[dict]:
+    """The methods figures with no counterpart in the paper, with the speed tables of their datasets."""
+    out = []
+    for fig in (f for f in figures if not FIGURES[f].paper):
+        speed = [read_dataset(datasets[n]) for n in FIGURES[fig].data]
+        out.append({"id": fig, "title": FIGURES[fig].title, "image": _copy_figure(Path(figures[fig]), out_dir),
+                    "tables": [fastest_table(d) for d in speed if any(k.startswith("fastest_at_") for k in d.attrs)]
+                    + [peer_table(d) for d in speed if "peer_ratio" in d]})
+    return out
+
+
+def tables(datasets) -> list[dict]:
+    """The registry's tables, or the dataset that would hold each."""
+    out = []
+    for title, table in TABLES.items():
+        content = None
+        if table.data in datasets:
+            colour = (lambda vals, k=table.columns.index(table.colour_by): OUTCOME_COLOURS.get(str(vals[k]), "")
+                      ) if table.colour_by else None
+            content = dataset_table(read_dataset(datasets[table.data]), table.key, table.columns, colour)
+        out.append({"title": title, "data": table.data, "table": content})
+    return out
+
+
+def run_cost(benchmarks: dict, out_dir: Path) -> str:
+    """The run's cost per job from Snakemake's benchmark records, drawn beside the page; the image's
+    file name, or "" (and no stale figure from an earlier run) without records."""
+    jobs = plots.job_costs(benchmarks)
+    if not jobs:
+        for stale in ("costs.png", "costs.pdf"):
+            (out_dir / stale).unlink(missing_ok=True)
+        return ""
+    plots.plot_job_costs(jobs, out_dir / "costs.png")
+    return "costs.png"
+
+
+def fastest_table(ds) -> Table:
+    """The fastest method per error target and its speed ratio to the fastest SciPy method."""
+    a = ds.attrs
+    targets = [k.removeprefix("fastest_at_") for k in sorted(a) if k.startswith("fastest_at_")]
+    ratios = [a.get("speedup_vs_scipy_at_" + t) for t in targets]
+    return Table([f"error target (t = {a['t_short']:g})", "fastest", "speed ratio to the fastest SciPy method"],
+                 [[t, str(a["fastest_at_" + t]), f"{r:.0f}x" if np.isfinite(r) else "no SciPy run reaches it"]
+                  for t, r in zip(targets, ratios)],
+                 title="Fastest method per error target",
+                 note=f"Engine overhead over a bare propagation: {a['overhead_overhead_ratio']:.2f}")
+
+
+def peer_table(ds) -> Table:
+    """Each peer's fastest wall reaching each error target over heyoka's, compile times beside."""
+    peers, compile_s = [str(p) for p in ds.peer.values], ds.peer_engine_compile_s.values
+    head = ["error target"] + [f"{p} (compile {c:.2g} s)" for p, c in zip(peers, compile_s)]
+    rows = [[f"{t:.0e}"] + [f"{r:.3g}x" if np.isfinite(r) else "not reached" for r in ds.peer_ratio.values[i]]
+            for i, t in enumerate(ds.error_target.values)]
+    return Table(head, rows, title="Speed ratio of each peer to heyoka",
+                 note=f"{ds.attrs['peer_ratio_rule']}; versions: {ds.attrs['peer_versions']}")

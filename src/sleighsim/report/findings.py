@@ -1,0 +1,98 @@
+"""The report's precision findings, composed from the datasets (never typed by hand): for each
+steady state, what the paper claims, what double precision shows, what the finer arithmetic shows,
+and the mechanism (how much one spike cycle amplifies rounding). Data for the report's templates."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from sleighsim.io.netcdf import read_dataset
+from sleighsim.analysis.observables import SEPARATED
+from sleighsim.model.symmetries import REFERENCE_STATE
+from sleighsim.report.page import Table
+
+
+def _interval(ds, k: int, j: int) -> str:
+    m, s = float(ds.interval_mean.values[k, j]), float(ds.interval_sd.values[k, j])
+    return "no spike train within the run" if not math.isfinite(m) else f"{m:.1f} +- {s:.1f}"
+
+
+def _state_sentences(ladder, verdict, k: int, paper_interval: str) -> list[str]:
+    """The findings for state k of the precision ladder (and, when given, the chaos verdict with its gauge)."""
+    st = str(ladder.state.values[k])
+    precs = [str(p) for p in ladder.precision.values]
+    out = [f"Spike interval (mean +- sd of the intervals, from one settled point over T = {ladder.attrs['T']:g}): "
+           + "; ".join(f"{p} {_interval(ladder, k, j)}" for j, p in enumerate(precs))
+           + f" (the paper: {paper_interval}). Converged precision: {ladder.converged_precision.values[k]}."]
+    for i, pair in enumerate(ladder.pair.values):
+        t = float(ladder.t_separated.values[k, i])
+        out.append(f"The {pair} orbits " + (f"separate ({SEPARATED:g}) at t = {t:g}." if math.isfinite(t)
+                                            else f"stay within {SEPARATED:g} over the whole run."))
+    if verdict is not None and st in verdict.state.values and "ln_gain_max" in verdict:
+        i = list(verdict.state.values).index(st)
+        g = float(verdict.ln_gain_max.values[i])
+        if math.isfinite(g):
+            cells = [f"{a} {verdict.follows_orbit.values[i, j]} (G x rounding 10^{verdict.log10_gain_rounding.values[i, j]:.1f})"
+                     for j, a in enumerate(verdict.arithmetic.values)]
+            out.append(f"Mechanism: one spike cycle amplifies errors by up to e^{g:.1f}; " + "; ".join(cells) + ".")
+        out.append(f"Chaos verdict: {verdict.verdict.values[i]} ({verdict.reason.values[i].split(';')[0]}).")
+    return out
+
+
+def _cell(value: float, uncertainty: float) -> str:
+    return f"{value:.6g}" if uncertainty == 0 else f"{value:.6g} +- {uncertainty:.2g}"
+
+
+def scene_ladders(datasets: dict) -> Table | None:
+    """The ladders of the steady-state scenes (datasets ``ladder/<scene>``): each key observable per
+    precision with its stated uncertainty and the precision it converges in, then one row per scene
+    saying when the sampled orbits separate and which arithmetic follows them. None when no scene
+    was laddered."""
+    names = sorted(n for n in datasets if n.startswith("ladder/"))
+    if not names:
+        return None
+    rows = []
+    for name in names:
+        ds = read_dataset(datasets[name])
+        scene = name.split("/", 1)[1]
+        for k, obs in enumerate(ds.observable.values):
+            cells = "; ".join(f"{p}: {_cell(float(ds.value.values[j, k]), float(ds.uncertainty.values[j, k]))}"
+                              for j, p in enumerate(ds.precision.values))
+            rows.append([scene, str(obs), cells, str(ds.converged_precision_of.values[k])])
+        rows.append([scene, "the scene", _ladder_summary(ds), str(ds.attrs["converged_precision"])])
+    return Table(["scene", "observable", "values per precision", "converged in"], rows,
+                 note="Steady-state scenes, each computed in every precision from one settled point (value +- the "
+                      "uncertainty each observable states, sleighsim.analysis.observables).")
+
+
+def _ladder_summary(ds) -> str:
+    """When a scene ladder's orbits separate, and which arithmetic follows them (faithfulness gauge)."""
+    sep = ([f"{pair}: " + (f"separate ({SEPARATED:g}) at t = {t:g} after the settled point" if math.isfinite(t)
+                           else f"within {SEPARATED:g} over the sampled stretch")
+            for pair, t in zip(ds.pair.values, ds.t_separated.values)] if "t_separated" in ds else [])
+    out = f"orbits {'; '.join(sep)}" if sep else "no orbit comparison"
+    if "follows_orbit" in ds and math.isfinite(ds.attrs["ln_gain_max"]):
+        out += (f"; one spike cycle amplifies errors by up to e^{ds.attrs['ln_gain_max']:.1f}: "
+                + ", ".join(f"{p} {f}" for p, f in zip(ds.precision.values, ds.follows_orbit.values)))
+    elif "follows_orbit" in ds:
+        out += f"; no complete spike cycle within T_gain = {ds.attrs['T_gain']:g}: faithfulness unknown"
+    return out
+
+
+def precision_findings(rows: list, datasets: dict) -> dict:
+    """The findings: per state of the verdict states' precision ladder (``states``: [(state,
+    sentences)]; empty and ``missing`` true when it was not run), then the steady-state scenes'
+    ladders (``ladders``, a Table or None)."""
+    out = {"states": [], "missing": "precision_ladder" not in datasets, "ladders": scene_ladders(datasets)}
+    if out["missing"]:
+        return out
+    ladder = read_dataset(datasets["precision_ladder"])
+    verdict = read_dataset(datasets["chaos_verdict"]) if "chaos_verdict" in datasets else None
+    paper = next((r.paper_value for r in rows if r.id == "C05"), "not stated")
+    for k, st in enumerate(ladder.state.values):
+        from_reference = np.array_equal(ladder.start.values[k], np.asarray(REFERENCE_STATE, float))
+        claim = f"{paper} (C05)" if from_reference else "no value for this state"
+        out["states"].append((str(st), _state_sentences(ladder, verdict, k, claim)))
+    return out

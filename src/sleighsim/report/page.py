@@ -1,0 +1,62 @@
+"""The report's page model and its rendering: plain data (tables, figures, answers) filled in by
+:mod:`sleighsim.report.build` and rendered by the Jinja2 templates of ``report/templates``
+(the HTML page autoescaped, its Markdown twin not)."""
+
+from __future__ import annotations
+
+import html
+import re
+from dataclasses import dataclass, field
+
+import jinja2
+import latex2mathml.converter
+from markupsafe import Markup
+
+COLOURS = {"reproduced": "#d4edda", "reproduced only in double precision": "#ffe0b2", "differs": "#fff3cd",
+           "fragile": "#e1d5f0", "cannot be reproduced": "#f8d7da", "not yet computed": "#e2e3e5"}
+#: Chaos verdicts, in colours of their own (the first screen shows both kinds side by side).
+CHAOS_COLOURS = {"chaotic": "#f5b7b1", "regular": "#a9dfbf", "undecided": "#d6dbdf", "fragile": "#d2b4de"}
+
+
+@dataclass
+class Table:
+    """A table of text cells; ``colours`` is one background per row ("" for none)."""
+
+    head: list[str]
+    rows: list[list[str]]
+    colours: list[str] = field(default_factory=list)
+    title: str = ""
+    note: str = ""
+
+
+def math_html(text: str) -> Markup:
+    """HTML of caption text: ``$...$`` rendered as MathML (latex2mathml, offline), the rest escaped."""
+    out = []
+    for part in re.split(r"(\$[^$]+\$)", text):
+        if len(part) > 2 and part[0] == part[-1] == "$":
+            try:
+                out.append(latex2mathml.converter.convert(part[1:-1]))
+            except Exception:  # noqa: BLE001 - a formula the converter rejects is shown as text, without $
+                out.append(html.escape(part[1:-1]))
+        else:
+            out.append(html.escape(part))
+    return Markup("".join(out))
+
+
+def md_cell(text) -> str:
+    """A Markdown table cell: one line, no column separators."""
+    return " ".join(str(text).replace("|", "/").split())
+
+
+def _environment() -> jinja2.Environment:
+    env = jinja2.Environment(loader=jinja2.PackageLoader("sleighsim.report", "templates"),
+                             autoescape=jinja2.select_autoescape(["html.j2"]), undefined=jinja2.StrictUndefined,
+                             trim_blocks=True, lstrip_blocks=True, keep_trailing_newline=True)
+    env.filters.update(math=math_html, md_cell=md_cell)
+    env.globals.update(colours=COLOURS, chaos_colours=CHAOS_COLOURS)
+    return env
+
+
+def render(template: str, **context) -> str:
+    """Render ``templates/<template>`` with ``context``."""
+    return _environment().get_template(template).render(**context)

@@ -1,0 +1,159 @@
+"""The decision rule (sleighsim.chaos.rule): every branch of ``decide``, of the rate consistency check and
+of the class of a state, and the judges feeding ``decide`` on textbook orbits (chaos_textbook)."""
+
+import math
+
+import pytest
+
+from sleighsim.chaos import orbits
+from sleighsim.chaos import tangent
+from sleighsim.chaos.rule import DECISION_RULE, classify, consistent, decide
+from sleighsim.chaos.verdicts import CHAOTIC, REGULAR, UNDECIDED
+
+C, G, U = CHAOTIC, REGULAR, UNDECIDED
+
+
+# ----------------------------------------------------------------------------- decision rule
+
+TANGENT = {"megno", "ftle"}
+
+
+def test_decide_branches():
+    c, r, u = (CHAOTIC, "c"), (REGULAR, "r"), (UNDECIDED, "u")
+    v, reason, rule = decide({"megno": c, "two_trajectory": c, "loschmidt": u}, TANGENT)
+    assert v == CHAOTIC and rule == DECISION_RULE and "loschmidt" in reason
+    v, reason, _ = decide({"megno": r, "ftle": r, "loschmidt": r}, TANGENT)
+    assert v == REGULAR
+    # disagreement
+    v, reason, _ = decide({"megno": c, "two_trajectory": c, "loschmidt": r}, TANGENT)
+    assert v == UNDECIDED and "disagree" in reason and "loschmidt" in reason
+    # chaotic only from tangent-based indicators
+    v, reason, _ = decide({"megno": c, "ftle": c, "two_trajectory": u}, TANGENT)
+    assert v == UNDECIDED and "without tangent dynamics" in reason
+    # regular only from indicators without tangent dynamics
+    v, reason, _ = decide({"megno": u, "two_trajectory": r, "loschmidt": r}, TANGENT)
+    assert v == UNDECIDED and "tangent-based" in reason
+    v, reason, _ = decide({"megno": u, "two_trajectory": u}, TANGENT)
+    assert v == UNDECIDED and "no indicator" in reason
+    # a tangent-based name that is absent from the verdicts does not count
+    v, _, _ = decide({"two_trajectory": c, "loschmidt": c}, TANGENT)
+    assert v == UNDECIDED
+    assert "0-1 test is not part" in DECISION_RULE
+
+
+def test_decide_rejects_bad_input():
+    with pytest.raises(ValueError, match="verdicts"):
+        decide({}, TANGENT)
+    with pytest.raises(ValueError, match="0-1"):
+        decide({"megno": (CHAOTIC, ""), "zero_one": (CHAOTIC, "")}, TANGENT)
+    with pytest.raises(ValueError, match="not one of"):
+        decide({"megno": ("chaos", "")}, TANGENT)
+    with pytest.raises(ValueError, match="pair"):
+        decide({"megno": CHAOTIC}, TANGENT)
+
+
+def test_judges_feed_decide_on_textbook_orbits(runs):
+    """End to end: MEGNO and FTLE (tangent-based) with two trajectories (no tangent
+    dynamics) classify Lorenz and Henon-Heiles E = 1/6 as chaotic and the tori as regular."""
+    expect = {"lorenz": CHAOTIC, "hh_chaos": CHAOTIC, "hh_regular": REGULAR, "quartic": REGULAR}
+    for name, want in expect.items():
+        R = runs[name]
+        verdicts = {
+            "megno": tangent.judge_megno(R["megno"]["final"], R["megno"]["resid"], R["megno"]["slope"],
+                                     R["megno"]["slope_err"], R["T"]),
+            "ftle": tangent.judge_ftle(R["ftle"]["rate"], R["ftle"]["rate_err"], R["ftle"]["T"], R["tau"],
+                                   R["ftle"]["spread_slope"], R["ftle"]["spread_slope_err"]),
+            "two_trajectory": orbits.judge_two_trajectory(R["two"]["rate"], R["two"]["stderr"], R["two"]["T"], R["tau"],
+                                                       R["two"]["running_slope"], R["two"]["running_slope_err"]),
+        }
+        v, reason, _ = decide(verdicts, TANGENT)
+        assert v == want, (name, reason)
+
+
+# ----------------------------------------------------------------------------- rate consistency and the class of a state
+
+@pytest.mark.parametrize("verdict, a, others, want", [
+    (C, (7.3e-4, 5.6e-5), {"two_trajectory": (8.5e-3, 3.2e-4)}, U),   # chaotic by both, rates 11x apart
+    (C, (7.3e-4, 5.6e-5), {"two_trajectory": (8.0e-4, 9.0e-5)}, C),   # consistent rates
+    (C, (7.3e-4, 1e-6), {"two_trajectory": (9.0e-4, 1e-6)}, C),       # resolved apart but within a factor 2
+    (C, (7.3e-4, 5.6e-5), {"two_trajectory": (8.0e-4, 9.0e-5), "loschmidt": (5.9e-3, 1e-4)}, U),  # one of two off
+    (C, (7.3e-4, 5.6e-5), {}, C),                                      # nothing to compare with
+    (G, (7.3e-4, 5.6e-5), {"two_trajectory": (8.5e-3, 3.2e-4)}, G),   # only a chaotic verdict is checked
+])
+def test_chaotic_indicators_must_agree_on_the_rate(verdict, a, others, want):
+    out = consistent(verdict, "r", *a, others, 3.0)
+    assert out[0] == want
+    if want == U:
+        assert "disagree on the rate" in out[1]
+
+
+@pytest.mark.parametrize("verdict, s, s_err, l1, l4, image, want", [
+    (G, 0.0, 1e-6, 1e-6, -1e-6, "leaves", "regular"),
+    (C, -1e-3, 1e-5, 5e-4, -1.5e-3, "leaves", "strange attractor"),
+    (C, 1e-7, 1e-6, 5e-4, -5e-4, "stays", "conservative-type chaos"),
+    (C, 1e-7, 1e-6, 5e-4, -5e-4, "leaves", "mixed dynamics"),
+    (C, 1e-3, 1e-5, 5e-4, 5e-4, "leaves", "undetermined"),  # expanding on average: no class
+    (U, -1e-3, 1e-5, 5e-4, -1.5e-3, "leaves", "undetermined"),
+    (C, math.nan, 1e-5, 5e-4, -1.5e-3, "leaves", "undetermined"),
+])
+def test_classify_on_each_branch(verdict, s, s_err, l1, l4, image, want):
+    assert classify(verdict, s, s_err, l1, l4, image, 3.0) == want
+
+
+def test_precision_gate_keeps_chaotic_only_when_long_double_confirms():
+    from sleighsim.chaos.rule import TANGENT_BASED, precision_gate
+
+    def fresh():
+        return {k: (C, "fast growth") for k in TANGENT_BASED} | {"loschmidt": (C, "grows"), "frequency": (G, "tor")}
+
+    confirmed = fresh()
+    precision_gate(confirmed, {"check": "confirmed", "reason": "ld grows"})
+    assert confirmed == fresh()
+    refuted = fresh()
+    precision_gate(refuted, {"check": "not confirmed", "reason": "ld flat"})
+    assert all(refuted[k][0] == U and refuted[k][1].startswith("ld flat; in double precision") for k in TANGENT_BASED)
+    assert refuted["loschmidt"] == (C, "grows") and refuted["frequency"] == (G, "tor")
+    regular = {k: (G, "flat") for k in TANGENT_BASED}
+    precision_gate(regular, {"check": "not confirmed", "reason": "ld flat"})
+    assert regular == {k: (G, "flat") for k in TANGENT_BASED}
+
+
+def test_agree_on_each_branch():
+    from sleighsim.chaos.rule import FRAGILE, agree
+
+    assert agree([U, U, U]) == (U, 3, "all 3 realizations agree")
+    assert agree(["strange attractor"]) == ("strange attractor", 1, "all 1 realizations agree")
+    v, n, why = agree([G, C, G])
+    assert (v, n) == (FRAGILE, 2) and why == "realizations disagree: regular 2, chaotic 1 of 3"
+    with pytest.raises(ValueError, match="no realizations"):
+        agree([])
+
+
+def test_the_faithful_gate_sets_aside_only_indicators_of_an_arithmetic_shown_not_to_follow():
+    from sleighsim.chaos.rule import faithful_gate
+
+    verdicts = {"benettin": ("chaotic", "rate 1e-3"), "megno": ("regular", "Y -> 2"),
+                "loschmidt": ("chaotic", "exp"), "frequency": ("undecided", "too short")}
+    arithmetic = {"benettin": "double", "megno": "long double", "loschmidt": "quad", "frequency": "double"}
+    follows = {"benettin": "does not follow", "megno": "follows", "loschmidt": "unknown",
+               "frequency": "does not follow"}
+    aside = faithful_gate(verdicts, arithmetic, follows)
+    assert aside == ["benettin"]
+    assert verdicts["benettin"][0] == "undecided" and "judged in double" in verdicts["benettin"][1]
+    assert "it said chaotic: rate 1e-3" in verdicts["benettin"][1]
+    assert verdicts["megno"] == ("regular", "Y -> 2")        # follows: kept
+    assert verdicts["loschmidt"] == ("chaotic", "exp")       # unknown: kept
+    assert verdicts["frequency"] == ("undecided", "too short")  # undecided already: unchanged, not counted
+
+
+def test_the_loschmidt_test_needs_two_decades_below_saturation_where_other_indicators_need_the_cycle_gauge():
+    """At ln G = 36 (the main state's torus) long double's G x rounding is 2.3e-4: it follows the orbit
+    through a cycle (< 1e-3), but the Loschmidt return error would start within two decades of
+    saturation; quad follows for both; without a measured cycle nothing is set aside."""
+    from sleighsim.scenes.verdict import indicator_follows
+
+    arithmetic = {"megno": "long double", "loschmidt": "long double"}
+    assert indicator_follows(36.0, arithmetic) == {"megno": "follows", "loschmidt": "does not follow"}
+    assert indicator_follows(36.0, {"loschmidt": "quad"}) == {"loschmidt": "follows"}
+    assert indicator_follows(31.0, {"loschmidt": "long double"}) == {"loschmidt": "follows"}  # G r = 1.6e-6
+    assert indicator_follows(float("nan"), arithmetic) == {"megno": "unknown", "loschmidt": "unknown"}

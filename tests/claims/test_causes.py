@@ -1,0 +1,124 @@
+"""Each cause test of the ledger driven to "explained by" and to "not explained", with synthetic sweeps."""
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from sleighsim.claims import causes
+from sleighsim.claims.rules import Judgement
+
+from test_judges import PAPER, _audit, _psd, _ref
+
+J = Judgement("differs", "m", "r")
+K2 = [1.05, 1.1, 1.2, 1.3]
+
+
+def _k2(**vars_):
+    return xr.Dataset({k: ("K2", np.asarray(v, float)) for k, v in vars_.items()}, coords={"K2": K2})
+
+
+def _err(first=(5500.0,) * 3, interval=(2380.0,) * 3, rel=(0.0007,) * 3, protocol=None):
+    protocol = protocol if protocol is not None else [[5e-4, 1e-6, -1e-6, -5e-4]] * 2
+    return xr.Dataset({"first_spike": ("rtol", list(first)), "spike_interval": ("rtol", list(interval)),
+                       "omega_rel_error": ("rtol", list(rel)),
+                       "protocol_exponent": (("lyapunov_rtol", "i"), np.asarray(protocol, float))},
+                      coords={"rtol": [1e-3, 1e-6, 1e-10], "lyapunov_rtol": [1e-3, 1e-6]}, attrs={"method": "RK45"})
+
+
+def _law(slope=-28.0, intercept=5100.0):
+    """A trigger law: the first spike moves |slope| time units per decade of injected error."""
+    return xr.Dataset({"tol": ("run", [1e-8, 1e-12, 1e-16]), "in_fit": ("run", [1, 1, 1])},
+                      attrs=dict(law_slope=slope, law_slope_stderr=1.0, law_intercept=intercept, law_n_fit=3))
+
+
+def test_a_crossing_of_the_sweep_explains_and_names_the_setting():
+    k2 = _k2(first_spike=[5000, 6000, 8000, 9500], spike_interval=[1800, 2000, 2300, 2600])
+    text = causes.c04(J, PAPER["C04"], k2, _err(), _audit(printed_first_spike=np.nan, printed_spikes_t_end=2e4), _law())
+    assert text.startswith("explained by the unstated K") and "8700 at K2 1.2" in text
+    text = causes.c05(J, PAPER["C05"], k2, _err(), _audit(printed_spike_interval=np.nan))
+    assert text.startswith("explained by the unstated K")
+
+
+def test_no_cause_in_range_says_so_with_what_was_tested():
+    k2 = _k2(first_spike=[5000, 5200, 5400, 5600], spike_interval=[2300, 2350, 2400, 2450])
+    text = causes.c04(J, PAPER["C04"], k2, _err(), _audit(printed_first_spike=np.nan, printed_spikes_t_end=2e4), _law())
+    assert text.startswith(causes.NONE) and "first_spike from 5000 to 5600" in text and "no spike by t = 20000" in text
+    assert "8700 would need an error of 10^-129" in text  # (8700 - 5100) / -28
+
+
+def test_the_printed_equation_and_the_integrator_are_causes_too():
+    k2 = _k2(first_spike=[5000] * 4, spike_interval=[2600] * 4)
+    text = causes.c04(J, PAPER["C04"], k2, _err(), _audit(printed_first_spike=8800.0, printed_spikes_t_end=2e4), _law())
+    assert text.startswith("explained by the printed udot")
+    text = causes.c05(J, PAPER["C05"], k2, _err(interval=(2200.0, 2600.0, 2600.0)), _audit(printed_spike_interval=np.nan))
+    assert text.startswith("explained by integration error (RK45)") and "1e-03" in text
+
+
+@pytest.mark.parametrize("B, growth, explained", [([0.2, 0.22, 0.24, 0.26], [0.03, 0.04, 0.045, 0.05], True),
+                                                  ([0.2, 0.22, 0.24, 0.26], [0.01, 0.02, 0.02, 0.02], False)])
+def test_one_k2_must_fit_every_number_of_c10(B, growth, explained):
+    k2 = _k2(T2=[3.14] * 4, B=B, omega2_growth=growth)
+    text = causes.c10(J, PAPER["C10"], k2)
+    assert text.startswith("explained") == explained
+    assert ("one K2 fits them all: 1.2" in text) == explained
+
+
+def test_c09_and_c11_and_c13():
+    assert causes.c09(J, PAPER["C09"], _k2(Omega2_amplitude=[0.88, 0.89, 0.9, 0.91],
+                                            phi1_over_pi=[0.47] * 4)).startswith("explained")
+    assert causes.c09(J, PAPER["C09"], _k2(Omega2_amplitude=[0.88] * 4, phi1_over_pi=[-0.47] * 4)).startswith(causes.NONE)
+    assert causes.c11(J, PAPER["C11"], _k2(omega_rel_error=[0.005] * 4), _err(rel=(0.02, 0.001, 0.0007))).startswith(
+        "explained by integration error")
+    assert causes.c11(J, PAPER["C11"], _k2(omega_rel_error=[0.005] * 4), _err()).startswith(causes.NONE)
+    hit = _k2(first_spike=[5500] * 4, spike_interval=[1500, 2250, 2300, 2400])
+    assert causes.c13(J, PAPER["C13"], hit).startswith("explained")
+    miss = _k2(first_spike=[5500] * 4, spike_interval=[20000] * 4)
+    assert causes.c13(J, PAPER["C13"], miss).startswith(causes.NONE)
+
+
+def test_protocol_causes():
+    paper_like = [[2.9e-4, 2.203e-4, 2.02e-5, -2.2e-4], [5e-4, 1e-6, -1e-6, -5e-4]]
+    assert causes.c19(J, PAPER["C19"], _err(protocol=paper_like)).startswith("explained")
+    assert causes.c19(J, PAPER["C19"], _err()).startswith(causes.NONE)
+    dissipative = [[5e-4, 1e-6, -1e-6, -9e-4], [5e-4, 1e-6, -1e-6, -5e-4]]
+    assert causes.c18(J, PAPER["C18"], _err(protocol=dissipative)).startswith("explained")
+    assert causes.c18(J, PAPER["C18"], _err(protocol=[[5e-4, 0, 0, -4e-4]] * 2)).startswith(causes.NONE)
+    assert causes.c20(J, PAPER["C20"], _err(protocol=[[1.05e-4, 0, 0, 0]] * 2)).startswith("explained")
+    assert causes.c20(J, PAPER["C20"], _err()).startswith(causes.NONE)
+    assert causes.c21(J, PAPER["C21"], _err(protocol=[[1.0e-4, 0, 0, 0]] * 2)).startswith("explained")
+
+
+def test_c22_near_ties_by_chance():
+    assert causes.c22(J, PAPER["C22"], _ref(n_p2pi=20000, return_time_min=5.0, return_time_max=6.0)).startswith("explained")
+    assert causes.c22(J, PAPER["C22"], _ref(n_p2pi=100, return_time_min=5.0, return_time_max=6.0)).startswith(causes.NONE)
+
+
+def test_band_causes_units_and_aliasing():
+    rad = _psd(1.45 / (2 * np.pi), 1.8 / (2 * np.pi), segment=1000.0)
+    assert causes.c24(J, {"band": [1.45, 1.8]}, rad).startswith("explained by units")
+    assert causes.c24(J, PAPER["C24"], _psd(15.84, 15.88, segment=50.0)).startswith("explained by sampling")
+    assert causes.c24(J, PAPER["C24"], _psd(0.2, 0.5, segment=1000.0)).startswith(causes.NONE)
+    k2 = _k2(band_low=[1.3, 1.4, 1.5, 1.6], band_high=[1.6, 1.7, 1.85, 1.9])
+    assert "explained by" in causes.c23(J, PAPER["C23"], _psd(0.2, 0.3, segment=1000.0), k2)
+    flat = _k2(band_low=[0.2] * 4, band_high=[0.3] * 4)
+    assert causes.c23(J, PAPER["C23"], _psd(0.2, 0.3, segment=1000.0), flat).startswith(causes.NONE)
+
+
+def test_d5_energy_normalisations():
+    hit = _audit(d5_normalisation_names="m b^2 | m", d5_normalisation_values=np.array([0.0071, 0.113]))
+    assert causes.d5(J, PAPER["D5"], hit).startswith("explained by an energy normalisation")
+    miss = _audit(d5_normalisation_names="m b^2 | m", d5_normalisation_values=np.array([0.0071, 0.5]))
+    assert causes.d5(J, PAPER["D5"], miss).startswith(causes.NONE)
+
+
+@pytest.mark.parametrize("slope, explained, level", [(-200.0, True, "-18.5"), (-28.0, False, "-132"),
+                                                     (100.0, False, "37")])
+def test_the_injected_error_explains_the_first_spike_only_at_a_level_some_arithmetic_can_inject(slope, explained,
+                                                                                               level):
+    """8700 = 5000 + slope x level: a level between quad's rounding (1e-34) and 1 explains it; a level
+    below quad's rounding, or above 1 (a law that moves the spike the other way), does not."""
+    k2 = _k2(first_spike=[5000, 5200, 5400, 5600], spike_interval=[2300, 2350, 2400, 2450])
+    text = causes.c04(J, PAPER["C04"], k2, _err(), _audit(printed_first_spike=np.nan, printed_spikes_t_end=2e4),
+                      _law(slope=slope, intercept=5000.0))
+    assert text.startswith("explained by the injected error") == explained, text
+    assert f"8700 would need an error of 10^{level}" in text

@@ -1,0 +1,142 @@
+"""The integration engine: backends, datasets, failures, atomic writes."""
+
+import numpy as np
+import pytest
+
+from sleighsim.io import netcdf
+from sleighsim.model.params import Params
+from sleighsim.model.symmetries import REFERENCE_STATE
+from sleighsim.engine.integrate import IntegrationError, integrate, sample_grid
+
+REF = REFERENCE_STATE
+P = Params.paper(eps=0.1)
+
+
+def test_heyoka_and_scipy_agree_over_100_time_units():
+    t = sample_grid(0.0, 100.0, 0.5)
+    hy = integrate(P, REF, t, kinematics=True)
+    sp = integrate(P, REF, t, kinematics=True, backend="scipy", method="DOP853", rtol=1e-13, atol=1e-15)
+    diff = max(float(np.max(np.abs(hy[n] - sp[n]))) for n in hy.data_vars)
+    assert diff < 1e-8, diff
+    assert sp.attrs["backend"] == "scipy" and sp.attrs["steps"] > 0
+
+
+def test_dataset_records_how_it_was_computed(tmp_path):
+    """The run's settings from integrate(); provenance (versions, commit, time) added once, when written."""
+    ds = integrate(P, REF, sample_grid(0.0, 10.0, 1.0), t0=0.0, scene="unit")
+    for key in ("param_m_c", "param_m_r", "param_I_c", "param_I_r", "param_a", "param_b", "param_eps", "param_K2",
+                "y0_u", "y0_Omega", "y0_omega", "y0_delta", "energy_label", "energy_physical", "backend", "method",
+                "tol", "steps", "wall_time_s", "energy_max_rel_drift", "compile_time_s"):
+        assert key in ds.attrs, key
+    assert "git_commit" not in ds.attrs
+    written = netcdf.read_dataset(netcdf.write_dataset(ds, tmp_path / "unit.nc"))
+    for key in ("git_commit", "version_heyoka", "version_numpy", "version_scipy", "created_utc", "python_version"):
+        assert written.attrs[key], key
+    assert "git_commit" not in ds.attrs  # writing does not change the dataset in memory
+    assert ds.attrs["energy_label"] == pytest.approx(0.1127)
+    assert ds.u.attrs["units"] and ds.Omega.attrs["long_name"]
+    assert list(ds.data_vars) == ["u", "Omega", "omega", "delta"]
+
+
+def test_sampling_after_a_silent_pre_run_matches_a_full_run():
+    full = integrate(P, REF, sample_grid(0.0, 200.0, 1.0))
+    late = integrate(P, REF, sample_grid(150.0, 200.0, 1.0), t0=0.0)
+    assert np.max(np.abs(full.u.sel(time=late.time) - late.u)) < 1e-12
+
+
+def test_bad_inputs_raise_clear_errors():
+    with pytest.raises(ValueError, match="strictly increasing"):
+        integrate(P, REF, [0.0, 2.0, 1.0])
+    with pytest.raises(ValueError, match="has 2 components; expected 4"):
+        integrate(P, [1.0, 2.0], [0.0, 1.0])
+    with pytest.raises(ValueError, match="not finite"):
+        integrate(P, [np.nan, 0, 0, 0], [0.0, 1.0])
+    with pytest.raises(ValueError, match="tol"):
+        integrate(P, REF, [0.0, 1.0], tol=0.0)
+    with pytest.raises(ValueError, match="backend"):
+        integrate(P, REF, [0.0, 1.0], backend="euler")
+    with pytest.raises(ValueError, match="dt"):
+        sample_grid(0.0, 1.0, -0.1)
+
+
+@pytest.mark.parametrize("backend", ["heyoka", "scipy"])
+def test_integrator_failure_names_scene_time_and_state(backend):
+    with pytest.raises(IntegrationError, match=r"scene blowup: integration failed at t = .*state = \["):
+        integrate(P, [1e150, 1e150, 1e150, 0.0], [0.0, 1.0], scene="blowup", backend=backend, max_steps=2000)
+
+
+def test_step_limit_stops_a_run_cleanly():
+    with pytest.raises(IntegrationError, match="scene slow: .*outcome step_limit"):
+        integrate(P, REF, [0.0, 1e4], scene="slow", max_steps=50)
+
+
+def test_write_dataset_is_atomic(tmp_path, monkeypatch):
+    ds = integrate(P, REF, [0.0, 1.0])
+    target = tmp_path / "out.nc"
+    netcdf.write_dataset(ds, target)
+    before = target.read_bytes()
+
+    def explode(self, path, *a, **k):
+        open(path, "wb").write(b"partial")
+        raise KeyboardInterrupt("interrupted while writing")
+
+    monkeypatch.setattr(type(ds), "to_netcdf", explode)
+    with pytest.raises(KeyboardInterrupt):
+        netcdf.write_dataset(ds, target)
+    assert target.read_bytes() == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out.nc"]  # no temporary left behind
+    monkeypatch.undo()
+    back = netcdf.read_dataset(target)
+    assert np.array_equal(back.u.values, ds.u.values)
+    assert back.attrs["energy_max_rel_drift"] == ds.attrs["energy_max_rel_drift"]
+
+
+@pytest.mark.parametrize("umask", [0o022, 0o002, 0o077])
+def test_written_files_get_the_permissions_the_umask_allows(tmp_path, umask):
+    """Written through a private temporary file, results end up readable as the umask says
+    (0644 under the usual 022), so a group on a shared cluster can read them."""
+    import os
+    import stat
+
+    old = os.umask(umask)
+    try:
+        nc = netcdf.write_dataset(integrate(P, REF, [0.0, 1.0]), tmp_path / "a.nc")
+        txt = netcdf.write_text(tmp_path / "a.txt", "x")
+    finally:
+        os.umask(old)
+    for path in (nc, txt):
+        assert stat.S_IMODE(path.stat().st_mode) == 0o666 & ~umask, oct(path.stat().st_mode)
+
+
+def test_the_jit_cache_goes_where_the_environment_says(tmp_path):
+    import subprocess
+    import sys
+
+    code = ("import heyoka as hy; from sleighsim.engine import integrators; integrators.flow(False, 1e-10); "
+            "print(hy.llvm_state.get_diskcache_path())")
+    env = {**__import__("os").environ, "SLEIGHSIM_JIT_CACHE": str(tmp_path / "jit")}
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=300)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip() == str(tmp_path / "jit") and any((tmp_path / "jit").iterdir())
+
+
+@pytest.mark.parametrize("precision, tol", [("long double", 2.0**-63), ("quad", 2.0**-112)])
+def test_an_extended_precision_run_follows_the_double_one_where_both_are_faithful(precision, tol):
+    """Over 200 time units from the reference state every arithmetic follows one orbit: the runs
+    agree to about double's rounding, with or without the path, and the dataset names its arithmetic."""
+    p, times = Params.from_config({"eps": 0.1, "b": 1.0, "K2": 1.1}), sample_grid(0.0, 200.0, 0.5)
+    for kinematics in (False, True):
+        d = integrate(p, REFERENCE_STATE, times, kinematics=kinematics)
+        e = integrate(p, REFERENCE_STATE, times, kinematics=kinematics, tol=tol, precision=precision)
+        assert e.attrs["precision"] == precision and e.u.dtype == np.float64
+        for v in ("u", "Omega", "omega"):
+            assert np.max(np.abs(d[v].values - e[v].values)) < 1e-11
+        assert e.attrs["energy_max_rel_drift"] < 1e-15
+
+
+def test_an_unknown_precision_or_scipy_outside_double_is_refused_before_any_work():
+    p = Params.from_config({"eps": 0.1, "b": 1.0, "K2": 1.1})
+    with pytest.raises(ValueError, match="choose one of"):
+        integrate(p, REFERENCE_STATE, [0.0, 1.0], precision="half")
+    with pytest.raises(ValueError, match="double only"):
+        integrate(p, REFERENCE_STATE, [0.0, 1.0], backend="scipy", precision="long double")

@@ -1,0 +1,116 @@
+"""Figures legible at the size the report shows them: no text under 8 pt on a figure at most 11 in
+wide, no numpy repr in a text, units on every labelled axis, no additive offset on an axis; every
+figure also as PDF; F11 checks the b symmetry from its data."""
+
+import matplotlib.pyplot as plt
+import numpy as np
+import pytest
+import xarray as xr
+import yaml
+from conftest import SMOKE
+
+from sleighsim.ops import registry
+from sleighsim.report import figures
+from sleighsim.report.figures.common import finish, legibility
+
+SMOKE_CFG = yaml.safe_load(SMOKE.read_text())
+
+
+def test_the_rule_finds_each_kind_of_illegible_text():
+    fig, ax = plt.subplots(figsize=(14, 4))
+    ax.plot([0, 1], [1000.001, 1000.002])
+    ax.ticklabel_format(useOffset=True)
+    ax.set_xlabel("t")
+    ax.set_title(f"exponents {np.array([0.02, -0.01, -0.1])}", fontsize=6)
+    found = "\n".join(legibility(fig))
+    plt.close(fig)
+    for problem in ("14 in wide", "6 pt", "numpy repr", "axis label without units: 't'", "offset"):
+        assert problem in found, (problem, found)
+
+
+def test_the_rule_finds_overlapping_tick_labels_and_finish_removes_them():
+    fig, ax = plt.subplots(figsize=(4, 3), layout="constrained")
+    ax.loglog([2.5, 60], [1, 2])  # matplotlib labels the minor ticks of a short log axis
+    ax.set_xlabel("t (time units)")
+    ax.set_ylabel("ratio (unitless)")
+    assert legibility(fig) == ["overlapping tick labels on the axis 't (time units)'"]
+    assert legibility(finish(fig, {})) == []
+    plt.close(fig)
+
+
+def test_a_legible_figure_passes():
+    fig, ax = plt.subplots(figsize=(8, 4), layout="constrained")
+    ax.plot([0, 1], [1000.001, 1000.002])
+    ax.set_xlabel("t (time units)")
+    ax.set_ylabel("ratio (unitless)")
+    ax.set_title("range [1.5, 2.5]")
+    assert legibility(fig) == []
+    plt.close(fig)
+
+
+def grid_dataset(path, spread):
+    """A small F11 grid: three eps rows, three b columns differing by ``spread`` x the row's stderr."""
+    eps, b = np.array([0.1, 0.2, 0.4]), np.array([0.5, 1.0, 2.0])
+    lam, err = np.array([0.05, 0.03, 0.04]), np.array([0.004, 0.002, 0.003])
+    grid = lam[:, None] + spread * err[:, None] * np.array([0.0, 0.5, 1.0])
+    ds = xr.Dataset({"lambda_1": ("eps", lam), "stderr": ("eps", err), "status": ("eps", ["converged"] * 3),
+                     "flagged": ("eps", np.array([0, 1, 0], "int8")),
+                     "b_check_max_diff": ("eps", [np.nan, 0.001, np.nan]),
+                     "b_check_bound": ("eps", [np.nan, 0.01, np.nan]),
+                     "lambda_1_grid": (("eps", "b"), grid, {"long_name": "lambda_1 on the grid"})},
+                    coords={"eps": eps, "b": b},
+                    attrs={"energy_label": 0.1127, "n_rows": 3, "fraction_flagged": 1 / 3, "reference_eps": 0.2,
+                           "reference_rel_err": 0.07, "b_check": np.array([0.5, 2.0]), "scene": "grid",
+                           "precision": "double"})
+    ds.to_netcdf(path, engine="netcdf4")
+    return path
+
+
+def test_fig11_states_the_spread_across_b_from_its_data(tmp_path):
+    fig = figures.build("fig11", [grid_dataset(tmp_path / "grid.nc", spread=2.5)])
+    ax = fig.axes[0]
+    title = ax.get_title(loc="left")
+    assert "largest spread across the 3 b values of a row: 2.5 standard errors" in title
+    assert "recomputed at b = 0.5, 2 (eps 0.2): difference 0.5 standard errors (allowed 5)" in title
+    assert "lambda_1 on the grid" in title
+    labels = ax.get_legend_handles_labels()[1]
+    assert {"grid at b = 0.5", "grid at b = 1", "grid at b = 2"} <= set(labels)
+    assert legibility(fig) == []
+    plt.close(fig)
+    copies = figures.build("fig11", [grid_dataset(tmp_path / "copies.nc", spread=0.0)]).axes[0].get_title(loc="left")
+    assert "the 3 b columns are copies (filled by the symmetry, not computed)" in copies and "largest spread" not in copies
+
+
+def figure_source(results, name):
+    """What the figure rule gives ``name`` in the smoke run: its datasets (then those of its laddered
+    scenes in every finer precision), or a schematic's config block."""
+    fig = registry.FIGURES[name]
+    if fig.schematic:
+        return registry.scene_config(SMOKE_CFG, fig.schematic)
+    laddered = registry.laddered(SMOKE_CFG, on_request=True)
+    beside = [registry.variant(s, p) for s in (fig.data if fig.beside else ()) for p in laddered.get(s, ())
+              if p != "double"]
+    return [results / "data" / f"{d}.nc" for d in (*fig.data, *beside)]
+
+
+@pytest.mark.workflow
+def test_every_smoke_figure_is_legible_and_saved_for_a_paper(smoke_run):
+    results = smoke_run / "results"
+    problems = {}
+    for name in registry.figures_built(SMOKE_CFG):
+        assert (results / "figures" / f"{name}.pdf").read_bytes()[:5] == b"%PDF-", name
+        fig = figures.build(name, figure_source(results, name))
+        problems[name] = legibility(fig)
+        plt.close(fig)
+    assert not any(problems.values()), {k: v for k, v in problems.items() if v}
+
+
+@pytest.mark.parametrize("word, colour", [("chaotic", "chaotic"), ("strange attractor", "chaotic"),
+                                          ("mixed dynamics", "chaotic"), ("regular", "regular"),
+                                          ("undecided", "undecided"), ("undetermined", "undecided"),
+                                          ("fragile", "fragile"), ("a word it does not know", "undecided")])
+def test_the_chaos_table_colours_each_verdict_and_class_as_the_report_does(word, colour):
+    from sleighsim.report.figures.chaos import _shade
+    from sleighsim.report.page import CHAOS_COLOURS
+
+    assert _shade(word) == CHAOS_COLOURS[colour]

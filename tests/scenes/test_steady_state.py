@@ -1,0 +1,146 @@
+"""Poincare crossings, rotation numbers, loop counting, spectra, transient detection."""
+
+import math
+
+import numpy as np
+import pytest
+
+from sleighsim.model import equations
+from sleighsim.engine import poincare
+from sleighsim.analysis import spectra
+from sleighsim.engine import transient
+from sleighsim.model.params import Params
+from sleighsim.model.symmetries import REFERENCE_STATE
+
+
+def test_crossings_complete_and_on_the_section_for_uniform_rotation():
+    """Rotor-free sleigh at rest in (u, Omega): delta(t) = delta0 - omega0 t exactly."""
+    p = Params.sleigh0(b=1.0, K2=1.1)
+    delta0, omega0, t0, t1 = 0.3, 1.7, 5.0, 400.0
+    c = poincare.crossings(p, [0.2, 0.0, omega0, delta0], t0, t1)
+    # delta at t is delta0 - omega0 (t - t0); crossings k pi/2 for k from floor(...) down
+    k = np.arange(math.floor(delta0 / (math.pi / 2)), math.ceil((delta0 - omega0 * (t1 - t0)) / (math.pi / 2)) - 1, -1)
+    expected = t0 + (delta0 - k * math.pi / 2) / omega0
+    expected = expected[(expected > t0) & (expected <= t1)]
+    assert len(c["time"]) == len(expected)
+    assert np.max(np.abs(c["time"] - expected)) < 1e-10
+    assert np.max(c["residual"]) < 1e-12
+    k_expected = k[(t0 + (delta0 - k * math.pi / 2) / omega0 > t0) & (t0 + (delta0 - k * math.pi / 2) / omega0 <= t1)]
+    assert np.array_equal(c["k"], k_expected % 4)  # the section class, delta = k pi/2 mod 2 pi
+
+
+def test_crossing_residuals_on_the_sleigh_attractor_region():
+    p = Params.paper(eps=0.1)
+    c = poincare.crossings(p, REFERENCE_STATE, 0.0, 3000.0)
+    assert len(c["time"]) > 1000
+    assert np.max(c["residual"]) < 1e-12
+    assert np.all(np.diff(c["time"]) > 0)
+    E = equations.energy(np.c_[c["u"], c["Omega"], c["omega"], c["k"] * math.pi / 2], p)
+    assert np.max(np.abs(E / equations.energy(REFERENCE_STATE, p) - 1)) < 1e-10
+
+
+def _embedded_circle(theta):
+    return np.c_[np.cos(theta) + 0.2, 2.0 * np.sin(theta), 0.3 * np.cos(theta) - 0.1 * np.sin(theta)]
+
+
+@pytest.mark.parametrize("rho", [0.0123456, -(3 - math.sqrt(5)) / 2, 0.2])
+def test_rotation_number_of_a_rigid_rotation(rho):
+    theta = 0.4 + 2 * math.pi * rho * np.arange(5000)
+    rot = poincare.rotation_number(_embedded_circle(theta))
+    assert rot["rotation_number"] == pytest.approx(abs(rho), abs=2e-4)
+    assert abs(rot["rotation_number_first_half"] - rot["rotation_number_second_half"]) < 2e-4
+
+
+def test_rotation_number_of_a_nonlinear_circle_map():
+    """theta -> theta + 2 pi Omega - (K / 2 pi) sin(2 pi theta'), K < 1: compare with the lift."""
+    Om, K, n = 0.0731, 0.6, 20000
+    x = np.empty(n)
+    x[0] = 0.1
+    for i in range(n - 1):
+        x[i + 1] = x[i] + Om - K / (2 * math.pi) * math.sin(2 * math.pi * x[i])
+    exact = (x[-1] - x[0]) / (n - 1)
+    rot = poincare.rotation_number(_embedded_circle(2 * math.pi * x))
+    assert rot["rotation_number"] == pytest.approx(abs(exact), abs=5e-4)
+    assert poincare.curve_thickness(_embedded_circle(2 * math.pi * x)) < 1e-2
+
+
+def test_scattered_points_are_not_a_thin_curve(rng):
+    assert poincare.curve_thickness(rng.normal(size=(3000, 3))) > 0.1
+
+
+@pytest.mark.parametrize("n_loops", [1, 2, 4])
+def test_knn_components_count_synthetic_loops(n_loops, rng):
+    pts = []
+    for j in range(n_loops):
+        th = 2 * math.pi * ((math.sqrt(5) - 1) / 2 * np.arange(2000) + rng.uniform())  # circle-rotation iterates
+        centre = np.array([3.0 * math.cos(2 * math.pi * j / n_loops), 3.0 * math.sin(2 * math.pi * j / n_loops), 0.0])
+        loop = np.c_[np.cos(th), 0.5 * np.sin(th), 0.5 * np.sin(2 * th)]  # thin closed curves, like the iterates
+        pts.append(centre + loop + rng.normal(0, 0.002, (2000, 3)))
+    count, labels = poincare.knn_components(np.vstack(pts), k=10)
+    assert count == n_loops
+    assert len(np.unique(labels[:2000])) == 1
+
+
+def test_count_loops_per_class_separates_crossing_loops(rng):
+    """Two loops that cross in the projection: one component together, two loops by class."""
+    th = 2 * math.pi * (math.sqrt(2) * np.arange(3000) % 1.0)
+    a = np.c_[np.cos(th[:1500]), np.sin(th[:1500]), np.zeros(1500)]
+    b = np.c_[np.cos(th[1500:]), np.zeros(1500), np.sin(th[1500:])]
+    out = poincare.count_loops(np.vstack([a, b]), np.r_[np.zeros(1500), np.ones(1500)], k=10)
+    assert out["n_loops"] == 2 and out["loops_per_class"] == {0: 1, 1: 1}
+    assert out["n_components_projected"] == 1
+
+
+def test_min_pairwise_difference():
+    assert poincare.min_pairwise_difference([5.0, 1.0, 3.5, 1.25]) == 0.25
+
+
+def test_psd_recovers_known_frequencies_within_one_bin(rng):
+    dt, T = 0.01, 2000.0
+    t = np.arange(0, T, dt)
+    freqs = [0.013, 0.55, 1.7]
+    x = sum(a * np.sin(2 * math.pi * f * t + ph) for a, f, ph in zip([1.0, 0.5, 0.2], freqs, [0.1, 1.0, 2.0]))
+    x = x + rng.normal(0, 0.05, t.size)
+    f, S = spectra.psd(x, dt, segment=T)
+    df = f[1] - f[0]
+    found = f[np.argsort(S)[::-1]]
+    for f0 in freqs:
+        assert np.min(np.abs(found[:12] - f0)) <= df
+    lo, hi, fpk = spectra.band_edges(f, S, f_split=0.2, rel_threshold=1e-2)
+    assert abs(fpk - 0.55) <= df and lo <= 0.55 <= hi and abs(hi - 1.7) <= 1.01 * df
+    peaks = spectra.peaks_near_zero(f, S, f_split=0.2, prominence_decades=1.0, floor_rel=1e-3)
+    assert np.any(np.abs(peaks - 0.013) <= df)
+    assert len(peaks) <= 3  # the noise floor, 1e-5 of the maximum, gives no peaks
+
+
+def test_band_edges_of_a_broadband_signal(rng):
+    from scipy import signal
+
+    dt = 0.01
+    sos = signal.butter(6, [1.45, 1.8], btype="bandpass", fs=1 / dt, output="sos")
+    x = signal.sosfilt(sos, rng.normal(size=400000))
+    f, S = spectra.psd(x, dt, segment=200.0)
+    lo, hi, _ = spectra.band_edges(f, S, f_split=0.2, rel_threshold=0.1)
+    assert lo == pytest.approx(1.45, abs=0.08) and hi == pytest.approx(1.8, abs=0.08)
+
+
+def test_transient_detector_finds_known_change_points():
+    t = np.arange(0, 20000, 0.5)
+    omega = np.where(t < 6000, 1 + 2.5 * t / 6000, 3.5 + 0.05 * np.sin(2 * math.pi * t / 2000))
+    Omega = 0.03 * np.sin(3.4 * t)
+    spikes = [6100.0, 8100.0, 10100.0, 12100.0, 14100.0, 16100.0, 18100.0]
+    for s in spikes:
+        Omega = Omega + 0.08 * np.exp(-((t - s) / 20.0) ** 2)
+    Omega = Omega + 0.1 * np.exp(-((t - 3.0) / 2.0) ** 2)  # the first, sleigh-like phase
+    found = transient.spike_times(t, Omega, factor=1.8, t_min=200.0)
+    assert np.allclose(found, spikes, atol=5.0)  # located to within the fast oscillation
+    settle = transient.settling_time(t, omega, window=2000.0, rtol=0.02)
+    assert 5000.0 <= settle <= 8000.0
+    rep = transient.steady_state_report(t, Omega, omega, window=2000.0, t_min=200.0)
+    assert rep["first_spike"] == pytest.approx(6100.0, abs=5.0)
+    assert rep["spike_interval_mean_second_half"] == pytest.approx(2000.0, abs=5.0)
+
+
+def test_settling_time_is_nan_when_still_drifting():
+    t = np.arange(0, 10000, 1.0)
+    assert math.isnan(transient.settling_time(t, 1 + t / 1000, window=500.0, rtol=0.01))
