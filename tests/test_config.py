@@ -6,19 +6,20 @@ in test_workflow.py."""
 import copy
 import json
 import math
-from pathlib import Path
+import subprocess
 
 import jsonschema
 import pytest
 import yaml
+from conftest import PAPER, ROOT, smoke_config
 
 from sleighsim import configcheck, registry
 from sleighsim.configcheck import ConfigError
+from sleighsim.ops.facts import merged_config
 
-ROOT = Path(__file__).resolve().parents[1]
 SCHEMA_PATH = ROOT / "workflow" / "schemas" / "config.schema.yaml"
 SCHEMA = yaml.safe_load(SCHEMA_PATH.read_text())
-SMOKE = yaml.safe_load((ROOT / "config" / "smoke.yaml").read_text())
+SMOKE = smoke_config()  # config/smoke.yaml is an overlay: merged onto config/config.yaml
 VALIDATOR = jsonschema.validators.validator_for(SCHEMA)(SCHEMA)
 PLENTY = 1e15  # bytes: memory is not the question in most tests
 
@@ -170,6 +171,59 @@ def test_shipped_configs_are_valid_merged_as_snakemake_merges_them(name):
     update_config(cfg, load_configfile(str(ROOT / "config" / name)))
     assert refused(cfg) == ""
     configcheck.check(cfg)
+
+
+#: The last commit whose config/smoke.yaml was a full mirror of config/config.yaml (every key set);
+#: the overlay that replaced it must merge to the same config.
+SMOKE_MIRROR_COMMIT = "ae4f948cc4e26d270e86bd78ef49b58ed50a6858"
+
+
+def strict_differences(a, b, path="") -> list[str]:
+    """Where ``a`` and ``b`` differ, type included (1 is not 1.0, True is not 1), lists in order."""
+    if type(a) is not type(b):
+        return [f"{path or '.'}: {a!r} ({type(a).__name__}) != {b!r} ({type(b).__name__})"]
+    if isinstance(a, dict):
+        out = [f"{path}.{k}: only in the {'first' if k in a else 'second'}" for k in sorted(a.keys() ^ b.keys())]
+        return out + [d for k in a.keys() & b.keys() for d in strict_differences(a[k], b[k], f"{path}.{k}")]
+    if isinstance(a, list):
+        if len(a) != len(b):
+            return [f"{path}: {len(a)} items != {len(b)} items"]
+        return [d for i, (x, y) in enumerate(zip(a, b)) for d in strict_differences(x, y, f"{path}[{i}]")]
+    return [] if a == b else [f"{path}: {a!r} != {b!r}"]
+
+
+def test_the_smoke_overlay_merges_to_the_full_mirror_it_replaced(tmp_path):
+    """config/smoke.yaml holds only what differs from config/config.yaml; merged onto it (as Snakemake
+    merges --configfile: mappings key by key, lists and scalars whole) it gives exactly the config
+    of the full mirror it replaced (same merge, same config.yaml): types and list order included. A
+    deliberate change of a smoke value, or of a paper value the smoke config does not set, changes
+    the smoke run and fails here: check it is meant, then update this test."""
+    mirror = subprocess.run(["git", "-C", str(ROOT), "show", f"{SMOKE_MIRROR_COMMIT}:config/smoke.yaml"],
+                            capture_output=True, text=True)
+    if mirror.returncode != 0:
+        pytest.skip(f"no git history with {SMOKE_MIRROR_COMMIT[:7]}: {mirror.stderr.strip()[:200]}")
+    old = tmp_path / "smoke-mirror.yaml"
+    old.write_text(mirror.stdout)
+    expected = merged_config([old], base=PAPER)
+    assert strict_differences(smoke_config(), expected) == []
+
+
+def test_the_smoke_overlay_repeats_no_paper_value():
+    """Minimal overlay: no value in config/smoke.yaml equals (type included) the one config/config.yaml
+    sets at the same key; a mapping only descends into the keys it changes."""
+    from snakemake.common.configfile import load_configfile
+
+    def repeated(overlay, paper, path=""):
+        for key, value in overlay.items():
+            if key not in paper:
+                continue
+            if isinstance(value, dict) and isinstance(paper[key], dict):
+                yield from repeated(value, paper[key], f"{path}.{key}")
+            elif not strict_differences(value, paper[key]):
+                yield f"{path}.{key}"
+
+    overlay = load_configfile(str(ROOT / "config" / "smoke.yaml"))
+    assert list(repeated(overlay, load_configfile(str(PAPER)))) == []
 
 
 def test_config_readme_is_generated_from_the_schema_and_documents_every_key():
