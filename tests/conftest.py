@@ -6,8 +6,17 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from sleighsim.ops.facts import merged_config
+
 ROOT = Path(__file__).resolve().parents[1]
-SMOKE = ROOT / "config" / "smoke.yaml"
+PAPER = ROOT / "config" / "config.yaml"
+SMOKE = ROOT / "config" / "smoke.yaml"  # an overlay: pass it to Snakemake, or read it with smoke_config()
+
+
+def smoke_config() -> dict:
+    """The smoke config as a run sees it: config/smoke.yaml merged onto config/config.yaml the way
+    Snakemake merges ``--configfile`` (a fresh copy each call, so a test may change it)."""
+    return merged_config([SMOKE], base=PAPER)
 
 
 def snakemake(workdir, configfile, *args, timeout=900, cores=2):

@@ -94,13 +94,12 @@ def test_windowed_orbit_in_long_double_matches_double_where_both_are_accurate():
 
 @pytest.mark.parametrize("long_double", [False, True])
 def test_drift_scene_at_smoke_size_in_each_precision(long_double):
-    import yaml
+    from conftest import smoke_config
 
     from sleighsim.ops.registry import scene_config
     from sleighsim.scenes.drift import drift_windows
 
-    root = __import__("pathlib").Path(__file__).resolve().parents[2]
-    config = yaml.safe_load((root / "config" / "smoke.yaml").read_text())
+    config = smoke_config()
     cfg = {**scene_config(config, "main_drift"), "T": 100.0, "window": 50.0, "long_double": long_double}
     ds = drift_windows(cfg, "main_drift")
     assert ds.sizes["window"] == 2 and np.all(np.isfinite(ds.lambda_1.values))

@@ -6,20 +6,18 @@ in test_workflow.py."""
 import copy
 import json
 import math
-from pathlib import Path
 
 import jsonschema
 import pytest
 import yaml
+from conftest import PAPER, ROOT, smoke_config
 
-from sleighsim.ops import configcheck
-from sleighsim.ops import registry
+from sleighsim.ops import configcheck, registry
 from sleighsim.ops.configcheck import ConfigError
 
-ROOT = Path(__file__).resolve().parents[2]
 SCHEMA_PATH = ROOT / "workflow" / "schemas" / "config.schema.yaml"
 SCHEMA = yaml.safe_load(SCHEMA_PATH.read_text())
-SMOKE = yaml.safe_load((ROOT / "config" / "smoke.yaml").read_text())
+SMOKE = smoke_config()  # config/smoke.yaml is an overlay: merged onto config/config.yaml
 VALIDATOR = jsonschema.validators.validator_for(SCHEMA)(SCHEMA)
 PLENTY = 1e15  # bytes: memory is not the question in most tests
 
@@ -171,6 +169,38 @@ def test_shipped_configs_are_valid_merged_as_snakemake_merges_them(name):
     update_config(cfg, load_configfile(str(ROOT / "config" / name)))
     assert refused(cfg) == ""
     configcheck.check(cfg)
+
+
+def strict_differences(a, b, path="") -> list[str]:
+    """Where ``a`` and ``b`` differ, type included (1 is not 1.0, True is not 1), lists in order."""
+    if type(a) is not type(b):
+        return [f"{path or '.'}: {a!r} ({type(a).__name__}) != {b!r} ({type(b).__name__})"]
+    if isinstance(a, dict):
+        out = [f"{path}.{k}: only in the {'first' if k in a else 'second'}" for k in sorted(a.keys() ^ b.keys())]
+        return out + [d for k in a.keys() & b.keys() for d in strict_differences(a[k], b[k], f"{path}.{k}")]
+    if isinstance(a, list):
+        if len(a) != len(b):
+            return [f"{path}: {len(a)} items != {len(b)} items"]
+        return [d for i, (x, y) in enumerate(zip(a, b)) for d in strict_differences(x, y, f"{path}[{i}]")]
+    return [] if a == b else [f"{path}: {a!r} != {b!r}"]
+
+
+def test_the_smoke_overlay_repeats_no_paper_value():
+    """Minimal overlay: no value in config/smoke.yaml equals (type included) the one config/config.yaml
+    sets at the same key; a mapping only descends into the keys it changes."""
+    from snakemake.common.configfile import load_configfile
+
+    def repeated(overlay, paper, path=""):
+        for key, value in overlay.items():
+            if key not in paper:
+                continue
+            if isinstance(value, dict) and isinstance(paper[key], dict):
+                yield from repeated(value, paper[key], f"{path}.{key}")
+            elif not strict_differences(value, paper[key]):
+                yield f"{path}.{key}"
+
+    overlay = load_configfile(str(ROOT / "config" / "smoke.yaml"))
+    assert list(repeated(overlay, load_configfile(str(PAPER)))) == []
 
 
 def test_config_readme_is_generated_from_the_schema_and_documents_every_key():

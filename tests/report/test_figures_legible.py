@@ -6,14 +6,13 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 import xarray as xr
-import yaml
-from conftest import SMOKE
+from conftest import smoke_config
 
 from sleighsim.ops import registry
 from sleighsim.report import figures
 from sleighsim.report.figures.common import finish, legibility
 
-SMOKE_CFG = yaml.safe_load(SMOKE.read_text())
+SMOKE_CFG = smoke_config()
 
 
 def test_the_rule_finds_each_kind_of_illegible_text():

@@ -9,7 +9,7 @@ import time
 import numpy as np
 import pytest
 import yaml
-from conftest import ROOT, SMOKE, snakemake
+from conftest import ROOT, SMOKE, smoke_config, snakemake
 
 from sleighsim.io.netcdf import read_dataset
 
@@ -68,7 +68,7 @@ def test_sigterm_during_the_grid_keeps_finished_chunks_and_reruns_the_rest(smoke
 @pytest.mark.workflow
 def test_changing_one_scene_reruns_only_what_depends_on_it(smoke_run, tmp_path):
     target = ["results/figures/fig3.png", "results/figures/fig7.png", "results/figures/fig2.png"]
-    cfg = yaml.safe_load(SMOKE.read_text())
+    cfg = smoke_config()
     cfg["scenes"]["fig3"]["t_end"] = 250.0
     changed = tmp_path / "changed.yaml"
     changed.write_text(yaml.safe_dump(cfg, sort_keys=True))  # reordered keys must not count as a change
@@ -83,7 +83,7 @@ def test_changing_one_scene_reruns_only_what_depends_on_it(smoke_run, tmp_path):
 def test_changing_the_grid_runtime_resource_reruns_nothing(smoke_run, tmp_path):
     """chunk_runtime_min schedules the chunk jobs and runtime_min a scene's job; neither is part of
     what they compute."""
-    cfg = yaml.safe_load(SMOKE.read_text())
+    cfg = smoke_config()
     cfg["scenes"]["fig11_grid"]["chunk_runtime_min"] += 60
     cfg["scenes"]["formal_exponents"]["runtime_min"] = 500
     changed = tmp_path / "changed.yaml"

@@ -16,8 +16,9 @@ HEADER = """# Configuration
 
 Generated from `workflow/schemas/config.schema.yaml` by `python -m sleighsim.ops.configdoc`;
 edit the schema's descriptions, not this file. `config/config.yaml` is the paper at full
-fidelity, `config/smoke.yaml` the same scenes tiny (CI), `config/cluster.yaml` an overlay
-for a SLURM cluster. Snakemake merges a `--configfile` onto `config/config.yaml`.
+fidelity; `config/smoke.yaml` (the same scenes tiny, for CI) and `config/cluster.yaml` (a SLURM
+cluster) are overlays that hold only what differs from it: Snakemake merges a `--configfile` onto
+`config/config.yaml` (mappings key by key, lists and scalars replaced whole).
 
 Every value is checked before any job starts: the schema (types, bounds, unknown keys) and
 `sleighsim.ops.configcheck` (finite numbers, tolerances in (0, 1), cross-field constraints,
