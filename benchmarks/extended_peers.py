@@ -54,14 +54,15 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO / "src"))
 
+import heyoka as hy
+import mpmath
 import numpy as np
+import sympy as sp
 
-from sleighsim.engine import integrators
-from sleighsim.model import mechanics
-from sleighsim.model import equations
-from sleighsim.engine import peers
-from sleighsim.ops import benchio
+from sleighsim.engine import integrators, peers
+from sleighsim.model import equations, mechanics
 from sleighsim.model.params import Params
+from sleighsim.ops import benchio
 
 say = partial(benchio.say, "extended_peers")
 
@@ -103,10 +104,6 @@ QUICK = {
 ERROR_TARGETS = [1e-12, 1e-16, 1e-20, 1e-24, 1e-28, 1e-32]
 
 
-
-
-
-
 # ----------------------------------------------------------------------------- timing
 
 
@@ -135,9 +132,6 @@ def timed(fn, repeats: int, slow_s: float = SLOW_S) -> dict:
 def to_mpf(x):
     """The exact binary value of x (float, long double, real128, real, mpf) as an mpf at the current precision
     (decimal round trip for real128 and real, 36 and more significant digits: below 1e-35 relative)."""
-    import heyoka as hy
-    import mpmath
-
     if isinstance(x, mpmath.mpf):
         return +x
     if isinstance(x, np.longdouble):
@@ -151,8 +145,6 @@ def to_mpf(x):
 def model_state(raw, shifted: bool):
     """Four mpf (at ERROR_BITS) in the model's variables from an end state; ``shifted``: delta is stored
     as delta + integrators.DELTA_SHIFT (a double, removed here exactly)."""
-    import mpmath
-
     with mpmath.workprec(ERROR_BITS):
         y = [to_mpf(v) for v in list(raw)[:4]]
         if shifted:
@@ -162,8 +154,6 @@ def model_state(raw, shifted: bool):
 
 def state_error(y, ref) -> float:
     """max |y - ref| over the components, delta modulo 2 pi (peers.state_error), at ERROR_BITS."""
-    import mpmath
-
     with mpmath.workprec(ERROR_BITS):
         d = [a - b for a, b in zip(y, ref)]
         two_pi = 2 * mpmath.pi
@@ -175,8 +165,6 @@ def state_error(y, ref) -> float:
 
 
 def _check(ta, res, what):
-    import heyoka as hy
-
     if res[0] != hy.taylor_outcome.time_limit:
         raise RuntimeError(f"{what}: propagation stopped at t = {float(ta.time):.6g}: heyoka outcome {res[0].name}")
 
@@ -184,8 +172,6 @@ def _check(ta, res, what):
 def _build(key, build, cold: bool):
     """(integrator, compile wall s, compile cpu s) through integrators.compiled (so its angle is
     registered for integrators.bounded); heyoka's in-memory cache cleared first when ``cold``."""
-    import heyoka as hy
-
     if cold:
         hy.llvm_state.clear_memcache()
     c0 = time.process_time()
@@ -196,8 +182,6 @@ def _build(key, build, cold: bool):
 def flow_native(precision: str, tol: float, cold: bool):
     """The project's integrator, integrators.flow(False, tol, ...), in long double or quad: (integrator,
     build wall s, build cpu s); heyoka's in-memory cache cleared first when ``cold``."""
-    import heyoka as hy
-
     if cold:
         hy.llvm_state.clear_memcache()
     c0 = time.process_time()
@@ -207,16 +191,12 @@ def flow_native(precision: str, tol: float, cold: bool):
 
 def real_values(values, prec: int) -> np.ndarray:
     """An array of heyoka ``real`` at ``prec`` bits (values exact in it: doubles, long doubles, real128)."""
-    import heyoka as hy
-
     return np.array([hy.real(v, prec) for v in values], dtype=hy.real)
 
 
 def flow_real(prec: int, tol, pars, cold: bool):
     """integrators.flow's build in heyoka's ``real`` at ``prec`` bits (compact mode, as in quad): same
     system, delta stored shifted and kept in [0, 2 pi) by integrators.bounded. ``pars``: reals at prec."""
-    import heyoka as hy
-
     def build():
         y0 = real_values([0.0, 0.1, 1.0, integrators.DELTA_SHIFT], prec)
         t = tol if isinstance(tol, hy.real) else hy.real(tol, prec)
@@ -229,8 +209,6 @@ def flow_real(prec: int, tol, pars, cold: bool):
 def heyoka_runner(ta, pars, t_end: float, what: str):
     """run() -> (raw end state, steps): the initial state and parameters set, propagate_until t_end
     with the angle reducer."""
-    import heyoka as hy
-
     dtype = ta.state.dtype
     if dtype == hy.real:
         prec = ta.prec
@@ -256,9 +234,6 @@ def heyoka_runner(ta, pars, t_end: float, what: str):
 def reference(params, t_end: float, prec: int, cold: bool):
     """End state (model variables, mpf) at t_end by heyoka ``real`` at ``prec`` bits, tol 2^-prec; the
     coefficients K_j computed in mpmath at prec + 64 bits. Also the steps, order and build seconds."""
-    import heyoka as hy
-    import mpmath
-
     with mpmath.workprec(prec + 64):
         phys = [mpmath.mpf(v) for v in params.values]
         K = _coefficients_mpmath()(*phys)
@@ -275,8 +250,6 @@ def reference(params, t_end: float, prec: int, cold: bool):
 
 
 def _coefficients_mpmath():
-    import sympy as sp
-
     return sp.lambdify(mechanics.PHYSICAL, list(mechanics.derive().polynomial.coefficients), modules="mpmath")
 
 
@@ -295,8 +268,6 @@ def mpmath_rhs():
 
 def mpmath_runner(lam, params, t_end: float, tol, dps: int = MPMATH_DPS):
     """run() -> (end state as mpf, steps): a fresh odefun (it caches its steps) at dps, evaluated at t_end."""
-    import mpmath
-
     phys = [mpmath.mpf(v) for v in params.values]  # doubles: exact
     y0 = [mpmath.mpf(v) for v in Y0]
 
@@ -327,8 +298,6 @@ def _odefun_steps(f):
 def mpmath_tol_bits(tol, dps: int = MPMATH_DPS) -> int:
     """mpmath odefun's internal tolerance exponent tol_prec (its step h and its radius criterion are
     2^-tol_prec), as odefun computes it."""
-    import mpmath
-
     with mpmath.workdps(dps):
         return int(-mpmath.log(tol, 2)) + 10 if tol else mpmath.mp.prec + 10
 
@@ -365,9 +334,9 @@ def target_ratios(rows, targets) -> dict:
 
 
 def run(opts) -> dict:
-    import heyoka as hy
-    import mpmath
-
+    """The measurement with options ``opts`` (FULL or QUICK: horizon t_end in time units, tols, repeats,
+    cold_compile): the reference, one row per method and tol (error, wall and CPU seconds, steps, setup
+    seconds), the real128/real113 cross-check and the ratios at the error targets, as a YAML-ready dict."""
     params = Params.paper(**PARAMS)
     T = float(opts["t_end"])
     load = {"start": benchio.loadavg()}
@@ -449,7 +418,8 @@ def run(opts) -> dict:
     for r in rows:
         del r["_state"]
     return {
-        **benchio.header(SCHEMA, opts is QUICK, {"heyoka": hy.__version__, "mpmath": mpmath.__version__, "numpy": np.__version__}, load),
+        **benchio.header(SCHEMA, opts is QUICK,
+                         {"heyoka": hy.__version__, "mpmath": mpmath.__version__, "numpy": np.__version__}, load),
         "setup": {
             "params": PARAMS, "y0": list(Y0), "t_end": T,
             "error": "max |y(T) - y_ref(T)| over (u, Omega, omega, delta), delta modulo 2 pi, in mpmath at "
@@ -479,12 +449,10 @@ def run(opts) -> dict:
     }
 
 
-
-
 def main() -> int:
+    """The command line (--out, --quick); exit status 0."""
     return benchio.main("extended_peers", __doc__, run, FULL, QUICK, REPO / "benchmarks" / "extended_peers.yaml",
-                        "T = 2, fewer tols, disk cache as found (a test run; "
-                                                         "not a measurement)")
+                        "T = 2, fewer tols, disk cache as found (a test run; not a measurement)")
 
 
 if __name__ == "__main__":

@@ -34,21 +34,25 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO / "src"))
 
-from sleighsim.ops import facts
-from sleighsim.ops import jobgraph
-from sleighsim.report.figures import costs as plots
+import yaml
+
+from sleighsim.ops import facts, jobgraph
 from sleighsim.ops import summary as costsummary
+from sleighsim.report.figures import costs as plots
 
 
 def say(msg: str) -> None:
+    """A progress line on stderr, tagged with the time."""
     print(f"[full_run {dt.datetime.now():%H:%M:%S}] {msg}", file=sys.stderr, flush=True)
 
 
 def snakemake_cmd(workdir: Path, cores: int, configfiles: list[str], *extra: str) -> list[str]:
+    """The Snakemake command line running the workflow in ``workdir`` on ``cores`` cores with the
+    repository's config/config.yaml, then ``configfiles`` merged onto it, then ``extra`` arguments."""
     # the Snakefile's own configfile is relative to the working directory, which is not the repository:
     # name it, then the overlays merged onto it (as snakemake --configfile does in the repository)
-    cmd = [sys.executable, "-m", "snakemake", "-s", str(REPO / "workflow" / "Snakefile"), "-d", str(workdir), f"-c{cores}",
-           "--configfile", str(REPO / "config" / "config.yaml"), *configfiles]
+    cmd = [sys.executable, "-m", "snakemake", "-s", str(REPO / "workflow" / "Snakefile"), "-d", str(workdir),
+           f"-c{cores}", "--configfile", str(REPO / "config" / "config.yaml"), *configfiles]
     return cmd + list(extra)
 
 
@@ -99,6 +103,9 @@ def wall_from_log(workdir: Path) -> float | None:
 
 
 def main(argv=None) -> int:
+    """The command line (``argv``: the arguments, default sys.argv[1:]): run the workflow, or analyse a
+    finished run with --reuse, and write the cost summary to --out; exit status 0 (a failed run exits
+    non-zero)."""
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                      formatter_class=argparse.RawDescriptionHelpFormatter, epilog=__doc__)
     parser.add_argument("--configfile", nargs="+", default=[],
@@ -114,8 +121,6 @@ def main(argv=None) -> int:
     for f in configfiles:
         if not Path(f).is_file():
             sys.exit(f"full_run: no config file {f}")
-
-    import yaml
 
     if args.reuse:
         workdir = Path(args.reuse).resolve()

@@ -48,15 +48,15 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO / "src"))
 
+import heyoka as hy
 import numpy as np
 
-from sleighsim.engine import integrators
 from sleighsim.chaos import lyapunov
+from sleighsim.engine import integrators, transient
 from sleighsim.model import equations
-from sleighsim.engine import transient
-from sleighsim.ops import benchio
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import REFERENCE_LABEL, REFERENCE_STATE, state_at_label
+from sleighsim.ops import benchio
 
 say = partial(benchio.say, "precision_cost")
 
@@ -76,11 +76,8 @@ QUICK = {"t_transient": 6000.0, "long": 300.0, "short": 10.0, "repeats": 3, "rep
          "quad_reference": False, "cold_compile": False}
 
 
-
-
-
-
 def rows():
+    """Yield the rows' (system, precision, compact_mode, high_accuracy); high_accuracy on in double only."""
     for system in SYSTEMS:
         for precision in PRECISIONS:
             for compact in (True, False):
@@ -93,8 +90,6 @@ def _flow_variant(tol, long_double, quad, compact, ha):
     fp = integrators.fp_type(long_double, quad)
 
     def build():
-        import heyoka as hy
-
         y0 = np.array([0.0, 0.1, 1.0, integrators.DELTA_SHIFT]).astype(fp)
         return hy.taylor_adaptive(equations.heyoka_system(False, integrators.DELTA_SHIFT), y0, tol=fp(tol),
                                   pars=equations.compile_pars(fp), fp_type=fp, compact_mode=compact, high_accuracy=ha)
@@ -111,8 +106,7 @@ def _tangent_variant(tol, long_double, quad, compact, ha):
         if not ha:
             return lyapunov.tangent_integrator(sys_, 1, tol, equations.compile_pars(fp), compact_mode=compact,
                                                fp_type=fp)[0]
-        import heyoka as hy  # lyapunov.tangent_integrator with high_accuracy on
-
+        # lyapunov.tangent_integrator with high_accuracy on
         vsys = hy.var_ode_sys(sys_, [v for v, _ in sys_[:1]], order=1)
         return hy.taylor_adaptive(vsys, np.full(len(sys_), 0.1, dtype=fp), tol=fp(tol), pars=equations.compile_pars(fp),
                                   compact_mode=compact, fp_type=fp, high_accuracy=True)
@@ -135,8 +129,6 @@ def build(system, precision, compact, ha):
 
 
 def _check(ta, res, what):
-    import heyoka as hy
-
     if res[0] != hy.taylor_outcome.time_limit or not np.all(np.isfinite(np.asarray(ta.state, float))):
         raise RuntimeError(f"{what}: propagation stopped at t = {float(ta.time):.6g}: heyoka outcome {res[0].name}")
 
@@ -168,6 +160,9 @@ def propagate(ta, system, y0, T, what=""):
 
 
 def measure(ta, system, y0, T, repeats, warmup_T, what):
+    """Cost of propagating ``ta`` over T time units from y0: one untimed warm-up over warmup_T, then
+    ``repeats`` timed runs; medians per time unit (CPU and wall seconds), steps per time unit, each run's
+    seconds. ``what`` names the row in errors."""
     propagate(ta, system, y0, warmup_T, what)  # warm-up, untimed
     runs = [propagate(ta, system, y0, T, what) for _ in range(repeats)]
     cpu, wall = [r[0] for r in runs], [r[1] for r in runs]
@@ -177,6 +172,8 @@ def measure(ta, system, y0, T, repeats, warmup_T, what):
 
 
 def settled_state(params, y0, t_transient):
+    """The state (u, Omega, omega, delta, doubles) after t_transient time units from y0 (integrators.flow
+    in double)."""
     ta = integrators.flow(False, integrators.EPSILON["double"])[0]
     integrators.set_pars(ta, params)
     ta.time = 0.0
@@ -213,7 +210,10 @@ def separations(Y, ref, spikes) -> dict:
     diff = np.abs((ah - bh) + (al - bl)).max(axis=1)
     scale = float(np.abs(np.asarray(ref[:, :3], float)).max())
     sep = diff / scale
-    at = lambda time_: float(sep[round(time_ / SAMPLE_DT)])
+
+    def at(time_):
+        return float(sep[round(time_ / SAMPLE_DT)])
+
     out = {"half_way_to_first_spike": at(spikes[0] / 2)}
     for name, s in zip(("first", "second"), spikes[:2]):
         i0, i1 = round(s / SAMPLE_DT) + 1, round((s + SPIKE_WINDOW) / SAMPLE_DT) + 1
@@ -271,8 +271,10 @@ def accuracy(params, s, opts):
 
 
 def run(opts) -> dict:
-    import heyoka as hy
-
+    """The measurement with options ``opts`` (FULL or QUICK: transient, windows and accuracy horizon in time
+    units, repeats, quad_reference, cold_compile): one row per (system, precision, compact_mode,
+    high_accuracy) with compile seconds and cost per time unit, and the high-accuracy separations, as a
+    YAML-ready dict."""
     params = Params.paper(**PARAMS)
     y0 = state_at_label(REFERENCE_STATE, params, REFERENCE_LABEL)
     load = {"start": benchio.loadavg()}
@@ -359,12 +361,10 @@ def run(opts) -> dict:
     }
 
 
-
-
 def main() -> int:
+    """The command line (--out, --quick); exit status 0."""
     return benchio.main("precision_cost", __doc__, run, FULL, QUICK, REPO / "benchmarks" / "precision_cost.yaml",
-                        "short windows, no quad reference, disk cache as found "
-                                                         "(a test run; not a measurement)")
+                        "short windows, no quad reference, disk cache as found (a test run; not a measurement)")
 
 
 if __name__ == "__main__":

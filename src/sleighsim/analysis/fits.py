@@ -1,11 +1,10 @@
 """Least-squares fits: power laws (log-log), a line plus one sinusoid, a phase.
 
-Power laws: :func:`loglog`. Line plus sinusoid: x(t) ~ c0 + r t + A sin(w t) + B cos(w t), w free (scipy.optimize.curve_fit
-started from the periodogram peak near a guess, scipy.signal.periodogram; samples uniform in t). The
-record is deterministic, so the formal standard errors of the fit understate
-the error of the model; the uncertainty reported is the larger of the formal
-error and the half-difference between fits on the two halves of the window
-(a window-sensitivity estimate).
+Power laws: :func:`loglog`. Line plus sinusoid: x(t) ~ c0 + r t + A sin(w t) + B cos(w t), w free
+(scipy.optimize.curve_fit started from the periodogram peak near a guess, scipy.signal.periodogram;
+samples uniform in t). The record is deterministic, so the formal standard errors of the fit
+understate the error of the model; the uncertainty reported is the larger of the formal error and
+the half-difference between fits on the two halves of the window (a window-sensitivity estimate).
 """
 
 from __future__ import annotations

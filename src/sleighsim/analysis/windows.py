@@ -14,11 +14,12 @@ import math
 import time
 from collections.abc import Iterator
 
+import heyoka as hy
 import numpy as np
 
-from sleighsim.engine import integrators
 from sleighsim.chaos import lyapunov
 from sleighsim.chaos.common import linfit
+from sleighsim.engine import integrators
 
 log = logging.getLogger("sleighsim")
 
@@ -26,7 +27,8 @@ SETTLED, DRIFTING, UNDETERMINED = "settled", "drifting", "undetermined"
 
 
 def windowed_orbit(ta, n: int, y0, *, n_windows: int, window: float, tau: float, component: int,
-                   t_align: float = 0.0, seed: int = 0, label: str = "", progress_every: float = 30.0) -> Iterator[dict]:
+                   t_align: float = 0.0, seed: int = 0, label: str = "",
+                   progress_every: float = 30.0) -> Iterator[dict]:
     """Yield, for each of ``n_windows`` consecutive windows of the orbit from y0 (model variables;
     ``ta`` is a one-vector tangent integrator with its pars set): ``index``, ``t_start``, ``t``
     and ``x`` (state[component] every tau), ``lambda_1`` (log growth of the tangent vector over the
@@ -65,8 +67,6 @@ def windowed_orbit(ta, n: int, y0, *, n_windows: int, window: float, tau: float,
 
 def _step(ta, n: int, tau: float, callback, label: str) -> tuple[float, int]:
     """Propagate for tau, renormalise the tangent vector; (log of its norm, steps taken)."""
-    import heyoka as hy
-
     res = ta.propagate_for(ta.state.dtype.type(tau), callback=callback)
     if res[0] != hy.taylor_outcome.time_limit or not np.all(np.isfinite(ta.state)):
         raise RuntimeError(f"{label}: run failed at t = {ta.time:.6g}: heyoka outcome {res[0].name}")

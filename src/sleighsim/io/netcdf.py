@@ -9,7 +9,7 @@ import os
 import platform
 import subprocess
 import tempfile
-from functools import lru_cache
+from functools import cache
 from importlib import metadata
 from pathlib import Path
 
@@ -22,7 +22,7 @@ log = logging.getLogger("sleighsim")
 _PACKAGES = ("sleighsim", "numpy", "scipy", "sympy", "heyoka", "xarray", "netCDF4", "matplotlib")
 
 
-@lru_cache(maxsize=None)
+@cache
 def _git_commit() -> str:
     here = Path(__file__).resolve().parent
     try:
@@ -46,7 +46,7 @@ def provenance_attrs() -> dict:
             out[f"version_{pkg}"] = metadata.version(pkg)
         except metadata.PackageNotFoundError:
             out[f"version_{pkg}"] = "not installed"
-    out["created_utc"] = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
+    out["created_utc"] = _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds")
     return out
 
 

@@ -9,8 +9,9 @@ Parameters are physical (:class:`sleighsim.model.params.Params`).
 
 from __future__ import annotations
 
-from functools import lru_cache
+from functools import cache
 
+import heyoka as hy
 import numpy as np
 import sympy as sp
 
@@ -28,7 +29,7 @@ def _symbols():
     return (*mech.STATE, *mech.PHYSICAL)
 
 
-@lru_cache(maxsize=None)
+@cache
 def _lambdified(which: str):
     d = mech.derive()
     if which == "rhs":
@@ -86,12 +87,10 @@ def full_rhs(y_full, params: Params) -> np.ndarray:
 
 def heyoka_vars(kinematics: bool = False):
     """heyoka variables of the state, (theta, x, y) appended when ``kinematics``."""
-    import heyoka as hy
-
     return hy.make_vars(*(STATE_NAMES + (KINEMATIC_NAMES if kinematics else ())))
 
 
-@lru_cache(maxsize=None)
+@cache
 def _coefficients():
     return sp.lambdify(mech.PHYSICAL, list(mech.derive().polynomial.coefficients), modules="numpy")
 
@@ -118,8 +117,6 @@ def n_heyoka_pars() -> int:
 def _heyoka_polynomial(p, symbols: dict):
     """The SymPy polynomial ``p`` in (u, Omega, omega, S, C) as a heyoka expression: a sum of
     products (powers written as repeated factors) of ``symbols`` (SymPy symbol -> heyoka expression)."""
-    import heyoka as hy
-
     gens = (mech.u, mech.Omega, mech.omega, mech.S, mech.C)
     terms = []
     for powers, c in sp.Poly(p, *gens).terms():
@@ -134,8 +131,6 @@ def heyoka_system(kinematics: bool = False, delta_shift: float = 0.0):
     the operations per Taylor order of the explicit rhs); parameters as :func:`heyoka_pars` orders
     them. The variable ``delta`` stores delta + delta_shift (sleighsim.engine.integrators keeps it in
     [0, 2 pi))."""
-    import heyoka as hy
-
     hv = heyoka_vars(kinematics)
     u_, Om_, om_, de_ = hv[:4]
     d = de_ - delta_shift if delta_shift else de_

@@ -29,7 +29,7 @@ import hashlib
 import os
 import pickle
 from dataclasses import dataclass
-from functools import lru_cache
+from functools import cache
 from pathlib import Path
 
 import sympy as sp
@@ -95,7 +95,7 @@ def _lagrangian():
     return t, (x, y, th, be), L
 
 
-@lru_cache(maxsize=None)
+@cache
 def projected_equations(theta_value=0):
     """S^T (d/dt dL/dqdot - dL/dq) with qdot = S v, at heading ``theta_value``.
 
@@ -134,10 +134,12 @@ def cache_file() -> Path:
     return Path(root) / f"derivation-{key}.pickle"
 
 
-@lru_cache(maxsize=None)
+@cache
 def derive() -> Derivation:
     """M(delta), f and the explicit reduced vector field: from the disk cache when it holds this
     derivation, else derived (and stored; an unwritable cache only costs the time)."""
+    # deferred: sleighsim.io.netcdf brings xarray, 0.40 s (python -X importtime) on top of this
+    # module's 0.24 s, which the benchmarks and the integrator-only imports do not need
     from sleighsim.io.netcdf import atomic_path
 
     path = cache_file()
@@ -214,7 +216,7 @@ def paper_substitution():
     }
 
 
-@lru_cache(maxsize=None)
+@cache
 def b_free_form():
     """The derived equations in the paper's parameters for (v, Omega, omega, delta), v = u / b.
 

@@ -42,7 +42,10 @@ class Params:
     b: float
 
     @classmethod
-    def physical(cls, *, m_c, m_r, I_c, I_r, a, b) -> "Params":
+    def physical(cls, *, m_c, m_r, I_c, I_r, a, b) -> Params:
+        """The physical form: masses m_c > 0, m_r >= 0 [mass], inertias I_c, I_r >= 0 [mass length^2],
+        offset a >= 0 and runner distance b > 0 [length]; ValueError when one is out of range or the
+        inertia matrix is not positive definite."""
         vals = {k: finite(k, v) for k, v in dict(m_c=m_c, m_r=m_r, I_c=I_c, I_r=I_r, a=a, b=b).items()}
         for k in ("m_c", "b"):
             if vals[k] <= 0:
@@ -55,7 +58,7 @@ class Params:
         return p
 
     @classmethod
-    def paper(cls, *, eps, b=1.0, K2=None, formal: bool = False) -> "Params":
+    def paper(cls, *, eps, b=1.0, K2=None, formal: bool = False) -> Params:
         """The paper's form: m_r/m = a/b = eps, m = 1, K2 = 1 + I_c/(m b^2) (default 1 + eps).
 
         ``formal=True`` admits eps >= 1, the formal system with a negative sleigh
@@ -86,13 +89,13 @@ class Params:
         )
 
     @classmethod
-    def sleigh0(cls, *, b=1.0, K2=1.1) -> "Params":
+    def sleigh0(cls, *, b=1.0, K2=1.1) -> Params:
         """The rotor-free sleigh (eps = 0) inside the full model: the rotor is massless,
         centred (a = 0) and decoupled (it spins at constant omega)."""
         return cls.physical(m_c=1.0, m_r=0.0, I_c=(K2 - 1.0) * b**2, I_r=1.0, a=0.0, b=b)
 
     @classmethod
-    def from_config(cls, cfg: dict) -> "Params":
+    def from_config(cls, cfg: dict) -> Params:
         """From a config block: either the paper form {eps, b, K2} or the physical form {m_c, m_r,
         I_c, I_r, a, b}, one form only; the physical form's rotor mass m_r > 0 (eps > 0, as the paper
         form requires: the rotor-free sleigh is :meth:`sleigh0`)."""
@@ -125,6 +128,7 @@ class Params:
 
     @property
     def m(self) -> float:
+        """The total mass m_c + m_r."""
         return self.m_c + self.m_r
 
     @property
@@ -149,6 +153,7 @@ class Params:
 
     @property
     def values(self) -> tuple:
+        """The physical parameters in PARAM_NAMES order (m_c, m_r, I_c, I_r, a, b)."""
         return tuple(getattr(self, k) for k in PARAM_NAMES)
 
     def attrs(self) -> dict:

@@ -8,19 +8,20 @@ integrates these equations.
 from __future__ import annotations
 
 import time
-from functools import lru_cache
+from functools import cache
 
+import heyoka as hy
 import numpy as np
 import sympy as sp
 import xarray as xr
 
 from sleighsim.engine import integrators
-from sleighsim.model.mechanics import I_c, I_r, K2, Omega, a, b, delta, eps, m_c, m_r, omega, u
 from sleighsim.model.equations import STATE_NAMES, energy
+from sleighsim.model.mechanics import K2, I_c, I_r, Omega, a, b, delta, eps, m_c, m_r, omega, u
 from sleighsim.model.params import Params
 
 
-@lru_cache(maxsize=None)
+@cache
 def equations():
     """The paper's equations (eq:u)-(eq:delta_dot) exactly as printed, K^2 -> K2.
 
@@ -57,7 +58,7 @@ def locked_inertia():
     return M, f
 
 
-@lru_cache(maxsize=None)
+@cache
 def _lambdified():
     return sp.lambdify((u, Omega, omega, delta, eps, b, K2), list(equations()), modules="numpy", cse=True)
 
@@ -71,8 +72,6 @@ def rhs(y, eps_value, b_value, K2_value) -> np.ndarray:
 
 def heyoka_system():
     """The printed (eps, b, K2) system for heyoka, par[0..2] = (eps, b, K2)."""
-    import heyoka as hy
-
     hv = hy.make_vars(*STATE_NAMES)
     smap = {s: v for s, v in zip((u, Omega, omega, delta), hv)}
     smap.update({eps: hy.par[0], b: hy.par[1], K2: hy.par[2]})
@@ -83,8 +82,6 @@ def _integrator(tol: float):
     """The printed system (compiled once per process). Returns (ta, compile_s)."""
 
     def build():
-        import heyoka as hy
-
         return hy.taylor_adaptive(heyoka_system(), [0.0, 0.1, 1.0, 0.0], pars=[0.1, 1.0, 1.1], tol=tol)
 
     return integrators.compiled(("printed", tol), build, angles={"delta": (3, 0.0)})
@@ -93,8 +90,6 @@ def _integrator(tol: float):
 def trajectory(params: Params, y0, times, tol: float = 2.0**-52) -> np.ndarray:
     """The printed equations integrated from ``y0`` at times[0], sampled at ``times`` (rows of
     (u, Omega, omega, delta)); ``params`` must be of the paper's form (eps, b, K2)."""
-    import heyoka as hy
-
     if not params.is_paper_form:
         raise ValueError("the printed equations exist only for paper-form parameters (Params.paper)")
     ta, _ = _integrator(tol)

@@ -5,12 +5,16 @@ from __future__ import annotations
 
 import argparse
 import datetime as dt
+import os
 import sys
 import time
 from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
+import yaml
+
+from sleighsim.ops import facts
 
 
 def say(name: str, msg: str) -> None:
@@ -29,16 +33,11 @@ def loadavg() -> str:
 def header(schema: str, quick: bool, versions: dict, load: dict) -> dict:
     """The head of a measurement's YAML: schema, date, git commit, command, quick, machine facts,
     versions, the cores the process may run on and the load averages taken along the way."""
-    import datetime as _dt
-    import os
-
-    from sleighsim.ops import facts
-
     try:
         affinity = sorted(os.sched_getaffinity(0))
     except AttributeError:
         affinity = None
-    return {"schema": schema, "date": _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
+    return {"schema": schema, "date": dt.datetime.now(dt.UTC).isoformat(timespec="seconds"),
             "git_commit": facts.git_commit(), "command": " ".join([Path(sys.executable).name, *sys.argv]),
             "quick": quick, "machine": facts.machine_facts(), "versions": versions, "cpu_affinity": affinity,
             "loadavg": load}
@@ -63,8 +62,6 @@ def main(name: str, doc: str, run: Callable[[dict], dict], full: dict, quick: di
          quick_help: str) -> int:
     """The command line of a measurement script: run(full or quick options), its total wall time
     added as total_wall_s, written as YAML to --out."""
-    import yaml
-
     ap = argparse.ArgumentParser(description=doc.split("\n\n")[0])
     ap.add_argument("--out", default=str(default_out))
     ap.add_argument("--quick", action="store_true", help=quick_help)

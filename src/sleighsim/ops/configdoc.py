@@ -78,7 +78,8 @@ def render(schema: dict) -> str:
     defs = schema["$defs"]
     lines += ["## Shared blocks", ""]
     for name in ("params", "transient"):
-        lines += [f"### `{name}`", "", " ".join(defs[name]["description"].split()), "", *table, *_rows(schema, defs[name]), ""]
+        lines += [f"### `{name}`", "", " ".join(defs[name]["description"].split()), "", *table,
+                  *_rows(schema, defs[name]), ""]
     lines += ["## Scene kinds", "",
               ("Each block under `scenes` names its `kind`; the keys below are those of each kind "
                "(besides `kind` and `on_request`)."), ""]
@@ -90,6 +91,8 @@ def render(schema: dict) -> str:
 
 
 def main(argv=None) -> int:
+    """Write config/README.md from the schema (``--check``: compare only); exit status 0, or 1 when
+    ``--check`` finds the file out of date. ``argv``: the arguments (default sys.argv[1:])."""
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--schema", type=Path, default=Path("workflow/schemas/config.schema.yaml"))
     parser.add_argument("--out", type=Path, default=Path("config/README.md"))
@@ -98,7 +101,8 @@ def main(argv=None) -> int:
     text = render(yaml.safe_load(args.schema.read_text()))
     if args.check:
         same = args.out.exists() and args.out.read_text() == text
-        print(f"{args.out}: {'up to date' if same else 'differs from the schema; run python -m sleighsim.ops.configdoc'}")
+        verdict = "up to date" if same else "differs from the schema; run python -m sleighsim.ops.configdoc"
+        print(f"{args.out}: {verdict}")
         return 0 if same else 1
     args.out.write_text(text)
     return 0

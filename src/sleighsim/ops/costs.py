@@ -23,8 +23,8 @@ from pathlib import Path
 
 from sleighsim.ops.estimate import changed_keys, estimate, format_estimate
 from sleighsim.ops.facts import BASE_CONFIG, REPO, merged_config
-from sleighsim.report.figures.costs import plot_costs
 from sleighsim.ops.summary import SCHEMA, read_summary
+from sleighsim.report.figures.costs import plot_costs
 
 DEFAULT_MEASURED = REPO / "benchmarks" / "full_run.yaml"
 PROG = "python -m sleighsim.ops.costs"
@@ -65,6 +65,8 @@ def _read_inputs(args, measured: Path) -> tuple[dict | None, str | None]:
 
 
 def main(argv=None) -> int:
+    """The ``plot`` and ``estimate`` commands (``argv``: the arguments, default sys.argv[1:]). Exit
+    status 0; 1 when the estimate is not finite; 2 when its inputs are refused."""
     args = _parser().parse_args(argv)
     if args.command == "plot":
         plot_costs(read_summary(args.summary), args.png, args.pdf or str(Path(args.png).with_suffix(".pdf")))

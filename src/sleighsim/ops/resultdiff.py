@@ -21,8 +21,8 @@ from sleighsim.io.netcdf import read_dataset
 
 #: Names of attributes and variables that measure the run, not its result.
 # history and source (CF) carry the time of writing and the commit
-VOLATILE = re.compile(r"wall|compile_time|created_utc|git_commit|^version_|python_version|seconds_per_step|^history$|^source$"
-                      r"|^cost_|_estimate_s$|^overhead_|speedup|fastest_at|^lambda_1_wall|^lyap_scipy_wall")
+VOLATILE = re.compile(r"wall|compile_time|created_utc|git_commit|^version_|python_version|seconds_per_step"
+                      r"|^history$|^source$|^cost_|_estimate_s$|^overhead_|speedup|fastest_at|^lambda_1_wall|^lyap_scipy_wall")
 
 
 def _equal(a, b) -> bool:
@@ -72,6 +72,8 @@ def compare_trees(old: Path, new: Path) -> dict[str, list[str]]:
 
 
 def main(argv=None) -> int:
+    """Compare the datasets of two results trees and print each one's differences (``argv``: OLD NEW,
+    default sys.argv[1:]). Exit status 0 when all are identical, 1 when any differs."""
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("old", type=Path, help="results directory before the change")
     parser.add_argument("new", type=Path, help="results directory after the change")

@@ -31,6 +31,8 @@ import datetime as _dt
 import os
 from pathlib import Path
 
+import yaml
+
 from sleighsim.io.netcdf import atomic_path
 from sleighsim.ops.benchmark_files import read_benchmark, rule_from_path
 from sleighsim.ops.facts import BASE_CONFIG, git_commit, machine_facts, merged_config
@@ -211,14 +213,11 @@ def summarize(workdir, wall_s: float, config_label, *, config: dict | None = Non
 
 def write_summary(summary: dict, path) -> Path:
     """Write the summary as YAML, atomically."""
-    import yaml
-
     with atomic_path(path) as tmp:
         tmp.write_text(yaml.safe_dump(summary, sort_keys=False, default_flow_style=False, width=120))
     return Path(path)
 
 
 def read_summary(path) -> dict:
-    import yaml
-
+    """The cost summary stored at ``path`` (YAML, as :func:`write_summary` writes it)."""
     return yaml.safe_load(Path(path).read_text())
