@@ -1,0 +1,52 @@
+"""The sleighsim command: one entry point for the project's tools, each a subcommand.
+
+    sleighsim claims ...     judge the claims ledger from a results tree (python -m sleighsim.claims)
+    sleighsim diff OLD NEW   compare two result trees dataset by dataset (python -m sleighsim.resultdiff)
+    sleighsim costs ...      the run's measured cost, its estimate for a config, and the cost plot
+    sleighsim configdoc ...  config/README.md from the config schema (--check: in step with it)
+
+Each subcommand takes the options of the module it runs (``sleighsim SUBCOMMAND --help``) and
+returns its exit status: 0 success, 1 a difference or a failed check, 2 a usage error, 3 a
+ledger written from an incomplete results tree.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from sleighsim.claims import ledger
+from sleighsim.ops import configdoc, costs, resultdiff
+
+#: subcommand -> (the main it runs, its one-line help)
+COMMANDS = {
+    "claims": (ledger.main, "judge every claim of CLAIMS.md from a results tree; write the ledger"),
+    "diff": (resultdiff.main, "compare two result trees dataset by dataset (exit 1 when they differ)"),
+    "costs": (costs.main, "the run's measured cost, its estimate for another config, and the cost plot"),
+    "configdoc": (configdoc.main, "write config/README.md from the schema (--check: exit 1 when out of step)"),
+}
+
+
+def _parser() -> argparse.ArgumentParser:
+    ap = argparse.ArgumentParser(prog="sleighsim", description=__doc__.split("\n\n")[0],
+                                 formatter_class=argparse.RawDescriptionHelpFormatter,
+                                 epilog="Run 'sleighsim SUBCOMMAND --help' for a subcommand's options.")
+    sub = ap.add_subparsers(dest="command", metavar="SUBCOMMAND", required=True)
+    for name, (_, text) in COMMANDS.items():
+        sub.add_parser(name, help=text, add_help=False)
+    return ap
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run ``sleighsim SUBCOMMAND [OPTIONS]``; returns the subcommand's exit status."""
+    argv = sys.argv[1:] if argv is None else list(argv)
+    args, rest = _parser().parse_known_args(argv[:1])
+    run, _ = COMMANDS[args.command]
+    try:
+        return int(run(argv[1:]) or 0)
+    except SystemExit as stop:  # argparse's usage errors and --help inside a subcommand
+        return stop.code if isinstance(stop.code, int) else 1
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
