@@ -13,7 +13,7 @@ from test_judges import _spectrum
 
 from sleighsim.ops import registry
 from sleighsim.io.netcdf import write_dataset
-from sleighsim.ops.facts import merged_config
+from sleighsim.io.config import merged_config
 from sleighsim.claims import ledger as claims
 
 LONG = "precision/long_double/fig9_ref"

@@ -11,7 +11,7 @@ The command line over the cost modules of :mod:`sleighsim.ops`::
 - :mod:`~sleighsim.report.figures.costs`: the cost figures;
 - :mod:`~sleighsim.ops.workmodel` and :mod:`~sleighsim.ops.estimate`: a measured summary scaled to
   the run another config would launch, with the chunk jobs checked against ``chunk_runtime_min``;
-- :mod:`~sleighsim.ops.facts`: merged config, git commit and machine facts.
+- :mod:`~sleighsim.ops.facts`: git commit and machine facts (the merged config: :mod:`~sleighsim.io.config`).
 """
 
 from __future__ import annotations
@@ -22,7 +22,7 @@ import sys
 from pathlib import Path
 
 from sleighsim.ops.estimate import changed_keys, estimate, format_estimate
-from sleighsim.ops.facts import BASE_CONFIG, REPO, merged_config
+from sleighsim.io.config import BASE_CONFIG, REPO, merged_config
 from sleighsim.report.figures.costs import plot_costs
 from sleighsim.ops.summary import SCHEMA, read_summary
 

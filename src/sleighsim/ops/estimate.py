@@ -10,7 +10,7 @@ from collections import defaultdict
 from pathlib import Path
 
 from sleighsim.ops import registry
-from sleighsim.ops.facts import BASE_CONFIG, REPO
+from sleighsim.io.config import BASE_CONFIG, REPO
 from sleighsim.ops.workmodel import chunk_work, grid_rows, is_modelled, work
 
 
