@@ -1,5 +1,5 @@
 """The ledger's ``cause`` column: each "differs" tested against its likely causes, from the datasets
-named in :data:`sleighsim.ops.registry.CAUSES`. A cause explains a number when, at some setting, it
+named in :data:`sleighsim.claims.evidence.CAUSES`. A cause explains a number when, at some setting, it
 moves our value to within the judge's tolerance of the paper's; the text says which setting, or
 that none of the causes tested explains the difference and what they gave."""
 

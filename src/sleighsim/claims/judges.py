@@ -1,5 +1,5 @@
 """One judge per claim of paper/CLAIMS.md. A judge takes the paper's values (the ``value`` column,
-parsed) and the datasets named for it in :data:`sleighsim.ops.registry.EVIDENCE`, in that order, and
+parsed) and the datasets named for it in :data:`sleighsim.claims.evidence.EVIDENCE`, in that order, and
 returns a :class:`~sleighsim.claims.rules.Judgement` whose texts are composed from measured numbers."""
 
 from __future__ import annotations

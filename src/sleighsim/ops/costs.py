@@ -6,7 +6,7 @@ The command line over the cost modules of :mod:`sleighsim.ops`::
     python -m sleighsim.ops.costs plot benchmarks/full_run.yaml benchmarks/full_run.png
 
 - :mod:`~sleighsim.ops.jobgraph`: the run's job graph from Snakemake's dry runs, its critical path;
-- :mod:`~sleighsim.ops.benchmark_files`: Snakemake's benchmark files, one per job;
+- :mod:`~sleighsim.io.benchmark_files`: Snakemake's benchmark files, one per job;
 - :mod:`~sleighsim.ops.summary`: a finished run's cost summary (``benchmarks/full_run.py`` writes it);
 - :mod:`~sleighsim.report.figures.costs`: the cost figures;
 - :mod:`~sleighsim.ops.workmodel` and :mod:`~sleighsim.ops.estimate`: a measured summary scaled to

@@ -3,10 +3,8 @@
 - Scenes live in the config: each block under ``scenes`` names its ``kind``; the dataset is
   ``results/data/<scene>.nc``. :data:`KINDS` says how each kind runs and which other datasets
   (by role, named in the block's ``inputs``) it reads; :mod:`sleighsim.scenes` imports its function.
-- :data:`FIGURES`: every figure, the datasets its plot function reads (in order), the paper's
-  figure id and the claims it illustrates.
-- :data:`EVIDENCE`: the datasets each claim of ``paper/CLAIMS.md`` is judged from (in the order
-  its judge takes them).
+- Figures are declared beside their plot functions (:mod:`sleighsim.report.figures.catalog`), the
+  datasets each claim is judged from in :mod:`sleighsim.claims.evidence`.
 
 The Snakefile, the config checks, the claims ledger and the report all derive from these;
 nothing else lists scenes, figures or claims. This module imports nothing heavy, so the
@@ -126,141 +124,6 @@ def run_datasets(config: dict) -> list[str]:
             + [realization_name(s, k) for s, n in realized(config).items() for k in range(1, n)])
 
 
-@dataclass(frozen=True)
-class Figure:
-    """A figure: ``data`` are the datasets its plot function reads, in order; ``plot`` names the
-    function in :mod:`sleighsim.report.figures` (default: the figure's own name); ``paper`` is
-    its id in CLAIMS.md ("" when the paper has no such figure, then ``title`` heads its report
-    section); ``claims`` are the claims it illustrates; ``schematic`` names the scene whose
-    config block a dataset-free figure draws; ``steady`` are the datasets that show a steady state,
-    each of which must carry a passed transient check (``transient_over``) for the figure to count;
-    ``beside``: the figure also reads its laddered scenes in their finer precisions (after ``data``)
-    and draws them beside the paper's arithmetic."""
-
-    data: tuple[str, ...] = ()
-    paper: str = ""
-    claims: tuple[str, ...] = ()
-    title: str = ""
-    plot: str = ""
-    schematic: str = ""
-    steady: tuple[str, ...] = ()
-    beside: bool = False
-
-
-FIGURES: dict[str, Figure] = {
-    "fig1": Figure(paper="F1", schematic="fig1"),
-    "fig2": Figure(("fig2",), "F2", ("C01",)),
-    "fig3": Figure(("fig3",), "F3", ("C03", "C04", "C05"), beside=True),
-    "fig4": Figure(("fig4",), "F4", ("C06",)),
-    "fig5": Figure(("fig5",), "F5", ("C11",)),
-    "fig6": Figure(("fig6",), "F6", ("C07", "C08", "C09", "C10")),
-    "transients": Figure(("transients", "fig3"), title="Transient length against eps (C03-C05)"),
-    "perturbation": Figure(("fig5", "pert_audit"),
-                           title="Perturbation hierarchy: convergence as eps -> 0 and secular growth (C12)"),
-    "fig7": Figure(("fig7",), "F7", ("C13",), steady=("fig7",)),
-    "fig8": Figure(("fig8",), "F8", ("C14",), steady=("fig8",), beside=True),
-    "fig9": Figure(("fig9_ref", "fig9_highE", "fig9_eps001", "fig9_scaling"), "F9", ("C15", "C16", "C17"),
-                   steady=("fig9_ref", "fig9_highE", "fig9_eps001")),
-    "fig12": Figure(("fig9_ref", "fig9_eps001"), "F12", ("C22",), steady=("fig9_ref", "fig9_eps001"), beside=True),
-    "fig13": Figure(("psd_eps01",), "F13", ("C23",), plot="psd", steady=("psd_eps01",), beside=True),
-    "fig14": Figure(("psd_eps001",), "F14", ("C24",), plot="psd", steady=("psd_eps001",), beside=True),
-    "fig10": Figure(("lyap_energy",), "F10", ("C20",), steady=("lyap_energy",), beside=True),
-    "fig11": Figure(("fig11_grid",), "F11", ("C21",), steady=("fig11_grid",), beside=True),
-    "lyapunov": Figure(("lyap_spectrum", "lyap_protocol"), title="Lyapunov spectrum and the paper's protocol"),
-    "chaos": Figure(("chaos_verdict",), title="Is the steady state chaotic? Indicators per state",
-                    steady=("chaos_verdict",)),
-    "regimes": Figure(("regimes",), title="Regime diagram: lambda_1, spike interval and P_2pi rotation number "
-                                         "against eps (C27)"),
-    "basins": Figure(("basins",), title="Basin fractions on the energy level (C06 made quantitative)"),
-    "precision": Figure(("precision_ladder",), title="Does the arithmetic decide the steady state? Spike intervals "
-                                                     "per precision from one settled point, and the orbits' separation",
-                        steady=("precision_ladder",)),
-    "trigger": Figure(("trigger_law",), title="What triggers the steady state? The first spike against the size of "
-                                              "the injected error (C04)"),
-    "drift": Figure(("main_drift",), title="Does the main state's slow drift end? Spike interval and lambda_1 per "
-                                          "window"),
-    "audit": Figure(("audit",), title="The model as printed: energy drift of the printed udot"),
-    "bench": Figure(("bench",), title="Speed against error"),
-}
-
-#: The atlas (on request: snakemake -c2 atlas): the figures of the large chaos surveys.
-ATLAS = ("regimes", "basins", "drift")
-
-
-@dataclass(frozen=True)
-class Table:
-    """A table of the report: dataset ``data``, one row per value of ``key``, the ``columns`` shown;
-    rows coloured by the value of ``colour_by`` (an outcome) when given."""
-
-    data: str
-    key: str
-    columns: tuple[str, ...]
-    colour_by: str = ""
-
-
-#: Tables the report shows after the figures: section title -> table.
-TABLES: dict[str, Table] = {
-    "Perturbation hierarchy: terms where the printed equations differ from the derived ones":
-        Table("pert_audit", "equation", ("term", "derived", "printed", "derived_with_kappa")),
-    "Hard cases": Table("hardcases", "case", ("outcome", "error", "drift", "disagreement", "steps", "wall_s", "detail"),
-                        colour_by="outcome"),
-}
-
-EVIDENCE: dict[str, tuple[str, ...]] = {
-    "C01": ("fig2",),
-    "C03": ("fig3",),
-    "C04": ("fig3", "transients"),
-    "C05": ("fig3",),
-    "C06": ("fig4",),
-    "C07": ("fig6",),
-    "C08": ("fig6",),
-    "C09": ("fig6",),
-    "C10": ("fig6",),
-    "C11": ("fig5",),
-    "C12": ("pert_audit",),
-    "C13": ("fig7",),
-    "C14": ("fig8",),
-    "C15": ("fig9_ref",),
-    "C16": ("fig9_ref",),
-    "C17": ("fig9_ref", "fig9_highE", "fig9_eps001", "fig9_scaling"),
-    "C18": ("lyap_spectrum",),
-    "C19": ("lyap_protocol", "lyap_spectrum"),
-    "C20": ("lyap_energy",),
-    "C21": ("fig11_grid",),
-    "C22": ("fig9_ref",),
-    "C23": ("psd_eps01",),
-    "C24": ("psd_eps001",),
-    "C25": ("lyap_feasibility",),
-    "C26": ("formal_exponents",),
-    "C27": ("fig11_grid",),
-    "D1": ("audit",),
-    "D2": ("audit",),
-    "D3": ("audit",),
-    "D4": ("audit",),
-    "D5": ("audit",),
-    "D6": ("audit",),
-}
-
-#: The datasets each "differs" of a claim is tested against for its likely causes
-#: (sleighsim.claims.causes), in the order its cause test takes them.
-CAUSES: dict[str, tuple[str, ...]] = {
-    "C04": ("k2_sweep", "integration_error", "audit", "trigger_law"),
-    "C05": ("k2_sweep", "integration_error", "audit"),
-    "C09": ("k2_sweep",),
-    "C10": ("k2_sweep",),
-    "C11": ("k2_sweep", "integration_error"),
-    "C13": ("k2_sweep",),
-    "C18": ("integration_error",),
-    "C19": ("integration_error",),
-    "C20": ("integration_error",),
-    "C21": ("integration_error",),
-    "C22": ("fig9_ref",),
-    "C23": ("psd_eps01", "k2_sweep"),
-    "C24": ("psd_eps001",),
-    "D5": ("audit",),
-}
-
-
 #: Keys of a scene block that schedule its jobs and do not change what it computes.
 SCHEDULING = ("on_request", "schedule_first", "chunk_runtime_min", "runtime_min")
 
@@ -283,16 +146,3 @@ def datasets(config: dict, *, on_request: bool = False) -> list[str]:
     ``on_request`` also those built only when asked for."""
     return [name for name, block in config["scenes"].items()
             if KINDS[block["kind"]].dataset and (on_request or not block.get("on_request", False))]
-
-
-def figures_built(config: dict, *, on_request: bool = False) -> list[str]:
-    """The figures whose datasets (or schematic block) the config builds, in declaration order."""
-    built = set(datasets(config, on_request=on_request))
-    drawn = {n for n, block in config["scenes"].items() if on_request or not block.get("on_request", False)}
-    return [name for name, f in FIGURES.items()
-            if set(f.data) <= built and (not f.schematic or f.schematic in drawn)]
-
-
-def plot_name(figure: str) -> str:
-    """The plot function of a figure."""
-    return FIGURES[figure].plot or figure

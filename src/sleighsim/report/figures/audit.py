@@ -6,6 +6,7 @@ import numpy as np
 
 from sleighsim.io.netcdf import read_dataset
 from sleighsim.report.figures.common import LABELS, finish, subplots
+from sleighsim.report.figures.figure import Figure
 
 
 def audit(sources):
@@ -21,3 +22,6 @@ def audit(sources):
                  f"{ds.attrs['printed_max_abs_rel_change']:.3g} (derived: {ds.attrs['derived_max_abs_rel_change']:.2g})")
     ax.legend()
     return finish(fig, ds.attrs)
+
+
+AUDIT = Figure("audit", audit, ("audit",), title="The model as printed: energy drift of the printed udot")

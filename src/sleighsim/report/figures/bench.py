@@ -8,6 +8,7 @@ import numpy as np
 
 from sleighsim.io.netcdf import read_dataset
 from sleighsim.report.figures.common import RATE, WIDTH, finish, subplots
+from sleighsim.report.figures.figure import Figure
 
 
 def bench(sources):
@@ -106,3 +107,5 @@ def _lyapunov_peers(ax, ds) -> None:
                  f"{ds.attrs['lorenz_lambda_1_literature']:g}),\n{ds.attrs['lyap_peer_T_sleigh']:g} (sleigh), "
                  f"tau = {ds.attrs['lyap_peer_tau']:g}")
 
+
+BENCH = Figure("bench", bench, ("bench",), title="Speed against error")

@@ -11,6 +11,7 @@ from matplotlib.ticker import NullFormatter
 from sleighsim.io.netcdf import read_dataset
 from sleighsim.report.page import CHAOS_COLOURS
 from sleighsim.report.figures.common import LABELS, RATE, WIDTH, finish
+from sleighsim.report.figures.figure import Figure
 
 #: The chaotic classes of a state (chaos.rule.classify), drawn in the chaotic colour.
 CHAOTIC_CLASSES = ("strange attractor", "conservative-type chaos", "mixed dynamics")
@@ -155,3 +156,7 @@ def chaos(sources):
     _loschmidt(axd["loschmidt"], ds)
     _frequency(axd["frequency"], ds)
     return finish(fig, ds.attrs)
+
+
+CHAOS = Figure("chaos", chaos, ("chaos_verdict",), title="Is the steady state chaotic? Indicators per state",
+               steady=("chaos_verdict",))

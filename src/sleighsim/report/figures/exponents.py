@@ -8,6 +8,7 @@ from matplotlib.ticker import NullFormatter
 
 from sleighsim.io.netcdf import read_dataset
 from sleighsim.report.figures.common import PRECISION_STYLE, RATE, WIDTH, finer_precisions, finish, subplots
+from sleighsim.report.figures.figure import Figure
 
 LAMBDA_1 = rf"$\lambda_1$ ({RATE})"
 
@@ -203,3 +204,13 @@ def drift(sources):
     axes[1].axhline(0, color="0.5", lw=0.8)
     axes[1].set_xlabel(f"t after the transient (time units; windows of {ds.attrs['window']:g})")
     return finish(fig, ds.attrs)
+
+
+FIG10 = Figure("fig10", fig10, ("lyap_energy",), "F10", ("C20",), steady=("lyap_energy",), beside=True)
+FIG11 = Figure("fig11", fig11, ("fig11_grid",), "F11", ("C21",), steady=("fig11_grid",), beside=True)
+LYAPUNOV = Figure("lyapunov", lyapunov, ("lyap_spectrum", "lyap_protocol"),
+                  title="Lyapunov spectrum and the paper's protocol")
+REGIMES = Figure("regimes", regimes, ("regimes",), title="Regime diagram: lambda_1, spike interval and P_2pi rotation "
+                                                        "number against eps (C27)")
+DRIFT = Figure("drift", drift, ("main_drift",), title="Does the main state's slow drift end? Spike interval and "
+                                                     "lambda_1 per window")

@@ -7,6 +7,7 @@ import numpy as np
 
 from sleighsim.io.netcdf import read_dataset
 from sleighsim.report.figures.common import PRECISION_STYLE, finish, subplots
+from sleighsim.report.figures.figure import Figure
 
 COLOURS = {"double": "tab:red", "long double": "tab:blue", "quad": "k"}
 
@@ -67,3 +68,11 @@ def trigger(sources):
                  "arithmetic)")
     ax.legend()
     return finish(fig, a)
+
+
+PRECISION = Figure("precision", precision, ("precision_ladder",),
+                   title="Does the arithmetic decide the steady state? Spike intervals per precision from one "
+                         "settled point, and the orbits' separation",
+                   steady=("precision_ladder",))
+TRIGGER = Figure("trigger", trigger, ("trigger_law",), title="What triggers the steady state? The first spike against "
+                                                            "the size of the injected error (C04)")

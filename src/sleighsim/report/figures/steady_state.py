@@ -18,6 +18,7 @@ from sleighsim.report.figures.common import (
     finish,
     subplots,
 )
+from sleighsim.report.figures.figure import Figure
 
 
 def _attractor_panel(ax, ds, title, iterates="ppi2"):
@@ -112,3 +113,10 @@ def psd(sources):
                       f"t = {ds.attrs['record_start']:g}{status}")
     return finish(fig, ds.attrs)
 
+
+FIG9 = Figure("fig9", fig9, ("fig9_ref", "fig9_highE", "fig9_eps001", "fig9_scaling"), "F9", ("C15", "C16", "C17"),
+              steady=("fig9_ref", "fig9_highE", "fig9_eps001"))
+FIG12 = Figure("fig12", fig12, ("fig9_ref", "fig9_eps001"), "F12", ("C22",), steady=("fig9_ref", "fig9_eps001"),
+               beside=True)
+FIG13 = Figure("fig13", psd, ("psd_eps01",), "F13", ("C23",), steady=("psd_eps01",), beside=True)
+FIG14 = Figure("fig14", psd, ("psd_eps001",), "F14", ("C24",), steady=("psd_eps001",), beside=True)

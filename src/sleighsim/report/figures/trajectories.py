@@ -8,6 +8,7 @@ from matplotlib import patches
 
 from sleighsim.io.netcdf import read_dataset
 from sleighsim.report.figures.common import LABELS, PRECISION_STYLE, finer_precisions, finish, subplots
+from sleighsim.report.figures.figure import Figure
 
 
 def fig1(cfg: dict):
@@ -148,3 +149,9 @@ def fig8(sources):
     ax.set_title(f"Path over {float(ds.time[-1] - ds.time[0]):g} time units after the transient", fontsize=10)
     return finish(fig, ds.attrs)
 
+
+FIG1 = Figure("fig1", fig1, paper="F1", schematic="fig1")
+FIG2 = Figure("fig2", fig2, ("fig2",), "F2", ("C01",))
+FIG3 = Figure("fig3", fig3, ("fig3",), "F3", ("C03", "C04", "C05"), beside=True)
+FIG7 = Figure("fig7", fig7, ("fig7",), "F7", ("C13",), steady=("fig7",))
+FIG8 = Figure("fig8", fig8, ("fig8",), "F8", ("C14",), steady=("fig8",), beside=True)

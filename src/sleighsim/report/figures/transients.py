@@ -9,6 +9,7 @@ import numpy as np
 
 from sleighsim.io.netcdf import read_dataset
 from sleighsim.report.figures.common import LABELS, SYMBOLS, UNITS, WIDTH, finish, subplots
+from sleighsim.report.figures.figure import Figure
 
 
 def fig4(sources):
@@ -182,3 +183,12 @@ def basins(sources):
                  f"unsettled: transient not over by {ds.attrs['max_rounds']} x {ds.attrs['t_round']:g}; no spike "
                  f"interval: settled, < {ds.attrs['min_spikes']} spikes", fontsize=8)
     return finish(fig, ds.attrs)
+
+
+FIG4 = Figure("fig4", fig4, ("fig4",), "F4", ("C06",))
+FIG5 = Figure("fig5", fig5, ("fig5",), "F5", ("C11",))
+FIG6 = Figure("fig6", fig6, ("fig6",), "F6", ("C07", "C08", "C09", "C10"))
+TRANSIENTS = Figure("transients", transients, ("transients", "fig3"), title="Transient length against eps (C03-C05)")
+PERTURBATION = Figure("perturbation", perturbation, ("fig5", "pert_audit"),
+                      title="Perturbation hierarchy: convergence as eps -> 0 and secular growth (C12)")
+BASINS = Figure("basins", basins, ("basins",), title="Basin fractions on the energy level (C06 made quantitative)")
