@@ -64,6 +64,9 @@ class Claim:
 
 @dataclass
 class Row:
+    """A row of the ledger: the claim, what the datasets measure, the verdict and why (the columns of
+    claims.csv)."""
+
     id: str
     statement: str
     paper_value: str
@@ -347,6 +350,8 @@ def read(nc_path) -> list[Row]:
 
 
 def to_dataset(rows: list[Row]) -> xr.Dataset:
+    """The ledger ``rows`` as a netCDF-ready dataset: one variable per column along ``id``, the counts per
+    verdict and the rules as attributes."""
     names = [f.name for f in fields(Row) if f.name != "id"]
     data = {n: ("id", np.array([getattr(r, n) for r in rows], dtype=float if n == "difference" else object))
             for n in names}
