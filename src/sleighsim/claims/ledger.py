@@ -333,7 +333,7 @@ def ledger(claims_md, data_dir, figures_dir, config: dict, figures: dict) -> lis
 
 
 def write(rows: list[Row], csv_path, nc_path) -> None:
-    """The ledger as CSV (one row per claim) and as a netCDF dataset."""
+    """Write the ledger ``rows`` as CSV (one row per claim) to ``csv_path`` and as a netCDF dataset to ``nc_path``."""
     buf = io.StringIO()
     writer = csv.writer(buf)
     writer.writerow([f.name for f in fields(Row)])
@@ -343,7 +343,7 @@ def write(rows: list[Row], csv_path, nc_path) -> None:
 
 
 def read(nc_path) -> list[Row]:
-    """The rows of a ledger written by :func:`write`."""
+    """The rows of the ledger written by :func:`write` to the netCDF file ``nc_path``."""
     ds = read_dataset(nc_path)
     return [Row(id=str(i), **{k: (float(ds[k].values[j]) if k == "difference" else str(ds[k].values[j]))
                               for k in ds.data_vars}) for j, i in enumerate(ds.id.values)]
@@ -363,5 +363,5 @@ def to_dataset(rows: list[Row]) -> xr.Dataset:
 
 
 def summary(rows: list[Row]) -> dict[str, int]:
-    """Rows per verdict."""
+    """{verdict: number of ``rows`` with it}, every verdict listed."""
     return {v: sum(r.verdict == v for r in rows) for v in VERDICTS}

@@ -255,7 +255,7 @@ def other_figures(out_dir, figures, datasets) -> list[dict]:
 
 
 def tables(datasets) -> list[dict]:
-    """The registry's tables, or the dataset that would hold each."""
+    """The report's tables (:data:`sleighsim.report.tables.TABLES`), or the dataset that would hold each."""
     out = []
     for title, table in TABLES.items():
         content = None

@@ -10,7 +10,8 @@ from sleighsim.report.figures.figure import Figure
 
 
 def audit(sources):
-    """Energy drift of the printed udot against the derived equations (D1)."""
+    """Energy drift of the printed udot against the derived equations (D1).
+    ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     ds = read_dataset(sources[0])
     fig, ax = subplots(8, 4.5)
     for name in ("printed", "derived"):

@@ -13,7 +13,8 @@ from sleighsim.report.figures.figure import Figure
 
 def bench(sources):
     """Work-precision: wall time against error (short horizon) and energy drift (long), and
-    the scene observables against heyoka's tolerance."""
+    the scene observables against heyoka's tolerance.
+    ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     ds = read_dataset(sources[0])
     fig, axes = subplots(WIDTH, 13, 3, 2)
     axes = axes.ravel()

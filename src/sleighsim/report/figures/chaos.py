@@ -144,7 +144,8 @@ def _frequency(ax, ds) -> None:
 
 def chaos(sources):
     """Per steady state (one colour each): the verdict table, the rates with their uncertainties,
-    MEGNO's running mean, the Loschmidt return error and the spread of the leading frequency."""
+    MEGNO's running mean, the Loschmidt return error and the spread of the leading frequency.
+    ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     (ds,) = (read_dataset(s) for s in sources)
     table_h = 0.5 * (ds.sizes["state"] + 1)
     fig, axd = plt.subplot_mosaic([["table"] * 3, ["rates"] * 3, ["megno", "loschmidt", "frequency"]],

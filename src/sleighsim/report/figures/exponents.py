@@ -15,7 +15,8 @@ LAMBDA_1 = rf"$\lambda_1$ ({RATE})"
 
 def fig10(sources):
     """Max Lyapunov exponent against energy label, with the time-scaling law: double (the paper's
-    arithmetic) and, beside it (shifted right by 8% in E), every finer precision from the same settled state."""
+    arithmetic) and, beside it (shifted right by 8% in E), every finer precision from the same settled state.
+    ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     ds, *others = (read_dataset(s) for s in sources)
     fig, ax = subplots(7.5, 5.5)
     lam, err, E = ds.lambda_1.values, ds.stderr.values, ds.label.values
@@ -81,7 +82,8 @@ def fig11(sources):
     """|lambda_1| against eps with the replicas' standard error, by row status, flagged rows marked; the
     grid at a few b values over it, the b symmetry checked from the data in the title; in double (the
     paper's arithmetic) and, beside it (shifted right by 5% in eps), every finer precision whose rows'
-    steady parts ran in it from the same settled states."""
+    steady parts ran in it from the same settled states.
+    ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     ds, *others = (read_dataset(s) for s in sources)
     fig, ax = subplots(WIDTH, 6)
     eps, lam, err = ds.eps.values, ds.lambda_1.values, ds.stderr.values
@@ -130,7 +132,8 @@ def _spectrum(ax, spec) -> None:
 
 
 def lyapunov(sources):
-    """lambda_i(T) on log-log axes and the paper-protocol spread."""
+    """lambda_i(T) on log-log axes and the paper-protocol spread.
+    ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     spec, prot = (read_dataset(s) for s in sources)
     fig, (ax, bx) = subplots(WIDTH, 5, 1, 2, width_ratios=[1.6, 1])
     _spectrum(ax, spec)
@@ -148,7 +151,8 @@ def lyapunov(sources):
 
 def regimes(sources):
     """The regime diagram: lambda_1 (by status, flagged rows marked), the steady spike interval,
-    and the P_2pi rotation number and curve thickness, against eps."""
+    and the P_2pi rotation number and curve thickness, against eps.
+    ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     ds = read_dataset(sources[0])
     eps = ds.eps.values
     fig, (ax, bx, cx) = subplots(8, 9, 3, 1, sharex=True)
@@ -182,7 +186,8 @@ def regimes(sources):
 
 def drift(sources):
     """The long run in windows: spike interval (+- sd) and lambda_1 per window against time, each with
-    its straight-line trend over the last part of the run and the trend verdict."""
+    its straight-line trend over the last part of the run and the trend verdict.
+    ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     ds = read_dataset(sources[0])
     t = ds.t_mid.values
     fig, axes = subplots(8, 6.5, 2, 1, sharex=True)

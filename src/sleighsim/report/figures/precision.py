@@ -14,7 +14,8 @@ COLOURS = {"double": "tab:red", "long double": "tab:blue", "quad": "k"}
 
 def precision(sources):
     """Left: spike interval against spike time per precision, one row per state; right: the
-    separation of neighbouring precisions' orbits (log scale) with the level SEPARATED."""
+    separation of neighbouring precisions' orbits (log scale) with the level SEPARATED.
+    ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     ds = read_dataset(sources[0])
     n = ds.sizes["state"]
     fig, axes = subplots(10, 1 + 2.8 * n, n, 2, squeeze=False)
@@ -43,7 +44,8 @@ def precision(sources):
 
 def trigger(sources):
     """The first (and second) Omega spike against the Taylor tolerance, per arithmetic; filled
-    markers: runs in the fit (rounding far below the tolerance, one per tolerance); the fitted law."""
+    markers: runs in the fit (rounding far below the tolerance, one per tolerance); the fitted law.
+    ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     ds = read_dataset(sources[0])
     a = ds.attrs
     fig, ax = subplots(8, 5.5)

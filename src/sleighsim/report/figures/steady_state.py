@@ -38,7 +38,8 @@ def _attractor_panel(ax, ds, title, iterates="ppi2"):
 
 
 def fig9(sources):
-    """(a) P_2pi iterates; (b) P_pi/2 iterates on the attractor; (c) higher energy; (d) eps = 0.01."""
+    """(a) P_2pi iterates; (b) P_pi/2 iterates on the attractor; (c) higher energy; (d) eps = 0.01.
+    ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     ref, high, small, scaling = (read_dataset(s) for s in sources)
     fig = plt.figure(figsize=(WIDTH, 10.5), layout="constrained")
     panels = [
@@ -63,7 +64,8 @@ def fig9(sources):
 
 def fig12(sources):
     """Return times t_{n+1} - t_n of P_2pi for two values of eps: double (the paper's arithmetic)
-    and, beside it, every finer precision computed from the same settled point."""
+    and, beside it, every finer precision computed from the same settled point.
+    ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     data = [read_dataset(s) for s in sources]
     finer = finer_precisions(data[2:])
     fig, axes = subplots(WIDTH, 4.4, 1, 2)
@@ -85,7 +87,8 @@ def fig12(sources):
 
 def psd(sources):
     """Welch PSD of u and Omega with the band and the peaks near zero (F13, F14): double (the
-    paper's arithmetic) and, beside it, every finer precision computed from the same settled point."""
+    paper's arithmetic) and, beside it, every finer precision computed from the same settled point.
+    ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     ds, *others = (read_dataset(s) for s in sources)
     finer = finer_precisions(others)
     fig, axes = subplots(10, 7, 2, 1)

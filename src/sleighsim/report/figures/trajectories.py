@@ -12,7 +12,8 @@ from sleighsim.report.figures.figure import Figure
 
 
 def fig1(cfg: dict):
-    """Schematic: sleigh body, centre C, runner P at distance b, rotor at distance a."""
+    """Schematic: sleigh body, centre C, runner P at distance b, rotor at distance a.
+    ``cfg``: the scene's config block (a dict). Returns the matplotlib Figure."""
     b, a, th, be = cfg["b"], cfg["a"], cfg["theta"], cfg["beta"]
     fig, ax = subplots(5.5, 4.5)
     ex, ey = np.array([np.cos(th), np.sin(th)]), np.array([-np.sin(th), np.cos(th)])
@@ -50,7 +51,8 @@ def fig1(cfg: dict):
 
 
 def fig2(sources):
-    """(a) eps = 0 phase portrait with sample trajectories; (b) path from (u, Omega) = (0, 1)."""
+    """(a) eps = 0 phase portrait with sample trajectories; (b) path from (u, Omega) = (0, 1).
+    ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     ds = read_dataset(sources[0])
     fig, (ax, bx) = subplots(10, 4.6, 1, 2)
     ax.streamplot(ds.u_grid.values, ds.Omega_grid.values, ds.du.values.T, ds.dOmega.values.T,
@@ -96,7 +98,8 @@ def _first_spike(ds) -> str:
 
 def fig3(sources):
     """u, Omega, omega, theta through both transients into the steady state, in double (the paper's
-    arithmetic) and every finer precision from the same start (the whole run in that arithmetic)."""
+    arithmetic) and every finer precision from the same start (the whole run in that arithmetic).
+    ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     ds, *others = (read_dataset(s) for s in sources)
     finer = finer_precisions(others)
     fig, axes = subplots(11, 6.5, 2, 2)
@@ -108,7 +111,8 @@ def fig3(sources):
 
 
 def fig7(sources):
-    """Steady-state window: u, Omega, omega, theta and the path over the window."""
+    """Steady-state window: u, Omega, omega, theta and the path over the window.
+    ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     ds = read_dataset(sources[0])
     fig = plt.figure(figsize=(11, 9), layout="constrained")
     grid = fig.add_gridspec(3, 2, height_ratios=[1, 1.4, 1])
@@ -132,7 +136,8 @@ def fig7(sources):
 
 def fig8(sources):
     """Path of the sleigh over a long steady-state window, in double (the paper's arithmetic) and
-    every finer precision from the same settled point."""
+    every finer precision from the same settled point.
+    ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     ds, *others = (read_dataset(s) for s in sources)
     fig, ax = subplots(7, 6.5)
     ax.plot(ds.x, ds.y, lw=0.4, label=f"double (reach {ds.attrs.get('path_reach', float('nan')):.4g})",
