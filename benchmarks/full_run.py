@@ -36,7 +36,8 @@ sys.path.insert(0, str(REPO / "src"))
 
 import yaml
 
-from sleighsim.ops import facts, jobgraph
+from sleighsim.io.config import BASE_CONFIG, merged_config
+from sleighsim.ops import jobgraph
 from sleighsim.ops import summary as costsummary
 from sleighsim.report.figures import costs as plots
 
@@ -160,9 +161,9 @@ def main(argv=None) -> int:
     say("reading the benchmark files")
     label = " + ".join(str(Path(f).relative_to(REPO)) if Path(f).is_relative_to(REPO) else f
                        for f in configfiles) or None
-    config = facts.merged_config(configfiles)
+    config = merged_config(configfiles)
     summary = costsummary.summarize(workdir, wall, label, config=config)
-    summary["config"]["files"] = [str(facts.BASE_CONFIG), *configfiles]
+    summary["config"]["files"] = [str(BASE_CONFIG), *configfiles]
     sum_wall = sum(j["wall_s"] for j in summary["jobs"])
     crit = (summary["critical_path"] or {}).get("wall_s") or 0.0
     summary["run"] = {"command": cmd, "cores": args.cores, "workdir": str(workdir), "wall_source": source,

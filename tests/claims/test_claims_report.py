@@ -10,6 +10,7 @@ import pytest
 import xarray as xr
 
 from sleighsim.claims import ledger as claims
+from sleighsim.report.figures.catalog import FIGURES
 from sleighsim.io.netcdf import read_dataset, write_dataset
 
 from test_judges import _ref, _spectrum
@@ -76,19 +77,19 @@ def test_figure_rows_count_a_missing_transient_check_as_not_checked(tmp_path, mo
         monkeypatch.setitem(claims.JUDGES, cid, lambda paper, *ds: Judgement("reproduced", "", ""))
     data, figs = tmp_path / "data", tmp_path / "figures"
     figs.mkdir(parents=True)
-    name = next(n for n, f in claims.FIGURES.items() if len(f.data) == 1 and f.steady)
-    fid, ds_name = claims.FIGURES[name].paper, claims.FIGURES[name].steady[0]
+    name = next(n for n, f in FIGURES.items() if len(f.data) == 1 and f.steady)
+    fid, ds_name = FIGURES[name].paper, FIGURES[name].steady[0]
     (figs / f"{name}.png").write_bytes(b"png")
     _steady(data / f"{ds_name}.nc")
-    assert {r.id: r for r in claims.ledger(CLAIMS_MD, data, figs, PLAIN)}[fid].verdict == "not yet computed"
+    assert {r.id: r for r in claims.ledger(CLAIMS_MD, data, figs, PLAIN, FIGURES)}[fid].verdict == "not yet computed"
     _steady(data / f"{ds_name}.nc", transient_over=0)
-    row = {r.id: r for r in claims.ledger(CLAIMS_MD, data, figs, PLAIN)}[fid]
+    row = {r.id: r for r in claims.ledger(CLAIMS_MD, data, figs, PLAIN, FIGURES)}[fid]
     assert row.verdict == "differs" and "not shown to be over" in row.reason
     _steady(data / f"{ds_name}.nc", transient_over=1)
-    row = {r.id: r for r in claims.ledger(CLAIMS_MD, data, figs, PLAIN)}[fid]
+    row = {r.id: r for r in claims.ledger(CLAIMS_MD, data, figs, PLAIN, FIGURES)}[fid]
     assert row.verdict == "reproduced" and "settled" in row.measured
     (figs / f"{name}.png").unlink()
-    assert {r.id: r for r in claims.ledger(CLAIMS_MD, data, figs, PLAIN)}[fid].verdict == "not yet computed"
+    assert {r.id: r for r in claims.ledger(CLAIMS_MD, data, figs, PLAIN, FIGURES)}[fid].verdict == "not yet computed"
 
 
 def _fig9(path, n_loops, pairs):
@@ -101,7 +102,7 @@ def test_ledger_on_synthetic_datasets(tmp_path):
     """Reproduced, differs (with its cause test) and missing rows from hand-made datasets; every id once."""
     data = tmp_path / "data"
     _fig9(data / "fig9_ref.nc", n_loops=4, pairs=3)
-    rows = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures", PLAIN)}
+    rows = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures", PLAIN, FIGURES)}
     assert list(rows) == [c.id for c in claims.parse_claims(CLAIMS_MD)]
     assert rows["C16"].verdict == "reproduced" and "4 loops" in rows["C16"].measured
     assert rows["C22"].verdict == "differs" and rows["C22"].reason
@@ -114,7 +115,7 @@ def test_ledger_on_synthetic_datasets(tmp_path):
     claims._figure_from_claims(row, {"C22": rows["C22"]}, ("C22",))
     assert row.verdict == "differs" and "C22" in row.reason
     _fig9(data / "fig9_ref.nc", n_loops=3, pairs=0)
-    rows = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures", PLAIN)}
+    rows = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures", PLAIN, FIGURES)}
     assert rows["C16"].verdict == "differs" and rows["C22"].verdict == "reproduced" and not rows["C22"].cause
     ds = claims.to_dataset(list(rows.values()))
     assert sum(ds.attrs[f"n_{v.replace(' ', '_')}"] for v in claims.VERDICTS) == len(rows)
@@ -124,7 +125,7 @@ def test_a_cause_whose_datasets_are_missing_says_so(tmp_path):
     data = tmp_path / "data"
     write_dataset(xr.Dataset(attrs=dict(omega_rel_error_at_t_end=7e-4, t_end=100.0, u_rel_error_at_t_end=0.01,
                                         Omega_rel_error_at_t_end=0.01)), data / "fig5.nc")
-    rows = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures", PLAIN)}
+    rows = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures", PLAIN, FIGURES)}
     assert rows["C11"].verdict == "differs" and rows["C11"].cause.startswith("causes not yet computed: dataset")
 
 
@@ -248,7 +249,7 @@ def test_ledger_judges_in_the_finest_precision_computed_beside_double(tmp_path):
     _fig9(data / "fig9_ref.nc", n_loops=4, pairs=0)
     _fig9(data / "precision" / "long_double" / "fig9_ref.nc", n_loops=3, pairs=0)
     _ladder(data)
-    rows = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures", LADDERED)}
+    rows = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures", LADDERED, FIGURES)}
     c16 = rows["C16"]
     assert c16.verdict == "reproduced only in double precision"
     assert c16.precision == "long double (fig9_ref: not converged)" and "4 loops" in c16.double_value
@@ -262,11 +263,11 @@ def test_a_claim_whose_realizations_disagree_is_fragile_and_one_whose_realizatio
     data = tmp_path / "data"
     for k in ("", "realization/1/", "realization/2/"):
         write_dataset(_spectrum(-1e-3, 1e-4), data / f"{k}lyap_spectrum.nc")
-    rows = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures", REALIZED)}
+    rows = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures", REALIZED, FIGURES)}
     assert rows["C18"].verdict == "reproduced" and rows["C18"].realizations == "all 3 realizations agree"
     assert rows["C02"].realizations == ""  # no dataset, no realizations
     write_dataset(_spectrum(1e-3, 1e-4), data / "realization" / "2" / "lyap_spectrum.nc")
-    rows = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures", REALIZED)}
+    rows = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures", REALIZED, FIGURES)}
     c18 = rows["C18"]
     assert c18.verdict == "fragile" and c18.realizations == "realizations disagree: reproduced 2, differs 1 of 3"
     assert c18.reason.startswith(c18.realizations) and "mean divergence -0.001" in c18.measured
@@ -285,7 +286,7 @@ def test_a_claim_judged_in_a_finer_precision_keeps_its_verdict_and_reports_its_d
     write_dataset(_spectrum(-1e-3, 1e-4), data / "precision" / "long_double" / "lyap_spectrum.nc")
     _ladder(data, "lyap_spectrum", "long double")
     both = {"scenes": {"lyap_spectrum": {**REALIZED["scenes"]["lyap_spectrum"], "precisions": ["double", "long double"]}}}
-    c18 = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures", both)}["C18"]
+    c18 = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures", both, FIGURES)}["C18"]
     assert c18.verdict == "reproduced" and c18.precision.startswith("long double")
     assert c18.realizations == "in double: realizations disagree: reproduced 2, differs 1 of 3; long double: one run"
 
@@ -295,9 +296,9 @@ def test_the_causes_of_a_claim_judged_in_a_finer_precision_read_that_precision(t
     _fig9(data / "fig9_ref.nc", n_loops=4, pairs=0)
     _fig9(data / "precision" / "long_double" / "fig9_ref.nc", n_loops=4, pairs=3)
     _ladder(data)
-    rows = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures", LADDERED)}
+    rows = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures", LADDERED, FIGURES)}
     c22 = rows["C22"]
     assert c22.verdict == "reproduced only in double precision"  # long double has near-ties, double none
     _fig9(data / "fig9_ref.nc", n_loops=4, pairs=3)
-    c22 = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures", LADDERED)}["C22"]
+    c22 = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures", LADDERED, FIGURES)}["C22"]
     assert c22.verdict == "differs" and c22.evidence.endswith("causes: precision/long_double/fig9_ref.nc")

@@ -10,7 +10,9 @@ import xarray as xr
 
 from sleighsim.claims import ledger as claims
 from sleighsim.claims import judges
+from sleighsim.claims.judges import lyapunov, perturbation, sleigh0, steady_state, transients
 from sleighsim.claims.rules import CANNOT, DIFFERS, NOT_YET, REPRODUCED, all_of, digits, number
+from sleighsim.report.figures.catalog import FIGURES
 
 ROOT = Path(__file__).resolve().parents[2]
 PAPER = {c.id: c.values for c in claims.parse_claims(ROOT / "paper" / "CLAIMS.md")}
@@ -31,7 +33,7 @@ def test_number_digits_and_all_of_rules():
 
 
 def test_every_claim_of_the_list_has_a_judge_or_a_figure():
-    figure_ids = {f.paper for f in claims.FIGURES.values() if f.paper}
+    figure_ids = {f.paper for f in FIGURES.values() if f.paper}
     for c in claims.parse_claims(ROOT / "paper" / "CLAIMS.md"):
         assert c.id in judges.JUDGES or c.id in figure_ids, c.id
 
@@ -45,13 +47,13 @@ def _fig2(omega_end, turn):
 
 @pytest.mark.parametrize("omega_end, turn, want", [(1e-6, 0.0, REPRODUCED), (0.1, 0.0, DIFFERS), (1e-6, 1.0, DIFFERS)])
 def test_c01(omega_end, turn, want):
-    assert judges.c01(PAPER["C01"], _fig2(omega_end, turn)).verdict == want
+    assert sleigh0.c01(PAPER["C01"], _fig2(omega_end, turn)).verdict == want
 
 
 def test_c02_both_branches(monkeypatch):
-    assert judges.c02(PAPER["C02"]).verdict == REPRODUCED
-    monkeypatch.setattr(judges, "rhs", lambda y, p: np.ones_like(y))  # a flow with no fixed points there
-    assert judges.c02(PAPER["C02"]).verdict == DIFFERS
+    assert sleigh0.c02(PAPER["C02"]).verdict == REPRODUCED
+    monkeypatch.setattr(sleigh0, "rhs", lambda y, p: np.ones_like(y))  # a flow with no fixed points there
+    assert sleigh0.c02(PAPER["C02"]).verdict == DIFFERS
 
 
 @pytest.mark.parametrize("judge, key, values, want", [
@@ -60,17 +62,17 @@ def test_c02_both_branches(monkeypatch):
     ("c04", "first_spike", 8650.0, REPRODUCED), ("c04", "first_spike", 5500.0, DIFFERS), ("c04", "first_spike", NAN, NOT_YET),
 ])
 def test_c03_c04(monkeypatch, judge, key, values, want):
-    monkeypatch.setattr(judges, "_phases", lambda ds: {key: values})
+    monkeypatch.setattr(transients, "_phases", lambda ds: {key: values})
     args = (A(),) if judge == "c03" else (A(), A(first_spike_slope=-2.3))
-    assert getattr(judges, judge)(PAPER[judge.upper()], *args).verdict == want
+    assert judges.JUDGES[judge.upper()](PAPER[judge.upper()], *args).verdict == want
 
 
 @pytest.mark.parametrize("mean, std, n, want", [(2150.0, 30.0, 10, REPRODUCED), (2500.0, 10.0, 10, DIFFERS),
                                                 (NAN, NAN, 1, NOT_YET), (2700.0, 400.0, 4, REPRODUCED)])
 def test_c05_standard_error_decides(monkeypatch, mean, std, n, want):
-    monkeypatch.setattr(judges, "_phases", lambda ds: {"spike_interval_mean": mean, "spike_interval_std": std,
+    monkeypatch.setattr(transients, "_phases", lambda ds: {"spike_interval_mean": mean, "spike_interval_std": std,
                                                         "n_spikes": n})
-    assert judges.c05(PAPER["C05"], A()).verdict == want
+    assert transients.c05(PAPER["C05"], A()).verdict == want
 
 
 def _fig4(n_groups, reached=1):
@@ -84,7 +86,7 @@ def _fig4(n_groups, reached=1):
 
 @pytest.mark.parametrize("n_groups, reached, want", [(1, 1, REPRODUCED), (2, 1, DIFFERS), (1, 0, NOT_YET)])
 def test_c06(n_groups, reached, want):
-    j = judges.c06(PAPER["C06"], _fig4(n_groups, reached))
+    j = transients.c06(PAPER["C06"], _fig4(n_groups, reached))
     assert j.verdict == want and (want != DIFFERS or "extra steady state" in j.reason)
 
 
@@ -106,7 +108,7 @@ def _fig6(**over):
     ("c10", {}, REPRODUCED), ("c10", {"B": 0.2}, DIFFERS), ("c10", {"omega2_growth": NAN}, NOT_YET),
 ])
 def test_hierarchy_judges(judge, over, want):
-    j = getattr(judges, judge)(PAPER[judge.upper()], _fig6(**over))
+    j = judges.JUDGES[judge.upper()](PAPER[judge.upper()], _fig6(**over))
     assert j.verdict == want
     if want == DIFFERS and judge == "c10":
         assert "B: 0.2 against 0.241" in j.reason
@@ -114,7 +116,7 @@ def test_hierarchy_judges(judge, over, want):
 
 @pytest.mark.parametrize("err, want", [(0.021, REPRODUCED), (7e-4, DIFFERS), (NAN, NOT_YET)])
 def test_c11(err, want):
-    j = judges.c11(PAPER["C11"], A(omega_rel_error_at_t_end=err, t_end=100.0, u_rel_error_at_t_end=0.01,
+    j = perturbation.c11(PAPER["C11"], A(omega_rel_error_at_t_end=err, t_end=100.0, u_rel_error_at_t_end=0.01,
                                    Omega_rel_error_at_t_end=0.01))
     assert j.verdict == want and (want != DIFFERS or "smaller than the paper's" in j.reason)
 
@@ -124,7 +126,7 @@ def test_c12(vanishes, n_secular, want):
     a = A(order3_forcing_vanishes=vanishes, order3_max_abs_along_solution=0.0, order4_n_secular=n_secular,
           order3_forcing_with_order1_zero="0", order4_n_terms=78, growth_exponent_omega4=1.5, growth_exponent_omega2=0.8,
           order4_secular_rule="a rule")
-    assert judges.c12(PAPER["C12"], a).verdict == want
+    assert perturbation.c12(PAPER["C12"], a).verdict == want
 
 
 def _fig7(back_at, spike_at, turn):
@@ -138,7 +140,7 @@ def _fig7(back_at, spike_at, turn):
 @pytest.mark.parametrize("back, spike, turn, want", [(9800, 10000, 1.0, REPRODUCED), (9800, 10000, 0.3, DIFFERS),
                                                      (10500, 11000, 1.0, DIFFERS)])
 def test_c13(back, spike, turn, want):
-    assert judges.c13(PAPER["C13"], _fig7(back, spike, turn)).verdict == want
+    assert steady_state.c13(PAPER["C13"], _fig7(back, spike, turn)).verdict == want
 
 
 def _fig8(kind):
@@ -154,7 +156,7 @@ def _fig8(kind):
 
 @pytest.mark.parametrize("kind, want", [("bounded", REPRODUCED), ("periodic", DIFFERS), ("straight", DIFFERS)])
 def test_c14_bounded_and_not_periodic(kind, want):
-    assert judges.c14(PAPER["C14"], _fig8(kind)).verdict == want
+    assert steady_state.c14(PAPER["C14"], _fig8(kind)).verdict == want
 
 
 def _ref(**over):
@@ -171,18 +173,18 @@ def _ref(**over):
                                         ({"p2pi_recurrence": 0.005}, REPRODUCED),
                                         ({"p2pi_curve_thickness": 0.1}, DIFFERS), ({"n_p2pi": 50}, DIFFERS)])
 def test_c15(over, want):
-    assert judges.c15(PAPER["C15"], _ref(**over)).verdict == want
+    assert steady_state.c15(PAPER["C15"], _ref(**over)).verdict == want
 
 
 @pytest.mark.parametrize("loops, want", [(4, REPRODUCED), (3, DIFFERS)])
 def test_c16(loops, want):
-    assert judges.c16(PAPER["C16"], _ref(n_loops=loops)).verdict == want
+    assert steady_state.c16(PAPER["C16"], _ref(n_loops=loops)).verdict == want
 
 
 @pytest.mark.parametrize("loops_small, flat_small, want", [(4, 0.3, REPRODUCED), (3, 0.3, DIFFERS), (4, 0.05, DIFFERS)])
 def test_c17(loops_small, flat_small, want):
     scaling = A(scale_factor_c=2.7, distance_scaled_median=1e-3, distance_unscaled_median=0.5)
-    j = judges.c17(PAPER["C17"], _ref(), _ref(energy_label=0.8313), _ref(n_loops=loops_small, param_eps=0.01,
+    j = steady_state.c17(PAPER["C17"], _ref(), _ref(energy_label=0.8313), _ref(n_loops=loops_small, param_eps=0.01,
                                                                           attractor_flatness=flat_small), scaling)
     assert j.verdict == want
 
@@ -196,7 +198,7 @@ def _spectrum(div, unc, lam=(3e-4, 1e-6, -1e-6, -3e-4), err=(1e-5,) * 4):
 @pytest.mark.parametrize("div, unc, want, why", [(-1e-3, 1e-4, REPRODUCED, ""), (1e-3, 1e-4, DIFFERS, "expands"),
                                                  (1e-6, 1e-5, DIFFERS, "no contraction resolved")])
 def test_c18_judged_by_replica_standard_error(div, unc, want, why):
-    j = judges.c18(PAPER["C18"], _spectrum(div, unc))
+    j = lyapunov.c18(PAPER["C18"], _spectrum(div, unc))
     assert j.verdict == want and why in j.reason
 
 
@@ -209,7 +211,7 @@ def _protocol(lam1):
                                        ((NAN, NAN, NAN, NAN), NOT_YET)])
 def test_c19_paper_against_our_converged_spectrum_not_the_protocol_spread(lam, want):
     # a noisy protocol whose spread would cover everything must not help
-    j = judges.c19(PAPER["C19"], _protocol(1.0), _spectrum(0.0, 1.0, lam, (1e-6,) * 4))
+    j = lyapunov.c19(PAPER["C19"], _protocol(1.0), _spectrum(0.0, 1.0, lam, (1e-6,) * 4))
     assert j.verdict == want
 
 
@@ -229,7 +231,7 @@ def _energy(smallest, low_value, with_low=True):
                                                            (1.1e-4, 3.5e-6, True, NOT_YET),
                                                            (1.1e-4, 0, False, NOT_YET)])
 def test_c20_judged_at_the_papers_lowest_energy(smallest, low, with_low, want):
-    assert judges.c20(PAPER["C20"], _energy(smallest, low, with_low)).verdict == want
+    assert lyapunov.c20(PAPER["C20"], _energy(smallest, low, with_low)).verdict == want
 
 
 def _grid(lam, err, status, steady=1, T=1e5):
@@ -251,7 +253,7 @@ def _grid(lam, err, status, steady=1, T=1e5):
     (_grid([1e-3, 2e-3], [1e-5, 1e-5], ["converged", "converged"], steady=0), CANNOT),
 ])
 def test_c21(grid, want):
-    assert judges.c21(PAPER["C21"], grid).verdict == want
+    assert lyapunov.c21(PAPER["C21"], grid).verdict == want
 
 
 @pytest.mark.parametrize("other, want", [("converged", REPRODUCED), ("regular", DIFFERS)])
@@ -262,25 +264,25 @@ def test_c21_judges_the_rows_computed_and_names_those_left_to_another_config(oth
         grid[v] = grid[v].astype(float)
         grid[v][0] = math.nan
     grid.attrs["elsewhere_config"] = "config/cluster.yaml"
-    j = judges.c21(PAPER["C21"], grid)
+    j = lyapunov.c21(PAPER["C21"], grid)
     assert j.verdict == want  # the row not computed here is neither unresolved nor below
     assert j.measured.endswith("not computed in this run: eps 0.02 (computed by config/cluster.yaml)")
     rows = _regimes(["elsewhere", "regular", "converged", "converged"], [math.nan, 2e-6, 3e-4, 5e-4], [math.nan] + [0.001] * 3)
     rows["T"] = rows["T"].copy(data=[math.nan, 1e5, 1e5, 1e5])
-    assert judges.c27(PAPER["C27"], rows).verdict == REPRODUCED  # C27 reads the same rows: the NaN row is skipped
+    assert lyapunov.c27(PAPER["C27"], rows).verdict == REPRODUCED  # C27 reads the same rows: the NaN row is skipped
 
 
 def test_c26_names_the_eps_left_to_another_config():
     ds = _formal([1e-3, 1e-6, 2e-6], [1e-5, 1e-7, 1e-7])
     ds.attrs.update(eps_elsewhere=np.array([50.0]), elsewhere_config="config/cluster.yaml")
-    j = judges.c26(PAPER["C26"], ds)
+    j = lyapunov.c26(PAPER["C26"], ds)
     assert j.verdict == REPRODUCED and j.measured.endswith("not computed in this run: eps 50 (computed by config/cluster.yaml)")
-    assert "not computed" not in judges.c26(PAPER["C26"], _formal([1e-3, 1e-6, 2e-6], [1e-5, 1e-7, 1e-7])).measured
+    assert "not computed" not in lyapunov.c26(PAPER["C26"], _formal([1e-3, 1e-6, 2e-6], [1e-5, 1e-7, 1e-7])).measured
 
 
 @pytest.mark.parametrize("pairs, want", [(0, REPRODUCED), (2, DIFFERS)])
 def test_c22(pairs, want):
-    assert judges.c22(PAPER["C22"], _ref(return_time_n_adjacent_pairs_within_tie_tol=pairs)).verdict == want
+    assert steady_state.c22(PAPER["C22"], _ref(return_time_n_adjacent_pairs_within_tie_tol=pairs)).verdict == want
 
 
 def _psd(low, high, segment=200.0):
@@ -291,7 +293,7 @@ def _psd(low, high, segment=200.0):
 @pytest.mark.parametrize("judge, band, want", [("c23", (1.46, 1.79), REPRODUCED), ("c23", (0.23, 0.29), DIFFERS),
                                                ("c24", (0.561, 0.599), REPRODUCED), ("c24", (0.56, 0.70), DIFFERS)])
 def test_bands_within_a_tenth_of_the_band_width(judge, band, want):
-    assert getattr(judges, judge)(PAPER[judge.upper()], _psd(*band, segment=1000.0)).verdict == want
+    assert judges.JUDGES[judge.upper()](PAPER[judge.upper()], _psd(*band, segment=1000.0)).verdict == want
 
 
 def _cost(hours, budget=100.0):
@@ -302,7 +304,7 @@ def _cost(hours, budget=100.0):
 
 @pytest.mark.parametrize("hours, want", [(1e4, CANNOT), (5.0, NOT_YET), (NAN, NOT_YET)])
 def test_c25_cannot_only_from_a_cost_above_the_budget(hours, want):
-    j = judges.c25(PAPER["C25"], _cost(hours))
+    j = lyapunov.c25(PAPER["C25"], _cost(hours))
     assert j.verdict == want and ("above the budget" in j.reason) == (want == CANNOT)
 
 
@@ -315,7 +317,7 @@ def _formal(lam, err, over=(1, 1, 1)):
                                             ([1e-3, 1e-3, 2e-6], [1e-5, 1e-5, 1e-7], DIFFERS),
                                             ([1e-3, 1e-5, 2e-6], [1e-5, 1e-5, 1e-7], NOT_YET)])
 def test_c26(lam, err, want):
-    assert judges.c26(PAPER["C26"], _formal(lam, err)).verdict == want
+    assert lyapunov.c26(PAPER["C26"], _formal(lam, err)).verdict == want
 
 
 @pytest.mark.parametrize("lam, over, want, reason", [
@@ -325,19 +327,19 @@ def test_c26(lam, err, want):
     ([1e-3, 1e-6, 2e-6], (0, 1, 1), REPRODUCED, ""),  # eps 10 is below the paper's threshold
 ])
 def test_c26_counts_only_rows_whose_transient_is_over(lam, over, want, reason):
-    j = judges.c26(PAPER["C26"], _formal(lam, [1e-5, 1e-7, 1e-7], over))
+    j = lyapunov.c26(PAPER["C26"], _formal(lam, [1e-5, 1e-7, 1e-7], over))
     assert j.verdict == want
     assert j.reason == reason
 
 
 def test_c26_a_missing_transient_check_counts_as_not_checked():
     ds = _formal([1e-3, 1e-6, 2e-6], [1e-5, 1e-7, 1e-7]).drop_vars("transient_over")
-    assert judges.c26(PAPER["C26"], ds).verdict == NOT_YET
+    assert lyapunov.c26(PAPER["C26"], ds).verdict == NOT_YET
 
 
 def test_c26_without_eps_above_the_threshold():
     ds = xr.Dataset({"lambda_1": ("eps", [1e-3]), "stderr": ("eps", [1e-5])}, coords={"eps": [5.0]})
-    assert judges.c26(PAPER["C26"], ds).verdict == NOT_YET
+    assert lyapunov.c26(PAPER["C26"], ds).verdict == NOT_YET
 
 
 def _regimes(status, lam, thick, T=1e5):
@@ -357,16 +359,16 @@ def _regimes(status, lam, thick, T=1e5):
     (["regular"] * 4, [1e-6] * 4, [0.001] * 4, NOT_YET),
 ])
 def test_c27_route_to_chaos_near_eps_zero(status, lam, thick, want):
-    assert judges.c27(PAPER["C27"], _regimes(status, lam, thick)).verdict == want
+    assert lyapunov.c27(PAPER["C27"], _regimes(status, lam, thick)).verdict == want
 
 
 def test_c27_counts_as_chaotic_only_rates_above_what_polynomial_growth_fakes():
     # converged rows with lambda_1 - 2 stderr > 0 but below 2 ln(T / tau) / T (1.84e-4 at T = 1e5): not chaotic
     rows = _regimes(["regular", "converged", "converged", "converged"], [1e-6, 1e-4, 1.5e-4, 5e-4], [0.001] * 4)
-    j = judges.c27(PAPER["C27"], rows)
+    j = lyapunov.c27(PAPER["C27"], rows)
     assert j.verdict == REPRODUCED and "chaotic (lambda_1 resolved above the polynomial rate) at eps 0.5;" in j.measured
     # the same rows over T = 1e4 (the fake rate 1.2e-3): none is chaotic
-    assert judges.c27(PAPER["C27"], _regimes(["regular", "converged", "converged", "converged"],
+    assert lyapunov.c27(PAPER["C27"], _regimes(["regular", "converged", "converged", "converged"],
                                              [1e-6, 1e-4, 1.5e-4, 5e-4], [0.001] * 4, T=1e4)).verdict == NOT_YET
 
 
@@ -389,4 +391,4 @@ def _audit(**over):
     ("d6", {}, DIFFERS), ("d6", {"d6_m_c": np.array([0.5, 0.2])}, REPRODUCED),
 ])
 def test_model_items(judge, over, want):
-    assert getattr(judges, judge)(PAPER[judge.upper()], _audit(**over)).verdict == want
+    assert judges.JUDGES[judge.upper()](PAPER[judge.upper()], _audit(**over)).verdict == want

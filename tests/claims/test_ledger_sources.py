@@ -13,14 +13,15 @@ from test_judges import _spectrum
 
 from sleighsim.ops import registry
 from sleighsim.io.netcdf import write_dataset
-from sleighsim.ops.facts import merged_config
+from sleighsim.io.config import merged_config
 from sleighsim.claims import ledger as claims
+from sleighsim.report.figures.catalog import FIGURES
 
 LONG = "precision/long_double/fig9_ref"
 
 
 def _rows(data, config):
-    return {r.id: r for r in claims.ledger(CLAIMS_MD, data, data.parent / "figures", config)}
+    return {r.id: r for r in claims.ledger(CLAIMS_MD, data, data.parent / "figures", config, FIGURES)}
 
 
 def _spectra(data, ks, div=-1e-3):

@@ -17,6 +17,8 @@ from compliance_checker.runner import CheckSuite
 
 from sleighsim.io import cf
 from sleighsim.io import netcdf
+from sleighsim.io import titles
+from sleighsim.io import vocabulary
 from sleighsim.ops import registry
 from sleighsim.scenes import basins
 from sleighsim.scenes import causes
@@ -105,13 +107,13 @@ def _tiny() -> xr.Dataset:
 
 
 def test_write_dataset_adds_the_cf_attributes(tmp_path):
-    """Conventions, a title from the registry, history appended (ISO time, version, commit), source,
+    """Conventions, a title from sleighsim.io.titles, history appended (ISO time, version, commit), source,
     references, the model's units; long_name and units from the vocabulary, legacy units made "1" with
     the model unit in the long_name, a variable's own attributes kept, none on text; provenance kept."""
     path = netcdf.write_dataset(_tiny(), tmp_path / "results" / "data" / "fig3.nc")
     ds = netcdf.read_dataset(path)
     a = ds.attrs
-    assert a["Conventions"] == "CF-1.11" and registry.TITLES["fig3"] in a["title"] and "[fig3]" in a["title"]
+    assert a["Conventions"] == "CF-1.11" and titles.TITLES["fig3"] in a["title"] and "[fig3]" in a["title"]
     earlier, line = a["history"].split("\n")
     assert earlier.startswith("2026-01-01T00:00:00")
     assert re.match(r"\d{4}-\d\d-\d\dT\d\d:\d\d:\d\d\+00:00 sleighsim ", line)
@@ -121,7 +123,7 @@ def test_write_dataset_adds_the_cf_attributes(tmp_path):
     assert "time unit" in a["time_unit"] and "time_unit" in a["nondimensionalisation"]
     for key in ("git_commit", "version_heyoka", "python_version", "created_utc", "tol"):
         assert key in a, key
-    assert ds.lambda_1.attrs == cf.attrs(*cf.VOCABULARY["lambda_1"]) and ds.lambda_1.attrs["units"] == "1"
+    assert ds.lambda_1.attrs == cf.attrs(*vocabulary.VOCABULARY["lambda_1"]) and ds.lambda_1.attrs["units"] == "1"
     assert ds.T.attrs == {"long_name": "horizon, in model time units", "units": "1"}
     assert ds.gain.attrs == cf.attrs("my gain per unit time", "rate")
     assert ds.verdict.attrs == {"long_name": "verdict"} and ds.eps.attrs["units"] == "1"
@@ -137,26 +139,26 @@ def test_a_variable_nobody_named_is_reported_not_defaulted(tmp_path, caplog):
     assert out.zz_unnamed.attrs == {} and out.zz_text.attrs == {}
     assert cf.missing(out) == ["zz_unnamed has no long_name", "zz_unnamed has no units", "zz_text has no long_name"]
     assert "zz_unnamed has no long_name" in caplog.text
-    assert out.attrs["title"].endswith("sleighsim dataset [v]")  # a file the registry does not know
+    assert out.attrs["title"].endswith("sleighsim dataset [v]")  # a file TITLES does not know
 
 
 def test_every_scene_of_every_config_has_a_title():
     """Each dataset of the configs (on request too), in each of its variants, gets its scene's title;
-    the registry names no scene that no config has."""
+    TITLES names no scene that no config has."""
     scenes = set()
     for path in CONFIGS:
         scenes |= {name for name, block in yaml.safe_load(path.read_text())["scenes"].items()
                    if "kind" not in block or registry.KINDS[block["kind"]].dataset}
-    assert scenes <= set(registry.TITLES)
-    assert set(registry.TITLES) - scenes == {"claims", "stability/verdicts"}
+    assert scenes <= set(titles.TITLES)
+    assert set(titles.TITLES) - scenes == {"claims", "stability/verdicts"}
     for scene in scenes:
         for rel in (f"data/{scene}.nc", f"data/precision/long_double/{scene}.nc", f"data/ladder/{scene}.nc",
                     f"data/realization/2/{scene}.nc", f"chunks/{scene}/3.nc", f"chunks/precision/quad/{scene}/0.nc"):
             title = cf.title(Path("/any/results") / rel)
-            assert registry.TITLES[scene] in title and f"[{scene}" in title, rel
+            assert titles.TITLES[scene] in title and f"[{scene}" in title, rel
     assert cf.dataset_name("/r/results/data/precision/long_double/fig3.nc") == ("fig3", "in long double")
     assert cf.dataset_name("/r/results/stability/verdicts.nc") == ("stability/verdicts", "")
-    assert registry.TITLES["claims"] in cf.title("/r/results/claims.nc")
+    assert titles.TITLES["claims"] in cf.title("/r/results/claims.nc")
 
 
 def test_the_vocabulary_names_what_the_scenes_declare():
@@ -166,8 +168,8 @@ def test_the_vocabulary_names_what_the_scenes_declare():
 
     declared = [*grid.ROW_VARIABLES, *basins.RUN_VARIABLES, *(f"reference_{v}" for v in basins.RUN_VARIABLES),
                 *causes.K2_OBSERVABLES]
-    assert [n for n in declared if n not in cf.VOCABULARY] == []
-    assert {kind for _, kind in cf.VOCABULARY.values()} <= set(cf.KINDS)
+    assert [n for n in declared if n not in vocabulary.VOCABULARY] == []
+    assert {kind for _, kind in vocabulary.VOCABULARY.values()} <= set(cf.KINDS)
     for units, _ in cf.KINDS.values():
         if units is not None:
             cf_units.Unit(units)

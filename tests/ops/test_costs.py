@@ -15,7 +15,7 @@ from sleighsim.ops import costs
 from sleighsim.ops import jobgraph
 from sleighsim.report.figures import costs as plots
 from sleighsim.ops import workmodel
-from sleighsim.ops.benchmark_files import read_benchmark
+from sleighsim.io.benchmark_files import read_benchmark
 from sleighsim.ops.estimate import estimate
 from sleighsim.ops.summary import SCHEMA, summarize
 from sleighsim.report.figures.common import legibility

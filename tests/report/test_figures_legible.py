@@ -9,6 +9,7 @@ import xarray as xr
 from conftest import smoke_config
 
 from sleighsim.ops import registry
+from sleighsim.report.figures import catalog
 from sleighsim.report import figures
 from sleighsim.report.figures.common import finish, legibility
 
@@ -83,7 +84,7 @@ def test_fig11_states_the_spread_across_b_from_its_data(tmp_path):
 def figure_source(results, name):
     """What the figure rule gives ``name`` in the smoke run: its datasets (then those of its laddered
     scenes in every finer precision), or a schematic's config block."""
-    fig = registry.FIGURES[name]
+    fig = catalog.FIGURES[name]
     if fig.schematic:
         return registry.scene_config(SMOKE_CFG, fig.schematic)
     laddered = registry.laddered(SMOKE_CFG, on_request=True)
@@ -96,7 +97,7 @@ def figure_source(results, name):
 def test_every_smoke_figure_is_legible_and_saved_for_a_paper(smoke_run):
     results = smoke_run / "results"
     problems = {}
-    for name in registry.figures_built(SMOKE_CFG):
+    for name in catalog.figures_built(SMOKE_CFG):
         assert (results / "figures" / f"{name}.pdf").read_bytes()[:5] == b"%PDF-", name
         fig = figures.build(name, figure_source(results, name))
         problems[name] = legibility(fig)

@@ -1,15 +1,17 @@
-# Names the rules share, all derived from the config and sleighsim.ops.registry (nothing listed here).
+# Names the rules share, all derived from the config, sleighsim.ops.registry and the report's figure catalog and tables (nothing listed here).
 from sleighsim import scenes
 from sleighsim.ops import registry
+from sleighsim.report.figures import catalog
+from sleighsim.report.tables import TABLES
 
 R = config["results"]
 SCENES = config["scenes"]
 # Datasets and figures of the full run, and with the on-request ones (built when asked for).
 DATASETS = registry.datasets(config)
 ALL_DATASETS = registry.datasets(config, on_request=True)
-FIGURES_BUILT = registry.figures_built(config)
-ALL_FIGURES = registry.figures_built(config, on_request=True)
-SCHEMATICS = [f for f in ALL_FIGURES if registry.FIGURES[f].schematic]
+FIGURES_BUILT = catalog.figures_built(config)
+ALL_FIGURES = catalog.figures_built(config, on_request=True)
+SCHEMATICS = [f for f in ALL_FIGURES if catalog.FIGURES[f].schematic]
 CHUNKED = [n for n in ALL_DATASETS if registry.KINDS[SCENES[n]["kind"]].chunked]
 FIRST = [
     n
@@ -39,8 +41,8 @@ LADDER_DATA = [n for n in CLAIMS_DATA if n.startswith(("precision/", "ladder/"))
 REALIZATION_DATA = [n for n in CLAIMS_DATA if n.startswith("realization/")]
 # What the report reads: the datasets of the figures shown and of the tables built.
 REPORT_DATA = sorted(
-    {d for f in FIGURES_BUILT for d in registry.FIGURES[f].data}
-    | {t.data for t in registry.TABLES.values() if t.data in DATASETS}
+    {d for f in FIGURES_BUILT for d in catalog.FIGURES[f].data}
+    | {t.data for t in TABLES.values() if t.data in DATASETS}
     | set(LADDER_DATA)
 )
 
@@ -70,7 +72,7 @@ def figure_files(figs):
 def figure_inputs(wildcards):
     """The figure's datasets, then (for a figure drawn beside its finer precisions) those of its
     laddered scenes in every finer precision."""
-    fig = registry.FIGURES[wildcards.fig]
+    fig = catalog.FIGURES[wildcards.fig]
     beside = [
         registry.variant(s, p)
         for s in (fig.data if fig.beside else ())

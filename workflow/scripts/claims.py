@@ -4,11 +4,12 @@ from pathlib import Path
 
 from sleighsim.ops.runlog import logging_to
 from sleighsim.claims import ledger as claims
+from sleighsim.report.figures.catalog import FIGURES
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logging_to(sm.log[0]) as log:
     data = Path(sm.input.data[0]).parent if sm.input.data else Path(sm.output.nc).parent / "data"
     figures = Path(sm.output.nc).parent / "figures"
-    rows = claims.ledger(sm.input.claims_md, data, figures, sm.config)
+    rows = claims.ledger(sm.input.claims_md, data, figures, sm.config, FIGURES)
     claims.write(rows, sm.output.csv, sm.output.nc)
     log.info("claims: %s", {v: sum(r.verdict == v for r in rows) for v in claims.VERDICTS})

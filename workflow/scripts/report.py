@@ -5,7 +5,7 @@ from pathlib import Path
 from sleighsim.ops.runlog import logging_to
 from sleighsim.claims import ledger as claims
 from sleighsim.report import build as report
-from sleighsim.ops.registry import FIGURES
+from sleighsim.report.figures.catalog import FIGURES
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logging_to(sm.log[0]):

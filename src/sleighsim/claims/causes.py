@@ -1,12 +1,11 @@
 """The ledger's ``cause`` column: each "differs" tested against its likely causes, from the datasets
-named in :data:`sleighsim.ops.registry.CAUSES`. A cause explains a number when, at some setting, it
+named in :data:`sleighsim.claims.evidence.CAUSES`. A cause explains a number when, at some setting, it
 moves our value to within the judge's tolerance of the paper's; the text says which setting, or
 that none of the causes tested explains the difference and what they gave."""
 
 from __future__ import annotations
 
 import math
-import re
 
 import numpy as np
 
@@ -81,6 +80,8 @@ def _trigger(law, want):
     """The injected error as a cause: the level log10(tol) at which the fitted trigger law puts the
     first spike at the paper's time; explained when some arithmetic can inject an error that size
     (between quad's rounding, 1e-34, and 1)."""
+    # Imported here for start-up time: sleighsim.scenes.trigger (SciPy's stats, the integrator) takes
+    # 1.3 s to import (python -X importtime), which every reader of the ledger would pay.
     from sleighsim.scenes.trigger import level_for
 
     a = law.attrs
@@ -94,6 +95,8 @@ def _trigger(law, want):
 
 
 def c04(judgement, paper, k2, err, audit, law):
+    """The likely causes of a differing C04 (``judgement``: its judge's, ``paper``: the claim's values) tested
+    on ``k2``, ``err``, ``audit``, ``law``; returns the ledger's cause text."""
     want = paper["first_spike"]
     printed = audit.attrs["printed_first_spike"]
     return _verdict([_k2(k2, "first_spike", want), _ode45(err, "first_spike", want),
@@ -103,6 +106,8 @@ def c04(judgement, paper, k2, err, audit, law):
 
 
 def c05(judgement, paper, k2, err, audit):
+    """The likely causes of a differing C05 (``judgement``: its judge's, ``paper``: the claim's values) tested
+    on ``k2``, ``err``, ``audit``; returns the ledger's cause text."""
     want = paper["spike_interval"]
     printed = audit.attrs["printed_spike_interval"]
     return _verdict([_k2(k2, "spike_interval", want), _ode45(err, "spike_interval", want),
@@ -111,15 +116,21 @@ def c05(judgement, paper, k2, err, audit):
 
 
 def c09(judgement, paper, k2):
+    """The likely causes of a differing C09 (``judgement``: its judge's, ``paper``: the claim's values) tested
+    on ``k2``; returns the ledger's cause text."""
     return _verdict([_k2_joint(k2, {"Omega2_amplitude": paper["Omega2_amplitude"],
                                     "phi1_over_pi": paper["phi1_over_pi"]})])
 
 
 def c10(judgement, paper, k2):
+    """The likely causes of a differing C10 (``judgement``: its judge's, ``paper``: the claim's values) tested
+    on ``k2``; returns the ledger's cause text."""
     return _verdict([_k2_joint(k2, {"T2": paper["T2"], "B": paper["B"], "omega2_growth": paper["growth"]})])
 
 
 def c11(judgement, paper, k2, err):
+    """The likely causes of a differing C11 (``judgement``: its judge's, ``paper``: the claim's values) tested
+    on ``k2``, ``err``; returns the ledger's cause text."""
     want = paper["omega_rel_error"]
     return _verdict([_k2(k2, "omega_rel_error", want), _ode45(err, "omega_rel_error", want)])
 
@@ -145,6 +156,8 @@ def c18(judgement, paper, err):
 
 
 def c19(judgement, paper, err):
+    """The likely causes of a differing C19 (``judgement``: its judge's, ``paper``: the claim's values) tested
+    on ``err``; returns the ledger's cause text."""
     want = np.sort(np.asarray(paper["exponents"], float))[::-1]
     rows = []
     for r, lam in zip(err.lyapunov_rtol.values, err.protocol_exponent.values):
@@ -156,6 +169,8 @@ def c19(judgement, paper, err):
 
 
 def c20(judgement, paper, err):
+    """The likely causes of a differing C20 (``judgement``: its judge's, ``paper``: the claim's values) tested
+    on ``err``; returns the ledger's cause text."""
     lam1 = err.protocol_exponent.values[:, 0]
     text = "lambda_1 of the protocol " + ", ".join(f"{v:.2g} at rtol {r:.0e}" for r, v in zip(err.lyapunov_rtol.values, lam1))
     hit = any(abs(v - paper["smallest"]) <= REL_TOL * paper["smallest"] for v in lam1)
@@ -163,10 +178,14 @@ def c20(judgement, paper, err):
 
 
 def c21(judgement, paper, err):
+    """The likely causes of a differing C21 (``judgement``: its judge's, ``paper``: the claim's values) tested
+    on ``err``; returns the ledger's cause text."""
     return c20(judgement, {"smallest": paper["smallest_above"]}, err)
 
 
 def c22(judgement, paper, ref):
+    """The likely causes of a differing C22 (``judgement``: its judge's, ``paper``: the claim's values) tested
+    on ``ref``; returns the ledger's cause text."""
     a = ref.attrs
     N, width = a["n_p2pi"] - 1, a["return_time_max"] - a["return_time_min"]
     expected = N * N * paper["tie"] / width
@@ -196,6 +215,8 @@ def _units_and_sampling(paper, psd):
 
 
 def c23(judgement, paper, psd, k2):
+    """The likely causes of a differing C23 (``judgement``: its judge's, ``paper``: the claim's values) tested
+    on ``psd``, ``k2``; returns the ledger's cause text."""
     want = paper["band"]
     k2_low, k2_high = _k2(k2, "band_low", want[0]), _k2(k2, "band_high", want[1])
     both = k2_low[1] and k2_high[1]
@@ -204,10 +225,14 @@ def c23(judgement, paper, psd, k2):
 
 
 def c24(judgement, paper, psd):
+    """The likely causes of a differing C24 (``judgement``: its judge's, ``paper``: the claim's values) tested
+    on ``psd``; returns the ledger's cause text."""
     return _verdict(_units_and_sampling(paper, psd))
 
 
 def d5(judgement, paper, audit):
+    """The likely causes of a differing D5 (``judgement``: its judge's, ``paper``: the claim's values) tested on
+    ``audit``; returns the ledger's cause text."""
     a = audit.attrs
     names = a["d5_normalisation_names"].split(" | ")
     values = np.asarray(a["d5_normalisation_values"], float)
@@ -218,4 +243,5 @@ def d5(judgement, paper, audit):
 
 
 #: Claim id -> cause test (called only for rows that differ).
-CAUSE_TESTS = {name.upper(): fn for name, fn in dict(globals()).items() if re.fullmatch(r"[cd]\d+", name)}
+CAUSE_TESTS = {"C04": c04, "C05": c05, "C09": c09, "C10": c10, "C11": c11, "C13": c13, "C18": c18, "C19": c19,
+               "C20": c20, "C21": c21, "C22": c22, "C23": c23, "C24": c24, "D5": d5}

@@ -2,9 +2,10 @@
 
 A claim (C.., D..) is judged by its function in :mod:`sleighsim.claims.judges` from the paper's
 values (the ``value`` column of CLAIMS.md, parsed) and the datasets of
-:data:`sleighsim.ops.registry.EVIDENCE`; a row that differs is then tested against its likely causes
-(:mod:`sleighsim.claims.causes`, datasets of :data:`sleighsim.ops.registry.CAUSES`). A figure row
-(F..) counts when its figure was built, every steady-state dataset it shows carries a passed
+:data:`sleighsim.claims.evidence.EVIDENCE`; a row that differs is then tested against its likely causes
+(:mod:`sleighsim.claims.causes`, datasets of :data:`sleighsim.claims.evidence.CAUSES`). A figure row
+(F..) counts when its figure (the ledger is handed the figures of
+:data:`sleighsim.report.figures.catalog.FIGURES`) was built, every steady-state dataset it shows carries a passed
 transient check, and no claim it illustrates differs.
 
 Rules: see :mod:`sleighsim.claims.rules` (a number is reproduced within max(2 standard errors,
@@ -19,17 +20,15 @@ stale one from an older config is not read.
 Command line (re-judges a results tree in seconds, no Snakemake; ``--config`` names the config
 files the tree was run with, merged onto config/config.yaml as ``snakemake --configfile`` does):
 ``python -m sleighsim.claims --data results/data --figures results/figures --out results/claims.csv``
-(add ``--config config/smoke.yaml`` for a smoke run's tree).
+(add ``--config config/smoke.yaml`` for a smoke run's tree; :mod:`sleighsim.claims.__main__`).
 """
 
 from __future__ import annotations
 
-import argparse
 import csv
 import io
 import math
 import re
-import sys
 from dataclasses import astuple, dataclass, field, fields
 from pathlib import Path
 
@@ -40,22 +39,10 @@ from sleighsim.chaos.rule import agree
 from sleighsim.chaos.faithfulness import UNKNOWN
 from sleighsim.engine.integrators import EPSILON
 from sleighsim.io.netcdf import read_dataset, write_dataset, write_text
-from sleighsim.ops.facts import BASE_CONFIG, merged_config
-from sleighsim.io.integrity import readable
-from sleighsim.ops.registry import (
-    CAUSES,
-    EVIDENCE,
-    FIGURES,
-    figures_built,
-    ladder_name,
-    laddered,
-    realization_name,
-    realized,
-    run_datasets,
-    variant,
-)
+from sleighsim.ops.registry import ladder_name, laddered, realization_name, realized, variant
 from sleighsim.claims import rules
 from sleighsim.claims.causes import CAUSE_TESTS
+from sleighsim.claims.evidence import CAUSES, EVIDENCE
 from sleighsim.claims.judges import JUDGES
 from sleighsim.claims.rules import CANNOT, DIFFERS, DOUBLE_ONLY, FRAGILE, NOT_YET, REPRODUCED, VERDICTS
 
@@ -77,6 +64,9 @@ class Claim:
 
 @dataclass
 class Row:
+    """A row of the ledger: the claim, what the datasets measure, the verdict and why (the columns of
+    claims.csv)."""
+
     id: str
     statement: str
     paper_value: str
@@ -210,10 +200,11 @@ def transient_checked(ds) -> tuple[bool, str]:
     return False, "no transient check"
 
 
-def judge_figure(row: Row, name: str, load: _Datasets, figures_dir: Path) -> None:
-    """A figure row: built from its datasets, and every steady-state dataset's transient check passed."""
-    fig = FIGURES[name]
-    png = Path(figures_dir) / f"{name}.png"
+def judge_figure(row: Row, fig, load: _Datasets, figures_dir: Path) -> None:
+    """A figure row: the figure ``fig`` (a :class:`sleighsim.report.figures.figure.Figure`: its
+    ``name``, ``data`` and ``steady`` datasets) built in ``figures_dir`` from its datasets, and every
+    steady-state dataset's transient check passed. Sets the row's verdict and texts."""
+    png = Path(figures_dir) / f"{fig.name}.png"
     row.evidence = ", ".join([*(f"{n}.nc" for n in fig.data), png.name])
     row.rule = "the figure is built from its datasets" + (
         f" and the transient check passed in {_files(fig.steady)}" if fig.steady else "")
@@ -312,10 +303,13 @@ def _figure_from_claims(row: Row, judged: dict, claims: tuple) -> None:
         row.verdict, row.reason = FRAGILE, "its claims are fragile: " + ", ".join(fragile)
 
 
-def ledger(claims_md, data_dir, figures_dir, config: dict) -> list[Row]:
-    """Judge every id of CLAIMS.md once, in file order, from the datasets ``config`` (the workflow's
-    merged config) declares: its precision ladders and realizations, on-request scenes included."""
-    by_paper_id = {f.paper: name for name, f in FIGURES.items() if f.paper}
+def ledger(claims_md, data_dir, figures_dir, config: dict, figures: dict) -> list[Row]:
+    """The rows of every id of CLAIMS.md (path ``claims_md``), judged once each, in file order, from
+    the datasets in ``data_dir`` that ``config`` (the workflow's merged config) declares: its
+    precision ladders and realizations, on-request scenes included. ``figures`` {name: Figure}
+    (:data:`sleighsim.report.figures.catalog.FIGURES`) says which figure in ``figures_dir`` each
+    figure row (F..) is, what it shows and which claims it illustrates."""
+    by_paper_id = {f.paper: f for f in figures.values() if f.paper}
     load = _Datasets(data_dir, laddered(config, on_request=True), realized(config, on_request=True))
     rows = []
     for claim in parse_claims(claims_md):
@@ -334,12 +328,12 @@ def ledger(claims_md, data_dir, figures_dir, config: dict) -> list[Row]:
     judged = {r.id: r for r in rows}
     for row in rows:
         if row.id in by_paper_id:
-            _figure_from_claims(row, judged, FIGURES[by_paper_id[row.id]].claims)
+            _figure_from_claims(row, judged, by_paper_id[row.id].claims)
     return rows
 
 
 def write(rows: list[Row], csv_path, nc_path) -> None:
-    """The ledger as CSV (one row per claim) and as a netCDF dataset."""
+    """Write the ledger ``rows`` as CSV (one row per claim) to ``csv_path`` and as a netCDF dataset to ``nc_path``."""
     buf = io.StringIO()
     writer = csv.writer(buf)
     writer.writerow([f.name for f in fields(Row)])
@@ -349,13 +343,15 @@ def write(rows: list[Row], csv_path, nc_path) -> None:
 
 
 def read(nc_path) -> list[Row]:
-    """The rows of a ledger written by :func:`write`."""
+    """The rows of the ledger written by :func:`write` to the netCDF file ``nc_path``."""
     ds = read_dataset(nc_path)
     return [Row(id=str(i), **{k: (float(ds[k].values[j]) if k == "difference" else str(ds[k].values[j]))
                               for k in ds.data_vars}) for j, i in enumerate(ds.id.values)]
 
 
 def to_dataset(rows: list[Row]) -> xr.Dataset:
+    """The ledger ``rows`` as a netCDF-ready dataset: one variable per column along ``id``, the counts per
+    verdict and the rules as attributes."""
     names = [f.name for f in fields(Row) if f.name != "id"]
     data = {n: ("id", np.array([getattr(r, n) for r in rows], dtype=float if n == "difference" else object))
             for n in names}
@@ -367,58 +363,5 @@ def to_dataset(rows: list[Row]) -> xr.Dataset:
 
 
 def summary(rows: list[Row]) -> dict[str, int]:
-    """Rows per verdict."""
+    """{verdict: number of ``rows`` with it}, every verdict listed."""
     return {v: sum(r.verdict == v for r in rows) for v in VERDICTS}
-
-
-def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m sleighsim.claims",
-                                 description="Judge every claim of CLAIMS.md from a results tree; write the ledger.")
-    ap.add_argument("--claims", default=str(Path(__file__).resolve().parents[3] / "paper" / "CLAIMS.md"),
-                    help="the claims list (default: the project's paper/CLAIMS.md)")
-    ap.add_argument("--data", default="results/data", help="directory of the datasets (default results/data)")
-    ap.add_argument("--figures", default="results/figures", help="directory of the figures (default results/figures)")
-    ap.add_argument("--out", default="results/claims.csv",
-                    help="the ledger as CSV; the netCDF copy goes beside it (default results/claims.csv)")
-    ap.add_argument("--config", nargs="+", default=[], metavar="FILE",
-                    help="the run's config files, merged in order onto config/config.yaml as snakemake "
-                         "--configfile merges them: which precision ladders and realizations were asked for "
-                         f"(default: {BASE_CONFIG} alone)")
-    a = ap.parse_args(argv)
-    out = Path(a.out)
-    if out.suffix != ".csv":
-        ap.error(f"--out {a.out}: give a .csv path")
-    for f in a.config:
-        if not Path(f).is_file():
-            ap.error(f"--config {f}: no such file")
-    for flag, d in (("--data", a.data), ("--figures", a.figures)):
-        if not Path(d).is_dir():
-            ap.error(f"{flag} {d}: no such directory")
-    try:
-        n_claims = len(parse_claims(a.claims))
-    except OSError as err:
-        ap.error(f"--claims {a.claims}: {err.strerror or err}")
-    if not n_claims:
-        ap.error(f"--claims {a.claims}: no claim rows (table rows whose first cell is an id such as F1, C01, D1)")
-    config = merged_config(a.config)
-    rows = ledger(a.claims, a.data, a.figures, config)
-    write(rows, out, out.with_suffix(".nc"))
-    print(", ".join(f"{v}: {n}" for v, n in summary(rows).items()), f"-> {out}, {out.with_suffix('.nc')}")
-    absent = missing_products(a.data, a.figures, config)
-    if absent:
-        print(f"error: {len(absent)} product(s) of the run the config declares are missing or unreadable "
-              "(their claims read 'not yet computed'): " + ", ".join(absent), file=sys.stderr)
-        return 3
-    return 0
-
-
-def missing_products(data_dir, figures_dir, config: dict) -> list[str]:
-    """The datasets (``registry.run_datasets``) and figures of the config's default run that are
-    absent from ``data_dir`` / ``figures_dir`` or cannot be opened, as paths."""
-    data = [Path(data_dir) / f"{name}.nc" for name in run_datasets(config)]
-    figures = [Path(figures_dir) / f"{f}.png" for f in figures_built(config)]
-    return [str(p) for p in data if not readable(p)] + [str(p) for p in figures if not p.is_file()]
-
-
-if __name__ == "__main__":
-    raise SystemExit(main())

@@ -40,6 +40,7 @@ class Judgement:
 
 
 def finite(*values) -> bool:
+    """Whether every one of ``values`` (numbers or None) is a finite number."""
     return all(v is not None and math.isfinite(float(v)) for v in values)
 
 
@@ -74,6 +75,8 @@ def all_of(verdicts) -> str:
 
 
 def fmt(x, digits_: int = 4) -> str:
+    """``x`` (a number, or a list or array of numbers) as text with ``digits_`` significant digits;
+    what is not a number as str(x)."""
     if isinstance(x, (list, tuple)) or (hasattr(x, "ndim") and getattr(x, "ndim", 0) > 0):
         return "[" + ", ".join(fmt(v, digits_) for v in x) + "]"
     try:

@@ -6,12 +6,12 @@ The command line over the cost modules of :mod:`sleighsim.ops`::
     python -m sleighsim.ops.costs plot benchmarks/full_run.yaml benchmarks/full_run.png
 
 - :mod:`~sleighsim.ops.jobgraph`: the run's job graph from Snakemake's dry runs, its critical path;
-- :mod:`~sleighsim.ops.benchmark_files`: Snakemake's benchmark files, one per job;
+- :mod:`~sleighsim.io.benchmark_files`: Snakemake's benchmark files, one per job;
 - :mod:`~sleighsim.ops.summary`: a finished run's cost summary (``benchmarks/full_run.py`` writes it);
 - :mod:`~sleighsim.report.figures.costs`: the cost figures;
 - :mod:`~sleighsim.ops.workmodel` and :mod:`~sleighsim.ops.estimate`: a measured summary scaled to
   the run another config would launch, with the chunk jobs checked against ``chunk_runtime_min``;
-- :mod:`~sleighsim.ops.facts`: merged config, git commit and machine facts.
+- :mod:`~sleighsim.ops.facts`: git commit and machine facts (the merged config: :mod:`~sleighsim.io.config`).
 """
 
 from __future__ import annotations
@@ -21,8 +21,8 @@ import math
 import sys
 from pathlib import Path
 
+from sleighsim.io.config import BASE_CONFIG, REPO, merged_config
 from sleighsim.ops.estimate import changed_keys, estimate, format_estimate
-from sleighsim.ops.facts import BASE_CONFIG, REPO, merged_config
 from sleighsim.ops.summary import SCHEMA, read_summary
 from sleighsim.report.figures.costs import plot_costs
 

@@ -10,7 +10,8 @@ from collections import defaultdict
 from pathlib import Path
 
 from sleighsim.ops import registry
-from sleighsim.ops.facts import BASE_CONFIG, REPO
+from sleighsim.report.figures import catalog
+from sleighsim.io.config import BASE_CONFIG, REPO
 from sleighsim.ops.workmodel import chunk_work, grid_rows, is_modelled, work
 
 
@@ -190,7 +191,7 @@ def _new_jobs(target: dict, mjobs: list, est: dict) -> None:
 
 def _other_jobs(target: dict, mjobs: list, est: dict) -> None:
     """Jobs that are not scenes (figures of the target, claims, report), as measured."""
-    figures = set(registry.figures_built(target))
+    figures = set(catalog.figures_built(target))
     for j in mjobs:
         if j.get("scene"):
             continue

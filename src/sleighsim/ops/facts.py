@@ -1,5 +1,5 @@
-"""Facts a cost summary records about the run's setting: the merged config, the git commit and
-the machine."""
+"""Facts a cost summary records about the run's setting: the git commit and the machine (the merged
+config is :func:`sleighsim.io.config.merged_config`)."""
 
 from __future__ import annotations
 
@@ -9,33 +9,12 @@ import subprocess
 from importlib import metadata
 from pathlib import Path
 
-REPO = Path(__file__).resolve().parents[3]
-BASE_CONFIG = REPO / "config" / "config.yaml"
-
-
-def _plain(value):
-    """Plain dicts and lists (Snakemake's loaders may return ordered or custom mappings)."""
-    if isinstance(value, dict):
-        return {str(k): _plain(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_plain(v) for v in value]
-    return value
-
-
-def merged_config(configfiles=(), base=BASE_CONFIG) -> dict:
-    """``base`` with each of ``configfiles`` merged onto it, the way Snakemake merges ``--configfile``
-    onto the Snakefile's ``configfile:`` (snakemake.utils.update_config on load_configfile)."""
-    from snakemake.common.configfile import load_configfile
-    from snakemake.utils import update_config
-
-    config = _plain(load_configfile(str(base)))
-    for f in configfiles:
-        update_config(config, _plain(load_configfile(str(f))))
-    return _plain(config)
+from sleighsim.io.config import REPO
 
 
 def git_commit(repo=REPO) -> str:
-    """HEAD of ``repo``, with "-dirty" when tracked files differ (read-only git commands)."""
+    """HEAD of ``repo`` (a path), with "-dirty" when tracked files differ (read-only git commands);
+    "unknown" when git cannot tell."""
     try:
         head = subprocess.run(["git", "-C", str(repo), "rev-parse", "HEAD"], capture_output=True, text=True,
                               timeout=20, check=True).stdout.strip()
@@ -48,7 +27,7 @@ def git_commit(repo=REPO) -> str:
 
 
 def machine_facts() -> dict:
-    """Cores usable here, CPU model, memory, platform, Python and Snakemake versions."""
+    """Cores usable here, CPU model, memory (GB), platform, Python and Snakemake versions, as a dict."""
     model, mem_gb = "unknown", None
     try:
         for line in Path("/proc/cpuinfo").read_text().splitlines():

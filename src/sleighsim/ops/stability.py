@@ -101,6 +101,7 @@ def table(base_nc, variant_ncs: dict) -> xr.Dataset:
 
 
 def write_table(ds: xr.Dataset, csv_path) -> None:
+    """The verdict table ``ds`` (one row per claim id) as CSV at ``csv_path``."""
     names = [k for k in ds.data_vars]
     lines = ["id," + ",".join(names)]
     lines += [",".join([str(i)] + [str(ds[k].values[j]) for k in names]) for j, i in enumerate(ds.id.values)]
@@ -129,6 +130,8 @@ def run(config: dict, base_nc, out_csv, *, cores: int = 2, snakefile=None) -> xr
 
 
 def main(argv=None) -> int:
+    """Run the variants and write the table of verdicts that change (``argv``: the command line
+    without the program, default sys.argv). Returns the exit status."""
     ap = argparse.ArgumentParser(prog="python -m sleighsim.ops.stability", description=__doc__.split("\n\n")[0])
     ap.add_argument("--configfile", nargs="*", default=["config/config.yaml"],
                     help="config files, merged in order (default config/config.yaml)")

@@ -34,8 +34,9 @@ from pathlib import Path
 import yaml
 
 from sleighsim.io.netcdf import atomic_path
-from sleighsim.ops.benchmark_files import read_benchmark, rule_from_path
-from sleighsim.ops.facts import BASE_CONFIG, git_commit, machine_facts, merged_config
+from sleighsim.io.benchmark_files import read_benchmark, rule_from_path
+from sleighsim.io.config import BASE_CONFIG, merged_config
+from sleighsim.ops.facts import git_commit, machine_facts
 from sleighsim.ops.jobgraph import COSTS_DIR, DAG_FILE, DRYRUN_FILE, critical_path, job_graph, predicted_wall
 
 #: Core counts the summary predicts the wall for (list scheduling of the measured jobs).

@@ -7,7 +7,7 @@ chaotic (per state, with the arithmetic it was decided in and the figure that sh
 precision findings, the paper's figures (our figure copied beside the page, the paper's caption
 parsed from the LaTeX source, parameters, accuracy and run time from the datasets and Snakemake
 benchmark files), the claims ledger, the methods figures with no counterpart in the paper, the
-tables of :data:`sleighsim.ops.registry.TABLES` and the run's cost. Every file it reads is passed in.
+tables of :data:`sleighsim.report.tables.TABLES` and the run's cost. Every file it reads is passed in.
 """
 
 from __future__ import annotations
@@ -23,7 +23,8 @@ import yaml
 
 from sleighsim.io.netcdf import read_dataset, write_text
 from sleighsim.report.figures import costs as plots
-from sleighsim.ops.registry import FIGURES, TABLES
+from sleighsim.report.figures.catalog import FIGURES
+from sleighsim.report.tables import TABLES
 from sleighsim.claims.ledger import Row
 from sleighsim.report.findings import precision_findings
 from sleighsim.report.page import COLOURS, Table, math_html, render
@@ -254,7 +255,7 @@ def other_figures(out_dir, figures, datasets) -> list[dict]:
 
 
 def tables(datasets) -> list[dict]:
-    """The registry's tables, or the dataset that would hold each."""
+    """The report's tables (:data:`sleighsim.report.tables.TABLES`), or the dataset that would hold each."""
     out = []
     for title, table in TABLES.items():
         content = None

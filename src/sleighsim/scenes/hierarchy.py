@@ -14,6 +14,7 @@ import sympy as sp
 import xarray as xr
 
 from sleighsim.io import cf
+from sleighsim.io.vocabulary import STATE_KINDS
 from sleighsim.analysis import fits
 from sleighsim.model import perturbation as pert
 from sleighsim.model.attrs import state_attrs
@@ -65,7 +66,7 @@ def series_errors(exact: xr.Dataset, h: xr.Dataset, eps: float, order: int) -> d
     data = {}
     for v in ("u", "Omega", "omega"):
         s = pert.partial_sum(h, v, eps, order)
-        kind = cf.STATE_KINDS[v]
+        kind = STATE_KINDS[v]
         data[f"{v}_exact"] = ("time", exact[v].values, cf.attrs(f"{v}, exact flow", kind))
         data[f"{v}_series"] = ("time", s, cf.attrs(f"{v}, sum of orders 0..{order}", kind))
         err = np.abs(s - exact[v].values)

@@ -11,6 +11,7 @@ import numpy as np
 import xarray as xr
 
 from sleighsim.io import cf
+from sleighsim.io.vocabulary import STATE_KINDS
 from sleighsim.model import equations
 from sleighsim.engine import poincare
 from sleighsim.analysis import spectra
@@ -45,7 +46,7 @@ def poincare_maps(cfg: dict, scene: str = "") -> xr.Dataset:
     rot = poincare.rotation_number(pts[is2pi])
     E = equations.energy(np.c_[pts, c["k"] * (np.pi / 2)], params)
     E0 = float(equations.energy(y0, params))
-    kind, vel = cf.STATE_KINDS, ("u", "Omega", "omega")
+    kind, vel = STATE_KINDS, ("u", "Omega", "omega")
     data = {f"p2pi_{v}": ("n2pi", c[v][is2pi], cf.attrs(f"{v} at the P_2pi iterates (delta = 0 mod 2 pi)", kind[v]))
             for v in vel}
     data["p2pi_time"] = ("n2pi", c["time"][is2pi], cf.attrs("time of the P_2pi iterates", "time"))
@@ -108,7 +109,7 @@ def psd(cfg: dict, scene: str = "") -> xr.Dataset:
     data, out_attrs = {}, {}
     for v in ("u", "Omega"):
         f, S = spectra.psd(run[v].values, cfg["dt"], segment=sc["segment"])
-        data[f"psd_{v}"] = ("frequency", S, cf.attrs(f"PSD of {v}", f"psd_{cf.STATE_KINDS[v]}"))
+        data[f"psd_{v}"] = ("frequency", S, cf.attrs(f"PSD of {v}", f"psd_{STATE_KINDS[v]}"))
         lo, hi, fpk = spectra.band_edges(f, S, f_split=sc["f_split"], rel_threshold=sc["rel_threshold"])
         peaks = spectra.peaks_near_zero(f, S, f_split=sc["f_split"], prominence_decades=sc["prominence_decades"],
                                         floor_rel=sc["floor_rel"])

@@ -6,10 +6,12 @@ import numpy as np
 
 from sleighsim.io.netcdf import read_dataset
 from sleighsim.report.figures.common import LABELS, finish, subplots
+from sleighsim.report.figures.figure import Figure
 
 
 def audit(sources):
-    """Energy drift of the printed udot against the derived equations (D1)."""
+    """Energy drift of the printed udot against the derived equations (D1).
+    ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     ds = read_dataset(sources[0])
     fig, ax = subplots(8, 4.5)
     for name in ("printed", "derived"):
@@ -21,3 +23,6 @@ def audit(sources):
                  f"{ds.attrs['printed_max_abs_rel_change']:.3g} (derived: {ds.attrs['derived_max_abs_rel_change']:.2g})")
     ax.legend()
     return finish(fig, ds.attrs)
+
+
+AUDIT = Figure("audit", audit, ("audit",), title="The model as printed: energy drift of the printed udot")

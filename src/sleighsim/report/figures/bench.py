@@ -8,11 +8,13 @@ import numpy as np
 
 from sleighsim.io.netcdf import read_dataset
 from sleighsim.report.figures.common import RATE, WIDTH, finish, subplots
+from sleighsim.report.figures.figure import Figure
 
 
 def bench(sources):
     """Work-precision: wall time against error (short horizon) and energy drift (long), and
-    the scene observables against heyoka's tolerance."""
+    the scene observables against heyoka's tolerance.
+    ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     ds = read_dataset(sources[0])
     fig, axes = subplots(WIDTH, 13, 3, 2)
     axes = axes.ravel()
@@ -106,3 +108,5 @@ def _lyapunov_peers(ax, ds) -> None:
                  f"{ds.attrs['lorenz_lambda_1_literature']:g}),\n{ds.attrs['lyap_peer_T_sleigh']:g} (sleigh), "
                  f"tau = {ds.attrs['lyap_peer_tau']:g}")
 
+
+BENCH = Figure("bench", bench, ("bench",), title="Speed against error")

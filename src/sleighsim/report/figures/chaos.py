@@ -11,6 +11,7 @@ from matplotlib.ticker import NullFormatter
 from sleighsim.io.netcdf import read_dataset
 from sleighsim.report.page import CHAOS_COLOURS
 from sleighsim.report.figures.common import LABELS, RATE, WIDTH, finish
+from sleighsim.report.figures.figure import Figure
 
 #: The chaotic classes of a state (chaos.rule.classify), drawn in the chaotic colour.
 CHAOTIC_CLASSES = ("strange attractor", "conservative-type chaos", "mixed dynamics")
@@ -143,7 +144,8 @@ def _frequency(ax, ds) -> None:
 
 def chaos(sources):
     """Per steady state (one colour each): the verdict table, the rates with their uncertainties,
-    MEGNO's running mean, the Loschmidt return error and the spread of the leading frequency."""
+    MEGNO's running mean, the Loschmidt return error and the spread of the leading frequency.
+    ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     (ds,) = (read_dataset(s) for s in sources)
     table_h = 0.5 * (ds.sizes["state"] + 1)
     fig, axd = plt.subplot_mosaic([["table"] * 3, ["rates"] * 3, ["megno", "loschmidt", "frequency"]],
@@ -155,3 +157,7 @@ def chaos(sources):
     _loschmidt(axd["loschmidt"], ds)
     _frequency(axd["frequency"], ds)
     return finish(fig, ds.attrs)
+
+
+CHAOS = Figure("chaos", chaos, ("chaos_verdict",), title="Is the steady state chaotic? Indicators per state",
+               steady=("chaos_verdict",))

@@ -8,18 +8,17 @@ from __future__ import annotations
 from collections import defaultdict
 from pathlib import Path
 
-from sleighsim.ops.benchmark_files import read_benchmark, rule_from_path
+import matplotlib.pyplot as plt
+from matplotlib.patches import Patch
+
+from sleighsim.io.benchmark_files import read_benchmark, rule_from_path
+from sleighsim.report.figures.common import WIDTH, save_figure, subplots
 
 
 def costs_figure(summary: dict):
     """CPU seconds per rule (horizontal bars, largest on top), each bar split into its jobs (the
     chunk jobs show as separate segments; jobs on the critical path hatched and outlined in red),
     and the critical path beside it: its jobs' wall seconds in order, with its total."""
-    import matplotlib.pyplot as plt
-    from matplotlib.patches import Patch
-
-    from sleighsim.report.figures.common import WIDTH, subplots
-
     rules = list(summary["rules"])
     crit_jobs = [j["job"] for j in (summary.get("critical_path") or {}).get("jobs", [])]
     on_path = set(crit_jobs)
@@ -69,8 +68,6 @@ def costs_figure(summary: dict):
 
 def plot_costs(summary: dict, png, pdf) -> None:
     """:func:`costs_figure` as PNG and PDF."""
-    from sleighsim.report.figures.common import save_figure
-
     save_figure(costs_figure(summary), png, pdf)
 
 
@@ -90,10 +87,6 @@ def job_costs(benchmarks: dict) -> list[dict]:
 def job_costs_figure(jobs: list[dict], top: int = 25):
     """Wall seconds per rule (left) and of the ``top`` costliest jobs (right), from
     :func:`job_costs`; the title gives the total and the lower bound it sets on 2 cores."""
-    import matplotlib.pyplot as plt
-
-    from sleighsim.report.figures.common import WIDTH, subplots
-
     if not jobs:
         raise ValueError("no benchmark records to plot")
     per_rule = defaultdict(float)
@@ -121,6 +114,4 @@ def job_costs_figure(jobs: list[dict], top: int = 25):
 def plot_job_costs(jobs: list[dict], png, pdf=None, top: int = 25) -> None:
     """:func:`job_costs_figure` as PNG and as PDF beside it (``pdf``, by default the PNG's name
     with .pdf)."""
-    from sleighsim.report.figures.common import save_figure
-
     save_figure(job_costs_figure(jobs, top), png, pdf or Path(png).with_suffix(".pdf"), dpi=120)

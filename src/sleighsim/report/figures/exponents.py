@@ -8,13 +8,15 @@ from matplotlib.ticker import NullFormatter
 
 from sleighsim.io.netcdf import read_dataset
 from sleighsim.report.figures.common import PRECISION_STYLE, RATE, WIDTH, finer_precisions, finish, subplots
+from sleighsim.report.figures.figure import Figure
 
 LAMBDA_1 = rf"$\lambda_1$ ({RATE})"
 
 
 def fig10(sources):
     """Max Lyapunov exponent against energy label, with the time-scaling law: double (the paper's
-    arithmetic) and, beside it (shifted right by 8% in E), every finer precision from the same settled state."""
+    arithmetic) and, beside it (shifted right by 8% in E), every finer precision from the same settled state.
+    ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     ds, *others = (read_dataset(s) for s in sources)
     fig, ax = subplots(7.5, 5.5)
     lam, err, E = ds.lambda_1.values, ds.stderr.values, ds.label.values
@@ -80,7 +82,8 @@ def fig11(sources):
     """|lambda_1| against eps with the replicas' standard error, by row status, flagged rows marked; the
     grid at a few b values over it, the b symmetry checked from the data in the title; in double (the
     paper's arithmetic) and, beside it (shifted right by 5% in eps), every finer precision whose rows'
-    steady parts ran in it from the same settled states."""
+    steady parts ran in it from the same settled states.
+    ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     ds, *others = (read_dataset(s) for s in sources)
     fig, ax = subplots(WIDTH, 6)
     eps, lam, err = ds.eps.values, ds.lambda_1.values, ds.stderr.values
@@ -129,7 +132,8 @@ def _spectrum(ax, spec) -> None:
 
 
 def lyapunov(sources):
-    """lambda_i(T) on log-log axes and the paper-protocol spread."""
+    """lambda_i(T) on log-log axes and the paper-protocol spread.
+    ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     spec, prot = (read_dataset(s) for s in sources)
     fig, (ax, bx) = subplots(WIDTH, 5, 1, 2, width_ratios=[1.6, 1])
     _spectrum(ax, spec)
@@ -147,7 +151,8 @@ def lyapunov(sources):
 
 def regimes(sources):
     """The regime diagram: lambda_1 (by status, flagged rows marked), the steady spike interval,
-    and the P_2pi rotation number and curve thickness, against eps."""
+    and the P_2pi rotation number and curve thickness, against eps.
+    ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     ds = read_dataset(sources[0])
     eps = ds.eps.values
     fig, (ax, bx, cx) = subplots(8, 9, 3, 1, sharex=True)
@@ -181,7 +186,8 @@ def regimes(sources):
 
 def drift(sources):
     """The long run in windows: spike interval (+- sd) and lambda_1 per window against time, each with
-    its straight-line trend over the last part of the run and the trend verdict."""
+    its straight-line trend over the last part of the run and the trend verdict.
+    ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     ds = read_dataset(sources[0])
     t = ds.t_mid.values
     fig, axes = subplots(8, 6.5, 2, 1, sharex=True)
@@ -203,3 +209,13 @@ def drift(sources):
     axes[1].axhline(0, color="0.5", lw=0.8)
     axes[1].set_xlabel(f"t after the transient (time units; windows of {ds.attrs['window']:g})")
     return finish(fig, ds.attrs)
+
+
+FIG10 = Figure("fig10", fig10, ("lyap_energy",), "F10", ("C20",), steady=("lyap_energy",), beside=True)
+FIG11 = Figure("fig11", fig11, ("fig11_grid",), "F11", ("C21",), steady=("fig11_grid",), beside=True)
+LYAPUNOV = Figure("lyapunov", lyapunov, ("lyap_spectrum", "lyap_protocol"),
+                  title="Lyapunov spectrum and the paper's protocol")
+REGIMES = Figure("regimes", regimes, ("regimes",), title="Regime diagram: lambda_1, spike interval and P_2pi rotation "
+                                                        "number against eps (C27)")
+DRIFT = Figure("drift", drift, ("main_drift",), title="Does the main state's slow drift end? Spike interval and "
+                                                     "lambda_1 per window")

@@ -7,13 +7,15 @@ import numpy as np
 
 from sleighsim.io.netcdf import read_dataset
 from sleighsim.report.figures.common import PRECISION_STYLE, finish, subplots
+from sleighsim.report.figures.figure import Figure
 
 COLOURS = {"double": "tab:red", "long double": "tab:blue", "quad": "k"}
 
 
 def precision(sources):
     """Left: spike interval against spike time per precision, one row per state; right: the
-    separation of neighbouring precisions' orbits (log scale) with the level SEPARATED."""
+    separation of neighbouring precisions' orbits (log scale) with the level SEPARATED.
+    ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     ds = read_dataset(sources[0])
     n = ds.sizes["state"]
     fig, axes = subplots(10, 1 + 2.8 * n, n, 2, squeeze=False)
@@ -42,7 +44,8 @@ def precision(sources):
 
 def trigger(sources):
     """The first (and second) Omega spike against the Taylor tolerance, per arithmetic; filled
-    markers: runs in the fit (rounding far below the tolerance, one per tolerance); the fitted law."""
+    markers: runs in the fit (rounding far below the tolerance, one per tolerance); the fitted law.
+    ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     ds = read_dataset(sources[0])
     a = ds.attrs
     fig, ax = subplots(8, 5.5)
@@ -67,3 +70,11 @@ def trigger(sources):
                  "arithmetic)")
     ax.legend()
     return finish(fig, a)
+
+
+PRECISION = Figure("precision", precision, ("precision_ladder",),
+                   title="Does the arithmetic decide the steady state? Spike intervals per precision from one "
+                         "settled point, and the orbits' separation",
+                   steady=("precision_ladder",))
+TRIGGER = Figure("trigger", trigger, ("trigger_law",), title="What triggers the steady state? The first spike against "
+                                                            "the size of the injected error (C04)")

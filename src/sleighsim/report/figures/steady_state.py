@@ -18,6 +18,7 @@ from sleighsim.report.figures.common import (
     finish,
     subplots,
 )
+from sleighsim.report.figures.figure import Figure
 
 
 def _attractor_panel(ax, ds, title, iterates="ppi2"):
@@ -37,7 +38,8 @@ def _attractor_panel(ax, ds, title, iterates="ppi2"):
 
 
 def fig9(sources):
-    """(a) P_2pi iterates; (b) P_pi/2 iterates on the attractor; (c) higher energy; (d) eps = 0.01."""
+    """(a) P_2pi iterates; (b) P_pi/2 iterates on the attractor; (c) higher energy; (d) eps = 0.01.
+    ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     ref, high, small, scaling = (read_dataset(s) for s in sources)
     fig = plt.figure(figsize=(WIDTH, 10.5), layout="constrained")
     panels = [
@@ -62,7 +64,8 @@ def fig9(sources):
 
 def fig12(sources):
     """Return times t_{n+1} - t_n of P_2pi for two values of eps: double (the paper's arithmetic)
-    and, beside it, every finer precision computed from the same settled point."""
+    and, beside it, every finer precision computed from the same settled point.
+    ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     data = [read_dataset(s) for s in sources]
     finer = finer_precisions(data[2:])
     fig, axes = subplots(WIDTH, 4.4, 1, 2)
@@ -84,7 +87,8 @@ def fig12(sources):
 
 def psd(sources):
     """Welch PSD of u and Omega with the band and the peaks near zero (F13, F14): double (the
-    paper's arithmetic) and, beside it, every finer precision computed from the same settled point."""
+    paper's arithmetic) and, beside it, every finer precision computed from the same settled point.
+    ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     ds, *others = (read_dataset(s) for s in sources)
     finer = finer_precisions(others)
     fig, axes = subplots(10, 7, 2, 1)
@@ -112,3 +116,10 @@ def psd(sources):
                       f"t = {ds.attrs['record_start']:g}{status}")
     return finish(fig, ds.attrs)
 
+
+FIG9 = Figure("fig9", fig9, ("fig9_ref", "fig9_highE", "fig9_eps001", "fig9_scaling"), "F9", ("C15", "C16", "C17"),
+              steady=("fig9_ref", "fig9_highE", "fig9_eps001"))
+FIG12 = Figure("fig12", fig12, ("fig9_ref", "fig9_eps001"), "F12", ("C22",), steady=("fig9_ref", "fig9_eps001"),
+               beside=True)
+FIG13 = Figure("fig13", psd, ("psd_eps01",), "F13", ("C23",), steady=("psd_eps01",), beside=True)
+FIG14 = Figure("fig14", psd, ("psd_eps001",), "F14", ("C24",), steady=("psd_eps001",), beside=True)

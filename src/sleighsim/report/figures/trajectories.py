@@ -8,10 +8,12 @@ from matplotlib import patches
 
 from sleighsim.io.netcdf import read_dataset
 from sleighsim.report.figures.common import LABELS, PRECISION_STYLE, finer_precisions, finish, subplots
+from sleighsim.report.figures.figure import Figure
 
 
 def fig1(cfg: dict):
-    """Schematic: sleigh body, centre C, runner P at distance b, rotor at distance a."""
+    """Schematic: sleigh body, centre C, runner P at distance b, rotor at distance a.
+    ``cfg``: the scene's config block (a dict). Returns the matplotlib Figure."""
     b, a, th, be = cfg["b"], cfg["a"], cfg["theta"], cfg["beta"]
     fig, ax = subplots(5.5, 4.5)
     ex, ey = np.array([np.cos(th), np.sin(th)]), np.array([-np.sin(th), np.cos(th)])
@@ -49,7 +51,8 @@ def fig1(cfg: dict):
 
 
 def fig2(sources):
-    """(a) eps = 0 phase portrait with sample trajectories; (b) path from (u, Omega) = (0, 1)."""
+    """(a) eps = 0 phase portrait with sample trajectories; (b) path from (u, Omega) = (0, 1).
+    ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     ds = read_dataset(sources[0])
     fig, (ax, bx) = subplots(10, 4.6, 1, 2)
     ax.streamplot(ds.u_grid.values, ds.Omega_grid.values, ds.du.values.T, ds.dOmega.values.T,
@@ -95,7 +98,8 @@ def _first_spike(ds) -> str:
 
 def fig3(sources):
     """u, Omega, omega, theta through both transients into the steady state, in double (the paper's
-    arithmetic) and every finer precision from the same start (the whole run in that arithmetic)."""
+    arithmetic) and every finer precision from the same start (the whole run in that arithmetic).
+    ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     ds, *others = (read_dataset(s) for s in sources)
     finer = finer_precisions(others)
     fig, axes = subplots(11, 6.5, 2, 2)
@@ -107,7 +111,8 @@ def fig3(sources):
 
 
 def fig7(sources):
-    """Steady-state window: u, Omega, omega, theta and the path over the window."""
+    """Steady-state window: u, Omega, omega, theta and the path over the window.
+    ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     ds = read_dataset(sources[0])
     fig = plt.figure(figsize=(11, 9), layout="constrained")
     grid = fig.add_gridspec(3, 2, height_ratios=[1, 1.4, 1])
@@ -131,7 +136,8 @@ def fig7(sources):
 
 def fig8(sources):
     """Path of the sleigh over a long steady-state window, in double (the paper's arithmetic) and
-    every finer precision from the same settled point."""
+    every finer precision from the same settled point.
+    ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     ds, *others = (read_dataset(s) for s in sources)
     fig, ax = subplots(7, 6.5)
     ax.plot(ds.x, ds.y, lw=0.4, label=f"double (reach {ds.attrs.get('path_reach', float('nan')):.4g})",
@@ -148,3 +154,9 @@ def fig8(sources):
     ax.set_title(f"Path over {float(ds.time[-1] - ds.time[0]):g} time units after the transient", fontsize=10)
     return finish(fig, ds.attrs)
 
+
+FIG1 = Figure("fig1", fig1, paper="F1", schematic="fig1")
+FIG2 = Figure("fig2", fig2, ("fig2",), "F2", ("C01",))
+FIG3 = Figure("fig3", fig3, ("fig3",), "F3", ("C03", "C04", "C05"), beside=True)
+FIG7 = Figure("fig7", fig7, ("fig7",), "F7", ("C13",), steady=("fig7",))
+FIG8 = Figure("fig8", fig8, ("fig8",), "F8", ("C14",), steady=("fig8",), beside=True)

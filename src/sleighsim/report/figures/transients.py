@@ -9,12 +9,14 @@ import numpy as np
 
 from sleighsim.io.netcdf import read_dataset
 from sleighsim.report.figures.common import LABELS, SYMBOLS, UNITS, WIDTH, finish, subplots
+from sleighsim.report.figures.figure import Figure
 
 
 def fig4(sources):
     """omega aligned at the first spike after the transient, per energy level (mapped onto the
     first level by the time-scaling law), coloured by spike-interval group; the long-horizon
-    spike intervals of one representative per group."""
+    spike intervals of one representative per group.
+    ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     ds = read_dataset(sources[0])
     levels = sorted(set(ds.level.values.tolist()))
     ncols = min(3, len(levels) + 1)
@@ -50,7 +52,8 @@ def fig4(sources):
 
 
 def fig5(sources):
-    """Exact (solid) against u0 + eps u1 + eps^2 u2 (dashed) for u, Omega, omega, and relative errors."""
+    """Exact (solid) against u0 + eps u1 + eps^2 u2 (dashed) for u, Omega, omega, and relative errors.
+    ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     ds = read_dataset(sources[0])
     fig, axes = subplots(WIDTH, 6.5, 2, 3, sharex=True)
     for k, v in enumerate(("u", "Omega", "omega")):
@@ -69,7 +72,8 @@ def fig5(sources):
 
 
 def fig6(sources):
-    """u0, u2, Omega0, Omega2, omega0, omega2, with the fitted numbers of C08-C10."""
+    """u0, u2, Omega0, Omega2, omega0, omega2, with the fitted numbers of C08-C10.
+    ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     ds = read_dataset(sources[0])
     a = ds.attrs
     fig, axes = subplots(WIDTH, 8, 3, 2, sharex=True)
@@ -92,7 +96,8 @@ def fig6(sources):
 
 
 def transients(sources):
-    """End of the sleigh-like phase and first spike against eps (log-log, fitted slope)."""
+    """End of the sleigh-like phase and first spike against eps (log-log, fitted slope).
+    ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     ds = read_dataset(sources[0])
     a = ds.attrs
     fig, ax = subplots(6.5, 4.8)
@@ -113,7 +118,8 @@ def transients(sources):
 
 
 def perturbation(sources):
-    """(a) error of the truncated series against eps (short window); (b) growth of orders 2 and 4."""
+    """(a) error of the truncated series against eps (short window); (b) growth of orders 2 and 4.
+    ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     fig5_ds, audit_ds = read_dataset(sources[0]), read_dataset(sources[1])
     fig, axes = subplots(WIDTH, 4.5, 1, 2)
     ax = axes[0]
@@ -150,7 +156,8 @@ def perturbation(sources):
 
 def basins(sources):
     """Basin fractions on the energy level with their intervals, and the steady spike interval of
-    every sampled run coloured by its group (the reference states' intervals as lines)."""
+    every sampled run coloured by its group (the reference states' intervals as lines).
+    ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     ds = read_dataset(sources[0])
     fig, (ax, bx) = subplots(WIDTH, 5, 1, 2, width_ratios=[1, 1.4])
     groups = [str(g) for g in ds.group.values]
@@ -182,3 +189,12 @@ def basins(sources):
                  f"unsettled: transient not over by {ds.attrs['max_rounds']} x {ds.attrs['t_round']:g}; no spike "
                  f"interval: settled, < {ds.attrs['min_spikes']} spikes", fontsize=8)
     return finish(fig, ds.attrs)
+
+
+FIG4 = Figure("fig4", fig4, ("fig4",), "F4", ("C06",))
+FIG5 = Figure("fig5", fig5, ("fig5",), "F5", ("C11",))
+FIG6 = Figure("fig6", fig6, ("fig6",), "F6", ("C07", "C08", "C09", "C10"))
+TRANSIENTS = Figure("transients", transients, ("transients", "fig3"), title="Transient length against eps (C03-C05)")
+PERTURBATION = Figure("perturbation", perturbation, ("fig5", "pert_audit"),
+                      title="Perturbation hierarchy: convergence as eps -> 0 and secular growth (C12)")
+BASINS = Figure("basins", basins, ("basins",), title="Basin fractions on the energy level (C06 made quantitative)")

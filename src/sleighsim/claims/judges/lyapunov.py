@@ -1,0 +1,229 @@
+"""The Lyapunov exponents: the spectrum and the paper's protocol, lambda_1 against the energy label
+and over (eps, b), what small eps costs, the formal system and the route to chaos (figures F10,
+F11; C18-C21, C25-C27).
+
+Each judge takes the paper's values and its datasets (:data:`sleighsim.claims.evidence.EVIDENCE`)
+and returns a :class:`~sleighsim.claims.rules.Judgement`."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from sleighsim.chaos.verdicts import polynomial_rate_bound
+from sleighsim.claims.rules import (
+    CANNOT,
+    DIFFERS,
+    K_SIGMA,
+    NOT_YET,
+    REL_TOL,
+    REPRODUCED,
+    Judgement,
+    all_of,
+    finite,
+    fmt,
+    number,
+    relative,
+)
+
+
+def c18(paper, spectrum) -> Judgement:
+    """C18, "flow contracts phase-space volume although E is invariant": judged from the paper's values
+    ``paper`` and ``spectrum``; returns its Judgement."""
+    a = spectrum.attrs
+    div, unc = a["mean_divergence"], a["mean_divergence_stderr"]
+    contracts, expands = div + K_SIGMA * unc < 0, div - K_SIGMA * unc > 0
+    verdict = REPRODUCED if contracts else DIFFERS
+    return Judgement(
+        verdict, units="1/time", uncertainty=fmt(unc, 2),
+        measured=f"mean divergence {div:.3g} (plain flow, {a['replicas']} replicas); sum of exponents {a['sum_all']:.3g} "
+                 f"+- {a['sum_all_stderr']:.2g} (variational runs); lambda_1 + lambda_4 = {a['sum_lambda_1_4']:.3g} +- "
+                 f"{a['sum_lambda_1_4_stderr']:.2g}",
+        rule=f"contraction: the mean trace of J plus {K_SIGMA:g} standard errors over independent replicas is below 0",
+        reason="" if contracts else ("the flow expands phase-space volume on average" if expands else
+                                     f"no contraction resolved: the mean divergence is within {K_SIGMA:g} standard "
+                                     f"errors ({unc:.2g}) of zero"))
+
+
+def c19(paper, protocol, spectrum) -> Judgement:
+    """C19, "four Lyapunov exponents (T = 4000 after 10000 pre-simulation, dt = 0.01)": judged from the paper's
+    values ``paper`` and ``protocol``, ``spectrum``; returns its Judgement."""
+    want = np.sort(np.asarray(paper["exponents"], float))[::-1]
+    lam, err = spectrum.exponent.values, spectrum.stderr.values
+    parts = [number(w, o, e) for w, o, e in zip(want, lam, err)]
+    spread = protocol.exponent.values
+    return Judgement(
+        all_of(parts), units="1/time", uncertainty=fmt(err, 2),
+        difference=max(relative(w, o) for w, o in zip(want, lam)),
+        measured=f"converged spectrum (T = {spectrum.attrs['T']:g} per replica, {spectrum.attrs['replicas']} replicas): "
+                 f"{fmt(lam, 3)}; the paper's protocol (T = {protocol.attrs['T']:g} after {protocol.attrs['t_transient']:g}) "
+                 f"from {spread.shape[0]} states on the level gives lambda_1 in [{spread[:, 0].min():.2g}, "
+                 f"{spread[:, 0].max():.2g}] and lambda_4 in [{spread[:, 3].min():.2g}, {spread[:, 3].max():.2g}]",
+        rule=f"each paper exponent (sorted) within {REL_TOL:.0%} or {K_SIGMA:g} standard errors of our converged one; the "
+             "protocol's spread over states is reported, not judged",
+        reason="; ".join(f"lambda_{i + 1}: {o:.3g} +- {e:.2g} against {w:.3g}" for i, (w, o, e, v)
+                         in enumerate(zip(want, lam, err, parts)) if v == DIFFERS))
+
+
+def fake_rates(rows) -> np.ndarray:
+    """Per row of lambda_1 rows (T, tau per row): the rate polynomial growth fakes over the row's
+    horizon, 2 ln(T / tau) / T (chaos.verdicts.polynomial_rate_bound); NaN for a row not computed. A finite-time lambda_1 below
+    it does not show chaos: a regular orbit's tangent vector grows like a power of t."""
+    return np.array([polynomial_rate_bound(T, tau) if np.isfinite(T) and np.isfinite(tau) else math.nan
+                     for T, tau in zip(rows["T"].values, rows["tau"].values)])
+
+
+_FAKE = "2 ln(T / tau) / T, the rate polynomial growth fakes over the row's horizon"
+
+
+def c20(paper, energy) -> Judgement:
+    """C20, "max LE grows with E and stays positive down to E = 1e-4; smallest in fig:lyap": judged from the
+    paper's values ``paper`` and ``energy``; returns its Judgement."""
+    labels, lam, err = energy.label.values, energy.lambda_1.values, energy.stderr.values
+    inside = (labels >= paper["label_min"] * (1 - 1e-9)) & (labels <= paper["label_max"] * (1 + 1e-9))
+    k = int(np.flatnonzero(inside)[np.argmin(lam[inside])]) if inside.any() else None
+    smallest = number(paper["smallest"], lam[k], err[k]) if k is not None else NOT_YET
+    low = np.flatnonzero(np.isclose(labels, paper["positive_down_to"], rtol=1e-9))
+    if low.size:
+        j = int(low[0])
+        fake = fake_rates(energy)[j]
+        positive = REPRODUCED if lam[j] - K_SIGMA * err[j] > fake else DIFFERS if lam[j] + K_SIGMA * err[j] < 0 else NOT_YET
+        low_text = (f"at E label {labels[j]:g}: lambda_1 = {lam[j]:.2g} +- {err[j]:.1g} (polynomial growth fakes up to "
+                    f"{fake:.2g} over its horizon)")
+    else:
+        positive, low_text = NOT_YET, f"E label {paper['positive_down_to']:g} not computed"
+    return Judgement(
+        all_of([smallest, positive]), units="1/time", uncertainty=fmt(err[k], 2) if k is not None else "",
+        difference=relative(paper["smallest"], lam[k]) if k is not None else math.nan,
+        measured=(f"smallest lambda_1 over labels {paper['label_min']:g} to {paper['label_max']:g}: {lam[k]:.2g} (E label "
+                  f"{labels[k]:g})" if k is not None else "no label in the paper's range") + f"; {low_text}; fitted "
+                 f"exponent of lambda_1 against E {energy.attrs['fitted_exponent']:.4f} (law: 0.5)",
+        rule=f"the smallest value within {REL_TOL:.0%} or {K_SIGMA:g} standard errors of the paper's, and lambda_1 resolved "
+             f"positive at the lowest energy the paper names (lambda_1 - {K_SIGMA:g} stderr > {_FAKE})",
+        reason=(f"the smallest value is {lam[k]:.2g}, not {paper['smallest']:g}; " if smallest == DIFFERS else "")
+        + ("lambda_1 is not resolved positive at the lowest energy" if positive != REPRODUCED else ""))
+
+
+def _elsewhere(ds, eps) -> str:
+    """The rows a dataset leaves to another config, as text ("" when none)."""
+    eps = np.atleast_1d(np.asarray(eps, float))
+    if not eps.size:
+        return ""
+    where = ds.attrs["elsewhere_config"] or "another config"
+    return f"; not computed in this run: eps {', '.join(f'{e:.3g}' for e in eps)} (computed by {where})"
+
+
+def c21(paper, grid) -> Judgement:
+    """C21, "max LE positive over the (eps, b) range of fig:LE; smallest value": judged from the paper's values
+    ``paper`` and ``grid``; returns its Judgement."""
+    floor = paper["smallest_above"]
+    eps, lam, err, status = grid.eps.values, grid.lambda_1.values, grid.stderr.values, grid.status.values
+    steady = (grid.transient_over.values == 1) & (grid.steady.values == 1)
+    above = (status == "converged") & steady & (lam - K_SIGMA * err > np.maximum(floor, fake_rates(grid)))
+    below = steady & ((status == "regular") | ((status == "converged") & (lam + K_SIGMA * err < floor)))
+    away = status == "elsewhere"
+    unresolved = ~above & ~below & ~away
+    verdict = DIFFERS if below.any() else (CANNOT if unresolved.any() else REPRODUCED)
+
+    def listed(sel):
+        return ", ".join(f"{e:.3g}" for e in eps[sel]) or "none"
+
+    return Judgement(
+        verdict, units="1/time",
+        measured=f"{grid.attrs['n_rows']} eps rows (b is a symmetry): resolved above {floor:g} and above the polynomial "
+                 f"rate at eps {listed(above)}; below or regular at eps {listed(below)}; unresolved within the run's "
+                 f"horizon (below the polynomial rate, capped or not steady) at eps {listed(unresolved)}; smallest resolved "
+                 "lambda_1 "
+                 f"{np.min(lam[above]) if above.any() else math.nan:.2g}" + _elsewhere(grid, eps[away]),
+        rule=f"reproduced when every row resolves lambda_1 - {K_SIGMA:g} stderr above {floor:g} and above {_FAKE}; differs "
+             f"when a steady row is resolved below {floor:g} or regular; cannot be reproduced when the rest are not resolved "
+             "within the configured horizon (max_rounds) or are not steady",
+        reason="" if verdict == REPRODUCED else
+        (f"lambda_1 is resolved below {floor:g} or regular at eps {listed(below)}" if below.any() else
+         f"lambda_1 is not resolved above {floor:g} and the polynomial rate (or the row is capped or not steady) at eps "
+         f"{listed(unresolved)}"))
+
+
+def c25(paper, cost) -> Judgement:
+    """C25, "chaos persists down to eps = 1e-5; numerics unreliable below": judged from the paper's values
+    ``paper`` and ``cost``; returns its Judgement."""
+    targets, hours = cost.target.values, cost.wall_estimate_s.values / 3600
+    k = int(np.argmin(np.abs(np.log(targets / paper["eps_min"]))))
+    budget = cost.attrs["budget_core_hours"]
+    over = bool(hours[k] > budget)
+    return Judgement(
+        CANNOT if over else NOT_YET, units="core-hours", difference=hours[k] / budget if finite(hours[k]) else math.nan,
+        measured="; ".join(f"eps {e:g}: transient ~{t:.2g} time units, ~{h:.2g} core-hours" for e, t, h in
+                           zip(targets, cost.transient_estimate.values, hours)) + f"; budget {budget:g} core-hours",
+        rule="the cost of reaching the attractor at the paper's smallest eps, extrapolated from measured transients and "
+             "step rates, against the budget stated in the config",
+        reason=f"eps {targets[k]:g} would take about {hours[k]:.3g} core-hours, above the budget of {budget:g}" if over else
+        f"eps {targets[k]:g} fits the budget ({hours[k]:.3g} core-hours) but is not run" if finite(hours[k]) else
+        "the transient was not measured at the configured eps, so the cost is not determined")
+
+
+def c26(paper, formal) -> Judgement:
+    """Above the paper's eps only rows whose transient was checked over count (a missing check counts
+    as not checked); one resolved lambda_1 above the bound differs, all resolved below reproduce."""
+    eps, lam, err = formal.eps.values, formal.lambda_1.values, formal.stderr.values
+    over = formal["transient_over"].values == 1 if "transient_over" in formal else np.zeros(eps.size, bool)
+    big = eps > paper["eps_above"]
+    if not big.any():
+        return Judgement(NOT_YET, measured="no eps above the paper's threshold computed", rule="")
+    settled = big & over
+    below = lam + K_SIGMA * err < paper["lambda_below"]
+    above = lam - K_SIGMA * err > paper["lambda_below"]
+    verdict = DIFFERS if (settled & above).any() else REPRODUCED if (below[big] & over[big]).all() else NOT_YET
+    unsettled = ", ".join(f"{e:g}" for e in eps[big & ~over])
+    resolved_above = ", ".join(f"{e:g}" for e in eps[settled & above])
+    reasons = ([f"lambda_1 resolved above {paper['lambda_below']:g} at settled eps {resolved_above}"]
+               if resolved_above else []) + ([f"transient not over at eps {unsettled}"] if unsettled else [])
+    away = formal.attrs["eps_elsewhere"] if "eps_elsewhere" in formal.attrs else []
+    return Judgement(
+        verdict, units="1/time",
+        measured="; ".join(f"eps {e:g}: lambda_1 = {m:.2g} +- {s:.1g}{'' if o else ' (transient not over)'}"
+                           for e, m, s, o in zip(eps, lam, err, over)) + _elsewhere(formal, away),
+        reason="; ".join(reasons),
+        rule=f"at every eps above {paper['eps_above']:g} with its transient over, lambda_1 + {K_SIGMA:g} stderr < "
+             f"{paper['lambda_below']:g} (the formal system: m_c = 1 - eps < 0)")
+
+
+def c27(paper, rows) -> Judgement:
+    """Quasi-periodic route to chaos near eps = 0, from lambda_1 against eps (the F11 rows, or the
+    on-request regime diagram)."""
+    eps, lam, err, status = rows.eps.values, rows.lambda_1.values, rows.stderr.values, rows.status.values
+    steady = (rows.transient_over.values == 1) & (rows.steady.values == 1)
+    thin = np.asarray(rows.curve_thickness.values) < 0.01
+    chaotic = steady & (status == "converged") & (lam - K_SIGMA * err > fake_rates(rows))
+    regular = steady & (status == "regular")
+    order = np.argsort(eps)
+    eps, chaotic, regular, thin = eps[order], chaotic[order], regular[order], thin[order]
+    first_chaos = eps[chaotic].min() if chaotic.any() else math.nan
+    below = eps < first_chaos if finite(first_chaos) else np.zeros(eps.size, bool)
+
+    def listed(sel):
+        return ", ".join(f"{e:.3g}" for e in eps[sel]) or "none"
+
+    resolved_below = below & regular
+    if not chaotic.any():
+        verdict, reason = NOT_YET, "no row is resolved chaotic"
+    elif not resolved_below.any():
+        verdict, reason = NOT_YET, (f"no row below the first chaotic eps ({first_chaos:.3g}) is resolved regular: a "
+                                    f"route, if any, lies below the computed range or the rows there are unresolved")
+    elif np.all(thin[resolved_below]):
+        verdict, reason = REPRODUCED, ""
+    else:
+        verdict, reason = DIFFERS, (f"regular rows below the first chaotic eps ({first_chaos:.3g}) without a thin P_2pi "
+                                    f"curve (not a torus) at eps {listed(resolved_below & ~thin)}")
+    return Judgement(
+        verdict,
+        measured=f"{eps.size} eps rows in [{eps.min():.3g}, {eps.max():.3g}]: chaotic (lambda_1 resolved above the "
+                 f"polynomial rate) at eps "
+                 f"{listed(chaotic)}; regular at eps {listed(regular)}; regular with a thin P_2pi curve at eps "
+                 f"{listed(regular & thin)}",
+        rule=f"below the smallest chaotic eps (lambda_1 - {K_SIGMA:g} stderr > {_FAKE}), the rows resolved regular must have "
+             "a thin P_2pi curve (thickness < 0.01: a torus): reproduced when at least one such row exists and all "
+             "have it, differs when one does not, not yet computed when none is resolved regular (unresolved rows "
+             "are not counted)",
+        reason=reason)
