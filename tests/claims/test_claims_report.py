@@ -136,7 +136,7 @@ def test_command_line_rejudges_without_snakemake_and_names_what_is_missing(tmp_p
     out = tmp_path / "ledger" / "claims.csv"
     (tmp_path / "data").mkdir()
     (tmp_path / "figures").mkdir()
-    run = subprocess.run([sys.executable, "-m", "sleighsim.claims", "--data", str(tmp_path / "data"), "--figures",
+    run = subprocess.run([sys.executable, "-m", "sleighsim.cli", "claims", "--data", str(tmp_path / "data"), "--figures",
                           str(tmp_path / "figures"), "--out", str(out)], capture_output=True, text=True, timeout=120)
     assert run.returncode == 3 and "missing or unreadable" in run.stderr, run.stderr
     assert str(tmp_path / "data" / "fig2.nc") in run.stderr and str(tmp_path / "figures" / "fig1.png") in run.stderr
@@ -149,10 +149,10 @@ def test_command_line_rejudges_without_snakemake_and_names_what_is_missing(tmp_p
                        (["--out", str(tmp_path / "x.txt")], ".csv")):
         base = {"--data": str(tmp_path / "data"), "--figures": str(tmp_path / "figures"), "--out": str(out)}
         base.update(dict(zip(args[::2], args[1::2])))
-        bad = subprocess.run([sys.executable, "-m", "sleighsim.claims", *[x for kv in base.items() for x in kv]],
+        bad = subprocess.run([sys.executable, "-m", "sleighsim.cli", "claims", *[x for kv in base.items() for x in kv]],
                              capture_output=True, text=True, timeout=120)
         assert bad.returncode == 2 and says in bad.stderr, (args, bad.stderr)
-    helped = subprocess.run([sys.executable, "-m", "sleighsim.claims", "--help"], capture_output=True, text=True)
+    helped = subprocess.run([sys.executable, "-m", "sleighsim.cli", "claims", "--help"], capture_output=True, text=True)
     assert helped.returncode == 0 and "--figures" in helped.stdout
 
 

@@ -13,7 +13,7 @@ from test_judges import _spectrum
 
 from sleighsim.ops import registry
 from sleighsim.io.netcdf import write_dataset
-from sleighsim.io.config import merged_config
+from sleighsim.ops.config import merged_config
 from sleighsim.claims import ledger as claims
 from sleighsim.report.figures.catalog import FIGURES
 
@@ -96,7 +96,7 @@ def _cli(tmp_path, *config):
     """The ledger the command line writes from a partial tree (it exits 3, naming what is missing)."""
     out = tmp_path / "ledger" / "claims.csv"
     (tmp_path / "figures").mkdir(exist_ok=True)
-    run = subprocess.run([sys.executable, "-m", "sleighsim.claims", "--data", str(tmp_path / "data"), "--figures",
+    run = subprocess.run([sys.executable, "-m", "sleighsim.cli", "claims", "--data", str(tmp_path / "data"), "--figures",
                           str(tmp_path / "figures"), "--out", str(out), *config], check=False, capture_output=True,
                          text=True, timeout=120)
     assert run.returncode == 3 and "are missing or unreadable" in run.stderr, run.stderr
@@ -116,6 +116,6 @@ def test_command_line_reads_the_ladders_and_realizations_of_the_config_files_it_
     more.write_text(yaml.safe_dump({"scenes": {"lyap_spectrum": {"realizations": n + 1}}}))
     c18 = _cli(tmp_path, "--config", str(SMOKE), str(more))["C18"]
     assert c18.verdict == "not yet computed" and f"realization/{n}/lyap_spectrum" in c18.reason
-    bad = subprocess.run([sys.executable, "-m", "sleighsim.claims", "--out", str(tmp_path / "x.csv"), "--config",
+    bad = subprocess.run([sys.executable, "-m", "sleighsim.cli", "claims", "--out", str(tmp_path / "x.csv"), "--config",
                           str(tmp_path / "none.yaml")], check=False, capture_output=True, text=True, timeout=120)
     assert bad.returncode == 2 and "none.yaml: no such file" in bad.stderr

@@ -222,7 +222,7 @@ def test_the_smoke_ledger_judges_what_the_smoke_config_declares(smoke_run):
     """The claims rule passes the run's config to the ledger: C16 (fig9_ref, laddered in smoke.yaml)
     is judged in long double, C18 (lyap_spectrum, realized) on every realization; re-judging the
     tree from the command line's merged config gives the same rows."""
-    from sleighsim.io.config import merged_config
+    from sleighsim.ops.config import merged_config
     from sleighsim.claims import ledger as claims
 
     assert "long double" in registry.laddered(SMOKE_CFG)["fig9_ref"] and "lyap_spectrum" in registry.realized(SMOKE_CFG)

@@ -19,8 +19,8 @@ stale one from an older config is not read.
 
 Command line (re-judges a results tree in seconds, no Snakemake; ``--config`` names the config
 files the tree was run with, merged onto config/config.yaml as ``snakemake --configfile`` does):
-``python -m sleighsim.claims --data results/data --figures results/figures --out results/claims.csv``
-(add ``--config config/smoke.yaml`` for a smoke run's tree; :mod:`sleighsim.claims.__main__`).
+``sleighsim claims --data results/data --figures results/figures --out results/claims.csv``
+(add ``--config config/smoke.yaml`` for a smoke run's tree; :mod:`sleighsim.cli.claims`).
 """
 
 from __future__ import annotations

@@ -11,7 +11,7 @@ The command line over the cost modules of :mod:`sleighsim.ops`::
 - :mod:`~sleighsim.report.figures.costs`: the cost figures;
 - :mod:`~sleighsim.ops.workmodel` and :mod:`~sleighsim.ops.estimate`: a measured summary scaled to
   the run another config would launch, with the chunk jobs checked against ``chunk_runtime_min``;
-- :mod:`~sleighsim.ops.facts`: git commit and machine facts (the merged config: :mod:`~sleighsim.io.config`).
+- :mod:`~sleighsim.ops.facts`: git commit and machine facts (the merged config: :mod:`~sleighsim.ops.config`).
 """
 
 from __future__ import annotations
@@ -21,7 +21,7 @@ import math
 import sys
 from pathlib import Path
 
-from sleighsim.io.config import BASE_CONFIG, REPO, merged_config
+from sleighsim.ops.config import BASE_CONFIG, REPO, merged_config
 from sleighsim.ops.estimate import changed_keys, estimate, format_estimate
 from sleighsim.ops.summary import SCHEMA, read_summary
 from sleighsim.report.figures.costs import plot_costs

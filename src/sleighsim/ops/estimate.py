@@ -11,7 +11,7 @@ from pathlib import Path
 
 from sleighsim.ops import registry
 from sleighsim.report.figures import catalog
-from sleighsim.io.config import BASE_CONFIG, REPO
+from sleighsim.ops.config import BASE_CONFIG, REPO
 from sleighsim.ops.workmodel import chunk_work, grid_rows, is_modelled, work
 
 

@@ -1,5 +1,5 @@
 """Facts a cost summary records about the run's setting: the git commit and the machine (the merged
-config is :func:`sleighsim.io.config.merged_config`)."""
+config is :func:`sleighsim.ops.config.merged_config`)."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ import subprocess
 from importlib import metadata
 from pathlib import Path
 
-from sleighsim.io.config import REPO
+from sleighsim.ops.config import REPO
 
 
 def git_commit(repo=REPO) -> str:

@@ -1,6 +1,6 @@
 """The sleighsim command: one entry point for the project's tools, each a subcommand.
 
-    sleighsim claims ...     judge the claims ledger from a results tree (python -m sleighsim.claims)
+    sleighsim claims ...     judge the claims ledger from a results tree
     sleighsim diff OLD NEW   compare two result trees dataset by dataset (python -m sleighsim.resultdiff)
     sleighsim costs ...      the run's measured cost, its estimate for a config, and the cost plot
     sleighsim configdoc ...  config/README.md from the config schema (--check: in step with it)
@@ -15,12 +15,12 @@ from __future__ import annotations
 import argparse
 import sys
 
-from sleighsim.claims import ledger
+from sleighsim.cli import claims
 from sleighsim.ops import configdoc, costs, resultdiff
 
 #: subcommand -> (the main it runs, its one-line help)
 COMMANDS = {
-    "claims": (ledger.main, "judge every claim of CLAIMS.md from a results tree; write the ledger"),
+    "claims": (claims.main, "judge every claim of CLAIMS.md from a results tree; write the ledger"),
     "diff": (resultdiff.main, "compare two result trees dataset by dataset (exit 1 when they differ)"),
     "costs": (costs.main, "the run's measured cost, its estimate for another config, and the cost plot"),
     "configdoc": (configdoc.main, "write config/README.md from the schema (--check: exit 1 when out of step)"),
@@ -46,7 +46,3 @@ def main(argv: list[str] | None = None) -> int:
         return int(run(argv[1:]) or 0)
     except SystemExit as stop:  # argparse's usage errors and --help inside a subcommand
         return stop.code if isinstance(stop.code, int) else 1
-
-
-if __name__ == "__main__":
-    raise SystemExit(main())

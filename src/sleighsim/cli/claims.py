@@ -1,10 +1,8 @@
-"""``python -m sleighsim.claims``: re-judge the claims ledger from a results tree without Snakemake,
+"""``sleighsim claims``: re-judge the claims ledger from a results tree without Snakemake,
 reading the precision ladders and realizations its config files (``--config``, default
-config/config.yaml) declare (``--help`` lists the options).
-
-This entry point is the one module of :mod:`sleighsim.claims` that imports upward: it hands the
-ledger the figures of :mod:`sleighsim.report.figures.catalog` (the figure rows of CLAIMS.md), as the
-workflow's claims job does."""
+config/config.yaml) declare (``--help`` lists the options). It hands the ledger the figures of
+:mod:`sleighsim.report.figures.catalog` (the figure rows of CLAIMS.md), as the workflow's claims
+job does."""
 
 from __future__ import annotations
 
@@ -13,14 +11,14 @@ import sys
 from pathlib import Path
 
 from sleighsim.claims.ledger import ledger, parse_claims, summary, write
-from sleighsim.io.config import BASE_CONFIG, REPO, merged_config
+from sleighsim.ops.config import BASE_CONFIG, REPO, merged_config
 from sleighsim.io.integrity import readable
 from sleighsim.ops.registry import run_datasets
 from sleighsim.report.figures.catalog import FIGURES, figures_built
 
 
 def _parser() -> argparse.ArgumentParser:
-    ap = argparse.ArgumentParser(prog="python -m sleighsim.claims",
+    ap = argparse.ArgumentParser(prog="sleighsim claims",
                                  description="Judge every claim of CLAIMS.md from a results tree; write the ledger.")
     ap.add_argument("--claims", default=str(REPO / "paper" / "CLAIMS.md"),
                     help="the claims list (default: the project's paper/CLAIMS.md)")
