@@ -11,8 +11,8 @@ import sys
 from pathlib import Path
 
 from sleighsim.claims.ledger import ledger, parse_claims, summary, write
-from sleighsim.ops.config import BASE_CONFIG, REPO, merged_config
 from sleighsim.io.integrity import readable
+from sleighsim.ops.config import BASE_CONFIG, REPO, merged_config
 from sleighsim.ops.registry import run_datasets
 from sleighsim.report.figures.catalog import FIGURES, figures_built
 
