@@ -97,7 +97,7 @@ def test_grid_axes_are_log_spaced_and_cover_the_range():
 
 
 def test_grid_rows_left_to_another_config_are_stored_as_nan_with_status_elsewhere_and_cost_nothing():
-    from sleighsim.ops.workmodel import grid_rows
+    from sleighsim.scenes.grid import grid_rows
 
     cfg = {"eps_range": [0.02, 0.5], "n_eps": 13, "b_range": [0.25, 4.0], "n_b": 12, "n_chunks": 13,
            "reference_eps": 0.1, "elsewhere": {"eps": [0.02], "config": "config/cluster.yaml"}}

@@ -18,6 +18,7 @@ from compliance_checker.runner import CheckSuite
 from sleighsim.io import cf
 from sleighsim.io import netcdf
 from sleighsim.ops import registry
+from sleighsim.scenes import catalog
 from sleighsim.scenes import basins
 from sleighsim.scenes import causes
 from sleighsim.scenes import grid
@@ -146,7 +147,7 @@ def test_every_scene_of_every_config_has_a_title():
     scenes = set()
     for path in CONFIGS:
         scenes |= {name for name, block in yaml.safe_load(path.read_text())["scenes"].items()
-                   if "kind" not in block or registry.KINDS[block["kind"]].dataset}
+                   if "kind" not in block or catalog.KINDS[block["kind"]].dataset}
     assert scenes <= set(registry.TITLES)
     assert set(registry.TITLES) - scenes == {"claims", "stability/verdicts"}
     for scene in scenes:

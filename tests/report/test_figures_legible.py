@@ -11,6 +11,7 @@ from conftest import smoke_config
 from sleighsim.ops import registry
 from sleighsim.report import figures
 from sleighsim.report.figures.common import finish, legibility
+from sleighsim.scenes import catalog
 
 SMOKE_CFG = smoke_config()
 
@@ -85,9 +86,9 @@ def figure_source(results, name):
     scenes in every finer precision), or a schematic's config block."""
     fig = registry.FIGURES[name]
     if fig.schematic:
-        return registry.scene_config(SMOKE_CFG, fig.schematic)
-    laddered = registry.laddered(SMOKE_CFG, on_request=True)
-    beside = [registry.variant(s, p) for s in (fig.data if fig.beside else ()) for p in laddered.get(s, ())
+        return catalog.scene_config(SMOKE_CFG, fig.schematic)
+    laddered = catalog.laddered(SMOKE_CFG, on_request=True)
+    beside = [catalog.variant(s, p) for s in (fig.data if fig.beside else ()) for p in laddered.get(s, ())
               if p != "double"]
     return [results / "data" / f"{d}.nc" for d in (*fig.data, *beside)]
 

@@ -40,7 +40,7 @@ def test_fastest_table_picks_the_fastest_run_reaching_each_error():
 def test_configured_tolerances_are_at_least_as_tight_as_the_converged_ones():
     """Every integrating scene of the paper config (its own tol or the default) is at least as tight
     as the loosest tolerance at which the bench found the scene observables converged."""
-    from sleighsim.ops import registry
+    from sleighsim.scenes import catalog
 
     summary_file = ROOT / "benchmarks" / "bench_summary.yaml"
     if not summary_file.exists():
@@ -50,8 +50,8 @@ def test_configured_tolerances_are_at_least_as_tight_as_the_converged_ones():
     converged = {k: v for k, v in summary.items() if k.startswith("loosest_converged_tol_")}
     assert converged, "the summary holds no converged tolerances"
     config = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
-    tols = {name: registry.scene_config(config, name)["tol"] for name in registry.datasets(config)
-            if "tol" in registry.scene_config(config, name)}
+    tols = {name: catalog.scene_config(config, name)["tol"] for name in catalog.datasets(config)
+            if "tol" in catalog.scene_config(config, name)}
     assert len(tols) >= 10
     for scene, tol in tols.items():
         for name, limit in converged.items():

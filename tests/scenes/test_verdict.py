@@ -180,12 +180,11 @@ def test_gather_keeps_an_answer_only_when_every_realization_gives_it(tmp_path):
     ln G padded to the longest cycle record, then the answer the realizations agree on."""
     import xarray as xr
 
-    from sleighsim import scenes
     from sleighsim.io.netcdf import read_dataset, write_dataset
-    from sleighsim.scenes.verdict import gather
+    from sleighsim.scenes.verdict import CHAOS_VERDICT, gather
 
     cfg = {"kind": "chaos_verdict", "n_chunks": 3, "realization_rel": 1e-12, "states": {"main": [], "rotor_a": []}}
-    assert scenes.chunk_count(cfg) == 6
+    assert CHAOS_VERDICT.chunk_count(cfg) == 6
     per = [["undecided", "regular"], ["chaotic", "regular"], ["undecided", "regular"]]
     paths = []
     for k, v in enumerate(per):

@@ -12,6 +12,7 @@ import yaml
 from conftest import ROOT, SMOKE, smoke_config, snakemake
 
 from sleighsim.ops import registry
+from sleighsim.scenes import catalog
 from sleighsim.io.netcdf import read_dataset
 
 SMOKE_CFG = smoke_config()  # config/smoke.yaml is an overlay (tests/test_config.py checks it)
@@ -21,7 +22,7 @@ PAPER_CFG = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
 def test_scene_names_appear_only_in_the_config_and_the_registry():
     """The list of scenes is written once: the workflow, the library and the outputs derive it. (A scene
     named like its figure or its kind, fig3 or bench, shares that name with a plot function or module.)"""
-    names = [n for n in PAPER_CFG["scenes"] if n not in registry.FIGURES and n not in registry.KINDS]
+    names = [n for n in PAPER_CFG["scenes"] if n not in registry.FIGURES and n not in catalog.KINDS]
     assert len(names) >= 10
     places = [ROOT / "workflow" / "Snakefile", *sorted((ROOT / "workflow").rglob("*.smk")), *sorted((ROOT / "workflow").rglob("*.py")),
               *sorted((ROOT / "src").rglob("*.py"))]
@@ -39,7 +40,7 @@ def test_smoke_workflow_builds_every_figure_and_dataset(smoke_run):
             f = results / "figures" / f"{fig}.{ext}"
             assert f.stat().st_size > 1000, f
         assert (results / "benchmarks" / "figure" / f"{fig}.tsv").exists()
-    for scene in registry.datasets(SMOKE_CFG):
+    for scene in catalog.datasets(SMOKE_CFG):
         path = results / "data" / f"{scene}.nc"
         ds = read_dataset(path)
         assert ds.attrs["git_commit"] and ds.attrs["version_heyoka"], scene
@@ -47,7 +48,7 @@ def test_smoke_workflow_builds_every_figure_and_dataset(smoke_run):
             bound = 100 * ds.attrs["tol_max"] if "tol_max" in ds.attrs else 1e-8
             assert ds.attrs["energy_max_rel_drift"] < bound, scene
         assert oct(path.stat().st_mode & 0o777) == oct(0o666 & ~_umask()), scene
-    for scene in registry.datasets(SMOKE_CFG, on_request=True):
+    for scene in catalog.datasets(SMOKE_CFG, on_request=True):
         if SMOKE_CFG["scenes"][scene].get("on_request"):
             assert not (results / "data" / f"{scene}.nc").exists(), f"{scene} is on request"
     for scene in ("fig9_ref", "fig9_highE", "fig9_eps001"):
@@ -220,7 +221,7 @@ def test_the_smoke_ledger_judges_what_the_smoke_config_declares(smoke_run):
     from sleighsim.ops.facts import merged_config
     from sleighsim.claims import ledger as claims
 
-    assert "long double" in registry.laddered(SMOKE_CFG)["fig9_ref"] and "lyap_spectrum" in registry.realized(SMOKE_CFG)
+    assert "long double" in catalog.laddered(SMOKE_CFG)["fig9_ref"] and "lyap_spectrum" in catalog.realized(SMOKE_CFG)
     results = smoke_run / "results"
     rows = {r.id: r for r in claims.read(results / "claims.nc")}
     assert rows["C16"].precision.startswith("long double") and rows["C18"].realizations
@@ -235,12 +236,12 @@ def test_every_laddered_scene_of_the_smoke_run_has_its_ladder_from_one_settled_s
     has its variant, run in that arithmetic after the double pre-run, and a ladder naming a converged
     precision or "not converged"; F3, F8, F10 and F11 are drawn beside it."""
     data = smoke_run / "results" / "data"
-    ladders = registry.laddered(SMOKE_CFG)
+    ladders = catalog.laddered(SMOKE_CFG)
     assert {"fig3", "fig8", "lyap_energy", "lyap_protocol", "fig11_grid"} <= set(ladders)
     for scene, precisions in ladders.items():
-        ds = read_dataset(data / f"{registry.ladder_name(scene)}.nc")
+        ds = read_dataset(data / f"{catalog.ladder_name(scene)}.nc")
         assert ds.attrs["converged_precision"] in (*precisions[:-1], "not converged"), scene
         assert list(ds.precision.values) == precisions and ds.sizes["observable"] >= 1, scene
-        finer = read_dataset(data / f"{registry.variant(scene, precisions[-1])}.nc")
+        finer = read_dataset(data / f"{catalog.variant(scene, precisions[-1])}.nc")
         assert finer.attrs["precision"] == precisions[-1] and finer.attrs["transient_precision"] in ("double", precisions[-1])
     assert all(registry.FIGURES[f].beside for f in ("fig3", "fig8", "fig10", "fig11"))

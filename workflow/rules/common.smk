@@ -1,16 +1,17 @@
-# Names the rules share, all derived from the config and sleighsim.ops.registry (nothing listed here).
-from sleighsim import scenes
+# Names the rules share, all derived from the config, sleighsim.scenes.catalog and sleighsim.ops.registry
+# (nothing listed here).
 from sleighsim.ops import registry
+from sleighsim.scenes import catalog
 
 R = config["results"]
 SCENES = config["scenes"]
 # Datasets and figures of the full run, and with the on-request ones (built when asked for).
-DATASETS = registry.datasets(config)
-ALL_DATASETS = registry.datasets(config, on_request=True)
+DATASETS = catalog.datasets(config)
+ALL_DATASETS = catalog.datasets(config, on_request=True)
 FIGURES_BUILT = registry.figures_built(config)
 ALL_FIGURES = registry.figures_built(config, on_request=True)
 SCHEMATICS = [f for f in ALL_FIGURES if registry.FIGURES[f].schematic]
-CHUNKED = [n for n in ALL_DATASETS if registry.KINDS[SCENES[n]["kind"]].chunked]
+CHUNKED = [n for n in ALL_DATASETS if catalog.KINDS[SCENES[n]["kind"]].chunked]
 FIRST = [
     n
     for n in ALL_DATASETS
@@ -19,22 +20,22 @@ FIRST = [
 PLAIN = [n for n in ALL_DATASETS if n not in CHUNKED and n not in FIRST]
 # Scenes run in several precisions from one settled point ({scene: precisions}), the datasets of
 # their finer precisions and their ladders (sleighsim.analysis.observables), by name under data/.
-LADDERED = registry.laddered(config, on_request=True)
+LADDERED = catalog.laddered(config, on_request=True)
 LADDERED_CHUNKED = [
     s for s in LADDERED if s in CHUNKED
 ]  # their variants are chunked too
 TAG_PRECISION = {
-    registry.precision_tag(p): p
+    catalog.precision_tag(p): p
     for ps in LADDERED.values()
     for p in ps
     if p != "double"
 }
 # Scenes run again from perturbed start states ({scene: realizations}) and those datasets by name.
-REALIZED = registry.realized(config, on_request=True)
+REALIZED = catalog.realized(config, on_request=True)
 # Runtime resource (minutes) of a scene job whose block sets no runtime_min (the SLURM profile's default).
 SCENE_RUNTIME_MIN = 60
 # Every dataset of the default run: the scenes, their finer precisions, ladders and realizations.
-CLAIMS_DATA = registry.run_datasets(config)
+CLAIMS_DATA = catalog.run_datasets(config)
 LADDER_DATA = [n for n in CLAIMS_DATA if n.startswith(("precision/", "ladder/"))]
 REALIZATION_DATA = [n for n in CLAIMS_DATA if n.startswith("realization/")]
 # What the report reads: the datasets of the figures shown and of the tables built.
@@ -55,7 +56,7 @@ def canonical(value):
     return value
 
 
-SCENE_CFG = {name: canonical(registry.scene_config(config, name)) for name in SCENES}
+SCENE_CFG = {name: canonical(catalog.scene_config(config, name)) for name in SCENES}
 
 
 def alternatives(names):
@@ -72,7 +73,7 @@ def figure_inputs(wildcards):
     laddered scenes in every finer precision."""
     fig = registry.FIGURES[wildcards.fig]
     beside = [
-        registry.variant(s, p)
+        catalog.variant(s, p)
         for s in (fig.data if fig.beside else ())
         for p in LADDERED.get(s, ())
         if p != "double"
@@ -103,7 +104,7 @@ def realization_cfg(wildcards):
 
 def ladder_inputs(wildcards):
     return [
-        f"{R}/data/{registry.variant(wildcards.scene, p)}.nc"
+        f"{R}/data/{catalog.variant(wildcards.scene, p)}.nc"
         for p in LADDERED[wildcards.scene]
     ]
 
@@ -117,7 +118,7 @@ def scene_inputs(wildcards):
 
 def chunk_files(wildcards):
     """The chunk files of a chunked scene, or of its variant in a finer precision (wildcard ``tag``)."""
-    n = scenes.chunk_count(SCENES[wildcards.scene])
+    n = catalog.chunk_count(SCENES[wildcards.scene])
     where = f"precision/{wildcards.tag}/" if "tag" in wildcards.keys() else ""
     return expand(f"{R}/chunks/{where}{wildcards.scene}/{{k}}.nc", k=range(n))
 
@@ -131,7 +132,7 @@ def benchmark_files(datasets, figures):
         if scene in CHUNKED and (name == scene or name.startswith("precision/")):
             chunks = expand(
                 f"{R}/benchmarks/chunk/{name}/{{k}}.tsv",
-                k=range(scenes.chunk_count(SCENES[scene])),
+                k=range(catalog.chunk_count(SCENES[scene])),
             )
             out[f"data/{name}"] = [f"{R}/benchmarks/gather/{name}.tsv"] + chunks
         else:

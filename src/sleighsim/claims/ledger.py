@@ -47,13 +47,8 @@ from sleighsim.ops.registry import (
     EVIDENCE,
     FIGURES,
     figures_built,
-    ladder_name,
-    laddered,
-    realization_name,
-    realized,
-    run_datasets,
-    variant,
 )
+from sleighsim.scenes.catalog import ladder_name, laddered, realization_name, realized, run_datasets, variant
 from sleighsim.claims import rules
 from sleighsim.claims.causes import CAUSE_TESTS
 from sleighsim.claims.judges import JUDGES

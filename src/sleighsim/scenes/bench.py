@@ -36,6 +36,8 @@ from sleighsim.engine import transient
 from sleighsim.engine.integrate import final_state, integrate, sample_grid
 from sleighsim.io.netcdf import write_dataset
 from sleighsim.model.params import Params
+from sleighsim.scenes import memory
+from sleighsim.scenes.kind import SceneKind
 
 log = logging.getLogger("sleighsim")
 
@@ -363,6 +365,9 @@ def bench(cfg: dict, scene: str = "") -> xr.Dataset:
     ds.attrs.update({f"overhead_{k}": v for k, v in overhead(cfg).items()})
     ds.attrs["wall_time_s"] = time.perf_counter() - start
     return ds
+
+
+BENCH = SceneKind(name="bench", compute=bench, integrates=False, records=lambda c: [memory.span(c, "t_long", "dt_long")])
 
 
 QUICK = dict(

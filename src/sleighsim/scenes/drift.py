@@ -20,6 +20,9 @@ from sleighsim.model.attrs import state_attrs
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import state_at_label
 from sleighsim.engine.transient import settle
+from sleighsim.scenes import memory
+from sleighsim.scenes.checks import multiple
+from sleighsim.scenes.kind import SceneKind
 
 log = logging.getLogger("sleighsim")
 
@@ -99,3 +102,13 @@ def drift_windows(cfg: dict, scene: str = "") -> xr.Dataset:
     log.info("%s: spike interval %s (%s), lambda_1 %s (%s)", scene, judged["spike_interval"]["verdict"],
              judged["spike_interval"]["reason"], judged["lambda_1"]["verdict"], judged["lambda_1"]["reason"])
     return ds
+
+
+def _drift_windows_checks(w, cfg):
+    multiple(f"{w}.window", cfg["window"], "tau", cfg["tau"], least=2)
+    multiple(f"{w}.T", cfg["T"], "window", cfg["window"])
+
+
+DRIFT_WINDOWS = SceneKind(
+    name="drift_windows", compute=drift_windows, checks=_drift_windows_checks,
+    records=lambda c: [*memory.pre_run(c, "t_transient"), memory.span(c, "window", "tau", 2)])

@@ -20,6 +20,9 @@ from sleighsim.io.netcdf import read_dataset
 from sleighsim.model.params import Params
 from sleighsim.engine.transient import settle
 from sleighsim.scenes.common import initial_state, steady_arithmetic
+from sleighsim.scenes import memory
+from sleighsim.scenes.checks import ConfigError
+from sleighsim.scenes.kind import SceneKind
 
 log = logging.getLogger("sleighsim")
 
@@ -91,6 +94,12 @@ def poincare_maps(cfg: dict, scene: str = "") -> xr.Dataset:
     return ds
 
 
+POINCARE = SceneKind(
+    name="poincare", compute=poincare_maps, observables=("rotation_number", "return_time_mean", "n_loops"),
+    records=lambda c: [*memory.pre_run(c, "t_settle"), memory.span(c, "attractor_span", "attractor_dt")],
+    pre_run="t_settle")
+
+
 def psd(cfg: dict, scene: str = "") -> xr.Dataset:
     """Welch PSD of u and Omega on the attractor, band edges and near-zero peaks (F13, F14);
     band edges are recomputed at a finer sampling to show they do not move."""
@@ -143,6 +152,22 @@ def psd(cfg: dict, scene: str = "") -> xr.Dataset:
     return ds
 
 
+def _psd_checks(w, cfg):
+    if cfg["check_duration"] > cfg["duration"]:
+        raise ConfigError(f"{w}.check_duration = {cfg['check_duration']} must lie in (0, duration = {cfg['duration']}]")
+    for key, span in (("segment", cfg["duration"]), ("check_segment", cfg["check_duration"])):
+        if cfg["welch"][key] > span:
+            raise ConfigError(f"{w}.welch.{key} = {cfg['welch'][key]} must lie in (0, {span}]")
+
+
+PSD = SceneKind(
+    name="psd", compute=psd,
+    observables=("Omega_band_low", "Omega_band_high", "Omega_band_peak", "u_band_peak", "Omega_n_peaks_near_zero"),
+    records=lambda c: [*memory.pre_run(c, "t_settle"), memory.span(c, "duration", "dt"),
+                       memory.span(c, "check_duration", "check_dt")],
+    checks=_psd_checks, pre_run="t_settle")
+
+
 def attractor_scaling(cfg: dict, inputs: dict, scene: str = "") -> xr.Dataset:
     """C17: the P_pi/2 iterates of the ``scaled`` input (a higher energy label), divided by
     c = sqrt(label ratio), against those of the ``reference`` input (poincare.scaled_set_distance)."""
@@ -165,3 +190,7 @@ def attractor_scaling(cfg: dict, inputs: dict, scene: str = "") -> xr.Dataset:
              d["scaled_median"], d["unscaled_median"], c)
     return ds
 
+
+#: Reads two poincare datasets and integrates nothing: it holds no records.
+ATTRACTOR_SCALING = SceneKind(name="attractor_scaling", compute=attractor_scaling, inputs=("reference", "scaled"),
+                              integrates=False, records=lambda c: [])

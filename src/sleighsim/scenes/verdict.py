@@ -59,7 +59,10 @@ from sleighsim.io.netcdf import read_dataset
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import state_at_label
 from sleighsim.engine.transient import settle
+from sleighsim.scenes import memory
 from sleighsim.scenes.common import nan_padded, realization_states
+from sleighsim.scenes.kind import SceneKind
+from sleighsim.scenes.workload import HORIZON_KEYS, horizon_work
 
 log = logging.getLogger("sleighsim")
 
@@ -629,3 +632,24 @@ def gather(paths, cfg: dict, scene: str = "") -> xr.Dataset:
                     realization_rule=" ".join((realization_states.__doc__ + " " + agree.__doc__).split()),
                     wall_time_s=float(sum(c.attrs["wall_time_s"] for c in chunks)))
     return ds
+
+
+def _chunk_count(cfg: dict) -> int:
+    """One chunk job per realization and state (:func:`chunk`)."""
+    return cfg["n_chunks"] * len(cfg["states"])
+
+
+def _chunk_work(cfg: dict) -> list[float]:
+    """Work of each chunk job: one state of one realization, an equal share of the block's horizons
+    (a block without n_chunks, measured before the verdict ran realizations, is one realization)."""
+    n, states = cfg.get("n_chunks", 1), len(cfg["states"])
+    return [horizon_work(cfg) / states] * (n * states)
+
+
+CHAOS_VERDICT = SceneKind(
+    name="chaos_verdict", chunk=chunk, gather=gather, chunk_count=_chunk_count, pre_run="t_transient",
+    records=lambda c: [*memory.pre_run(c, "t_transient"), *memory.benettin(c, 8),
+                       memory.span(c, "frequency.T", "frequency.dt", 4 * max(c["frequency"]["splits"])),
+                       memory.span(c, "megno_samples", None, 2)],
+    work=lambda cfg: sum(_chunk_work(cfg)), chunk_work=_chunk_work,
+    modelled=lambda leaf: leaf in HORIZON_KEYS or leaf == "n_chunks")
