@@ -5,7 +5,7 @@ Layout, in layers whose imports run downward only (docs/layout.md; import-linter
 pyproject.toml): ``io`` (datasets, CF, integrity), ``model`` (mechanics, parameters, equations,
 symmetries), ``engine`` (integrators), ``chaos`` (indicators and their judges), ``analysis``
 (spectra, fits, windows, observables), ``scenes`` (config blocks to datasets, one module per
-kind), ``claims`` (the ledger), ``report`` (figures and the page), ``ops`` (registry, config
+kind), ``claims`` (the ledger), ``report`` (figures and the page), ``ops`` (config
 checks, costs) and ``cli``.
 """
 

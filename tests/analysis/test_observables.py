@@ -9,7 +9,7 @@ import pytest
 import xarray as xr
 
 from sleighsim.analysis import observables
-from sleighsim.ops import registry
+from sleighsim.scenes import catalog
 from sleighsim.scenes.steady_state import poincare_maps
 
 
@@ -63,9 +63,9 @@ def test_each_observable_states_its_uncertainty():
         observables.observable(ds, "p2pi_curve_thickness")
 
 
-def test_every_registered_observable_has_an_uncertainty_rule():
-    for kind, names in registry.OBSERVABLES.items():
-        for name in names:
+def test_every_declared_observable_has_an_uncertainty_rule():
+    for kind, declared in catalog.KINDS.items():
+        for name in declared.observables:
             try:
                 observables.observable(xr.Dataset(), name)
             except (KeyError, AttributeError) as err:  # the empty dataset lacks the value, not the rule
@@ -75,7 +75,7 @@ def test_every_registered_observable_has_an_uncertainty_rule():
 def test_ladder_of_synthetic_runs():
     double = _poincare(0.25, (0.24, 0.26), [1.0, 1.0, 1.0, 1.0])
     ld = _poincare(0.30, (0.299, 0.301), [1.0, 1.0, 1.0, 1.0], precision="long double", tol=2.0**-63)
-    ds = observables.ladder("poincare", [double, ld], ["double", "long double"], scene="x")
+    ds = observables.ladder("poincare", catalog.KINDS["poincare"].observables, [double, ld], ["double", "long double"], scene="x")
     assert list(ds.converged_precision_of.values) == ["not converged", "double", "double"]
     assert ds.attrs["converged_precision"] == "not converged"
     assert ds.value.sel(precision="long double", observable="rotation_number") == 0.30
@@ -85,7 +85,7 @@ def test_ladder_of_synthetic_runs():
 
 def test_ladder_refuses_runs_from_different_settled_states():
     with pytest.raises(ValueError, match="different settled states"):
-        observables.ladder("poincare", [_poincare(0.25, (0.25, 0.25), [1.0]),
+        observables.ladder("poincare", catalog.KINDS["poincare"].observables, [_poincare(0.25, (0.25, 0.25), [1.0]),
                                         _poincare(0.25, (0.25, 0.25), [1.0], start=(0.1, 0.2, 1.0, 1e-15))],
                            ["double", "long double"])
 
@@ -100,7 +100,7 @@ def test_poincare_scene_in_double_and_long_double_from_one_settled_point():
     runs = [poincare_maps({**cfg, "precision": p}, scene="t") for p in ("double", "long double")]
     assert [r.attrs["precision"] for r in runs] == ["double", "long double"]
     assert runs[1].attrs["tol"] == 2.0**-63 and runs[1].attrs["transient_tol"] == 2.0**-52
-    ds = observables.ladder("poincare", runs, ["double", "long double"], scene="t")
+    ds = observables.ladder("poincare", catalog.KINDS["poincare"].observables, runs, ["double", "long double"], scene="t")
     assert ds.attrs["converged_precision"] == "double"
     assert 0 < ds.separation.max() < 1e-9
 
@@ -150,7 +150,7 @@ def test_a_stated_uncertainty_is_used_and_a_missing_observable_never_agrees():
     b = xr.Dataset(attrs={"n_spikes": 7, "settled_state": np.zeros(4), "tol": 1e-19, "precision": "long double"})
     assert observables.observable(a, "spike_interval_mean") == (2300.0, 30.0)
     assert all(math.isnan(v) for v in observables.observable(b, "spike_interval_mean"))
-    ds = observables.ladder("trajectory", [a, b], ["double", "long double"], scene="x")
+    ds = observables.ladder("trajectory", catalog.KINDS["trajectory"].observables, [a, b], ["double", "long double"], scene="x")
     assert list(ds.observable.values) == ["n_spikes", "spike_interval_mean"]  # stated by no run: left out
     assert list(ds.converged_precision_of.values) == ["double", "not converged"]
 
@@ -167,5 +167,5 @@ def test_trajectory_scene_in_double_and_long_double_from_one_settled_point():
     assert [(r.attrs["precision"], r.attrs["transient_precision"]) for r in runs] == [("double", "double"),
                                                                                    ("long double", "double")]
     assert runs[1].attrs["tol"] == 2.0**-63
-    ds = observables.ladder("trajectory", runs, ["double", "long double"], scene="t")
+    ds = observables.ladder("trajectory", catalog.KINDS["trajectory"].observables, runs, ["double", "long double"], scene="t")
     assert "path_reach" in ds.observable.values and ds.attrs["converged_precision"] == "double"

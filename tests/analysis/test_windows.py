@@ -96,7 +96,7 @@ def test_windowed_orbit_in_long_double_matches_double_where_both_are_accurate():
 def test_drift_scene_at_smoke_size_in_each_precision(long_double):
     from conftest import smoke_config
 
-    from sleighsim.ops.registry import scene_config
+    from sleighsim.scenes.catalog import scene_config
     from sleighsim.scenes.drift import drift_windows
 
     config = smoke_config()

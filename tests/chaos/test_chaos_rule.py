@@ -150,7 +150,7 @@ def test_the_loschmidt_test_needs_two_decades_below_saturation_where_other_indic
     """At ln G = 36 (the main state's torus) long double's G x rounding is 2.3e-4: it follows the orbit
     through a cycle (< 1e-3), but the Loschmidt return error would start within two decades of
     saturation; quad follows for both; without a measured cycle nothing is set aside."""
-    from sleighsim.scenes.verdict import indicator_follows
+    from sleighsim.scenes.verdict_tangent import indicator_follows
 
     arithmetic = {"megno": "long double", "loschmidt": "long double"}
     assert indicator_follows(36.0, arithmetic) == {"megno": "follows", "loschmidt": "does not follow"}

@@ -12,7 +12,7 @@ from sleighsim.model import equations
 from sleighsim.engine.integrate import final_state, integrate
 from sleighsim.model.params import Params
 from sleighsim.scenes import grid
-from sleighsim.scenes import verdict
+from sleighsim.scenes import verdict_tangent
 from sleighsim.model.symmetries import REFERENCE_STATE, b_image, state_at_label
 
 
@@ -97,7 +97,7 @@ def test_grid_axes_are_log_spaced_and_cover_the_range():
 
 
 def test_grid_rows_left_to_another_config_are_stored_as_nan_with_status_elsewhere_and_cost_nothing():
-    from sleighsim.ops.workmodel import grid_rows
+    from sleighsim.scenes.grid import grid_rows
 
     cfg = {"eps_range": [0.02, 0.5], "n_eps": 13, "b_range": [0.25, 4.0], "n_b": 12, "n_chunks": 13,
            "reference_eps": 0.1, "elsewhere": {"eps": [0.02], "config": "config/cluster.yaml"}}
@@ -204,8 +204,8 @@ def test_megno_in_long_double_matches_double_where_both_are_accurate():
     y0 = state_at_label([0.0, 0.1, 1.0, 0.0], p, 0.1127)
     cfg = dict(tol=2.220446049250313e-16, tol_long_double=1.0842021724855044e-19, T_megno=200.0, T_long_double=200.0,
                megno_samples=20, tau=10.0, compact_mode=True)
-    a = verdict.megno_run(p, y0, cfg, long_double=True)
-    b = verdict.megno_run(p, y0, cfg)
+    a = verdict_tangent.megno_run(p, y0, cfg, long_double=True)
+    b = verdict_tangent.megno_run(p, y0, cfg)
     ta, _ = lyapunov.sleigh_megno(cfg["tol_long_double"], True)
     assert ta.state.dtype == np.longdouble and a["log_growth"].dtype == float
     assert a["log_growth"] == pytest.approx(b["log_growth"], rel=1e-9, abs=1e-11)

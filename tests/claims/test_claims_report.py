@@ -17,7 +17,7 @@ from test_judges import _ref, _spectrum
 
 ROOT = Path(__file__).resolve().parents[2]
 CLAIMS_MD = ROOT / "paper" / "CLAIMS.md"
-#: Configs as the ledger reads them (sleighsim.ops.registry.laddered, realized): one that ladders and
+#: Configs as the ledger reads them (sleighsim.scenes.catalog.laddered, realized): one that ladders and
 #: realizes nothing, one that ladders fig9_ref in long double, one that realizes lyap_spectrum 3 times.
 PLAIN = {"scenes": {}}
 LADDERED = {"scenes": {"fig9_ref": {"kind": "poincare", "precisions": ["double", "long double"]}}}

@@ -1,5 +1,5 @@
 """Which datasets the claims ledger reads is what the run's config declares (its precision ladders
-and realizations: sleighsim.ops.registry.laddered, realized), never which files lie in the data
+and realizations: sleighsim.scenes.catalog.laddered, realized), never which files lie in the data
 directory: a stale file from an older config is not read, and a declared one that was not built
 leaves its claim "not yet computed"."""
 
@@ -11,7 +11,7 @@ from conftest import SMOKE
 from test_claims_report import CLAIMS_MD, LADDERED, PLAIN, REALIZED, _fig9, _ladder
 from test_judges import _spectrum
 
-from sleighsim.ops import registry
+from sleighsim.scenes import catalog
 from sleighsim.io.netcdf import write_dataset
 from sleighsim.ops.config import merged_config
 from sleighsim.claims import ledger as claims
@@ -27,7 +27,7 @@ def _rows(data, config):
 def _spectra(data, ks, div=-1e-3):
     """lyap_spectrum's realizations ``ks`` (0: the scene itself); contracting (C18 reproduced) at div < 0."""
     for k in ks:
-        write_dataset(_spectrum(div, 1e-4), data / f"{registry.realization_name('lyap_spectrum', k)}.nc")
+        write_dataset(_spectrum(div, 1e-4), data / f"{catalog.realization_name('lyap_spectrum', k)}.nc")
 
 
 def _laddered_fig9(data, loops_double=4, loops_long=3):
@@ -38,8 +38,8 @@ def _laddered_fig9(data, loops_double=4, loops_long=3):
 
 def test_the_smoke_config_judges_fig9_ref_in_long_double_and_lyap_spectrum_on_every_realization(tmp_path):
     config = merged_config([SMOKE])
-    n = registry.realized(config, on_request=True)["lyap_spectrum"]
-    assert "long double" in registry.laddered(config, on_request=True)["fig9_ref"] and n >= 3
+    n = catalog.realized(config, on_request=True)["lyap_spectrum"]
+    assert "long double" in catalog.laddered(config, on_request=True)["fig9_ref"] and n >= 3
     data = tmp_path / "data"
     _laddered_fig9(data)
     _spectra(data, range(n))
@@ -106,7 +106,7 @@ def _cli(tmp_path, *config):
 def test_command_line_reads_the_ladders_and_realizations_of_the_config_files_it_is_given(tmp_path):
     """No --config: config/config.yaml; --config files are merged onto it in order (a file that sets
     one key of one scene is enough)."""
-    n = registry.realized(merged_config(), on_request=True)["lyap_spectrum"]
+    n = catalog.realized(merged_config(), on_request=True)["lyap_spectrum"]
     data = tmp_path / "data"
     _laddered_fig9(data)
     _spectra(data, range(n))

@@ -19,7 +19,7 @@ from sleighsim.io import cf
 from sleighsim.io import netcdf
 from sleighsim.io import titles
 from sleighsim.io import vocabulary
-from sleighsim.ops import registry
+from sleighsim.scenes import catalog
 from sleighsim.scenes import basins
 from sleighsim.scenes import causes
 from sleighsim.scenes import grid
@@ -148,7 +148,7 @@ def test_every_scene_of_every_config_has_a_title():
     scenes = set()
     for path in CONFIGS:
         scenes |= {name for name, block in yaml.safe_load(path.read_text())["scenes"].items()
-                   if "kind" not in block or registry.KINDS[block["kind"]].dataset}
+                   if "kind" not in block or catalog.KINDS[block["kind"]].dataset}
     assert scenes <= set(titles.TITLES)
     assert set(titles.TITLES) - scenes == {"claims", "stability/verdicts"}
     for scene in scenes:

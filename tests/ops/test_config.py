@@ -12,8 +12,9 @@ import pytest
 import yaml
 from conftest import PAPER, ROOT, smoke_config
 
-from sleighsim.ops import configcheck, registry
+from sleighsim.ops import configcheck
 from sleighsim.ops.configcheck import ConfigError
+from sleighsim.scenes import catalog
 
 SCHEMA_PATH = ROOT / "workflow" / "schemas" / "config.schema.yaml"
 SCHEMA = yaml.safe_load(SCHEMA_PATH.read_text())
@@ -58,10 +59,8 @@ def dotted(path):
     return ".".join(str(p) if not isinstance(p, int) else f"[{p}]" for p in path).replace(".[", "[")
 
 
-def test_the_smoke_config_passes_and_the_schema_knows_every_kind():
+def test_the_smoke_config_passes():  # the schema's kinds: tests/scenes/test_catalog.py
     assert refused(copy.deepcopy(SMOKE)) == ""
-    assert set(SCHEMA["$defs"]["scene"]["properties"]["kind"]["enum"]) == set(registry.KINDS)
-    assert {kind for kind in registry.KINDS if kind in SCHEMA["$defs"]} == set(registry.KINDS)
 
 
 @pytest.mark.parametrize("bad", [float("nan"), math.inf, -math.inf])
@@ -139,12 +138,12 @@ def test_records_that_would_not_fit_in_memory_are_refused_with_the_size():
     configcheck.check(copy.deepcopy(SMOKE))  # the real machine holds the smoke config
     with pytest.raises(ConfigError, match=r"scenes.fig11_grid: t_pre / transient.dt"):
         configcheck.check_memory("fig11_grid", "lyapunov_grid", SMOKE["scenes"]["fig11_grid"], available=100.0)
-    kinds_estimated = {k for k in registry.KINDS if configcheck._records(k, _block_of_kind(k))}
+    kinds_estimated = {k for k in catalog.KINDS if catalog.KINDS[k].records(_block_of_kind(k))}
     assert kinds_estimated >= {"trajectory", "poincare", "psd", "attractor_levels", "lyapunov_grid", "bench"}
 
 
 def _block_of_kind(kind):
-    return next(registry.scene_config(SMOKE, n) for n, b in SMOKE["scenes"].items() if b["kind"] == kind)
+    return next(catalog.scene_config(SMOKE, n) for n, b in SMOKE["scenes"].items() if b["kind"] == kind)
 
 
 @pytest.mark.parametrize("path, value, why", [
@@ -219,7 +218,7 @@ def test_config_readme_is_generated_from_the_schema_and_documents_every_key():
         if isinstance(node.get("items"), dict):
             visit(node["items"], f"{path}[].")
 
-    for name in ["scene", *registry.KINDS, "transient", "params"]:
+    for name in ["scene", *catalog.KINDS, "transient", "params"]:
         visit(SCHEMA["$defs"][name], f"{name}.")
     visit({k: v for k, v in SCHEMA.items() if k != "$defs"}, "")
     assert not undocumented, undocumented
@@ -241,11 +240,11 @@ def test_a_gauge_without_a_ladder_is_refused():
 
 
 def test_laddered_scenes_and_their_datasets_are_named_by_the_registry():
-    ladders = registry.laddered(SMOKE)
+    ladders = catalog.laddered(SMOKE)
     assert ladders["fig9_ref"] == ["double", "long double"]
     assert "precision_ladder" not in ladders  # its own precisions are a parameter, not a ladder of the scene
-    assert registry.variant("fig9_ref", "long double") == "precision/long_double/fig9_ref"
-    assert registry.variant("fig9_ref", "double") == "fig9_ref" and registry.ladder_name("x") == "ladder/x"
-    cfg = registry.scene_config(SMOKE, "fig9_ref")
+    assert catalog.variant("fig9_ref", "long double") == "precision/long_double/fig9_ref"
+    assert catalog.variant("fig9_ref", "double") == "fig9_ref" and catalog.ladder_name("x") == "ladder/x"
+    cfg = catalog.scene_config(SMOKE, "fig9_ref")
     assert "precisions" not in cfg  # the double dataset does not depend on its ladder
-    assert registry.scene_config(SMOKE, "precision_ladder")["precisions"]
+    assert catalog.scene_config(SMOKE, "precision_ladder")["precisions"]

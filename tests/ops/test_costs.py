@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from sleighsim.ops import registry
+from sleighsim.scenes import catalog
 from sleighsim.ops import costs
 from sleighsim.ops import jobgraph
 from sleighsim.report.figures import costs as plots
@@ -269,7 +269,7 @@ def target(overlay=OVERLAY):
 
 
 def test_estimator_scales_the_grid_by_its_work_ratio():
-    assert workmodel.work("lyapunov_grid", registry.scene_config(BASE, "gr")) == pytest.approx(2 * 220)
+    assert workmodel.work("lyapunov_grid", catalog.scene_config(BASE, "gr")) == pytest.approx(2 * 220)
     est = estimate(target(), measured_summary())
     ratio = (4 * 520) / (2 * 220)
     scaled = {s["scene"]: s for s in est["scaled"]}

@@ -8,10 +8,10 @@ import pytest
 import xarray as xr
 from conftest import smoke_config
 
-from sleighsim.ops import registry
-from sleighsim.report.figures import catalog
+from sleighsim.report.figures import catalog as figure_catalog
 from sleighsim.report import figures
 from sleighsim.report.figures.common import finish, legibility
+from sleighsim.scenes import catalog
 
 SMOKE_CFG = smoke_config()
 
@@ -84,11 +84,11 @@ def test_fig11_states_the_spread_across_b_from_its_data(tmp_path):
 def figure_source(results, name):
     """What the figure rule gives ``name`` in the smoke run: its datasets (then those of its laddered
     scenes in every finer precision), or a schematic's config block."""
-    fig = catalog.FIGURES[name]
+    fig = figure_catalog.FIGURES[name]
     if fig.schematic:
-        return registry.scene_config(SMOKE_CFG, fig.schematic)
-    laddered = registry.laddered(SMOKE_CFG, on_request=True)
-    beside = [registry.variant(s, p) for s in (fig.data if fig.beside else ()) for p in laddered.get(s, ())
+        return catalog.scene_config(SMOKE_CFG, fig.schematic)
+    laddered = catalog.laddered(SMOKE_CFG, on_request=True)
+    beside = [catalog.variant(s, p) for s in (fig.data if fig.beside else ()) for p in laddered.get(s, ())
               if p != "double"]
     return [results / "data" / f"{d}.nc" for d in (*fig.data, *beside)]
 
@@ -97,7 +97,7 @@ def figure_source(results, name):
 def test_every_smoke_figure_is_legible_and_saved_for_a_paper(smoke_run):
     results = smoke_run / "results"
     problems = {}
-    for name in catalog.figures_built(SMOKE_CFG):
+    for name in figure_catalog.figures_built(SMOKE_CFG):
         assert (results / "figures" / f"{name}.pdf").read_bytes()[:5] == b"%PDF-", name
         fig = figures.build(name, figure_source(results, name))
         problems[name] = legibility(fig)

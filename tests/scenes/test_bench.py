@@ -7,7 +7,7 @@ import pytest
 import xarray as xr
 import yaml
 
-from sleighsim.scenes import bench
+from sleighsim.scenes import bench, bench_peers
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -40,7 +40,7 @@ def test_fastest_table_picks_the_fastest_run_reaching_each_error():
 def test_configured_tolerances_are_at_least_as_tight_as_the_converged_ones():
     """Every integrating scene of the paper config (its own tol or the default) is at least as tight
     as the loosest tolerance at which the bench found the scene observables converged."""
-    from sleighsim.ops import registry
+    from sleighsim.scenes import catalog
 
     summary_file = ROOT / "benchmarks" / "bench_summary.yaml"
     if not summary_file.exists():
@@ -50,8 +50,8 @@ def test_configured_tolerances_are_at_least_as_tight_as_the_converged_ones():
     converged = {k: v for k, v in summary.items() if k.startswith("loosest_converged_tol_")}
     assert converged, "the summary holds no converged tolerances"
     config = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
-    tols = {name: registry.scene_config(config, name)["tol"] for name in registry.datasets(config)
-            if "tol" in registry.scene_config(config, name)}
+    tols = {name: catalog.scene_config(config, name)["tol"] for name in catalog.datasets(config)
+            if "tol" in catalog.scene_config(config, name)}
     assert len(tols) >= 10
     for scene, tol in tols.items():
         for name, limit in converged.items():
@@ -62,7 +62,7 @@ def test_peer_ratios_compare_the_fastest_run_of_each_engine_reaching_each_target
     engine = ["heyoka taylor", "heyoka taylor", "scipy DOP853 + numpy rhs", "scipy DOP853 + numpy rhs", "diffrax Tsit5"]
     error = [1e-7, 1e-11, 1e-7, 1e-9, np.nan]  # diffrax failed: no error
     wall = [0.001, 0.002, 0.05, 0.08, 0.01]
-    others, ratios = bench.peer_ratios(engine, error, wall, [1e-6, 1e-8, 1e-10, 1e-12])
+    others, ratios = bench_peers.peer_ratios(engine, error, wall, [1e-6, 1e-8, 1e-10, 1e-12])
     assert others == ["scipy DOP853 + numpy rhs", "diffrax Tsit5"]
     assert ratios[0, 0] == pytest.approx(50)  # 0.05 s against 0.001 s
     assert ratios[1, 0] == pytest.approx(40)  # only the tighter runs reach 1e-8: 0.08 s against 0.002 s

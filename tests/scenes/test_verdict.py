@@ -12,7 +12,7 @@ from sleighsim.model import equations
 from sleighsim.chaos.verdicts import CHAOTIC, REGULAR, UNDECIDED
 from sleighsim.engine.integrate import integrate, sample_grid
 from sleighsim.model.params import Params
-from sleighsim.scenes.verdict import R, r_image
+from sleighsim.scenes.verdict_orbits import R, r_image
 
 C, G, U = CHAOTIC, REGULAR, UNDECIDED
 
@@ -51,23 +51,23 @@ def test_the_flow_is_reversible_under_R():
     (math.nan, 1e-5, "not confirmed"),
 ])
 def test_precision_check_on_each_branch(monkeypatch, lam, spread, want):
-    from sleighsim.scenes import verdict
+    from sleighsim.scenes import verdict_tangent
 
     tau, T, t_align = 10.0, 2e5, 1000.0
     n = int(T / tau)
     rng = np.random.default_rng(0)
     g = lam * tau + spread * tau * rng.normal(size=n) * np.sqrt(n / 10)  # block means scatter by ~spread
     g[: int(t_align / tau)] = 5.0  # alignment of the vector: must be left out
-    monkeypatch.setattr(verdict, "megno_run", lambda *a, **k: {"log_growth": g})
+    monkeypatch.setattr(verdict_tangent, "megno_run", lambda *a, **k: {"log_growth": g})
     cfg = dict(tau=tau, sigma=3.0, tol_long_double=1.08e-19, T_long_double=T, t_align=t_align)
-    out = verdict.precision_check(Params.paper(eps=0.1), [0.0, 0.1, 1.0, 0.0], cfg, "s")
+    out = verdict_tangent.precision_check(Params.paper(eps=0.1), [0.0, 0.1, 1.0, 0.0], cfg, "s")
     assert out["check"] == want and out["reason"].startswith(want)
     if math.isfinite(lam):
         assert out["lambda_1"] == pytest.approx(lam, abs=4 * out["stderr"])
 
 
 def test_loschmidt_run_in_long_double_has_the_smaller_rounding():
-    from sleighsim.scenes.verdict import loschmidt_run
+    from sleighsim.scenes.verdict_orbits import loschmidt_run
 
     p = Params.paper(eps=0.1)
     cfg = dict(tol=2.0**-52, tol_long_double=1.0842021724855044e-19, loschmidt_T=[10.0, 40.0], loschmidt_n=3)
@@ -96,7 +96,7 @@ _RUNS = {
 @pytest.mark.parametrize("quad_T", [0.0, 1e5])
 def test_frequency_indicator_runs_each_precision_only_when_needed(monkeypatch, case, quad_T):
     from sleighsim.model.params import Params
-    from sleighsim.scenes import verdict
+    from sleighsim.scenes import verdict_frequency
 
     specs, want = _RUNS[case]
     names = ("double", "long double", "quad")
@@ -109,10 +109,10 @@ def test_frequency_indicator_runs_each_precision_only_when_needed(monkeypatch, c
                     slope=slope, slope_err=0.55 if n > 2 else 1.18, T=2e5, f=4e-4)
 
     calls = []
-    monkeypatch.setattr(verdict, "frequency_run", run)
+    monkeypatch.setattr(verdict_frequency, "frequency_run", run)
     cfg = dict(tol=2.220446049250313e-16, tol_long_double=1.0842021724855044e-19,
                frequency={"quad_T": quad_T, "tol_quad": 1.925929944387235853e-34})
-    out = verdict.frequency_indicator(Params.paper(eps=0.1), [0.0, 0.1, 1.0, 0.0], cfg, 3.0)
+    out = verdict_frequency.frequency_indicator(Params.paper(eps=0.1), [0.0, 0.1, 1.0, 0.0], cfg, 3.0)
     expected = [p for p, spec in zip(names, specs) if spec is not None and (p != "quad" or quad_T > 0)]
     assert calls == expected and list(out["runs"]) == expected
     assert out["verdict"][0] == (want if "quad" in expected or case != "converged in quad" else U), out["verdict"][1]
@@ -125,7 +125,7 @@ def test_frequency_indicator_runs_each_precision_only_when_needed(monkeypatch, c
         assert out["error"] == pytest.approx(out["value"] / math.sqrt(2))
     else:
         assert math.isnan(out["value"]) and math.isnan(out["error"])
-    table = verdict.frequency_table([out], [2, 4, 8, 16])
+    table = verdict_frequency.frequency_table([out], [2, 4, 8, 16])
     made = np.isfinite(table["slope"][0]) | np.isinf(table["slope"][0])
     assert [p for p, m in zip(names, made) if m] == [p for p in expected if not math.isnan(specs[names.index(p)][0])]
 
@@ -134,13 +134,13 @@ def test_the_sleighs_flow_runs_in_quad_precision():
     pytest.importorskip("heyoka")
     from sleighsim.engine import integrators
     from sleighsim.model.params import Params
-    from sleighsim.scenes import verdict
+    from sleighsim.scenes import verdict_frequency
 
     cfg = dict(tol=2.220446049250313e-16, tol_long_double=1.0842021724855044e-19,
                frequency={"T": 200.0, "quad_T": 200.0, "dt": 0.5, "component": "u", "splits": [2, 4],
                           "min_cycles": 4.0, "tol_quad": 1.925929944387235853e-34})
     y = np.array([0.05, 0.02, 0.8, 0.4])
-    runs = {p: verdict.frequency_run(Params.paper(eps=0.1), y, cfg, p) for p in ("double", "long double", "quad")}
+    runs = {p: verdict_frequency.frequency_run(Params.paper(eps=0.1), y, cfg, p) for p in ("double", "long double", "quad")}
     flow, _ = integrators.flow(False, 1.925929944387235853e-34, quad=True)
     assert "real128" in str(flow.state.dtype)
     # the same orbit (end states agree to 1e-13 here): window frequencies agree to the refinement's
@@ -180,12 +180,11 @@ def test_gather_keeps_an_answer_only_when_every_realization_gives_it(tmp_path):
     ln G padded to the longest cycle record, then the answer the realizations agree on."""
     import xarray as xr
 
-    from sleighsim import scenes
     from sleighsim.io.netcdf import read_dataset, write_dataset
-    from sleighsim.scenes.verdict import gather
+    from sleighsim.scenes.verdict import CHAOS_VERDICT, gather
 
     cfg = {"kind": "chaos_verdict", "n_chunks": 3, "realization_rel": 1e-12, "states": {"main": [], "rotor_a": []}}
-    assert scenes.chunk_count(cfg) == 6
+    assert CHAOS_VERDICT.chunk_count(cfg) == 6
     per = [["undecided", "regular"], ["chaotic", "regular"], ["undecided", "regular"]]
     paths = []
     for k, v in enumerate(per):

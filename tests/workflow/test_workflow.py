@@ -12,8 +12,8 @@ import pytest
 import yaml
 from conftest import ROOT, SMOKE, smoke_config, snakemake
 
-from sleighsim.ops import registry
-from sleighsim.report.figures import catalog
+from sleighsim.report.figures import catalog as figure_catalog
+from sleighsim.scenes import catalog
 from sleighsim.io.netcdf import read_dataset
 
 SMOKE_CFG = smoke_config()  # config/smoke.yaml is an overlay (tests/test_config.py checks it)
@@ -23,13 +23,13 @@ PAPER_CFG = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
 def test_scene_names_appear_only_in_the_config_and_the_registry():
     """The list of scenes is written once: the workflow, the library and the outputs derive it. (A scene
     named like its figure or its kind, fig3 or bench, shares that name with a plot function or module.)"""
-    names = [n for n in PAPER_CFG["scenes"] if n not in catalog.FIGURES and n not in registry.KINDS]
+    names = [n for n in PAPER_CFG["scenes"] if n not in figure_catalog.FIGURES and n not in catalog.KINDS]
     assert len(names) >= 10
     places = [ROOT / "workflow" / "Snakefile", *sorted((ROOT / "workflow").rglob("*.smk")), *sorted((ROOT / "workflow").rglob("*.py")),
               *sorted((ROOT / "src").rglob("*.py"))]
-    declared = {sys.modules[f.plot.__module__].__file__ for f in catalog.FIGURES.values()}  # figures' declarations
+    declared = {sys.modules[f.plot.__module__].__file__ for f in figure_catalog.FIGURES.values()}  # figures' declarations
     allowed = {ROOT / "src" / "sleighsim" / p
-               for p in ("ops/registry.py", "io/titles.py", "claims/evidence.py", "report/tables.py")}
+               for p in ("io/titles.py", "claims/evidence.py", "report/tables.py")}
     allowed |= {ROOT / "src" / "sleighsim" / "report" / "figures" / Path(f).name for f in declared}
     found = [(p.relative_to(ROOT), n) for p in places if p not in allowed for n in names
              if re.search(rf"\b{n}\b", p.read_text())]
@@ -39,12 +39,12 @@ def test_scene_names_appear_only_in_the_config_and_the_registry():
 @pytest.mark.workflow
 def test_smoke_workflow_builds_every_figure_and_dataset(smoke_run):
     results = smoke_run / "results"
-    for fig in catalog.figures_built(SMOKE_CFG):
+    for fig in figure_catalog.figures_built(SMOKE_CFG):
         for ext in ("png", "pdf"):
             f = results / "figures" / f"{fig}.{ext}"
             assert f.stat().st_size > 1000, f
         assert (results / "benchmarks" / "figure" / f"{fig}.tsv").exists()
-    for scene in registry.datasets(SMOKE_CFG):
+    for scene in catalog.datasets(SMOKE_CFG):
         path = results / "data" / f"{scene}.nc"
         ds = read_dataset(path)
         assert ds.attrs["git_commit"] and ds.attrs["version_heyoka"], scene
@@ -52,7 +52,7 @@ def test_smoke_workflow_builds_every_figure_and_dataset(smoke_run):
             bound = 100 * ds.attrs["tol_max"] if "tol_max" in ds.attrs else 1e-8
             assert ds.attrs["energy_max_rel_drift"] < bound, scene
         assert oct(path.stat().st_mode & 0o777) == oct(0o666 & ~_umask()), scene
-    for scene in registry.datasets(SMOKE_CFG, on_request=True):
+    for scene in catalog.datasets(SMOKE_CFG, on_request=True):
         if SMOKE_CFG["scenes"][scene].get("on_request"):
             assert not (results / "data" / f"{scene}.nc").exists(), f"{scene} is on request"
     for scene in ("fig9_ref", "fig9_highE", "fig9_eps001"):
@@ -152,7 +152,7 @@ def test_atlas_builds_the_regime_diagram_and_the_basin_fractions(tmp_path):
     every sample once."""
     res = snakemake(tmp_path, SMOKE, "atlas", timeout=600)
     assert res.returncode == 0, res.stderr[-3000:]
-    for fig in catalog.ATLAS:
+    for fig in figure_catalog.ATLAS:
         assert (tmp_path / "results" / "figures" / f"{fig}.png").stat().st_size > 0
     ds = read_dataset(tmp_path / "results" / "data" / "basins.nc")
     n = SMOKE_CFG["scenes"]["basins"]["n_samples"]
@@ -225,12 +225,12 @@ def test_the_smoke_ledger_judges_what_the_smoke_config_declares(smoke_run):
     from sleighsim.ops.config import merged_config
     from sleighsim.claims import ledger as claims
 
-    assert "long double" in registry.laddered(SMOKE_CFG)["fig9_ref"] and "lyap_spectrum" in registry.realized(SMOKE_CFG)
+    assert "long double" in catalog.laddered(SMOKE_CFG)["fig9_ref"] and "lyap_spectrum" in catalog.realized(SMOKE_CFG)
     results = smoke_run / "results"
     rows = {r.id: r for r in claims.read(results / "claims.nc")}
     assert rows["C16"].precision.startswith("long double") and rows["C18"].realizations
     again = claims.ledger(ROOT / "paper" / "CLAIMS.md", results / "data", results / "figures", merged_config([SMOKE]),
-                           catalog.FIGURES)
+                           figure_catalog.FIGURES)
     assert [(r.id, r.verdict, r.precision, r.realizations) for r in again] == \
         [(r.id, r.verdict, r.precision, r.realizations) for r in rows.values()]
 
@@ -241,12 +241,12 @@ def test_every_laddered_scene_of_the_smoke_run_has_its_ladder_from_one_settled_s
     has its variant, run in that arithmetic after the double pre-run, and a ladder naming a converged
     precision or "not converged"; F3, F8, F10 and F11 are drawn beside it."""
     data = smoke_run / "results" / "data"
-    ladders = registry.laddered(SMOKE_CFG)
+    ladders = catalog.laddered(SMOKE_CFG)
     assert {"fig3", "fig8", "lyap_energy", "lyap_protocol", "fig11_grid"} <= set(ladders)
     for scene, precisions in ladders.items():
-        ds = read_dataset(data / f"{registry.ladder_name(scene)}.nc")
+        ds = read_dataset(data / f"{catalog.ladder_name(scene)}.nc")
         assert ds.attrs["converged_precision"] in (*precisions[:-1], "not converged"), scene
         assert list(ds.precision.values) == precisions and ds.sizes["observable"] >= 1, scene
-        finer = read_dataset(data / f"{registry.variant(scene, precisions[-1])}.nc")
+        finer = read_dataset(data / f"{catalog.variant(scene, precisions[-1])}.nc")
         assert finer.attrs["precision"] == precisions[-1] and finer.attrs["transient_precision"] in ("double", precisions[-1])
-    assert all(catalog.FIGURES[f].beside for f in ("fig3", "fig8", "fig10", "fig11"))
+    assert all(figure_catalog.FIGURES[f].beside for f in ("fig3", "fig8", "fig10", "fig11"))

@@ -1,18 +1,18 @@
-# Names the rules share, all derived from the config, sleighsim.ops.registry and the report's figure catalog and tables (nothing listed here).
-from sleighsim import scenes
-from sleighsim.ops import registry
-from sleighsim.report.figures import catalog
+# Names the rules share, all derived from the config, the scene kinds (sleighsim.scenes.catalog), the
+# figures (sleighsim.report.figures.catalog) and the report's tables (nothing listed here).
+from sleighsim.report.figures import catalog as figure_catalog
 from sleighsim.report.tables import TABLES
+from sleighsim.scenes import catalog as scene_catalog
 
 R = config["results"]
 SCENES = config["scenes"]
 # Datasets and figures of the full run, and with the on-request ones (built when asked for).
-DATASETS = registry.datasets(config)
-ALL_DATASETS = registry.datasets(config, on_request=True)
-FIGURES_BUILT = catalog.figures_built(config)
-ALL_FIGURES = catalog.figures_built(config, on_request=True)
-SCHEMATICS = [f for f in ALL_FIGURES if catalog.FIGURES[f].schematic]
-CHUNKED = [n for n in ALL_DATASETS if registry.KINDS[SCENES[n]["kind"]].chunked]
+DATASETS = scene_catalog.datasets(config)
+ALL_DATASETS = scene_catalog.datasets(config, on_request=True)
+FIGURES_BUILT = figure_catalog.figures_built(config)
+ALL_FIGURES = figure_catalog.figures_built(config, on_request=True)
+SCHEMATICS = [f for f in ALL_FIGURES if figure_catalog.FIGURES[f].schematic]
+CHUNKED = [n for n in ALL_DATASETS if scene_catalog.KINDS[SCENES[n]["kind"]].chunked]
 FIRST = [
     n
     for n in ALL_DATASETS
@@ -21,27 +21,27 @@ FIRST = [
 PLAIN = [n for n in ALL_DATASETS if n not in CHUNKED and n not in FIRST]
 # Scenes run in several precisions from one settled point ({scene: precisions}), the datasets of
 # their finer precisions and their ladders (sleighsim.analysis.observables), by name under data/.
-LADDERED = registry.laddered(config, on_request=True)
+LADDERED = scene_catalog.laddered(config, on_request=True)
 LADDERED_CHUNKED = [
     s for s in LADDERED if s in CHUNKED
 ]  # their variants are chunked too
 TAG_PRECISION = {
-    registry.precision_tag(p): p
+    scene_catalog.precision_tag(p): p
     for ps in LADDERED.values()
     for p in ps
     if p != "double"
 }
 # Scenes run again from perturbed start states ({scene: realizations}) and those datasets by name.
-REALIZED = registry.realized(config, on_request=True)
+REALIZED = scene_catalog.realized(config, on_request=True)
 # Runtime resource (minutes) of a scene job whose block sets no runtime_min (the SLURM profile's default).
 SCENE_RUNTIME_MIN = 60
 # Every dataset of the default run: the scenes, their finer precisions, ladders and realizations.
-CLAIMS_DATA = registry.run_datasets(config)
+CLAIMS_DATA = scene_catalog.run_datasets(config)
 LADDER_DATA = [n for n in CLAIMS_DATA if n.startswith(("precision/", "ladder/"))]
 REALIZATION_DATA = [n for n in CLAIMS_DATA if n.startswith("realization/")]
 # What the report reads: the datasets of the figures shown and of the tables built.
 REPORT_DATA = sorted(
-    {d for f in FIGURES_BUILT for d in catalog.FIGURES[f].data}
+    {d for f in FIGURES_BUILT for d in figure_catalog.FIGURES[f].data}
     | {t.data for t in TABLES.values() if t.data in DATASETS}
     | set(LADDER_DATA)
 )
@@ -57,7 +57,7 @@ def canonical(value):
     return value
 
 
-SCENE_CFG = {name: canonical(registry.scene_config(config, name)) for name in SCENES}
+SCENE_CFG = {name: canonical(scene_catalog.scene_config(config, name)) for name in SCENES}
 
 
 def alternatives(names):
@@ -72,9 +72,9 @@ def figure_files(figs):
 def figure_inputs(wildcards):
     """The figure's datasets, then (for a figure drawn beside its finer precisions) those of its
     laddered scenes in every finer precision."""
-    fig = catalog.FIGURES[wildcards.fig]
+    fig = figure_catalog.FIGURES[wildcards.fig]
     beside = [
-        registry.variant(s, p)
+        scene_catalog.variant(s, p)
         for s in (fig.data if fig.beside else ())
         for p in LADDERED.get(s, ())
         if p != "double"
@@ -105,7 +105,7 @@ def realization_cfg(wildcards):
 
 def ladder_inputs(wildcards):
     return [
-        f"{R}/data/{registry.variant(wildcards.scene, p)}.nc"
+        f"{R}/data/{scene_catalog.variant(wildcards.scene, p)}.nc"
         for p in LADDERED[wildcards.scene]
     ]
 
@@ -119,7 +119,7 @@ def scene_inputs(wildcards):
 
 def chunk_files(wildcards):
     """The chunk files of a chunked scene, or of its variant in a finer precision (wildcard ``tag``)."""
-    n = scenes.chunk_count(SCENES[wildcards.scene])
+    n = scene_catalog.chunk_count(SCENES[wildcards.scene])
     where = f"precision/{wildcards.tag}/" if "tag" in wildcards.keys() else ""
     return expand(f"{R}/chunks/{where}{wildcards.scene}/{{k}}.nc", k=range(n))
 
@@ -133,7 +133,7 @@ def benchmark_files(datasets, figures):
         if scene in CHUNKED and (name == scene or name.startswith("precision/")):
             chunks = expand(
                 f"{R}/benchmarks/chunk/{name}/{{k}}.tsv",
-                k=range(scenes.chunk_count(SCENES[scene])),
+                k=range(scene_catalog.chunk_count(SCENES[scene])),
             )
             out[f"data/{name}"] = [f"{R}/benchmarks/gather/{name}.tsv"] + chunks
         else:

@@ -44,7 +44,7 @@ rule schematic:
         "../envs/sleighsim.yaml"
     params:
         fig=lambda w: w.fig,
-        cfg=lambda w: SCENE_CFG[catalog.FIGURES[w.fig].schematic],
+        cfg=lambda w: SCENE_CFG[figure_catalog.FIGURES[w.fig].schematic],
     script:
         "../scripts/figure.py"
 
@@ -72,5 +72,5 @@ for _target in [d for d in ALL_DATASETS if d not in ALL_FIGURES]:
 # The atlas of on-request chaos surveys (sleighsim.report.figures.catalog.ATLAS): snakemake -c2 atlas
 rule atlas:
     input:
-        figure_files([f for f in catalog.ATLAS if f in ALL_FIGURES]),
+        figure_files([f for f in figure_catalog.ATLAS if f in ALL_FIGURES]),
     localrule: True

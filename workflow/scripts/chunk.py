@@ -1,9 +1,9 @@
 """One chunk of a chunked scene (Snakemake script)."""
 
 from sleighsim.io import netcdf
-from sleighsim import scenes
 from sleighsim.ops.runlog import logging_to
+from sleighsim.scenes import catalog
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logging_to(sm.log[0]):
-    netcdf.write_dataset(scenes.chunk(sm.wildcards.scene, sm.params.cfg, int(sm.wildcards.chunk)), sm.output.nc)
+    netcdf.write_dataset(catalog.chunk(sm.wildcards.scene, sm.params.cfg, int(sm.wildcards.chunk)), sm.output.nc)

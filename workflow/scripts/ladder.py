@@ -3,10 +3,11 @@
 from sleighsim.io import netcdf
 from sleighsim.analysis import observables
 from sleighsim.ops.runlog import logging_to
+from sleighsim.scenes.catalog import KINDS
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logging_to(sm.log[0]):
     runs = [netcdf.read_dataset(p) for p in sm.input.runs]
-    ds = observables.ladder(sm.params.kind, runs, list(sm.params.precisions), scene=sm.wildcards.scene,
-                            gain=sm.params.gain)
+    ds = observables.ladder(sm.params.kind, KINDS[sm.params.kind].observables, runs, list(sm.params.precisions),
+                            scene=sm.wildcards.scene, gain=sm.params.gain)
     netcdf.write_dataset(ds, sm.output.nc)

@@ -1,11 +1,11 @@
 """Compute one scene's dataset: config block (and its input datasets) in, netCDF out (Snakemake script)."""
 
 from sleighsim.io import netcdf
-from sleighsim import scenes
 from sleighsim.ops.runlog import logging_to
+from sleighsim.scenes import catalog
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logging_to(sm.log[0]):
-    ds = scenes.compute(sm.wildcards.scene, sm.params.cfg, dict(sm.input.items()))
+    ds = catalog.compute(sm.wildcards.scene, sm.params.cfg, dict(sm.input.items()))
     ds.attrs.update(getattr(sm.params, "attrs", {}))  # a realization's index and perturbation size
     netcdf.write_dataset(ds, sm.output.nc)

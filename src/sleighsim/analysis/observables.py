@@ -2,8 +2,8 @@
 
 A scene whose block lists ``precisions`` is computed once per precision from the same settled
 point (the transient in double, then the steady-state part in that arithmetic at its machine
-epsilon, :func:`sleighsim.scenes.common.steady_arithmetic`). Its observables (named per kind in
-:data:`sleighsim.ops.registry.OBSERVABLES`) are read from each precision's dataset with an
+epsilon, :func:`sleighsim.scenes.common.steady_arithmetic`). Its observables (those its kind
+declares, ``SceneKind.observables`` in :mod:`sleighsim.scenes.kind`, passed in by the caller) are read from each precision's dataset with an
 uncertainty stated by the dataset itself; :func:`ladder` compares them precision by precision.
 
 Uncertainties (how each is estimated):
@@ -28,8 +28,6 @@ import math
 
 import numpy as np
 import xarray as xr
-
-from sleighsim.ops.registry import OBSERVABLES
 
 #: Uncertainties are at least this fraction of the value.
 REL_FLOOR = 1e-9
@@ -125,16 +123,16 @@ def _with_gauge(ds: xr.Dataset, g: dict, precisions: list[str], T: float) -> xr.
     return ds
 
 
-def ladder(kind: str, runs: list[xr.Dataset], precisions: list[str], scene: str = "",
+def ladder(kind: str, names: tuple[str, ...], runs: list[xr.Dataset], precisions: list[str], scene: str = "",
            gain: dict | None = None) -> xr.Dataset:
-    """The observables of ``kind`` in every precision's dataset (``runs``, coarse to fine), whether
+    """The observables ``names`` of a scene of ``kind`` in every precision's dataset (``runs``, coarse to fine), whether
     each pair of precisions agrees, and per observable and overall the converged precision; with
     ``gain`` ({T, tau, spike_factor, tol, params}) also the faithfulness gauge from the settled point.
     Raises when the runs did not start from one settled point."""
     starts = [np.asarray(r.attrs["settled_state"], float) for r in runs]
     if any(not np.array_equal(starts[0], s, equal_nan=True) for s in starts[1:]):  # NaN: a row computed elsewhere
         raise ValueError(f"{scene}: the precisions' runs start from different settled states {starts}")
-    names = [n for n in OBSERVABLES[kind] if any(n in r.attrs for r in runs)]
+    names = [n for n in names if any(n in r.attrs for r in runs)]
     vals = np.array([[observable(r, n) for n in names] for r in runs])  # (precision, observable, 2)
     agree = np.array([[[agrees(tuple(vals[i, k]), tuple(vals[j, k]), count=_is_count(n)) for j in range(len(runs))]
                        for i in range(len(runs))] for k, n in enumerate(names)])

@@ -13,7 +13,7 @@ Rules: see :mod:`sleighsim.claims.rules` (a number is reproduced within max(2 st
 reproduced" only from a computed rule; a missing dataset or check gives "not yet computed").
 
 Which finer-precision variants and realizations a claim is judged on is what the run's config
-declares (:func:`sleighsim.ops.registry.laddered`, :func:`sleighsim.ops.registry.realized`), never which
+declares (:func:`sleighsim.scenes.catalog.laddered`, :func:`sleighsim.scenes.catalog.realized`), never which
 files lie in the data directory: a declared one that was not built gives "not yet computed", a
 stale one from an older config is not read.
 
@@ -39,7 +39,7 @@ from sleighsim.chaos.rule import agree
 from sleighsim.chaos.faithfulness import UNKNOWN
 from sleighsim.engine.integrators import EPSILON
 from sleighsim.io.netcdf import read_dataset, write_dataset, write_text
-from sleighsim.ops.registry import ladder_name, laddered, realization_name, realized, variant
+from sleighsim.scenes.catalog import ladder_name, laddered, realization_name, realized, variant
 from sleighsim.claims import rules
 from sleighsim.claims.causes import CAUSE_TESTS
 from sleighsim.claims.evidence import CAUSES, EVIDENCE
@@ -126,10 +126,10 @@ class MissingDataset(KeyError):
 class _Datasets:
     """The datasets of one data directory, each read once; MissingDataset naming a missing one.
     Names are paths under the directory without .nc (a scene, or its variant in a finer precision,
-    ``sleighsim.ops.registry.variant``, or a realization, ``sleighsim.ops.registry.realization_name``).
+    ``sleighsim.scenes.catalog.variant``, or a realization, ``sleighsim.scenes.catalog.realization_name``).
     Which variants and realizations exist is what the config declares, never which files are
-    there: ``ladders`` {scene: precisions, coarse to fine} (``registry.laddered``), ``realized``
-    {scene: number of realizations} (``registry.realized``)."""
+    there: ``ladders`` {scene: precisions, coarse to fine} (``catalog.laddered``), ``realized``
+    {scene: number of realizations} (``catalog.realized``)."""
 
     def __init__(self, data_dir: Path, ladders: dict[str, list[str]], realized: dict[str, int]):
         self.dir, self.cache = Path(data_dir), {}

@@ -13,7 +13,7 @@ from pathlib import Path
 from sleighsim.claims.ledger import ledger, parse_claims, summary, write
 from sleighsim.io.integrity import readable
 from sleighsim.ops.config import BASE_CONFIG, REPO, merged_config
-from sleighsim.ops.registry import run_datasets
+from sleighsim.scenes.catalog import run_datasets
 from sleighsim.report.figures.catalog import FIGURES, figures_built
 
 
@@ -71,7 +71,7 @@ def main(argv=None) -> int:
 
 
 def missing_products(data_dir, figures_dir, config: dict) -> list[str]:
-    """The datasets (``registry.run_datasets``) and figures (``figures_built``) of the default run of
+    """The datasets (``scenes.catalog.run_datasets``) and figures (``figures_built``) of the default run of
     ``config`` that are absent from the directories ``data_dir`` / ``figures_dir`` or cannot be opened,
     as paths."""
     data = [Path(data_dir) / f"{name}.nc" for name in run_datasets(config)]

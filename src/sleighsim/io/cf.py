@@ -146,7 +146,7 @@ def dataset_name(path) -> tuple[str, str]:
 
 def title(path) -> str:
     """The CF title of the dataset written to ``path``: what it is (:data:`sleighsim.io.titles.TITLES`),
-    its name and variant; a file the registry does not know is named by its file name."""
+    its name and variant; a file the titles do not know is named by its file name."""
     name, variant = dataset_name(path)
     what = TITLES.get(name, "sleighsim dataset")
     return f"Chaplygin sleigh with a passive internal rotor: {what} [{name}{', ' + variant if variant else ''}]"

@@ -28,7 +28,7 @@ VOCABULARY: dict[str, tuple[str, str]] = {
     "finer": ("the other arithmetic of the comparison", "text"),
     "pair": ("pair of neighbouring arithmetics, coarse / fine", "text"),
     "arithmetic": ("floating-point arithmetic", "text"),
-    "observable": ("name of the key observable (sleighsim.ops.registry.OBSERVABLES)", "text"),
+    "observable": ("name of the key observable (declared by its scene kind: sleighsim.scenes.kind.SceneKind.observables)", "text"),
     "replica": ("index of the replica (an independent start point along the settled orbit)", "1"),
     "run": ("index of the run", "1"),
     "realization": ("index of the realization (0: the configured start states)", "1"),

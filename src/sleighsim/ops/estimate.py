@@ -9,10 +9,10 @@ from __future__ import annotations
 from collections import defaultdict
 from pathlib import Path
 
-from sleighsim.ops import registry
-from sleighsim.report.figures import catalog
 from sleighsim.ops.config import BASE_CONFIG, REPO
-from sleighsim.ops.workmodel import chunk_work, grid_rows, is_modelled, work
+from sleighsim.ops.workmodel import chunk_work, is_modelled, work
+from sleighsim.report.figures import catalog as figure_catalog
+from sleighsim.scenes import catalog
 
 
 def changed_keys(a, b, prefix="") -> list[str]:
@@ -90,11 +90,11 @@ def _chunk_check(scene: str, block: dict, tcfg: dict, twork: list, rates: list, 
                  est: dict) -> None:
     """The largest chunk job of a scene against its chunk_runtime_min, under ``chunks``; a warning
     when it exceeds it."""
-    rows = grid_rows(tcfg) if tcfg["kind"] == "lyapunov_grid" else None  # a grid's chunk holds eps rows
+    holds = catalog.KINDS[tcfg["kind"]].chunk_holds  # a grid's chunk holds eps rows
     k = max(range(len(twork)), key=lambda i: twork[i])
     limit = block.get("chunk_runtime_min")
     entry = {"scene": scene, "n_chunks": len(twork), "largest_s": base + rate * twork[k], "largest_chunk": k,
-             "eps": [e for e, _ in rows[k::tcfg["n_chunks"]]] if rows else None,
+             "eps": holds(tcfg, k) if holds else None,
              "limit_s": None if limit is None else 60.0 * limit,
              "rate_spread": [min(c / w for c, w in rates), max(c / w for c, w in rates)]}
     entry["exceeds"] = limit is not None and entry["largest_s"] > entry["limit_s"]
@@ -131,17 +131,17 @@ def _scene_jobs(target: dict, measured: dict, mjobs: list, base: float, est: dic
     for j in mjobs:
         if j.get("scene"):
             by_scene[j["scene"]].append(j)
-    for scene in registry.datasets(target):
+    for scene in catalog.datasets(target):
         block = target["scenes"][scene]
         kind = block["kind"]
-        tcfg = registry.scene_config(target, scene)
+        tcfg = catalog.scene_config(target, scene)
         have = by_scene.get(scene, [])
         if not have or scene not in measured.get("scenes", {}):
             est["unmeasured"].append(scene)
             continue
-        mcfg = registry.scene_config(measured, scene)
+        mcfg = catalog.scene_config(measured, scene)
         ratio = _scene_ratio(scene, kind, mcfg, tcfg, est)
-        if registry.KINDS[kind].chunked:
+        if catalog.KINDS[kind].chunked:
             _chunked_scene(scene, kind, block, mcfg, tcfg, have, ratio, base, est)
         else:
             for j in have:
@@ -169,16 +169,16 @@ def _new_jobs(target: dict, mjobs: list, est: dict) -> None:
     counted at that rate too, so this errs high). Anything else: unmeasured."""
     cpu = {j["job"]: _job_cpu(j) for j in mjobs}
     cost = _precision_cost()
-    for scene, n in registry.realized(target).items():
+    for scene, n in catalog.realized(target).items():
         for k in range(1, n):
-            name = f"scene/{registry.realization_name(scene, k)}"
+            name = f"scene/{catalog.realization_name(scene, k)}"
             if name not in cpu and f"scene/{scene}" in cpu:
                 est["jobs"].append({"job": name, "rule": "scene_realization", "kind": target["scenes"][scene]["kind"],
                                     "scene": scene, "cpu_s": cpu[f"scene/{scene}"], "ratio": 1.0})
-    for scene, precisions in registry.laddered(target).items():
-        ld = f"scene/{registry.variant(scene, 'long double')}"
+    for scene, precisions in catalog.laddered(target).items():
+        ld = f"scene/{catalog.variant(scene, 'long double')}"
         for p in precisions[1:]:
-            name = f"scene/{registry.variant(scene, p)}"
+            name = f"scene/{catalog.variant(scene, p)}"
             if name in cpu:
                 continue
             if ld in cpu and p in cost and "long double" in cost:
@@ -191,7 +191,7 @@ def _new_jobs(target: dict, mjobs: list, est: dict) -> None:
 
 def _other_jobs(target: dict, mjobs: list, est: dict) -> None:
     """Jobs that are not scenes (figures of the target, claims, report), as measured."""
-    figures = set(catalog.figures_built(target))
+    figures = set(figure_catalog.figures_built(target))
     for j in mjobs:
         if j.get("scene"):
             continue

@@ -16,6 +16,8 @@ from sleighsim.engine import transient
 from sleighsim.engine.integrate import sample_grid
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import REFERENCE_LABEL, REFERENCE_STATE, energy_label
+from sleighsim.scenes import memory
+from sleighsim.scenes.kind import SceneKind
 
 log = logging.getLogger("sleighsim")
 
@@ -69,6 +71,11 @@ def printed_model(cfg: dict, scene: str = "") -> xr.Dataset:
     log.info("%s: done in %.3g s; printed udot changes E by up to %.3g, derived by %.2g", scene,
              ds.attrs["wall_time_s"], ds.attrs["printed_max_abs_rel_change"], ds.attrs["derived_max_abs_rel_change"])
     return ds
+
+
+PRINTED_MODEL = SceneKind(
+    name="printed_model", compute=printed_model,
+    records=lambda c: [memory.span(c, "t_end", "dt", 8), memory.span(c, "spikes.t_end", "spikes.dt")])
 
 
 def _energy_normalisations(params: Params, y) -> dict:

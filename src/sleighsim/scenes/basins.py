@@ -30,6 +30,9 @@ from sleighsim.io.netcdf import read_dataset
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import state_at_label
 from sleighsim.engine.transient import settle
+from sleighsim.scenes import memory
+from sleighsim.scenes.checks import ConfigError
+from sleighsim.scenes.kind import SceneKind
 
 log = logging.getLogger("sleighsim")
 
@@ -171,3 +174,14 @@ def gather(paths, cfg: dict, scene: str = "") -> xr.Dataset:
     log.info("%s: %s", scene, "; ".join(f"{g}: {c:.0f} ({lo:.2f}-{hi:.2f})" for g, c, lo, hi in
                                         zip(f["group"], f["count"], f["ci_low"], f["ci_high"])))
     return ds
+
+
+def _checks(w, cfg):
+    if cfg["n_chunks"] > cfg["n_samples"]:
+        raise ConfigError(f"{w}.n_chunks = {cfg['n_chunks']} must lie in [1, n_samples = {cfg['n_samples']}]")
+
+
+BASINS = SceneKind(
+    name="basins", chunk=chunk, gather=gather, checks=_checks, pre_run="t_round",
+    records=lambda c: [*memory.pre_run(c, "t_round"), memory.span(c, "T_measure", "dt_measure"),
+                       memory.span(c, "n_samples", None, 8)])

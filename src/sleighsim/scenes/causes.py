@@ -27,6 +27,8 @@ from sleighsim.model.params import Params
 from sleighsim.model.symmetries import state_at_label
 from sleighsim.engine.transient import settle
 from sleighsim.scenes.hierarchy import hierarchy_numbers, series_errors
+from sleighsim.scenes import memory
+from sleighsim.scenes.kind import SceneKind
 
 log = logging.getLogger("sleighsim")
 
@@ -103,6 +105,13 @@ def k2_sweep(cfg: dict, scene: str = "") -> xr.Dataset:
     return ds
 
 
+K2_SWEEP = SceneKind(
+    name="k2_sweep", compute=k2_sweep,
+    records=lambda c: [memory.span(c, "t_end", "dt"), *memory.hierarchy(c, "hierarchy."),
+                       *memory.series(c, "series.", c["series"]["order"]),
+                       memory.span(c, "psd.t_settle", "psd.transient.dt"), memory.span(c, "psd.duration", "psd.dt")])
+
+
 def integration_error(cfg: dict, scene: str = "") -> xr.Dataset:
     """SciPy's ``method`` (RK45 stands in for MATLAB's ode45) at every rtol of the config
     (atol = rtol x atol_factor, right-hand side compiled by heyoka): energy drift, first spike and
@@ -156,3 +165,9 @@ def integration_error(cfg: dict, scene: str = "") -> xr.Dataset:
                  "5(4) pair, default rtol 1e-3, atol 1e-6)",
     )
     return ds
+
+
+INTEGRATION_ERROR = SceneKind(
+    name="integration_error", compute=integration_error,
+    records=lambda c: [memory.span(c, "t_end", "dt"), *memory.series(c, "series.", c["series"]["order"]),
+                       memory.span(c, "lyapunov.T", "lyapunov.tau")])

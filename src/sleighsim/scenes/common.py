@@ -3,8 +3,11 @@ records into arrays."""
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
+from sleighsim.engine import integrators
 from sleighsim.engine.integrators import EPSILON, precision_flags
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import state_at_label
@@ -59,3 +62,11 @@ def steady_arithmetic(cfg: dict) -> dict:
     precision = cfg.get("precision", "double")
     precision_flags(precision)
     return {"precision": precision, "tol": cfg["tol"] if precision == "double" else EPSILON[precision]}
+
+
+def stored_state(y) -> np.ndarray:
+    """A state in the model's variables as the compiled sleigh integrators store it (the engines
+    of ``sleighsim.chaos`` take stored states): delta + DELTA_SHIFT in [0, 2 pi)."""
+    out = np.array(y, float)
+    out[3] = (out[3] + integrators.DELTA_SHIFT) % (2 * math.pi)
+    return out

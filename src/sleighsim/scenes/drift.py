@@ -20,6 +20,9 @@ from sleighsim.model.attrs import state_attrs
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import state_at_label
 from sleighsim.engine.transient import settle
+from sleighsim.scenes import memory
+from sleighsim.scenes.checks import multiple
+from sleighsim.scenes.kind import SceneKind
 
 log = logging.getLogger("sleighsim")
 
@@ -29,6 +32,34 @@ def _intervals(t, Omega, spike: dict) -> tuple[float, float, int]:
     s = transient.spike_times(t, Omega, factor=spike["factor"], block=spike["block"],
                               min_separation=spike["min_separation"])
     return (*transient.interval_stats(s), int(s.size))
+
+
+def _windowed(ta, y, params, cfg: dict, scene: str) -> tuple:
+    """The orbit from the settled y in windows: per window (arrays) its start, spike interval mean, sd
+    and count, lambda_1 and energy drift; the number of windows; the steps taken."""
+    n_windows = int(round(cfg["T"] / cfg["window"]))
+    E0 = equations.energy(y, params)
+    rows, steps = [], 0
+    for w in windows.windowed_orbit(ta, 4, y, n_windows=n_windows, window=cfg["window"], tau=cfg["tau"],
+                                    component=1, t_align=cfg["t_align"], label=scene):
+        mean, sd, count = _intervals(w["t"], w["x"], cfg["spike"])
+        rows.append((w["t_start"], mean, sd, count, w["lambda_1"], float(equations.energy(w["state"], params) / E0 - 1)))
+        steps += w["steps"]
+    return tuple(np.array(c) for c in zip(*rows)), n_windows, steps
+
+
+def _notes(cfg: dict) -> dict:
+    """The dataset's spike rule, uncertainty and precision note."""
+    return {
+        "spike_rule": (f"spike: |Omega| (sampled every tau) block maximum ({cfg['spike']['block']:g} time units) above "
+                       f"{cfg['spike']['factor']:g} x the median block maximum of the window's second half; spikes "
+                       f"closer than {cfg['spike']['min_separation']:g} merged; interval: mean of the window's intervals"),
+        "uncertainty": "lambda_1_stderr: spread of the per-window values / sqrt(windows) (windows of many spike cycles "
+                       "taken as independent); trends: least squares over the windows of the last part of the run",
+        "precision_note": ("tangent-based exponents of this system are inflated by rounding amplified at the spikes in "
+                           "double (see the chaos verdict's long-double check); long double has 2^11 smaller rounding; "
+                           "the spike interval is an orbit statistic"),
+    }
 
 
 def drift_windows(cfg: dict, scene: str = "") -> xr.Dataset:
@@ -46,15 +77,7 @@ def drift_windows(cfg: dict, scene: str = "") -> xr.Dataset:
     ta, compile_s = lyapunov.sleigh_tangent(1, tol, cfg["compact_mode"], cfg["long_double"])
     integrators.set_pars(ta, params)
     precision = "double" if ta.state.dtype == np.float64 else f"long double (epsilon {float(np.finfo(ta.state.dtype).eps):.2g})"
-    n_windows = int(round(cfg["T"] / cfg["window"]))
-    E0 = equations.energy(y, params)
-    rows, steps = [], 0
-    for w in windows.windowed_orbit(ta, 4, y, n_windows=n_windows, window=cfg["window"], tau=cfg["tau"],
-                                    component=1, t_align=cfg["t_align"], label=scene):
-        mean, sd, count = _intervals(w["t"], w["x"], cfg["spike"])
-        rows.append((w["t_start"], mean, sd, count, w["lambda_1"], float(equations.energy(w["state"], params) / E0 - 1)))
-        steps += w["steps"]
-    t_start, interval, interval_sd, n_spikes, lam, drift = (np.array(c) for c in zip(*rows))
+    (t_start, interval, interval_sd, n_spikes, lam, drift), n_windows, steps = _windowed(ta, y, params, cfg, scene)
     t_mid = t_start + cfg["window"] / 2
     judged = {name: windows.trend(t_mid, x, rel_tol=cfg["rel_tol"][name], sigma=cfg["sigma"],
                                   last_fraction=cfg["last_fraction"])
@@ -85,17 +108,19 @@ def drift_windows(cfg: dict, scene: str = "") -> xr.Dataset:
         spike_interval_overall=float(np.nanmean(interval)),
         energy_max_rel_drift=float(np.max(np.abs(drift))), rel_tol_spike_interval=cfg["rel_tol"]["spike_interval"],
         rel_tol_lambda_1=cfg["rel_tol"]["lambda_1"], last_fraction=cfg["last_fraction"], sigma=cfg["sigma"],
-        trend_rule=" ".join(windows.trend.__doc__.split()), t_align=cfg["t_align"],
-        spike_rule=(f"spike: |Omega| (sampled every tau) block maximum ({cfg['spike']['block']:g} time units) above "
-                    f"{cfg['spike']['factor']:g} x the median block maximum of the window's second half; spikes "
-                    f"closer than {cfg['spike']['min_separation']:g} merged; interval: mean of the window's intervals"),
-        uncertainty="lambda_1_stderr: spread of the per-window values / sqrt(windows) (windows of many spike cycles "
-                    "taken as independent); trends: least squares over the windows of the last part of the run",
-        precision_note=("tangent-based exponents of this system are inflated by rounding amplified at the spikes in "
-                        "double (see the chaos verdict's long-double check); long double has 2^11 smaller rounding; "
-                        "the spike interval is an orbit statistic"),
+        trend_rule=" ".join(windows.trend.__doc__.split()), t_align=cfg["t_align"], **_notes(cfg),
         wall_time_s=time.perf_counter() - start,
     )
     log.info("%s: spike interval %s (%s), lambda_1 %s (%s)", scene, judged["spike_interval"]["verdict"],
              judged["spike_interval"]["reason"], judged["lambda_1"]["verdict"], judged["lambda_1"]["reason"])
     return ds
+
+
+def _drift_windows_checks(w, cfg):
+    multiple(f"{w}.window", cfg["window"], "tau", cfg["tau"], least=2)
+    multiple(f"{w}.T", cfg["T"], "window", cfg["window"])
+
+
+DRIFT_WINDOWS = SceneKind(
+    name="drift_windows", compute=drift_windows, checks=_drift_windows_checks,
+    records=lambda c: [*memory.pre_run(c, "t_transient"), memory.span(c, "window", "tau", 2)])

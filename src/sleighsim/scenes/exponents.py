@@ -23,6 +23,9 @@ from sleighsim.model.params import Params
 from sleighsim.model.symmetries import state_at_label
 from sleighsim.engine.transient import settle
 from sleighsim.scenes.common import steady_arithmetic
+from sleighsim.scenes import memory
+from sleighsim.scenes.checks import ConfigError, blocks
+from sleighsim.scenes.kind import SceneKind
 
 log = logging.getLogger("sleighsim")
 
@@ -115,6 +118,11 @@ def spectrum(cfg: dict, scene: str = "") -> xr.Dataset:
     return ds
 
 
+LYAPUNOV_SPECTRUM = SceneKind(
+    name="lyapunov_spectrum", compute=spectrum, realizable=True, observables=("lambda_1", "lambda_4"),
+    records=lambda c: [*memory.pre_run(c, "t_transient"), *memory.benettin(c, 8)], pre_run="t_transient")
+
+
 def _lambda_observables(per) -> dict:
     """The ladder observables of a spectrum or the protocol (1/time): lambda_1 and lambda_4, each the
     mean over the independent runs ``per`` (runs, 4: replicas along one orbit, or the protocol's
@@ -188,6 +196,17 @@ def protocol(cfg: dict, scene: str = "") -> xr.Dataset:
     return ds
 
 
+def _protocol_checks(w, cfg):
+    blocks(w, cfg, "T")
+    blocks(w, dict(cfg, tau=max(cfg["tau"], cfg["paper_tau"])), "tau_check")
+
+
+LYAPUNOV_PROTOCOL = SceneKind(
+    name="lyapunov_protocol", compute=protocol, realizable=True, observables=("lambda_1", "lambda_4"),
+    records=lambda c: [memory.span(c, "T", "tau"), memory.span(c, "tau_check", "paper_tau")],
+    checks=_protocol_checks)
+
+
 def energy_sweep(cfg: dict, scene: str = "") -> xr.Dataset:
     """Max LE at several energy labels, one per SIMD lane of one batch run: every lane starts from
     the image, under the time-scaling law, of one state settled at the reference label, and runs
@@ -241,6 +260,13 @@ def energy_sweep(cfg: dict, scene: str = "") -> xr.Dataset:
     return ds
 
 
+LYAPUNOV_ENERGY = SceneKind(
+    name="lyapunov_energy", compute=energy_sweep, realizable=True,
+    observables=("lambda_1_reference", "lambda_1_lowest_label"),
+    records=lambda c: [*memory.pre_run(c, "t_transient"), memory.span(c, "T", "tau", 5, memory.count(c, "labels"))],
+    checks=lambda w, cfg: blocks(w, cfg, "T"), pre_run="t_transient")
+
+
 def small_eps_cost(cfg: dict, scene: str = "") -> xr.Dataset:
     """C25: what small eps costs. Measures, from the reference state at a few eps, the
     length of the transient (first Omega spike, sleighsim.engine.transient) and the steps per time
@@ -284,6 +310,10 @@ def small_eps_cost(cfg: dict, scene: str = "") -> xr.Dataset:
 
 
 
+SMALL_EPS_COST = SceneKind(name="small_eps_cost", compute=small_eps_cost,
+                           records=lambda c: [memory.span(c, ("max(horizons)", max(c["horizons"])), "dt")])
+
+
 def formal_exponents(cfg: dict, scene: str = "") -> xr.Dataset:
     """C26: lambda_1 of the formal system (eps >= 1, m_c = 1 - eps <= 0, its inertia still positive
     definite) at each eps of the config, from y0 scaled to the label: a checked pre-run, then
@@ -325,3 +355,15 @@ def formal_exponents(cfg: dict, scene: str = "") -> xr.Dataset:
         elsewhere_config=cfg.get("elsewhere", {}).get("config", ""),
     )
     return ds
+
+
+def _formal_exponents_checks(w, cfg):
+    both = sorted(set(cfg["eps"]) & set(cfg.get("elsewhere", {}).get("eps", [])))
+    if both:
+        raise ConfigError(f"{w}.elsewhere.eps: {both} also in {w}.eps (a row is computed here or elsewhere, not both)")
+
+
+FORMAL_EXPONENTS = SceneKind(
+    name="formal_exponents", compute=formal_exponents, realizable=True,
+    records=lambda c: [*memory.pre_run(c, "t_transient"), *memory.benettin(c, 8)],
+    checks=_formal_exponents_checks, pre_run="t_transient")

@@ -27,7 +27,10 @@ from sleighsim.io.netcdf import read_dataset
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import b_image, state_at_label
 from sleighsim.engine.transient import settle
+from sleighsim.scenes import memory
+from sleighsim.scenes.checks import ConfigError, increasing
 from sleighsim.scenes.common import steady_arithmetic
+from sleighsim.scenes.kind import SceneKind
 
 log = logging.getLogger("sleighsim")
 
@@ -232,3 +235,68 @@ def _observed(ds: xr.Dataset, ref: int) -> dict:
     return {"lambda_1_reference": float(lam[ref]), "lambda_1_reference_uncertainty": float(ds.stderr.values[ref]),
             "lambda_1_smallest": float(lam[low]), "lambda_1_smallest_uncertainty": float(ds.stderr.values[low]),
             "lambda_1_smallest_eps": float(ds.eps.values[low])}
+
+
+#: Keys the lyapunov_grid work model reads (everything else of such a block is outside the model).
+WORK_KEYS = ("eps_range", "n_eps", "n_chunks", "reference_eps", "t_pre", "t_pre_min", "replicas",
+             "replica_spacing", "t_align", "T_round", "max_rounds", "poincare_span", "b_check", "eps")
+
+
+def grid_rows(cfg: dict) -> list[tuple[float, float]]:
+    """(eps, work) of every row of a lyapunov_grid block, following :func:`row`, in time units
+    integrated at slow time s = reference_eps / eps:
+
+    - pre-run: max(t_pre_min, t_pre s^2) (one trajectory);
+    - replica sampling: replicas x replica_spacing x s (one trajectory through the replicas' states);
+    - tangent batch: (t_align + T_round x max_rounds) x s, counted once: the replicas are the SIMD
+      lanes of one batch (the brief's n_b / batch_size), and max_rounds is the cap (rows that converge
+      earlier cost less; target_rel is not modelled);
+    - Poincare crossings: poincare_span x s;
+    - the reference row also runs one round per b_check value: len(b_check) x (t_align + T_round) x s.
+
+    n_b costs nothing: b is an exact symmetry and every row is computed once at b = 1; a row left to
+    another config (``elsewhere``) costs nothing here."""
+    eps_all, _ = axes(cfg)
+    ref, away = reference_row(cfg), elsewhere(cfg)
+    rows = []
+    for i, eps in enumerate(eps_all):
+        if away[i]:  # left to another config: no work here
+            rows.append((float(eps), 0.0))
+            continue
+        s = slow_time(cfg, eps)
+        w = pre_run(cfg, eps) + cfg["replicas"] * cfg["replica_spacing"] * s
+        w += (cfg["t_align"] + cfg["T_round"] * cfg["max_rounds"]) * s + cfg.get("poincare_span", 0.0) * s
+        if i == ref:
+            w += len(cfg.get("b_check") or ()) * (cfg["t_align"] + cfg["T_round"]) * s
+        rows.append((float(eps), float(w)))
+    return rows
+
+
+def chunk_work(cfg: dict) -> list[float]:
+    """Work of each chunk job: chunk k computes rows k, k + n_chunks, ... (:func:`grid_rows`)."""
+    rows, n = grid_rows(cfg), cfg["n_chunks"]
+    return [sum(w for _, w in rows[k::n]) for k in range(n)]
+
+
+def _checks(w, cfg):
+    increasing(f"{w}.eps_range", cfg["eps_range"], strict=False)
+    increasing(f"{w}.b_range", cfg["b_range"], strict=False)
+    if cfg["n_chunks"] > cfg["n_eps"]:
+        raise ConfigError(f"{w}.n_chunks = {cfg['n_chunks']} must lie in [1, n_eps = {cfg['n_eps']}] "
+                          "(a chunk holds whole eps rows)")
+    lo, hi = cfg["eps_range"]
+    if not lo <= cfg["reference_eps"] <= hi:
+        raise ConfigError(f"{w}.reference_eps = {cfg['reference_eps']} must lie in eps_range [{lo}, {hi}]")
+    try:
+        elsewhere(cfg)
+    except ValueError as bad:
+        raise ConfigError(f"{w}.{bad}") from None
+
+
+LYAPUNOV_GRID = SceneKind(
+    name="lyapunov_grid", chunk=chunk, gather=gather, observables=("lambda_1_reference", "lambda_1_smallest"),
+    records=lambda c: [*memory.pre_run(c, "t_pre"), *memory.benettin(c, 5),
+                       memory.span(c, ("n_eps x n_b", c["n_eps"] * c["n_b"]), None, 20)],
+    work=lambda cfg: sum(w for _, w in grid_rows(cfg)), chunk_work=chunk_work, modelled=lambda leaf: leaf in WORK_KEYS,
+    chunk_holds=lambda cfg, k: [e for e, _ in grid_rows(cfg)[k::cfg["n_chunks"]]],
+    checks=_checks, pre_run="t_pre")

@@ -19,6 +19,8 @@ from sleighsim.engine.integrate import final_state, integrate, sample_grid
 from sleighsim.model.equations import state_difference
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import REFERENCE_LABEL, REFERENCE_STATE, state_at_label
+from sleighsim.scenes import memory
+from sleighsim.scenes.kind import SceneKind
 
 log = logging.getLogger("sleighsim")
 REF = np.array(REFERENCE_STATE)
@@ -137,3 +139,7 @@ def hardcases(cfg: dict, scene: str = "") -> xr.Dataset:
                     n_refused=int(np.sum(ds.outcome.values == "refused")), wall_time_s=time.perf_counter() - start)
     ds.attrs["scene"] = scene
     return ds
+
+
+HARDCASES = SceneKind(name="hardcases", compute=hardcases,
+                      records=lambda c: [memory.span(c, "T_long", ("T_long / 100", c["T_long"] / 100))])

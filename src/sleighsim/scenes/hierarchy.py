@@ -21,6 +21,9 @@ from sleighsim.model.attrs import state_attrs
 from sleighsim.engine.integrate import integrate, sample_grid
 from sleighsim.model.equations import state_difference
 from sleighsim.model.params import Params
+from sleighsim.scenes import memory
+from sleighsim.scenes.checks import ConfigError
+from sleighsim.scenes.kind import SceneKind
 
 log = logging.getLogger("sleighsim")
 
@@ -117,6 +120,12 @@ def series_vs_exact(cfg: dict, scene: str = "") -> xr.Dataset:
     return ds
 
 
+SERIES_VS_EXACT = SceneKind(
+    name="series_vs_exact", compute=series_vs_exact,
+    records=lambda c: [*memory.series(c, "", c["order"]),
+                       *memory.series(c, "convergence.", max(c["convergence"]["orders"]))])
+
+
 def _paper_closed_forms(u0, omega0, b, K2) -> dict:
     """The paper's approximations (eq:Omega2_sol, eq:w2_approx) as printed, with our u0, omega0."""
     A = omega0**2 / K2 / math.sqrt(omega0**2 + u0**2 / (b**2 * K2**2))
@@ -189,6 +198,16 @@ def hierarchy_terms(cfg: dict, scene: str = "") -> xr.Dataset:
              numbers["Omega2_amplitude"], numbers["phi1_over_pi"], numbers["T2"], numbers["B"],
              numbers["omega2_growth"])
     return ds
+
+
+def _hierarchy_terms_checks(w, cfg):
+    lo, hi = cfg["fit_window"]
+    if not 0 <= lo < hi <= cfg["t_end"]:
+        raise ConfigError(f"{w}.fit_window = [{lo}, {hi}] must be increasing within [0, t_end = {cfg['t_end']}]")
+
+
+HIERARCHY_TERMS = SceneKind(name="hierarchy_terms", compute=hierarchy_terms, checks=_hierarchy_terms_checks,
+                            records=memory.hierarchy)
 
 
 def _classify_terms(terms, values, t, late_start, decay_rel=1e-6, mean_rel=0.05, growth_ratio=1.2):
@@ -281,3 +300,5 @@ def hierarchy_audit(cfg: dict, scene: str = "") -> xr.Dataset:
              "secular", scene, ds.attrs["wall_time_s"], len(rows), ds.attrs["order3_forcing_vanishes"], n_sec, len(classified))
     return ds
 
+
+HIERARCHY_AUDIT = SceneKind(name="hierarchy_audit", compute=hierarchy_audit, records=memory.hierarchy)

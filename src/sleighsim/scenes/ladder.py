@@ -26,6 +26,9 @@ from sleighsim.model.params import Params
 from sleighsim.model.symmetries import state_at_label
 from sleighsim.engine.transient import settle, spike_times
 from sleighsim.scenes.common import nan_padded
+from sleighsim.scenes import memory
+from sleighsim.scenes.checks import multiple
+from sleighsim.scenes.kind import SceneKind
 
 log = logging.getLogger("sleighsim")
 
@@ -146,3 +149,12 @@ def precision_ladder(cfg: dict, scene: str = "") -> xr.Dataset:
                     converged_rule=" ".join(converged_precision.__doc__.split()),
                     wall_time_s=time.perf_counter() - start)
     return ds
+
+
+def _precision_ladder_checks(w, cfg):
+    multiple(f"{w}.separation_every", cfg["separation_every"], "dt", cfg["dt"])
+
+
+PRECISION_LADDER = SceneKind(
+    name="precision_ladder", compute=precision_ladder, checks=_precision_ladder_checks,
+    records=lambda c: [*memory.pre_run(c, "t_transient"), memory.span(c, "T", "dt", 4, memory.count(c, "precisions"))])

@@ -21,8 +21,43 @@ from sleighsim.io.netcdf import read_dataset
 from sleighsim.model.params import Params
 from sleighsim.engine.transient import settle
 from sleighsim.scenes.common import initial_state, steady_arithmetic
+from sleighsim.scenes import memory
+from sleighsim.scenes.checks import ConfigError
+from sleighsim.scenes.kind import SceneKind
 
 log = logging.getLogger("sleighsim")
+
+
+def _map_variables(c: dict, is2pi, rt, stride: int, loops: dict, att: xr.Dataset) -> dict:
+    """The Poincare maps' variables: the P_2pi iterates and their times, the return times, the thinned
+    P_pi/2 iterates with their class and loop cluster, and the sampled stretch of the attractor."""
+    kind, vel = STATE_KINDS, ("u", "Omega", "omega")
+    data = {f"p2pi_{v}": ("n2pi", c[v][is2pi], cf.attrs(f"{v} at the P_2pi iterates (delta = 0 mod 2 pi)", kind[v]))
+            for v in vel}
+    data["p2pi_time"] = ("n2pi", c["time"][is2pi], cf.attrs("time of the P_2pi iterates", "time"))
+    data["return_time"] = ("nret", rt, cf.attrs("t_{n+1} - t_n of P_2pi", "time"))
+    data.update({f"ppi2_{v}": ("npi2", c[v][::stride], cf.attrs(f"{v} at the P_pi/2 iterates (delta = k pi/2)",
+                                                                  kind[v])) for v in vel})
+    data["ppi2_class"] = ("npi2", (c["k"][::stride] % 4).astype(np.int8), cf.attrs("k mod 4, delta = k pi/2"))
+    data["ppi2_cluster"] = ("npi2", loops["labels"].astype(np.int32),
+                            cf.attrs("k-NN graph component in the (u, Omega, omega) projection"))
+    data.update({f"attractor_{v}": ("natt", att[v].values, cf.attrs(f"{v} along a sampled stretch of the attractor",
+                                                                    kind[v])) for v in vel})
+    return data
+
+
+def _return_times(rt, t1: float, tie_tol: float) -> dict:
+    """Statistics of the P_2pi return times ``rt`` (NaN without any), their resolution at the map's
+    end t1 and the adjacent pairs closer than ``tie_tol``."""
+    return {
+        "return_time_min": float(rt.min()) if rt.size else float("nan"),
+        "return_time_max": float(rt.max()) if rt.size else float("nan"),
+        "return_time_mean": float(rt.mean()) if rt.size else float("nan"),
+        "return_time_min_pairwise_difference": poincare.min_pairwise_difference(rt),
+        "return_time_resolution": float(2 * np.spacing(t1)),
+        "return_time_tie_tol": tie_tol,
+        "return_time_n_adjacent_pairs_within_tie_tol": int(np.sum(np.diff(np.sort(rt)) < tie_tol)),
+    }
 
 
 def poincare_maps(cfg: dict, scene: str = "") -> xr.Dataset:
@@ -46,19 +81,7 @@ def poincare_maps(cfg: dict, scene: str = "") -> xr.Dataset:
     rot = poincare.rotation_number(pts[is2pi])
     E = equations.energy(np.c_[pts, c["k"] * (np.pi / 2)], params)
     E0 = float(equations.energy(y0, params))
-    kind, vel = STATE_KINDS, ("u", "Omega", "omega")
-    data = {f"p2pi_{v}": ("n2pi", c[v][is2pi], cf.attrs(f"{v} at the P_2pi iterates (delta = 0 mod 2 pi)", kind[v]))
-            for v in vel}
-    data["p2pi_time"] = ("n2pi", c["time"][is2pi], cf.attrs("time of the P_2pi iterates", "time"))
-    data["return_time"] = ("nret", rt, cf.attrs("t_{n+1} - t_n of P_2pi", "time"))
-    data.update({f"ppi2_{v}": ("npi2", c[v][::stride], cf.attrs(f"{v} at the P_pi/2 iterates (delta = k pi/2)",
-                                                                  kind[v])) for v in vel})
-    data["ppi2_class"] = ("npi2", (c["k"][::stride] % 4).astype(np.int8), cf.attrs("k mod 4, delta = k pi/2"))
-    data["ppi2_cluster"] = ("npi2", loops["labels"].astype(np.int32),
-                            cf.attrs("k-NN graph component in the (u, Omega, omega) projection"))
-    data.update({f"attractor_{v}": ("natt", att[v].values, cf.attrs(f"{v} along a sampled stretch of the attractor",
-                                                                    kind[v])) for v in vel})
-    ds = xr.Dataset(data)
+    ds = xr.Dataset(_map_variables(c, is2pi, rt, stride, loops, att))
     ds.attrs.update(state_attrs(params, y0))
     ds.attrs.update(attrs)
     ds.attrs.update(rot)
@@ -68,13 +91,7 @@ def poincare_maps(cfg: dict, scene: str = "") -> xr.Dataset:
         energy_max_rel_drift=float(np.max(np.abs(E / E0 - 1))) if E.size else float("nan"),
         t_map_start=t0, t_map_end=t1, attractor_dt=cfg["attractor_dt"], n_p2pi=int(is2pi.sum()), n_ppi2=int(len(pts)), ppi2_stride=stride,
         max_crossing_residual=float(c["residual"].max()) if len(pts) else float("nan"),
-        return_time_min=float(rt.min()) if rt.size else float("nan"),
-        return_time_max=float(rt.max()) if rt.size else float("nan"),
-        return_time_mean=float(rt.mean()) if rt.size else float("nan"),
-        return_time_min_pairwise_difference=poincare.min_pairwise_difference(rt),
-        return_time_resolution=float(2 * np.spacing(t1)),
-        return_time_tie_tol=cfg["return_time_tie_tol"],
-        return_time_n_adjacent_pairs_within_tie_tol=int(np.sum(np.diff(np.sort(rt)) < cfg["return_time_tie_tol"])),
+        **_return_times(rt, t1, cfg["return_time_tie_tol"]),
         p2pi_curve_thickness=poincare.curve_thickness(pts[is2pi]) if is2pi.sum() > 10 else float("nan"),
         p2pi_recurrence=poincare.recurrence(pts[is2pi]),
         p2pi_recurrence_rule="smallest over q = 1..50 of the median |x_(n+q) - x_n| of the P_2pi iterates, in units of "
@@ -90,6 +107,12 @@ def poincare_maps(cfg: dict, scene: str = "") -> xr.Dataset:
     log.info("%s: %d P_2pi, %d P_pi/2 iterates, %d loops, rotation number %.6g, max residual %.2g", scene,
              is2pi.sum(), len(pts), loops["n_loops"], rot["rotation_number"], ds.attrs["max_crossing_residual"])
     return ds
+
+
+POINCARE = SceneKind(
+    name="poincare", compute=poincare_maps, observables=("rotation_number", "return_time_mean", "n_loops"),
+    records=lambda c: [*memory.pre_run(c, "t_settle"), memory.span(c, "attractor_span", "attractor_dt")],
+    pre_run="t_settle")
 
 
 def psd(cfg: dict, scene: str = "") -> xr.Dataset:
@@ -144,6 +167,22 @@ def psd(cfg: dict, scene: str = "") -> xr.Dataset:
     return ds
 
 
+def _psd_checks(w, cfg):
+    if cfg["check_duration"] > cfg["duration"]:
+        raise ConfigError(f"{w}.check_duration = {cfg['check_duration']} must lie in (0, duration = {cfg['duration']}]")
+    for key, span in (("segment", cfg["duration"]), ("check_segment", cfg["check_duration"])):
+        if cfg["welch"][key] > span:
+            raise ConfigError(f"{w}.welch.{key} = {cfg['welch'][key]} must lie in (0, {span}]")
+
+
+PSD = SceneKind(
+    name="psd", compute=psd,
+    observables=("Omega_band_low", "Omega_band_high", "Omega_band_peak", "u_band_peak", "Omega_n_peaks_near_zero"),
+    records=lambda c: [*memory.pre_run(c, "t_settle"), memory.span(c, "duration", "dt"),
+                       memory.span(c, "check_duration", "check_dt")],
+    checks=_psd_checks, pre_run="t_settle")
+
+
 def attractor_scaling(cfg: dict, inputs: dict, scene: str = "") -> xr.Dataset:
     """C17: the P_pi/2 iterates of the ``scaled`` input (a higher energy label), divided by
     c = sqrt(label ratio), against those of the ``reference`` input (poincare.scaled_set_distance)."""
@@ -166,3 +205,7 @@ def attractor_scaling(cfg: dict, inputs: dict, scene: str = "") -> xr.Dataset:
              d["scaled_median"], d["unscaled_median"], c)
     return ds
 
+
+#: Reads two poincare datasets and integrates nothing: it holds no records.
+ATTRACTOR_SCALING = SceneKind(name="attractor_scaling", compute=attractor_scaling, inputs=("reference", "scaled"),
+                              integrates=False, records=lambda c: [])

@@ -18,6 +18,9 @@ from sleighsim.model.sleigh0 import closed_form
 from sleighsim.model.sleigh0 import rhs as sleigh0_rhs
 from sleighsim.engine.transient import phases, settle, spike_times
 from sleighsim.scenes.common import initial_state, steady_arithmetic
+from sleighsim.scenes import memory
+from sleighsim.scenes.checks import ConfigError, increasing
+from sleighsim.scenes.kind import SceneKind
 
 log = logging.getLogger("sleighsim")
 
@@ -51,6 +54,21 @@ def trajectory(cfg: dict, scene: str = "") -> xr.Dataset:
     return ds
 
 
+def _trajectory_checks(w, cfg):
+    start, end = cfg.get("t_sample_start", 0.0), cfg["t_end"]
+    if start >= end:
+        raise ConfigError(f"{w}.t_sample_start = {start} must lie in [0, t_end = {end})")
+
+
+TRAJECTORY = SceneKind(
+    name="trajectory", compute=trajectory,
+    observables=("n_spikes", "first_spike_time", "spike_interval_mean", "path_reach"),
+    records=lambda c: [memory.span(c, ("(t_end - t_sample_start)", c["t_end"] - c.get("t_sample_start", 0.0)),
+                                   "dt", 7),
+                       *memory.pre_run(c, "t_sample_start")],
+    checks=_trajectory_checks, pre_run="t_sample_start")
+
+
 def observed(run: xr.Dataset, *, pre_run: bool, spike_factor: float) -> dict:
     """A trajectory's key observables (time units, lengths in b) with their uncertainties: the
     number of Omega spikes (exact), the first spike's time (uncertainty: the sampling step), the
@@ -80,13 +98,9 @@ def observed(run: xr.Dataset, *, pre_run: bool, spike_factor: float) -> dict:
     return out
 
 
-def sleigh0(cfg: dict, scene: str = "") -> xr.Dataset:
-    """The eps = 0 sleigh: phase-portrait trajectories (closed form and integration
-    of the full model with a decoupled rotor), the vector field, and a path."""
-    start = time.perf_counter()
-    b, K2, tol = cfg["b"], cfg["K2"], cfg["tol"]
-    params = Params.sleigh0(b=b, K2=K2)
-    pc = cfg["portrait"]
+def _portrait(params, pc: dict, b: float, K2: float, tol: float, scene: str) -> tuple:
+    """The phase portrait of the eps = 0 sleigh: its times t, start states, u and Omega in closed form
+    and integrated (trajectory x t), the largest energy drift and the steps taken."""
     t = np.linspace(-pc["t_half"], pc["t_half"], pc["n_samples"])
     starts = np.asarray(pc["states"], dtype=float)  # states at t = 0
     u_cf = np.empty((len(starts), t.size))
@@ -109,6 +123,17 @@ def sleigh0(cfg: dict, scene: str = "") -> xr.Dataset:
             u_num[k, idx], Om_num[k, idx] = sign * ds.u.values, sign * ds.Omega.values
             drift = max(drift, ds.attrs["energy_max_rel_drift"])
             steps += ds.attrs["steps"]
+    return t, starts, u_cf, Om_cf, u_num, Om_num, drift, steps
+
+
+def sleigh0(cfg: dict, scene: str = "") -> xr.Dataset:
+    """The eps = 0 sleigh: phase-portrait trajectories (closed form and integration
+    of the full model with a decoupled rotor), the vector field, and a path."""
+    start = time.perf_counter()
+    b, K2, tol = cfg["b"], cfg["K2"], cfg["tol"]
+    params = Params.sleigh0(b=b, K2=K2)
+    pc = cfg["portrait"]
+    t, starts, u_cf, Om_cf, u_num, Om_num, drift, steps = _portrait(params, pc, b, K2, tol, scene)
     err = float(max(np.max(np.abs(u_num - u_cf)), np.max(np.abs(Om_num - Om_cf))))
 
     ug = np.linspace(*pc["u_range"], pc["n_field"])
@@ -149,3 +174,14 @@ def sleigh0(cfg: dict, scene: str = "") -> xr.Dataset:
     log.info("%s: closed form vs integration max error %.3g, path heading error %.3g", scene, err, path_err)
     return out
 
+
+def _sleigh0_checks(w, cfg):
+    for key in ("u_range", "Omega_range"):
+        increasing(f"{w}.portrait.{key}", cfg["portrait"][key])
+
+
+SLEIGH0 = SceneKind(
+    name="sleigh0", compute=sleigh0, checks=_sleigh0_checks,
+    records=lambda c: [memory.span(c, "portrait.n_samples", None, 4, memory.count(c, "portrait.states")),
+                       memory.span(c, ("portrait.n_field^2", c["portrait"]["n_field"] ** 2), None, 4),
+                       memory.span(c, "path.t_end", "path.dt", 7)])

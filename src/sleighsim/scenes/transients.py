@@ -18,6 +18,9 @@ from sleighsim.engine.integrate import final_state, integrate, sample_grid
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import REFERENCE_LABEL, state_at_label
 from sleighsim.scenes.common import nan_padded
+from sleighsim.scenes import memory
+from sleighsim.scenes.checks import ConfigError
+from sleighsim.scenes.kind import SceneKind
 
 log = logging.getLogger("sleighsim")
 
@@ -70,6 +73,11 @@ def transient_scaling(cfg: dict, scene: str = "") -> xr.Dataset:
     log.info("%s: done in %.3g s; first spikes %s; slope %.3f", scene, ds.attrs["wall_time_s"],
              ds.first_spike.values.round(1).tolist(), slope)
     return ds
+
+
+TRANSIENT_SCALING = SceneKind(
+    name="transient_scaling", compute=transient_scaling,
+    records=lambda c: [memory.span(c, ("t_scale / min(eps)^2", c["t_scale"] / min(c["eps"]) ** 2), "dt")])
 
 
 def _until_steady(params, y0, cfg, scene):
@@ -240,3 +248,16 @@ def attractor_levels(cfg: dict, scene: str = "") -> xr.Dataset:
              {k: round(v, 4) for k, v in attrs.items() if "distance" in k})
     return ds
 
+
+def _attractor_levels_checks(w, cfg):
+    for key in ("chunk", "compare_window"):
+        if cfg[key] >= cfg["t_max"]:
+            raise ConfigError(f"{w}.{key} = {cfg[key]} must lie in (0, t_max = {cfg['t_max']})")
+    if cfg["smooth"] >= cfg["compare_window"]:
+        raise ConfigError(f"{w}.smooth = {cfg['smooth']} must lie in (0, compare_window = {cfg['compare_window']})")
+
+
+ATTRACTOR_LEVELS = SceneKind(
+    name="attractor_levels", compute=attractor_levels, checks=_attractor_levels_checks,
+    records=lambda c: [memory.span(c, "t_max", "dt"), memory.span(c, "long_check.t_end", "long_check.dt"),
+                       memory.span(c, "compare_window", "compare_dt")])

@@ -29,6 +29,8 @@ from sleighsim.engine.integrators import EPSILON
 from sleighsim.model.equations import STATE_NAMES
 from sleighsim.model.params import Params
 from sleighsim.engine.transient import spike_times
+from sleighsim.scenes import memory
+from sleighsim.scenes.kind import SceneKind
 
 log = logging.getLogger("sleighsim")
 
@@ -117,3 +119,6 @@ def trigger_law(cfg: dict, scene: str = "") -> xr.Dataset:
                     fit_rule=" ".join((fitted.__doc__ + " " + fit.__doc__).split()),
                     wall_time_s=time.perf_counter() - start)
     return ds
+
+
+TRIGGER_LAW = SceneKind(name="trigger_law", compute=trigger_law, records=lambda c: [memory.span(c, "t_end", "dt")])

@@ -3,7 +3,7 @@ function that draws it), and which of them a config builds."""
 
 from __future__ import annotations
 
-from sleighsim.ops import registry
+from sleighsim.scenes import catalog as scene_catalog
 from sleighsim.report.figures import audit, bench, chaos, exponents, precision, steady_state, trajectories, transients
 from sleighsim.report.figures.figure import Figure
 
@@ -23,7 +23,7 @@ ATLAS = ("regimes", "basins", "drift")
 def figures_built(config: dict, *, on_request: bool = False) -> list[str]:
     """The names of the figures whose datasets (or schematic block) ``config`` builds, in the order
     of :data:`FIGURES`; with ``on_request`` also those built only when asked for."""
-    built = set(registry.datasets(config, on_request=on_request))
+    built = set(scene_catalog.datasets(config, on_request=on_request))
     drawn = {n for n, block in config["scenes"].items() if on_request or not block.get("on_request", False)}
     return [name for name, f in FIGURES.items()
             if set(f.data) <= built and (not f.schematic or f.schematic in drawn)]

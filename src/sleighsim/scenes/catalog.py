@@ -1,0 +1,137 @@
+"""Every scene kind, collected from the scene modules that declare them (:data:`KINDS`), and the
+names of the datasets a config builds.
+
+Scenes live in the config: each block under ``scenes`` names its ``kind``; the dataset is
+``results/data/<scene>.nc``, computed by the kind's declared function (:class:`sleighsim.scenes.kind.SceneKind`).
+A scene may also run in several precisions (its finer ones under ``precision/<tag>/``, their ladder
+under ``ladder/``) and from perturbed start states (``realization/<k>/``). The Snakefile, the config
+checks, the cost estimate and the claims ledger derive what they build from here.
+
+Importing this module imports every scene module (about 2 s, once per job)."""
+
+from __future__ import annotations
+
+import xarray as xr
+
+from sleighsim.scenes import (
+    audit,
+    basins,
+    bench,
+    causes,
+    drift,
+    exponents,
+    grid,
+    hardcases,
+    hierarchy,
+    ladder,
+    schematic,
+    steady_state,
+    trajectories,
+    transients,
+    trigger,
+    verdict,
+)
+from sleighsim.scenes.kind import SceneKind
+
+#: Every scene kind by its name.
+KINDS: dict[str, SceneKind] = {k.name: k for k in (
+    schematic.SCHEMATIC, trajectories.SLEIGH0, trajectories.TRAJECTORY, transients.ATTRACTOR_LEVELS,
+    transients.TRANSIENT_SCALING, hierarchy.SERIES_VS_EXACT, hierarchy.HIERARCHY_TERMS, hierarchy.HIERARCHY_AUDIT,
+    steady_state.POINCARE, steady_state.PSD, steady_state.ATTRACTOR_SCALING, exponents.LYAPUNOV_SPECTRUM,
+    exponents.LYAPUNOV_PROTOCOL, exponents.LYAPUNOV_ENERGY, exponents.SMALL_EPS_COST, exponents.FORMAL_EXPONENTS,
+    grid.LYAPUNOV_GRID, verdict.CHAOS_VERDICT, ladder.PRECISION_LADDER, trigger.TRIGGER_LAW, drift.DRIFT_WINDOWS,
+    basins.BASINS, audit.PRINTED_MODEL, causes.K2_SWEEP, causes.INTEGRATION_ERROR, hardcases.HARDCASES, bench.BENCH,
+)}
+
+#: Keys of a scene block that schedule its jobs and do not change what it computes.
+SCHEDULING = ("on_request", "schedule_first", "chunk_runtime_min", "runtime_min")
+
+
+def compute(scene: str, cfg: dict, inputs: dict | None = None) -> xr.Dataset:
+    """The dataset of ``scene`` from its config block; ``inputs`` maps the kind's roles to paths."""
+    kind = KINDS[cfg["kind"]]
+    if kind.inputs:
+        return kind.compute(cfg, {role: inputs[role] for role in kind.inputs}, scene=scene)
+    return kind.compute(cfg, scene=scene)
+
+
+def chunk(scene: str, cfg: dict, index: int) -> xr.Dataset:
+    """Chunk ``index`` of a chunked scene (see the kind's module)."""
+    return KINDS[cfg["kind"]].chunk(cfg, index, scene=scene)
+
+
+def gather(scene: str, cfg: dict, paths) -> xr.Dataset:
+    """A chunked scene's dataset from its chunk files."""
+    return KINDS[cfg["kind"]].gather(list(paths), cfg, scene=scene)
+
+
+def chunk_count(cfg: dict) -> int:
+    """The number of chunk jobs of a chunked scene block."""
+    return KINDS[cfg["kind"]].chunk_count(cfg)
+
+
+def precision_tag(precision: str) -> str:
+    """A precision's name in paths: "long double" -> "long_double"."""
+    return precision.replace(" ", "_")
+
+
+def variant(scene: str, precision: str) -> str:
+    """The dataset name (path under data/) of ``scene`` computed in ``precision``: the scene itself
+    in double (the paper's arithmetic), else precision/<tag>/<scene>."""
+    return scene if precision == "double" else f"precision/{precision_tag(precision)}/{scene}"
+
+
+def ladder_name(scene: str) -> str:
+    """The dataset name (path under data/) of the precision ladder of ``scene``."""
+    return f"ladder/{scene}"
+
+
+def laddered(config: dict, *, on_request: bool = False) -> dict[str, list[str]]:
+    """{scene: its precisions, coarse to fine} for the scenes of ``config`` that run in more than
+    one precision (among those :func:`datasets` builds)."""
+    scenes = config["scenes"]
+    return {name: list(scenes[name]["precisions"]) for name in datasets(config, on_request=on_request)
+            if KINDS[scenes[name]["kind"]].observables and len(scenes[name].get("precisions", ())) > 1}
+
+
+def realization_name(scene: str, k: int) -> str:
+    """The dataset name (path under data/) of realization ``k`` of ``scene`` (0: the scene itself)."""
+    return scene if k == 0 else f"realization/{k}/{scene}"
+
+
+def realized(config: dict, *, on_request: bool = False) -> dict[str, int]:
+    """{scene: its number of realizations} for the scenes of ``config`` (among those :func:`datasets`
+    builds) whose realizable block asks for more than one."""
+    scenes = config["scenes"]
+    return {name: int(scenes[name]["realizations"]) for name in datasets(config, on_request=on_request)
+            if KINDS[scenes[name]["kind"]].realizable and scenes[name].get("realizations", 1) > 1}
+
+
+def run_datasets(config: dict) -> list[str]:
+    """Every dataset the config's default run builds, by name under data/: its scenes, their
+    finer-precision variants and precision ladders, and their realizations (on-request scenes not)."""
+    lad = laddered(config)
+    return (datasets(config) + [variant(s, p) for s, ps in lad.items() for p in ps if p != "double"]
+            + [ladder_name(s) for s in lad]
+            + [realization_name(s, k) for s, n in realized(config).items() for k in range(1, n)])
+
+
+def scene_config(config: dict, scene: str) -> dict:
+    """The block of ``scene`` as its function reads it: the config's ``defaults`` filled in where
+    the kind integrates and the block sets no value, the scheduling keys removed (and a laddered
+    kind's ``precisions`` and ``gain``: each precision's job adds its own ``precision``, and the
+    ladder's job reads the gauge; a realizable kind's ``realizations`` and ``realization_rel``: each
+    realization's job perturbs its start states itself)."""
+    block = config["scenes"][scene]
+    kind = KINDS[block["kind"]]
+    defaults = config.get("defaults", {}) if kind.integrates else {}
+    laddering = ("precisions", "gain") if kind.observables else ()  # the ladder's, by its own jobs
+    realizing = ("realizations", "realization_rel") if kind.realizable else ()
+    return {**defaults, **{k: v for k, v in block.items() if k not in SCHEDULING + laddering + realizing}}
+
+
+def datasets(config: dict, *, on_request: bool = False) -> list[str]:
+    """The scenes of ``config`` that make a dataset: those built in the full run, or with
+    ``on_request`` also those built only when asked for."""
+    return [name for name, block in config["scenes"].items()
+            if KINDS[block["kind"]].dataset and (on_request or not block.get("on_request", False))]

@@ -1,0 +1,79 @@
+"""A scene kind, declared once beside the function that computes it: :class:`SceneKind`.
+
+Each scene module holds its kind(s) as module-level constants; :mod:`sleighsim.scenes.catalog`
+collects them. Everything the workflow, the config checks and the cost estimate need to know about a
+kind is here: how it runs, what it reads, which observables its precision ladder compares, what it
+holds in memory, how much it integrates and which cross-field constraints its config block obeys.
+The estimates and checks are pure functions of the kind's config block (as
+:func:`sleighsim.scenes.catalog.scene_config` gives it)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+from sleighsim.scenes.workload import HORIZON_KEYS, horizon_work
+
+
+def n_chunks(cfg: dict) -> int:
+    """The chunk jobs of a chunked block: its ``n_chunks``."""
+    return cfg["n_chunks"]
+
+
+def equal_chunks(cfg: dict) -> list[float]:
+    """Work of each chunk job when the chunks share the block's horizons equally."""
+    n = cfg["n_chunks"]
+    return [horizon_work(cfg) / n] * n
+
+
+def horizon_key(leaf: str) -> bool:
+    """Whether the horizon work model (:func:`sleighsim.scenes.workload.horizon_work`) reads ``leaf``."""
+    return leaf in HORIZON_KEYS
+
+
+def no_checks(where: str, cfg: dict) -> None:
+    """A kind without cross-field constraints."""
+
+
+@dataclass(frozen=True, kw_only=True)
+class SceneKind:
+    """A scene kind.
+
+    - ``name``: the ``kind`` of a config block;
+    - ``compute(cfg, [inputs,] scene=)``: its dataset (None for a chunked or dataset-free kind);
+    - ``chunk(cfg, index, scene=)`` and ``gather(paths, cfg, scene=)``: a chunked kind's chunk jobs
+      and its dataset from their files; ``chunk_count(cfg)``: how many chunk jobs;
+    - ``inputs``: the roles of the datasets it reads (named in the block's ``inputs``);
+    - ``dataset``: False for a kind drawn from its config block alone; ``integrates``: it takes the
+      config's ``defaults`` (the tolerance) unless its block sets them; ``realizable``: its claims rest
+      on a sensitive quantity, so its block may ask for ``realizations``;
+    - ``observables``: the key observables its precision ladder compares (none: it is not laddered);
+    - ``records(cfg)``: the records it holds in memory (:class:`sleighsim.scenes.records.Span`);
+    - ``work(cfg)``: the time units its jobs integrate; ``chunk_work(cfg)``: those of each chunk job;
+      ``modelled(leaf)``: whether the work model reads a config key;
+    - ``chunk_holds(cfg, k)``: what chunk k holds, for the cost estimate's report (None: not told);
+    - ``checks(where, cfg)``: its cross-field constraints (raise
+      :class:`sleighsim.scenes.checks.ConfigError`); ``pre_run``: the key of its checked pre-run."""
+
+    name: str
+    records: Callable[[dict], list]
+    compute: Callable | None = None
+    chunk: Callable | None = None
+    gather: Callable | None = None
+    chunk_count: Callable[[dict], int] = n_chunks
+    inputs: tuple[str, ...] = ()
+    dataset: bool = True
+    integrates: bool = True
+    realizable: bool = False
+    observables: tuple[str, ...] = ()
+    work: Callable[[dict], float] = horizon_work
+    chunk_work: Callable[[dict], list[float]] = equal_chunks
+    modelled: Callable[[str], bool] = horizon_key
+    chunk_holds: Callable[[dict, int], list] | None = None
+    checks: Callable[[str, dict], None] = no_checks
+    pre_run: str = ""
+
+    @property
+    def chunked(self) -> bool:
+        """Whether it runs as independent chunk jobs gathered by one job."""
+        return self.chunk is not None

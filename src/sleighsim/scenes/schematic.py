@@ -1,0 +1,7 @@
+"""The schematic kind: a figure drawn from its config block alone (no dataset, nothing integrated)."""
+
+from __future__ import annotations
+
+from sleighsim.scenes.kind import SceneKind
+
+SCHEMATIC = SceneKind(name="schematic", dataset=False, integrates=False, records=lambda c: [])

@@ -1,0 +1,80 @@
+"""The chaos verdict's orbit indicators (no tangent dynamics): where the reversing involution R sends a
+state, two nearby trajectories and the Loschmidt return error, run on the sleigh for
+:mod:`sleighsim.scenes.verdict`."""
+
+from __future__ import annotations
+
+import inspect
+import math
+
+import numpy as np
+
+from sleighsim.chaos.orbits import (
+    loschmidt,
+    loschmidt_fit,
+    two_trajectory,
+)
+from sleighsim.engine import integrators
+from sleighsim.engine.integrate import integrate, sample_grid
+from sleighsim.model import equations
+from sleighsim.scenes.common import stored_state
+
+R = np.array([-1.0, -1.0, -1.0, 1.0])  # the reversing involution: (u, Omega, omega, delta) -> (-u, -Omega, -omega, delta)
+
+
+# the docstring is written into the chaos_verdict dataset (attribute R_rule)
+def r_image(params, y, ref_mean, *, T: float, tol: float, rtol: float, scene: str) -> tuple[str, float]:
+    """Where R sends a point of the state: integrate R y forward over T and compare the time means of
+    (u, omega) over the second half with R applied to the state's own means. "stays" when within rtol
+    of the scale of the means, else "leaves" (the image of the state is not visited: a repeller)."""
+    run = integrate(params, R * np.asarray(y), sample_grid(0.0, T, T / 2000), tol=tol, scene=f"{scene}.R", progress=1)
+    half = run.time.values >= T / 2
+    got = np.array([run.u.values[half].mean(), run.omega.values[half].mean()])
+    want = -np.asarray(ref_mean)
+    dist = float(np.max(np.abs(got - want)) / max(np.max(np.abs(ref_mean)), 1e-12))
+    return ("stays" if dist <= rtol else "leaves"), dist
+
+
+def two_trajectory_runs(params, y, cfg: dict) -> tuple:
+    """``chaos.orbits.two_trajectory`` from y (model variables) at each separation d0, in double at
+    tol over T_two (renormalised every tau, after t_align), the partner kept on the reference's
+    energy level. Returns (the flow integrator, the runs)."""
+    flow, _ = integrators.flow(False, cfg["tol"])
+    integrators.set_pars(flow, params)
+    y_int = stored_state(y)
+    tts = [two_trajectory(flow, y_int, d0=d0, tau=cfg["tau"], T=cfg["T_two"], t_align=cfg["t_align"],
+                          callback=integrators.bounded(flow), difference=equations.state_difference,
+                          project=lambda ref, p: _on_level(ref, p, params)) for d0 in cfg["d0"]]
+    return flow, tts
+
+
+def loschmidt_run(params, y, cfg: dict, *, long_double: bool = False) -> dict:
+    """``chaos.orbits.loschmidt`` from y (model variables) with the involution R at loschmidt_n
+    log-spaced T in loschmidt_T, relative to max |velocity|: in double at tol, or in long double at
+    tol_long_double (rounding 2^11 smaller: the rounding floor is 3.3 decades lower)."""
+    flow, _ = integrators.flow(False, cfg["tol_long_double"] if long_double else cfg["tol"], long_double)
+    integrators.set_pars(flow, params)
+    return loschmidt(flow, stored_state(y), loschmidt_T(cfg), lambda z: R * z, callback=integrators.bounded(flow),
+                     difference=equations.state_difference, scale=float(np.max(np.abs(np.asarray(y)[:3]))))
+
+
+def loschmidt_settings() -> dict:
+    """The Loschmidt engine's fixed settings (its defaults), as dataset attributes."""
+    run = inspect.signature(loschmidt).parameters
+    fit = inspect.signature(loschmidt_fit).parameters
+    return {"loschmidt_floor_factor": run["floor_factor"].default, "loschmidt_saturation": run["saturation"].default,
+            "loschmidt_tail_fraction": fit["tail"].default, "loschmidt_tail_min": fit["tail_min"].default}
+
+
+def loschmidt_T(cfg: dict) -> np.ndarray:
+    """The Loschmidt horizons: loschmidt_n log-spaced in loschmidt_T."""
+    return np.geomspace(*cfg["loschmidt_T"], cfg["loschmidt_n"])
+
+
+def _on_level(ref, partner, params):
+    """The partner (integrator variables) scaled back onto the reference's energy level: the
+    velocities scale, delta is kept (E is quadratic in the velocities at fixed delta)."""
+    shift = np.array([0.0, 0.0, 0.0, integrators.DELTA_SHIFT])
+    out = np.array(partner, float)
+    out[:3] *= math.sqrt(equations.energy(ref - shift, params) / equations.energy(out - shift, params))
+    return out

@@ -1,0 +1,53 @@
+"""Every scene kind is declared once, beside its function (sleighsim.scenes.kind.SceneKind), and the
+catalog collects them: each has what the workflow, the config checks and the cost estimate need."""
+
+import inspect
+
+import pytest
+import yaml
+from conftest import ROOT
+
+from sleighsim.scenes import catalog
+from sleighsim.scenes.kind import SceneKind
+
+SCHEMA = yaml.safe_load((ROOT / "workflow" / "schemas" / "config.schema.yaml").read_text())
+
+
+@pytest.mark.parametrize("kind", [k for k, v in catalog.KINDS.items() if v.dataset and not v.chunked])
+def test_every_kind_with_a_dataset_has_its_function(kind):
+    declared = catalog.KINDS[kind]
+    params = inspect.signature(declared.compute).parameters
+    assert callable(declared.compute) and "scene" in params
+    assert ("inputs" in params or len(params) == 3) if declared.inputs else len(params) == 2
+    assert declared.gather is None
+
+
+@pytest.mark.parametrize("kind", [k for k, v in catalog.KINDS.items() if v.chunked])
+def test_chunked_kinds_have_chunk_gather_and_a_count(kind):
+    declared = catalog.KINDS[kind]
+    assert declared.chunk.__name__ == "chunk" and declared.gather.__name__ == "gather"
+    assert declared.chunk.__module__ == declared.gather.__module__
+    assert declared.compute is None and declared.chunk_count({"kind": kind, "n_chunks": 2, "states": {"a": []}}) >= 2
+
+
+@pytest.mark.parametrize("kind", list(catalog.KINDS))
+def test_every_kind_has_a_memory_estimate_a_work_model_and_checks(kind):
+    declared = catalog.KINDS[kind]
+    assert isinstance(declared, SceneKind) and declared.name == kind
+    for fn in (declared.records, declared.work, declared.chunk_work, declared.modelled, declared.checks):
+        assert callable(fn)
+
+
+def test_a_kind_without_dataset_has_no_function():
+    assert not catalog.KINDS["schematic"].dataset and catalog.KINDS["schematic"].compute is None
+
+
+def test_the_schema_names_exactly_the_catalog_kinds():
+    """The schema's enum of kinds and its per-kind blocks follow the catalog: a kind forgotten in either fails."""
+    assert sorted(SCHEMA["$defs"]["scene"]["properties"]["kind"]["enum"]) == sorted(catalog.KINDS)
+    assert {kind for kind in catalog.KINDS if kind in SCHEMA["$defs"]} == set(catalog.KINDS)
+
+
+def test_only_laddered_kinds_declare_observables():
+    assert {k for k, v in catalog.KINDS.items() if v.observables} == {
+        "poincare", "trajectory", "lyapunov_spectrum", "lyapunov_protocol", "lyapunov_energy", "lyapunov_grid", "psd"}
