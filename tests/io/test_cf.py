@@ -152,9 +152,11 @@ def test_every_scene_of_every_config_has_a_title():
     for scene in scenes:
         for rel in (f"data/{scene}.nc", f"data/precision/long_double/{scene}.nc", f"data/ladder/{scene}.nc",
                     f"data/realization/2/{scene}.nc", f"chunks/{scene}/3.nc", f"chunks/precision/quad/{scene}/0.nc"):
-            title = cf.title(Path("/any/results") / rel)
+            title = cf.title(Path("/any/results") / rel, "quad" if "precision/" in rel else "double")
             assert registry.TITLES[scene] in title and f"[{scene}" in title, rel
-    assert cf.dataset_name("/r/results/data/precision/long_double/fig3.nc") == ("fig3", "in long double")
+    assert cf.dataset_name("/r/results/data/precision/long_double/fig3.nc", "long double") == ("fig3", "in long double")
+    with pytest.raises(ValueError, match="needs the precision"):
+        cf.dataset_name("/r/results/data/precision/long_double/fig3.nc")
     assert cf.dataset_name("/r/results/stability/verdicts.nc") == ("stability/verdicts", "")
     assert registry.TITLES["claims"] in cf.title("/r/results/claims.nc")
 

@@ -6,4 +6,5 @@ from sleighsim.ops.runlog import logging_to
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logging_to(sm.log[0]):
-    netcdf.write_dataset(scenes.chunk(sm.wildcards.scene, sm.params.cfg, int(sm.wildcards.chunk)), sm.output.nc)
+    netcdf.write_dataset(scenes.chunk(sm.wildcards.scene, sm.params.cfg, int(sm.wildcards.chunk)), sm.output.nc,
+                         precision=sm.params.cfg.get("precision", "double"))

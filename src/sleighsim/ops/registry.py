@@ -17,6 +17,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from sleighsim.engine.precision import Precision
+
 
 @dataclass(frozen=True)
 class Kind:
@@ -81,8 +83,8 @@ OBSERVABLES: dict[str, tuple[str, ...]] = {
 
 
 def precision_tag(precision: str) -> str:
-    """A precision's name in paths: "long double" -> "long_double"."""
-    return precision.replace(" ", "_")
+    """A precision's name in paths (``Precision.tag``): "long double" -> "long_double"."""
+    return Precision.parse(precision).tag
 
 
 def variant(scene: str, precision: str) -> str:

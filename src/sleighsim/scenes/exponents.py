@@ -30,7 +30,7 @@ log = logging.getLogger("sleighsim")
 def _run(params, y, *, k, cfg, compact, label, T=None, seed=0):
     """Benettin from y with k vectors in the block's steady-state arithmetic (:func:`.common.steady_arithmetic`)."""
     arith = steady_arithmetic(cfg)
-    ta, compile_s = lyapunov.sleigh_tangent(k, arith["tol"], compact, *integrators.precision_flags(arith["precision"]))
+    ta, compile_s = lyapunov.sleigh_tangent(k, arith["tol"], compact, arith["precision"])
     integrators.set_pars(ta, params)
     out = lyapunov.benettin(ta, 4, k, y, t_align=cfg["t_align"], T=cfg["T"] if T is None else T, tau=cfg["tau"],
                             n_blocks=cfg["n_blocks"], seed=seed, label=label)

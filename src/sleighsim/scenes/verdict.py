@@ -53,7 +53,8 @@ from sleighsim.chaos.tangent import (
     megno_in_long_double,
 )
 from sleighsim.chaos.verdicts import CHAOTIC, REGULAR
-from sleighsim.chaos.faithfulness import FAITHFUL_MAX, ROUNDING, cycle_gains, follows, spike_cycle_gains
+from sleighsim.chaos.faithfulness import FAITHFUL_MAX, cycle_gains, follows, spike_cycle_gains
+from sleighsim.engine.precision import Precision
 from sleighsim.engine.integrate import integrate, orbit_samples, sample_grid
 from sleighsim.io.netcdf import read_dataset
 from sleighsim.model.params import Params
@@ -92,7 +93,8 @@ def one_state(params, y0, cfg: dict, scene: str) -> dict:
     m, ld, megno_double, megno_precision = _tangent_indicators(params, replicas, res, cfg, scene, values, errors, verdicts)
     freq = frequency_indicator(params, replicas[0], cfg, sigma)
     values["frequency"], errors["frequency"], verdicts["frequency"] = freq["value"], freq["error"], freq["verdict"]
-    L, L_ld = loschmidt_run(params, replicas[0], cfg), loschmidt_run(params, replicas[0], cfg, long_double=True)
+    L = loschmidt_run(params, replicas[0], cfg)
+    L_ld = loschmidt_run(params, replicas[0], cfg, precision=Precision.LONG_DOUBLE)
     los = loschmidt_indicator(L, L_ld, sigma)
     values["loschmidt"], errors["loschmidt"], verdicts["loschmidt"] = los["value"], los["error"], los["verdict"]
     flow, tts = two_trajectory_runs(params, replicas[-1], cfg)
@@ -204,34 +206,35 @@ def indicator_follows(ln_gain_max: float, arithmetic: dict) -> dict:
     """{indicator: does its arithmetic follow the orbit (``faithfulness.follows``)}: G x rounding
     below 1e-3, or below LOSCHMIDT_GAIN_ROUNDING_MAX for the Loschmidt test."""
     limit = {"loschmidt": LOSCHMIDT_GAIN_ROUNDING_MAX}
-    return {name: follows(ln_gain_max, ROUNDING[a], limit.get(name, FAITHFUL_MAX)) for name, a in arithmetic.items()}
+    return {name: follows(ln_gain_max, Precision.parse(a).rounding, limit.get(name, FAITHFUL_MAX)) for name, a in arithmetic.items()}
 
 
-def loschmidt_run(params, y, cfg: dict, *, long_double: bool = False) -> dict:
+def loschmidt_run(params, y, cfg: dict, *, precision: Precision = Precision.DOUBLE) -> dict:
     """``chaos.orbits.loschmidt`` from y (model variables) with the involution R at loschmidt_n
     log-spaced T in loschmidt_T, relative to max |velocity|: in double at tol, or in long double at
     tol_long_double (rounding 2^11 smaller: the rounding floor is 3.3 decades lower)."""
-    flow, _ = integrators.flow(False, cfg["tol_long_double"] if long_double else cfg["tol"], long_double)
+    tol = cfg["tol_long_double"] if precision is Precision.LONG_DOUBLE else cfg["tol"]
+    flow, _ = integrators.flow(False, tol, precision)
     integrators.set_pars(flow, params)
     return loschmidt(flow, _stored(y), loschmidt_T(cfg), lambda z: R * z, callback=integrators.bounded(flow),
                      difference=equations.state_difference, scale=float(np.max(np.abs(np.asarray(y)[:3]))))
 
 
-PRECISIONS = ("double", "long double", "quad")  # the frequency indicator's runs, in order
+PRECISIONS = tuple(Precision)  # the frequency indicator's runs, in order
 
 
-def _frequency_tol(cfg: dict, precision: str) -> float:
+def _frequency_tol(cfg: dict, precision: Precision) -> float:
     """The Taylor tolerance of the frequency run in ``precision`` (one of PRECISIONS)."""
     return {"double": cfg["tol"], "long double": cfg["tol_long_double"], "quad": cfg["frequency"]["tol_quad"]}[precision]
 
 
-def frequency_run(params, y, cfg: dict, precision: str = "double") -> dict:
+def frequency_run(params, y, cfg: dict, precision: Precision = Precision.DOUBLE) -> dict:
     """``chaos.frequency.frequency_drift`` of the velocity frequency.component (u, Omega or omega) from y,
     sampled every frequency.dt: in double at tol over frequency.T, in long double at
     tol_long_double over frequency.T, or in quad at frequency.tol_quad over frequency.quad_T."""
     fc = cfg["frequency"]
-    T = fc["quad_T"] if precision == "quad" else fc["T"]
-    flow, _ = integrators.flow(False, _frequency_tol(cfg, precision), precision == "long double", precision == "quad")
+    T = fc["quad_T"] if precision is Precision.QUAD else fc["T"]
+    flow, _ = integrators.flow(False, _frequency_tol(cfg, precision), precision)
     integrators.set_pars(flow, params)
     return frequency_drift(flow, _stored(y), T=T, dt=fc["dt"], component=equations.STATE_NAMES.index(fc["component"]),
                            splits=fc["splits"], min_cycles=fc["min_cycles"], callback=integrators.bounded(flow))
@@ -251,7 +254,7 @@ def frequency_indicator(params, y, cfg: dict, sigma: float) -> dict:
     for prev, precision in zip((None, *PRECISIONS[:-1]), PRECISIONS):
         if prev is not None and (judgement[0] == REGULAR or made[prev]["splits"].size < 2):
             break
-        if precision == "quad" and cfg["frequency"]["quad_T"] <= 0:
+        if precision is Precision.QUAD and cfg["frequency"]["quad_T"] <= 0:
             judgement = (judgement[0], judgement[1] + "; quad run not made (frequency.quad_T = 0; config/cluster.yaml makes it)")
             break
         run = made[precision] = frequency_run(params, y, cfg, precision)
@@ -303,12 +306,13 @@ def loschmidt_T(cfg: dict) -> np.ndarray:
     return np.geomspace(*cfg["loschmidt_T"], cfg["loschmidt_n"])
 
 
-def megno_run(params, y, cfg: dict, *, long_double: bool = False) -> dict:
+def megno_run(params, y, cfg: dict, *, precision: Precision = Precision.DOUBLE) -> dict:
     """MEGNO from y (model variables), renormalised every tau, <Y> recorded at megno_samples times
     (``chaos.tangent.megno``): over T_megno in double, or over T_long_double at tol_long_double in long
     double."""
+    long_double = precision is Precision.LONG_DOUBLE
     tol, T = (cfg["tol_long_double"], cfg["T_long_double"]) if long_double else (cfg["tol"], cfg["T_megno"])
-    ta, _ = lyapunov.sleigh_megno(tol, long_double, cfg["compact_mode"])
+    ta, _ = lyapunov.sleigh_megno(tol, precision, cfg["compact_mode"])
     integrators.set_pars(ta, params)
     return megno(ta, 4, _stored(y), T=T, n_samples=cfg["megno_samples"], tau=cfg["tau"], callback=integrators.bounded(ta))
 
@@ -327,7 +331,7 @@ def precision_check(params, y, cfg: dict, scene: str) -> dict:
     no longer resolved) can change which MEGNO run is judged. Returns lambda_1, stderr, check
     ("confirmed" | "not confirmed"), the reason and the run (``megno``)."""
     tau, sigma, T = cfg["tau"], cfg["sigma"], cfg["T_long_double"]
-    m = megno_run(params, y, cfg, long_double=True)
+    m = megno_run(params, y, cfg, precision=Precision.LONG_DOUBLE)
     g = m["log_growth"][math.ceil(cfg["t_align"] / tau):]  # the alignment of the vector left out
     lam, err, bound, ok = growth_confirmed(g, tau, T, sigma, N_BLOCKS)
     text = (f"long double (tol {cfg['tol_long_double']:.2g}): lambda_1 = {lam:.3g} +- {err:.2g} over T = {T:.3g}, "
@@ -386,7 +390,7 @@ def verdict(cfg: dict, scene: str = "") -> xr.Dataset:
          **_gain_vars(out)},
         coords={"state": names, "indicator": ind, "i": np.arange(1, 5), "d0": np.asarray(cfg["d0"], float),
                 "T_loschmidt": loschmidt_T(cfg), "precision": ["double", "long double"],
-                "split": np.asarray(fc["splits"], int), "frequency_precision": list(PRECISIONS), "arithmetic": list(ROUNDING),
+                "split": np.asarray(fc["splits"], int), "frequency_precision": list(PRECISIONS), "arithmetic": [p.value for p in Precision],
                 "tangent_based": ("indicator", [int(i in TANGENT_BASED) for i in ind])},
     )
     _set_attrs(ds, cfg, params, per_state, start)
@@ -523,9 +527,9 @@ def _gain_vars(out: list) -> dict:
         "spike_period": ("state", [spike_period(g["spike_times"]) for g in gains],
                          cf.attrs("median interval between the spikes of the gauge's run: which torus of the family "
                                   "the state reached (to about tau_gain)", "time")),
-        "log10_gain_rounding": (("state", "arithmetic"), [[g["log10_gain_rounding"][a] for a in ROUNDING] for g in gains],
+        "log10_gain_rounding": (("state", "arithmetic"), [[g["log10_gain_rounding"][a] for a in Precision] for g in gains],
                                 cf.attrs("log10(G_max x unit roundoff of the arithmetic)")),
-        "follows_orbit": (("state", "arithmetic"), np.array([[g["follows"][a] for a in ROUNDING] for g in gains],
+        "follows_orbit": (("state", "arithmetic"), np.array([[g["follows"][a] for a in Precision] for g in gains],
                                                             dtype=object),
                           {"long_name": "does the arithmetic follow the exact orbit (G x rounding below "
                                         "faithfulness.FAITHFUL_MAX; unknown without a complete cycle)"}),
