@@ -7,8 +7,8 @@ Python user could use instead.
 The paper's sleigh (eps 0.1, b 1, K2 1.1) from y0 = (0, 0.1, 1, 0) (peers.Y0_REFERENCE) over [0, T]
 (T = 20 in the full run, 2 with --quick: a horizon where mpmath is affordable). Methods:
 
-- heyoka long double: integrators.flow(False, tol, long_double=True) (full mode), tols 1e-12 .. eps_ld;
-- heyoka real128: integrators.flow(False, tol, quad=True) (compact mode), tols 1e-16 .. 1e-32 and eps_quad;
+- heyoka long double: integrators.flow(False, tol, Precision.LONG_DOUBLE) (full mode), tols 1e-12 .. eps_ld;
+- heyoka real128: integrators.flow(False, tol, Precision.QUAD) (compact mode), tols 1e-16 .. 1e-32 and eps_quad;
 - heyoka real at 113 bits: the same system and build as real128 (compact mode, delta bounded the same
   way) with heyoka's arbitrary-precision ``real`` (MPFR) at real128's precision, the same tols and the
   very same parameter values (real128's, converted exactly): a cross-check of real128 (its errors should
@@ -60,6 +60,7 @@ import numpy as np
 import sympy as sp
 
 from sleighsim.engine import integrators, peers
+from sleighsim.engine.precision import Precision
 from sleighsim.model import equations, mechanics
 from sleighsim.model.params import Params
 from sleighsim.ops import benchio
@@ -69,7 +70,7 @@ say = partial(benchio.say, "extended_peers")
 SCHEMA = "sleighsim.extended_peers/1"
 PARAMS = {"eps": 0.1, "b": 1.0, "K2": 1.1}
 Y0 = tuple(float(v) for v in peers.Y0_REFERENCE)  # (u, Omega, omega, delta) = (0, 0.1, 1, 0)
-EPS_LD, EPS_QUAD = integrators.EPSILON["long double"], integrators.EPSILON["quad"]
+EPS_LD, EPS_QUAD = Precision.LONG_DOUBLE.epsilon, Precision.QUAD.epsilon
 QUAD_BITS = 113  # real128's significand
 MPMATH_DPS = 34
 ERROR_BITS = 400  # mpmath precision of the error evaluation
@@ -185,7 +186,7 @@ def flow_native(precision: str, tol: float, cold: bool):
     if cold:
         hy.llvm_state.clear_memcache()
     c0 = time.process_time()
-    ta, wall = integrators.flow(False, tol, *integrators.precision_flags(precision))
+    ta, wall = integrators.flow(False, tol, Precision.parse(precision))
     return ta, wall, time.process_time() - c0
 
 

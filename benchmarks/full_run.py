@@ -36,9 +36,9 @@ sys.path.insert(0, str(REPO / "src"))
 
 import yaml
 
-from sleighsim.ops.config import BASE_CONFIG, merged_config
 from sleighsim.ops import jobgraph
 from sleighsim.ops import summary as costsummary
+from sleighsim.ops.config import BASE_CONFIG, merged_config
 from sleighsim.report.figures import costs as plots
 
 

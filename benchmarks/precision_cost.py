@@ -6,7 +6,7 @@ quad, compact mode on and off, and heyoka's high_accuracy mode in double (its co
 
 Rows: every (system, precision, compact_mode, high_accuracy) with system "flow" (the 4-state sleigh) or
 "tangent" (the sleigh plus one tangent vector, heyoka's variational equations, k = 1), precision one of
-sleighsim.engine.integrators.EPSILON, each at its own machine epsilon as tolerance, and high_accuracy on only in
+sleighsim.engine.precision.Precision, each at its own machine epsilon as tolerance, and high_accuracy on only in
 double. Integrators come from the project's builders (integrators.flow: compact mode off in double and
 long double, on in quad; lyapunov.sleigh_tangent; lyapunov.tangent_integrator for quad); where they have no such option
 (compact_mode for the flow, high_accuracy anywhere) the integrator is built the way they build it with that
@@ -53,6 +53,7 @@ import numpy as np
 
 from sleighsim.chaos import lyapunov
 from sleighsim.engine import integrators, transient
+from sleighsim.engine.precision import Precision
 from sleighsim.model import equations
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import REFERENCE_LABEL, REFERENCE_STATE, state_at_label
@@ -61,7 +62,7 @@ from sleighsim.ops import benchio
 say = partial(benchio.say, "precision_cost")
 
 SCHEMA = "sleighsim.precision_cost/1"
-PRECISIONS = tuple(integrators.EPSILON)  # double, long double, quad
+PRECISIONS = tuple(p.value for p in Precision)  # double, long double, quad
 SYSTEMS = ("flow", "tangent")
 PARAMS = {"eps": 0.1, "b": 1.0, "K2": 1.1}
 TAU = 10.0  # renormalisation interval of the tangent vector (config: lyapunov tau)
@@ -85,47 +86,49 @@ def rows():
                     yield system, precision, compact, ha
 
 
-def _flow_variant(tol, long_double, quad, compact, ha):
+def _flow_variant(tol, precision, compact, ha):
     """integrators.flow's build with compact_mode and high_accuracy set (kinematics off)."""
-    fp = integrators.fp_type(long_double, quad)
+    fp = precision.fp_type
 
     def build():
         y0 = np.array([0.0, 0.1, 1.0, integrators.DELTA_SHIFT]).astype(fp)
         return hy.taylor_adaptive(equations.heyoka_system(False, integrators.DELTA_SHIFT), y0, tol=fp(tol),
                                   pars=equations.compile_pars(fp), fp_type=fp, compact_mode=compact, high_accuracy=ha)
 
-    return integrators.compiled(("precision_cost flow", tol, long_double, quad, compact, ha), build)[0]
+    return integrators.compiled(("precision_cost flow", tol, precision, compact, ha), build)[0]
 
 
-def _tangent_variant(tol, long_double, quad, compact, ha):
+def _tangent_variant(tol, precision, compact, ha):
     """lyapunov.sleigh_tangent's build (k = 1) in any precision, with high_accuracy set."""
-    fp = integrators.fp_type(long_double, quad)
+    fp = precision.fp_type
     sys_ = equations.heyoka_system(delta_shift=integrators.DELTA_SHIFT)
 
     def build():
         if not ha:
             return lyapunov.tangent_integrator(sys_, 1, tol, equations.compile_pars(fp), compact_mode=compact,
-                                               fp_type=fp)[0]
-        # lyapunov.tangent_integrator with high_accuracy on
+                                               precision=precision)[0]
+        import heyoka as hy  # lyapunov.tangent_integrator with high_accuracy on
+
         vsys = hy.var_ode_sys(sys_, [v for v, _ in sys_[:1]], order=1)
         return hy.taylor_adaptive(vsys, np.full(len(sys_), 0.1, dtype=fp), tol=fp(tol), pars=equations.compile_pars(fp),
                                   compact_mode=compact, fp_type=fp, high_accuracy=True)
 
-    return integrators.compiled(("precision_cost tangent", 1, tol, long_double, quad, compact, ha), build)[0]
+    return integrators.compiled(("precision_cost tangent", 1, tol, precision, compact, ha), build)[0]
 
 
-def build(system, precision, compact, ha):
-    """The integrator of one row: the project's builder where it has the options, else its build."""
-    long_double, quad = integrators.precision_flags(precision)
-    tol = integrators.EPSILON[precision]
+def build(system, name, compact, ha):
+    """The integrator of one row (``name``: the precision's config name): the project's builder where
+    it has the options, else its build."""
+    precision = Precision.parse(name)
+    tol, quad = precision.epsilon, precision is Precision.QUAD
     if system == "flow":
         if compact == quad and not ha:  # integrators.flow: full mode in double and long double, compact in quad
-            return integrators.flow(False, tol, long_double, quad)[0], "integrators.flow"
-        return _flow_variant(tol, long_double, quad, compact, ha), "integrators.flow's build, options changed"
+            return integrators.flow(False, tol, precision)[0], "integrators.flow"
+        return _flow_variant(tol, precision, compact, ha), "integrators.flow's build, options changed"
     if not quad and not ha:
-        return lyapunov.sleigh_tangent(1, tol, compact, long_double)[0], "lyapunov.sleigh_tangent"
+        return lyapunov.sleigh_tangent(1, tol, compact, precision)[0], "lyapunov.sleigh_tangent"
     how = "lyapunov.tangent_integrator" if not ha else "lyapunov.tangent_integrator's build, high_accuracy on"
-    return _tangent_variant(tol, long_double, quad, compact, ha), how
+    return _tangent_variant(tol, precision, compact, ha), how
 
 
 def _check(ta, res, what):
@@ -172,9 +175,7 @@ def measure(ta, system, y0, T, repeats, warmup_T, what):
 
 
 def settled_state(params, y0, t_transient):
-    """The state (u, Omega, omega, delta, doubles) after t_transient time units from y0 (integrators.flow
-    in double)."""
-    ta = integrators.flow(False, integrators.EPSILON["double"])[0]
+    ta = integrators.flow(False, Precision.DOUBLE.epsilon)[0]
     integrators.set_pars(ta, params)
     ta.time = 0.0
     integrators.load(ta, y0)
@@ -224,10 +225,10 @@ def separations(Y, ref, spikes) -> dict:
 
 def accuracy(params, s, opts):
     """Separations of double, double + high_accuracy (from long double) and long double (from quad)."""
-    tol = integrators.EPSILON
+    tol = {p.value: p.epsilon for p in Precision}
     runs = {"double": integrators.flow(False, tol["double"])[0],
-            "double_high_accuracy": _flow_variant(tol["double"], False, False, False, True),
-            "long_double": integrators.flow(False, tol["long double"], True)[0]}
+            "double_high_accuracy": _flow_variant(tol["double"], Precision.DOUBLE, False, True),
+            "long_double": integrators.flow(False, tol["long double"], Precision.LONG_DOUBLE)[0]}
     T = opts["t_accuracy"]
     Y, cpu = {}, {}
     for name, ta in runs.items():
@@ -256,7 +257,7 @@ def accuracy(params, s, opts):
     if opts["quad_reference"]:
         Tq = float(spikes[1] + SPIKE_WINDOW + SAMPLE_DT)
         say(f"accuracy: quad reference over {Tq:g} (about {Tq * 9e-3:.0f} s)")
-        Yq, cpu["quad"] = orbit(integrators.flow(False, tol["quad"], False, True)[0], params, s, Tq)
+        Yq, cpu["quad"] = orbit(integrators.flow(False, tol["quad"], Precision.QUAD)[0], params, s, Tq)
         out["vs_quad"] = {name: separations(Y[name], Yq, spikes) for name in Y}
     else:
         out["vs_quad"] = None
@@ -296,7 +297,7 @@ def run(opts) -> dict:
         cpu, wall = time.process_time() - c0, time.perf_counter() - w0
         say(f"built {system} {precision} compact={compact} high_accuracy={ha}: {wall:.2f} s")
         table.append({"system": system, "precision": precision, "compact_mode": compact, "high_accuracy": ha,
-                      "tol": integrators.EPSILON[precision], "order": int(ta.order), "builder": how,
+                      "tol": Precision.parse(precision).epsilon, "order": int(ta.order), "builder": how,
                       "compile_cpu_s": cpu, "compile_wall_s": wall, "_ta": ta})
     load["after_compile"] = benchio.loadavg()
 

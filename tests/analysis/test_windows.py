@@ -10,6 +10,7 @@ from sleighsim.chaos import lyapunov
 from sleighsim.analysis import windows
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import state_at_label
+from sleighsim.engine.precision import Precision
 
 T_WIN = np.arange(10) * 1e5 + 5e4
 
@@ -79,7 +80,8 @@ def test_windowed_orbit_in_long_double_matches_double_where_both_are_accurate():
     y0 = state_at_label([0.0, 0.1, 1.0, 0.0], p, 1.0)
     runs = {}
     for ld in (False, True):
-        ta, _ = lyapunov.sleigh_tangent(1, 1.0842021724855044e-19 if ld else 2.0**-52, True, ld)
+        ta, _ = lyapunov.sleigh_tangent(1, 1.0842021724855044e-19 if ld else 2.0**-52, True,
+                                   Precision.LONG_DOUBLE if ld else Precision.DOUBLE)
         integrators.set_pars(ta, p)
         runs[ld] = list(windows.windowed_orbit(ta, 4, y0, n_windows=3, window=50.0, tau=5.0, component=1, seed=7))
         assert ta.state.dtype == (np.longdouble if ld else np.float64)

@@ -17,8 +17,8 @@ import math
 import numpy as np
 import pytest
 
-from sleighsim.chaos import naff as fq
 from sleighsim.chaos import frequency
+from sleighsim.chaos import naff as fq
 from sleighsim.chaos.verdicts import REGULAR, UNDECIDED
 
 G, U = REGULAR, UNDECIDED

@@ -20,8 +20,7 @@ from chaos_textbook import (
     _oscillators,
 )
 
-from sleighsim.chaos import orbits
-from sleighsim.chaos import tangent
+from sleighsim.chaos import orbits, tangent
 from sleighsim.chaos.verdicts import CHAOTIC, REGULAR, UNDECIDED
 
 C, G, U = CHAOTIC, REGULAR, UNDECIDED

@@ -5,8 +5,7 @@ import math
 
 import pytest
 
-from sleighsim.chaos import orbits
-from sleighsim.chaos import tangent
+from sleighsim.chaos import orbits, tangent
 from sleighsim.chaos.rule import DECISION_RULE, classify, consistent, decide
 from sleighsim.chaos.verdicts import CHAOTIC, REGULAR, UNDECIDED
 

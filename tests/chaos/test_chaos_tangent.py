@@ -15,8 +15,7 @@ from chaos_textbook import (
     _nan_each,
 )
 
-from sleighsim.chaos import tangent
-from sleighsim.chaos import verdicts
+from sleighsim.chaos import tangent, verdicts
 from sleighsim.chaos.tangent import judge_benettin
 from sleighsim.chaos.verdicts import CHAOTIC, REGULAR, UNDECIDED
 

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from sleighsim.chaos import faithfulness as fa
+from sleighsim.engine.precision import Precision
 
 
 def _diag(*d):
@@ -45,11 +46,11 @@ def test_spike_steps_must_increase():
 
 
 @pytest.mark.parametrize("ln_gain, rounding, want", [
-    (36.0, fa.ROUNDING["double"], fa.DOES_NOT_FOLLOW),   # G r = 0.5
-    (36.0, fa.ROUNDING["long double"], fa.FOLLOWS),      # G r = 2.3e-4
-    (36.0, fa.ROUNDING["quad"], fa.FOLLOWS),
-    (math.log(1e-3 / 2.0**-53), fa.ROUNDING["double"], fa.DOES_NOT_FOLLOW),  # exactly at the bound
-    (math.nan, fa.ROUNDING["quad"], fa.UNKNOWN),          # no complete cycle: never counted as following
+    (36.0, Precision.DOUBLE.rounding, fa.DOES_NOT_FOLLOW),   # G r = 0.5
+    (36.0, Precision.LONG_DOUBLE.rounding, fa.FOLLOWS),      # G r = 2.3e-4
+    (36.0, Precision.QUAD.rounding, fa.FOLLOWS),
+    (math.log(1e-3 / 2.0**-53), Precision.DOUBLE.rounding, fa.DOES_NOT_FOLLOW),  # exactly at the bound
+    (math.nan, Precision.QUAD.rounding, fa.UNKNOWN),          # no complete cycle: never counted as following
 ])
 def test_follows_on_each_branch(ln_gain, rounding, want):
     assert fa.follows(ln_gain, rounding) == want
@@ -63,8 +64,8 @@ def test_tangent_run_refuses_a_horizon_shorter_than_two_steps():
 def test_the_main_state_amplifies_rounding_beyond_double_precision(hy):
     """The settled main state (eps = 0.1, label 0.1127): ln G of about 33-46 per spike cycle, so
     double precision does not follow its orbit and quad does."""
-    from sleighsim.engine import integrators
     from sleighsim.chaos import lyapunov
+    from sleighsim.engine import integrators
     from sleighsim.model.params import Params
 
     p = Params.paper(eps=0.1, K2=1.1)
@@ -93,7 +94,7 @@ def test_the_report_names_the_arithmetic_that_follows_each_orbit(tmp_path):
                      "log10_gain_rounding": (("state", "arithmetic"), [[-0.2, -3.5, -18.3], [math.nan] * 3]),
                      "follows_orbit": (("state", "arithmetic"),
                                        np.array([["does not follow", "follows", "follows"], ["unknown"] * 3], dtype=object))},
-                    coords={"state": ["main", "rotor"], "arithmetic": list(fa.ROUNDING)})
+                    coords={"state": ["main", "rotor"], "arithmetic": [p.value for p in Precision]})
     write_dataset(ds, tmp_path / "v.nc")
     (main, v0, why0, decided, _), (_, _, why1, _, _) = chaos_answers({"chaos_verdict": tmp_path / "v.nc"})
     assert main == "main" and decided == "follows the orbit: long double, quad"
@@ -144,7 +145,7 @@ def test_the_first_screen_names_the_arithmetic_each_state_was_decided_in():
     follows = np.array([["does not follow", "follows", "follows"], ["does not follow"] * 3, ["unknown"] * 3], dtype=object)
     ds = xr.Dataset({"megno_precision": ("state", np.array(["long double", "double", "double"], dtype=object)),
                      "follows_orbit": (("state", "arithmetic"), follows)},
-                    coords={"state": ["a", "b", "c"], "arithmetic": list(fa.ROUNDING),
+                    coords={"state": ["a", "b", "c"], "arithmetic": [p.value for p in Precision],
                             "frequency_precision": ["double", "long double"]})
     assert _decided_in(ds, 0) == ("MEGNO: long double; frequency analysis: double, long double; "
                                   "follows the orbit: long double, quad")

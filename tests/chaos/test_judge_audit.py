@@ -68,9 +68,7 @@ from chaos_textbook import (
     _oscillators,
 )
 
-from sleighsim.chaos import lyapunov
-from sleighsim.chaos import orbits
-from sleighsim.chaos import tangent
+from sleighsim.chaos import lyapunov, orbits, tangent
 from sleighsim.chaos.verdicts import CHAOTIC, REGULAR, UNDECIDED, VERDICTS, polynomial_rate_bound
 
 SIGMA = 3.0

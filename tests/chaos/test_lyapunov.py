@@ -6,14 +6,14 @@ import numpy as np
 import pytest
 
 from sleighsim.analysis import fits
-from sleighsim.engine import integrators
 from sleighsim.chaos import lyapunov
-from sleighsim.model import equations
+from sleighsim.engine import integrators
 from sleighsim.engine.integrate import final_state, integrate
+from sleighsim.engine.precision import Precision
+from sleighsim.model import equations
 from sleighsim.model.params import Params
-from sleighsim.scenes import grid
-from sleighsim.scenes import verdict_tangent
 from sleighsim.model.symmetries import REFERENCE_STATE, b_image, state_at_label
+from sleighsim.scenes import grid, verdict_tangent
 
 
 def test_lorenz_spectrum_matches_published_values(hy):
@@ -204,15 +204,15 @@ def test_megno_in_long_double_matches_double_where_both_are_accurate():
     y0 = state_at_label([0.0, 0.1, 1.0, 0.0], p, 0.1127)
     cfg = dict(tol=2.220446049250313e-16, tol_long_double=1.0842021724855044e-19, T_megno=200.0, T_long_double=200.0,
                megno_samples=20, tau=10.0, compact_mode=True)
-    a = verdict_tangent.megno_run(p, y0, cfg, long_double=True)
+    a = verdict_tangent.megno_run(p, y0, cfg, precision=Precision.LONG_DOUBLE)
     b = verdict_tangent.megno_run(p, y0, cfg)
-    ta, _ = lyapunov.sleigh_megno(cfg["tol_long_double"], True)
+    ta, _ = lyapunov.sleigh_megno(cfg["tol_long_double"], Precision.LONG_DOUBLE)
     assert ta.state.dtype == np.longdouble and a["log_growth"].dtype == float
     assert a["log_growth"] == pytest.approx(b["log_growth"], rel=1e-9, abs=1e-11)
     assert a["Y_mean"] == pytest.approx(b["Y_mean"], rel=1e-8)
     assert np.abs(a["log_growth"]).max() > 1e-3  # the vector does change length: the comparison is not vacuous
 
-@pytest.mark.parametrize("precision", ["long double", "quad"])
+@pytest.mark.parametrize("precision", [Precision.LONG_DOUBLE, Precision.QUAD])
 def test_lane_loop_runs_the_batch_method_in_extended_precision(precision):
     """sleigh_tangent_lanes in an extended precision (a LaneLoop over one scalar integrator) gives the
     SIMD batch's log growth on a short horizon (the orbits have not separated yet), keeps each lane's
@@ -223,8 +223,8 @@ def test_lane_loop_runs_the_batch_method_in_extended_precision(precision):
     ys = np.array([state_at_label(y, p, 0.1127) for y in ([0.0, 0.1, 1.0, 0.0], [0.05, 0.1, 1.0, 1.0])])
     taus = np.array([5.0, 3.0])
     runs = {}
-    for prec in ("double", precision):
-        lanes, _ = lyapunov.sleigh_tangent_lanes(2, integrators.EPSILON[prec], True, k=2, precision=prec)
+    for prec in (Precision.DOUBLE, precision):
+        lanes, _ = lyapunov.sleigh_tangent_lanes(2, prec.epsilon, True, k=2, precision=prec)
         integrators.set_pars(lanes, p)
         runs[prec] = lyapunov.batch_benettin(lanes, 4, 2, ys, taus, t_align_steps=2, n_steps=8)
     assert isinstance(lanes, lyapunov.LaneLoop) and lanes.state.dtype != np.float64

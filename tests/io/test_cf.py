@@ -15,14 +15,8 @@ import yaml
 from compliance_checker.cf.cf_1_11 import CF1_11Check
 from compliance_checker.runner import CheckSuite
 
-from sleighsim.io import cf
-from sleighsim.io import netcdf
-from sleighsim.io import titles
-from sleighsim.io import vocabulary
-from sleighsim.scenes import catalog
-from sleighsim.scenes import basins
-from sleighsim.scenes import causes
-from sleighsim.scenes import grid
+from sleighsim.io import cf, netcdf, titles, vocabulary
+from sleighsim.scenes import basins, catalog, causes, grid
 
 ROOT = Path(__file__).resolve().parents[2]
 CONFIGS = [ROOT / "config" / name for name in ("config.yaml", "smoke.yaml", "cluster.yaml")]
@@ -154,9 +148,11 @@ def test_every_scene_of_every_config_has_a_title():
     for scene in scenes:
         for rel in (f"data/{scene}.nc", f"data/precision/long_double/{scene}.nc", f"data/ladder/{scene}.nc",
                     f"data/realization/2/{scene}.nc", f"chunks/{scene}/3.nc", f"chunks/precision/quad/{scene}/0.nc"):
-            title = cf.title(Path("/any/results") / rel)
+            title = cf.title(Path("/any/results") / rel, "quad" if "precision/" in rel else "double")
             assert titles.TITLES[scene] in title and f"[{scene}" in title, rel
-    assert cf.dataset_name("/r/results/data/precision/long_double/fig3.nc") == ("fig3", "in long double")
+    assert cf.dataset_name("/r/results/data/precision/long_double/fig3.nc", "long double") == ("fig3", "in long double")
+    with pytest.raises(ValueError, match="needs the precision"):
+        cf.dataset_name("/r/results/data/precision/long_double/fig3.nc")
     assert cf.dataset_name("/r/results/stability/verdicts.nc") == ("stability/verdicts", "")
     assert titles.TITLES["claims"] in cf.title("/r/results/claims.nc")
 

@@ -10,6 +10,7 @@ from sleighsim.model import sleigh0
 from sleighsim.engine.integrate import DEFAULT_TOL, integrate, sample_grid
 from sleighsim.model.params import PARAM_NAMES, Params
 from sleighsim.model.symmetries import REFERENCE_LABEL, REFERENCE_STATE, energy_label, state_at_label
+from sleighsim.engine.precision import Precision
 
 REF = REFERENCE_STATE
 
@@ -210,7 +211,7 @@ def test_set_pars_fills_every_lane_in_the_integrators_precision_and_a_stale_vect
     integrators.set_pars(ta, p)
     assert ta.pars.shape == (equations.n_heyoka_pars(), 2)
     assert np.array_equal(ta.pars[:, 0], equations.heyoka_pars(p)) and np.array_equal(ta.pars[:, 1], ta.pars[:, 0])
-    ld, _ = integrators.flow(False, 1e-19, long_double=True)
+    ld, _ = integrators.flow(False, 1e-19, Precision.LONG_DOUBLE)
     integrators.set_pars(ld, p)
     assert ld.pars.dtype == np.longdouble
     assert np.array_equal(ld.pars, equations.heyoka_pars(p, np.longdouble))

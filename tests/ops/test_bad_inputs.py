@@ -16,6 +16,7 @@ from sleighsim.scenes import catalog
 from sleighsim.ops.configcheck import ConfigError
 from sleighsim.ops.configdoc import _resolve
 from sleighsim.model.params import Params
+from sleighsim.engine.precision import Precision
 
 REF = [0.0, 0.1, 1.0, 0.0]
 P = Params.paper(eps=0.1)
@@ -154,7 +155,7 @@ LIBRARY_CALLS = [
     ("integrate", dict(backend="scipy", rtol=1e-16), ValueError, r"rtol = 1e-16 is outside"),
     ("integrate", dict(backend="scipy", atol=-1.0), ValueError, r"atol = -1.0 is outside the admissible range"),
     ("integrate", dict(tol=1e-300), ValueError, r"tol = 1e-300 is outside the admissible range \[2.22e-16, 1\) of"),
-    ("integrate", dict(tol=1e-20, precision="long double"), ValueError, r"\[1.08e-19, 1\) of long double"),
+    ("integrate", dict(tol=1e-20, precision=Precision.LONG_DOUBLE), ValueError, r"\[1.08e-19, 1\) of long double"),
     ("integrate", dict(tol="1e-12"), TypeError, r"tol = '1e-12' must be a real number"),
     ("integrate", dict(t0=math.nan), ValueError, r"t0 = nan is outside the admissible range"),
     ("integrate", dict(y0=None), TypeError, r"y0 = None must be a sequence of numbers"),

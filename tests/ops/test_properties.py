@@ -21,6 +21,7 @@ from test_config import ROOT, SMOKE, numeric_leaves, refused, with_value
 
 from sleighsim.engine.integrate import IntegrationError, integrate
 from sleighsim.model.params import Params
+from sleighsim.engine.precision import Precision
 
 LEAVES = sorted(numeric_leaves(SMOKE), key=str)
 FACTORS = (0.0, -1.0, 1e-3, 0.5, 2.0, 1e3, 1e9)
@@ -83,7 +84,7 @@ BOUND_S = 60.0
 @given(y0=st.one_of(st.lists(NUMBERS, min_size=0, max_size=8), st.none(), st.text(max_size=4)),
        t_end=st.one_of(st.floats(-10.0, 1e6), st.sampled_from([0.0, 1e300, math.nan, math.inf])),
        tol=st.sampled_from([2.0**-52, 1e-12, 1e-6, 2.0**-63, 2.0**-112, 1e-300, 0.0, 1.0, -1.0, math.nan]),
-       precision=st.sampled_from(["double", "long double", "quad", "single"]),
+       precision=st.sampled_from(list(Precision)),
        backend=st.sampled_from(["heyoka", "scipy"]))
 def test_integrate_integrates_or_refuses_clearly_in_bounded_time(y0, t_end, tol, precision, backend):
     start = time.perf_counter()
@@ -99,7 +100,7 @@ def test_integrate_integrates_or_refuses_clearly_in_bounded_time(y0, t_end, tol,
     assert time.perf_counter() - start < BOUND_S
 
 
-@pytest.mark.parametrize("precision, eps", [("double", 2.0**-52), ("long double", 2.0**-63)])
+@pytest.mark.parametrize("precision, eps", [(Precision.DOUBLE, 2.0**-52), (Precision.LONG_DOUBLE, 2.0**-63)])
 def test_the_finest_admissible_tolerance_integrates(precision, eps):
     """The property's boundary: a tolerance at the arithmetic's epsilon is accepted and finishes."""
     ds = integrate(P, [0.0, 0.1, 1.0, 0.0], [0.0, 10.0], tol=eps, precision=precision, max_steps=MAX_STEPS)

@@ -7,8 +7,8 @@ import xarray as xr
 
 from sleighsim.io.netcdf import write_dataset
 from sleighsim.model.params import Params
-from sleighsim.scenes import basins
 from sleighsim.model.symmetries import energy_label
+from sleighsim.scenes import basins
 
 P = Params.from_config({"eps": 0.1, "b": 1.0, "K2": 1.1})
 

@@ -58,8 +58,8 @@ def test_a_rotor_start_converges_in_double(hy):
 def test_the_findings_are_composed_from_the_datasets(tmp_path):
     import xarray as xr
 
-    from sleighsim.io.netcdf import write_dataset
     from sleighsim.claims.ledger import Row
+    from sleighsim.io.netcdf import write_dataset
     from sleighsim.report.findings import precision_findings
 
     lad = xr.Dataset({"interval_mean": (("state", "precision"), [[2311.5, 2338.5], [math.nan, math.nan]]),

@@ -5,10 +5,9 @@ import math
 import numpy as np
 import pytest
 
-from sleighsim.model import equations
-from sleighsim.engine import poincare
 from sleighsim.analysis import spectra
-from sleighsim.engine import transient
+from sleighsim.engine import poincare, transient
+from sleighsim.model import equations
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import REFERENCE_STATE
 

@@ -8,7 +8,10 @@ import pytest
 import xarray as xr
 
 from sleighsim.claims import causes
+from sleighsim.engine.precision import Precision
 from sleighsim.scenes import trigger
+
+D, LD, Q = Precision.DOUBLE, Precision.LONG_DOUBLE, Precision.QUAD
 
 
 def test_fit_recovers_a_known_law_and_needs_three_runs():
@@ -51,10 +54,10 @@ def test_trigger_scene_on_a_short_run():
 
 
 @pytest.mark.parametrize("runs, want", [
-    ([("double", 1e-12), ("long double", 1e-12), ("double", 1e-10)], [0, 1, 1]),
-    ([("long double", 1e-12), ("double", 1e-12), ("quad", 1e-12)], [0, 0, 1]),  # the finest, in any order
-    ([("double", 1e-15), ("long double", 1e-15)], [0, 1]),  # 1e-15 is within 100x of double's rounding
-    ([("double", 2.0**-52), ("long double", 1e-19)], [0, 0]),  # each at its own rounding
+    ([(D, 1e-12), (LD, 1e-12), (D, 1e-10)], [0, 1, 1]),
+    ([(LD, 1e-12), (D, 1e-12), (Q, 1e-12)], [0, 0, 1]),  # the finest, in any order
+    ([(D, 1e-15), (LD, 1e-15)], [0, 1]),  # 1e-15 is within 100x of double's rounding
+    ([(D, 2.0**-52), (LD, 1e-19)], [0, 0]),  # each at its own rounding
 ])
 def test_a_tolerance_run_in_several_arithmetics_is_fitted_once_in_the_finest(runs, want):
     assert trigger.fitted(runs).astype(int).tolist() == want

@@ -8,9 +8,10 @@ import math
 import numpy as np
 import pytest
 
-from sleighsim.model import equations
 from sleighsim.chaos.verdicts import CHAOTIC, REGULAR, UNDECIDED
 from sleighsim.engine.integrate import integrate, sample_grid
+from sleighsim.engine.precision import Precision
+from sleighsim.model import equations
 from sleighsim.model.params import Params
 from sleighsim.scenes.verdict_orbits import R, r_image
 
@@ -72,7 +73,7 @@ def test_loschmidt_run_in_long_double_has_the_smaller_rounding():
     p = Params.paper(eps=0.1)
     cfg = dict(tol=2.0**-52, tol_long_double=1.0842021724855044e-19, loschmidt_T=[10.0, 40.0], loschmidt_n=3)
     y = np.array([0.05, 0.02, 0.8, 0.4])
-    d, ld = loschmidt_run(p, y, cfg), loschmidt_run(p, y, cfg, long_double=True)
+    d, ld = loschmidt_run(p, y, cfg), loschmidt_run(p, y, cfg, precision=Precision.LONG_DOUBLE)
     np.testing.assert_allclose(d["T"], [10.0, 20.0, 40.0])
     assert ld["floor"] == pytest.approx(d["floor"] * float(np.finfo(np.longdouble).eps) / float(np.finfo(float).eps))
     assert np.all(d["rel_error"] < 1e-11) and np.all(ld["rel_error"] < 1e-3 * d["rel_error"].max())
@@ -140,15 +141,13 @@ def test_the_sleighs_flow_runs_in_quad_precision():
                frequency={"T": 200.0, "quad_T": 200.0, "dt": 0.5, "component": "u", "splits": [2, 4],
                           "min_cycles": 4.0, "tol_quad": 1.925929944387235853e-34})
     y = np.array([0.05, 0.02, 0.8, 0.4])
-    runs = {p: verdict_frequency.frequency_run(Params.paper(eps=0.1), y, cfg, p) for p in ("double", "long double", "quad")}
-    flow, _ = integrators.flow(False, 1.925929944387235853e-34, quad=True)
+    runs = {p: verdict_frequency.frequency_run(Params.paper(eps=0.1), y, cfg, p) for p in Precision}
+    flow, _ = integrators.flow(False, 1.925929944387235853e-34, Precision.QUAD)
     assert "real128" in str(flow.state.dtype)
     # the same orbit (end states agree to 1e-13 here): window frequencies agree to the refinement's
     # precision, which for windows of only 100 (13 periods, bins of 0.01) is about 1e-9 relative
     for p in ("long double", "quad"):
         np.testing.assert_allclose(runs[p]["frequencies"][0], runs["double"]["frequencies"][0], rtol=5e-9)
-    with pytest.raises(ValueError, match="exclude"):
-        integrators.flow(False, 1e-20, long_double=True, quad=True)
 
 
 def test_realizations_perturb_every_state_but_the_first_at_the_given_size():

@@ -1,7 +1,7 @@
 """Compare a laddered scene's key observables across its precisions (Snakemake script)."""
 
-from sleighsim.io import netcdf
 from sleighsim.analysis import observables
+from sleighsim.io import netcdf
 from sleighsim.ops.runlog import logging_to
 from sleighsim.scenes.catalog import KINDS
 

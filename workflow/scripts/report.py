@@ -2,8 +2,8 @@
 
 from pathlib import Path
 
-from sleighsim.ops.runlog import logging_to
 from sleighsim.claims import ledger as claims
+from sleighsim.ops.runlog import logging_to
 from sleighsim.report import build as report
 from sleighsim.report.figures.catalog import FIGURES
 

@@ -9,7 +9,7 @@ realization of the rounding, not the exact dynamics. :data:`FAITHFUL_MAX` is the
 project uses (G r below 1e-3: the amplified rounding stays a thousand times below the state).
 
 Conventions: time in the flow's time unit, G dimensionless (ln G stored), r the unit roundoff of
-each precision (:data:`ROUNDING`: 2^-53, 2^-64, 2^-113). The tangent map is propagated with the
+each precision (``Precision.rounding``: 2^-53, 2^-64, 2^-113). The tangent map is propagated with the
 orbit (heyoka's variational equations, 4 vectors) and re-orthonormalised every ``tau`` by QR; the
 map over a cycle is Q_end (R_m ... R_1) Q_start^T, so its singular values are those of the product
 of the R factors between the two spikes, which never holds the full growth in the state that
@@ -24,9 +24,8 @@ import numpy as np
 
 from sleighsim.engine import integrators
 from sleighsim.engine import transient
+from sleighsim.engine.precision import Precision
 
-#: Unit roundoff of each precision the project integrates in (heyoka's double, 80-bit long double, real128).
-ROUNDING = {"double": 2.0**-53, "long double": 2.0**-64, "quad": 2.0**-113}
 #: An arithmetic follows the exact orbit through a cycle when G x rounding is below this.
 FAITHFUL_MAX = 1e-3
 FOLLOWS, DOES_NOT_FOLLOW, UNKNOWN = "follows", "does not follow", "unknown"
@@ -99,7 +98,7 @@ def spike_cycle_gains(ta, y0, *, T: float, tau: float = 5.0, spike_factor: float
     """The gain of every complete spike cycle along the orbit from ``y0`` over T (``tangent_run``;
     spikes of Omega by ``transient.spike_times`` on the step ends). Returns spike_times, ln_gain (one
     per cycle; empty with fewer than two spikes), ln_gain_max (NaN without a cycle) and, per
-    precision of :data:`ROUNDING`, log10 of G_max x rounding and whether it follows the orbit."""
+    precision (keyed by :class:`Precision`), log10 of G_max x rounding and whether it follows the orbit."""
     run = tangent_run(ta, y0, T=T, tau=tau)
     spikes = transient.spike_times(run["t"], run["x"], factor=spike_factor, block=10 * tau)
     steps = np.searchsorted(run["t"], spikes)
@@ -107,6 +106,6 @@ def spike_cycle_gains(ta, y0, *, T: float, tau: float = 5.0, spike_factor: float
     ln_max = float(ln_gain.max()) if ln_gain.size else math.nan
     return {
         "spike_times": spikes, "ln_gain": ln_gain, "ln_gain_max": ln_max,
-        "log10_gain_rounding": {p: (ln_max + math.log(r)) / math.log(10) for p, r in ROUNDING.items()},
-        "follows": {p: follows(ln_max, r) for p, r in ROUNDING.items()},
+        "log10_gain_rounding": {p: (ln_max + math.log(p.rounding)) / math.log(10) for p in Precision},
+        "follows": {p: follows(ln_max, p.rounding) for p in Precision},
     }

@@ -20,16 +20,19 @@ import numpy as np
 
 from sleighsim.engine import integrators
 from sleighsim.engine.integrate import check_tol
+from sleighsim.engine.precision import Precision
 
 log = logging.getLogger("sleighsim")
 
 
-def tangent_integrator(sys, k: int, tol: float = 2.0**-52, pars=(), compact_mode: bool = True, fp_type=float):
-    """heyoka integrator for ``sys`` (list of (var, expr)) plus k tangent vectors, in double or
-    (fp_type np.longdouble) long double.
+def tangent_integrator(sys, k: int, tol: float = 2.0**-52, pars=(), compact_mode: bool = True,
+                       precision: Precision = Precision.DOUBLE):
+    """heyoka integrator for ``sys`` (list of (var, expr)) plus k tangent vectors, in ``precision``.
 
     Returns (ta, n, compile_s); the state is [y (n), V (n x k, row-major)]."""
     import heyoka as hy
+
+    fp_type = precision.fp_type
 
     sys = list(sys)
     n = len(sys)
@@ -42,8 +45,8 @@ def tangent_integrator(sys, k: int, tol: float = 2.0**-52, pars=(), compact_mode
     return ta, n, time.perf_counter() - start
 
 
-def sleigh_tangent(k: int, tol: float, compact: bool, long_double: bool = False, quad: bool = False):
-    """The sleigh plus k tangent vectors (in long double or quad when asked), compiled once per process.
+def sleigh_tangent(k: int, tol: float, compact: bool, precision: Precision = Precision.DOUBLE):
+    """The sleigh plus k tangent vectors in ``precision``, compiled once per process.
     compact_mode compiles in 0.1-1 s; full mode steps 1.3-2.3x faster here but its first
     compilation takes seconds to about a minute (45 s for 8 lanes and 4 vectors; later ones come
     from heyoka's on-disk cache). Returns
@@ -51,27 +54,26 @@ def sleigh_tangent(k: int, tol: float, compact: bool, long_double: bool = False,
     from sleighsim.model import equations
 
     def build():
-        fp = integrators.fp_type(long_double, quad)
         return tangent_integrator(equations.heyoka_system(delta_shift=integrators.DELTA_SHIFT), k, tol,
-                                  equations.compile_pars(fp), compact_mode=compact, fp_type=fp)[0]
+                                  equations.compile_pars(precision.fp_type), compact_mode=compact,
+                                  precision=precision)[0]
 
-    return integrators.compiled(("tangent", k, tol, compact, long_double, quad), build)
+    return integrators.compiled(("tangent", k, tol, compact, precision), build)
 
 
-def sleigh_megno(tol: float, long_double: bool = False, compact: bool = True):
+def sleigh_megno(tol: float, precision: Precision = Precision.DOUBLE, compact: bool = True):
     """The sleigh, one tangent vector and the MEGNO quadratures (``chaos.tangent.megno_integrator``,
-    in compact or full mode), in double or long double (80-bit on x86-64: machine epsilon 1.1e-19,
-    about 5x the cost), compiled once per process. Returns (ta, compile_s)."""
+    in compact or full mode), in ``precision`` (long double: 80-bit on x86-64, machine epsilon
+    1.1e-19, about 5x the cost of double), compiled once per process. Returns (ta, compile_s)."""
     from sleighsim.model import equations
     from sleighsim.chaos.tangent import megno_integrator
 
-    fp = integrators.fp_type(long_double)
-
     def build():
         return megno_integrator(equations.heyoka_system(delta_shift=integrators.DELTA_SHIFT),
-                                pars=equations.compile_pars(fp), tol=tol, fp_type=fp, compact_mode=compact)[0]
+                                pars=equations.compile_pars(precision.fp_type), tol=tol, precision=precision,
+                                compact_mode=compact)[0]
 
-    return integrators.compiled(("megno", tol, long_double, compact), build)
+    return integrators.compiled(("megno", tol, precision, compact), build)
 
 
 def sleigh_tangent_batch(batch_size: int, tol: float, compact: bool, k: int = 1):
@@ -119,13 +121,14 @@ class LaneLoop:
             self.state[:, j] = self.ta.state
 
 
-def sleigh_tangent_lanes(batch_size: int, tol: float, compact: bool, k: int = 1, precision: str = "double"):
+def sleigh_tangent_lanes(batch_size: int, tol: float, compact: bool, k: int = 1,
+                         precision: Precision = Precision.DOUBLE):
     """``batch_size`` lanes of the sleigh plus k tangent vectors for :func:`batch_benettin` and
     :func:`replica_exponents`: SIMD lanes (:func:`sleigh_tangent_batch`) in double, else a
     :class:`LaneLoop` over one scalar integrator in ``precision``. Returns (lanes, compile_s)."""
-    if precision == "double":
+    if precision is Precision.DOUBLE:
         return sleigh_tangent_batch(batch_size, tol, compact, k=k)
-    ta, compile_s = sleigh_tangent(k, tol, compact, *integrators.precision_flags(precision))
+    ta, compile_s = sleigh_tangent(k, tol, compact, precision)
     return LaneLoop(ta, batch_size), compile_s
 
 

@@ -21,6 +21,7 @@ import numpy as np
 
 from sleighsim.chaos.common import _n_intervals, _positive, _state, linfit
 from sleighsim.chaos.propagate import _propagate_until
+from sleighsim.engine.precision import Precision
 from sleighsim.chaos.verdicts import CHAOTIC, REGULAR, UNDECIDED, _check_judge, _g, polynomial_rate_bound
 
 # ----------------------------------------------------------------------------- engines
@@ -104,18 +105,19 @@ def _window_statistics(g, W, m, n_win):
     return mean, std
 
 
-def megno_integrator(sys, pars=(), tol=None, compact_mode=True, fp_type=float):
+def megno_integrator(sys, pars=(), tol=None, compact_mode=True, precision: Precision = Precision.DOUBLE):
     """heyoka integrator for ``sys`` (list of (var, expr)), one tangent vector and the MEGNO
     quadratures.
 
     State layout: [y (n), delta (n), I, J] with delta the variational vector (heyoka's
     derivatives with respect to the first initial condition, overwritten by ``megno``),
     I' = t (delta_dot . delta) / (delta . delta) and J' = 2 I / t, so that
-    Y(t) = 2 I / t and <Y>(t) = J / t (t = heyoka's time, which must start > 0). ``fp_type``:
-    float, or np.longdouble for an extended-precision integrator. Returns (ta, n).
+    Y(t) = 2 I / t and <Y>(t) = J / t (t = heyoka's time, which must start > 0), in the arithmetic
+    ``precision``. Returns (ta, n).
     """
     import heyoka as hy
 
+    fp_type = precision.fp_type
     sys = list(sys)
     n = len(sys)
     if n == 0:

@@ -37,7 +37,7 @@ import xarray as xr
 
 from sleighsim.chaos.rule import agree
 from sleighsim.chaos.faithfulness import UNKNOWN
-from sleighsim.engine.integrators import EPSILON
+from sleighsim.engine.precision import Precision
 from sleighsim.io.netcdf import read_dataset, write_dataset, write_text
 from sleighsim.scenes.catalog import ladder_name, laddered, realization_name, realized, variant
 from sleighsim.claims import rules
@@ -47,7 +47,7 @@ from sleighsim.claims.judges import JUDGES
 from sleighsim.claims.rules import CANNOT, DIFFERS, DOUBLE_ONLY, FRAGILE, NOT_YET, REPRODUCED, VERDICTS
 
 ID = re.compile(r"[FCD]\d+")
-PRECISIONS = tuple(EPSILON)  # coarse to fine
+PRECISIONS = tuple(p.value for p in Precision)  # coarse to fine
 PAIR = re.compile(r"\s*(\w+)\s*=\s*(\[[^\]]*\]|[^;]+)")
 
 

@@ -22,6 +22,7 @@ import numpy as np
 import xarray as xr
 
 from sleighsim.engine import integrators
+from sleighsim.engine.precision import Precision
 from sleighsim.model import equations
 from sleighsim.model.attrs import UNITS, state_attrs
 from sleighsim.model.params import Params, finite
@@ -54,12 +55,11 @@ def sample_grid(t_start: float, t_end: float, dt: float) -> np.ndarray:
     return t_start + dt * np.arange(n)
 
 
-def check_tol(tol, precision: str = "double") -> None:
-    """A heyoka tolerance in [epsilon of ``precision``, 1) (integrators.EPSILON: double 2.2e-16, long
+def check_tol(tol, precision: Precision = Precision.DOUBLE) -> None:
+    """A heyoka tolerance in [epsilon of ``precision``, 1) (Precision.epsilon: double 2.2e-16, long
     double 1.08e-19, quad 1.93e-34): a finer one asks for more than the arithmetic holds, and the
     integrator then steps without end. TypeError or ValueError naming ``tol`` and the range."""
-    integrators.precision_flags(precision)  # an unknown precision fails here
-    eps = integrators.EPSILON[precision]
+    eps = precision.epsilon
     if not eps <= finite("tol", tol) < 1:
         raise ValueError(f"tol = {tol} is outside the admissible range [{eps:.3g}, 1) of {precision} "
                          f"(not below its machine epsilon)")
@@ -77,8 +77,8 @@ def _check_options(params, backend, tol, precision, method, rtol, atol) -> None:
     if backend == "heyoka":
         check_tol(tol, precision)
     elif backend == "scipy":
-        if precision != "double":
-            raise ValueError(f"precision {precision!r}: the SciPy backend runs in double only")
+        if precision is not Precision.DOUBLE:
+            raise ValueError(f"precision {precision.value!r}: the SciPy backend runs in double only")
         if method not in SCIPY_METHODS:
             raise ValueError(f"unknown SciPy method {method!r}; choose one of {sorted(SCIPY_METHODS)}")
         if not SCIPY_MIN_RTOL <= finite("rtol", rtol) < 1:
@@ -147,7 +147,7 @@ class _Path:
 def _run_heyoka(params, y0, t0, times, kinematics, tol, precision, scene, progress, max_steps):
     import heyoka as hy
 
-    ta, compile_s = integrators.flow(kinematics, tol, *integrators.precision_flags(precision))
+    ta, compile_s = integrators.flow(kinematics, tol, precision)
     fp = ta.state.dtype.type  # times handed to heyoka are in the integrator's own type
     callback = integrators.bounded(ta)
     integrators.set_pars(ta, params)
@@ -195,7 +195,7 @@ def _run_heyoka(params, y0, t0, times, kinematics, tol, precision, scene, progre
         if origin >= next_log or pos == times.size:
             log.info("%s: t = %.6g / %.6g (%d steps)", scene, origin, times[-1], nsteps)
             next_log += every
-    info = dict(backend="heyoka", method="taylor_adaptive", tol=tol, precision=precision, order=int(ta.order),
+    info = dict(backend="heyoka", method="taylor_adaptive", tol=tol, precision=precision.value, order=int(ta.order),
                 compile_time_s=compile_s, steps=nsteps, min_step=float(min_h) if nsteps else float("nan"),
                 max_step=float(max_h))
     return out, info
@@ -264,7 +264,7 @@ def integrate(
     kinematics: bool = False,
     backend: str = "heyoka",
     tol: float = DEFAULT_TOL,
-    precision: str = "double",
+    precision: Precision = Precision.DOUBLE,
     method: str = "DOP853",
     rtol: float = 1e-12,
     atol: float = 1e-14,
@@ -277,7 +277,7 @@ def integrate(
 
     ``y0``: (u, Omega, omega, delta), or with (theta, x, y) appended when
     ``kinematics`` (zeros if omitted). ``tol`` is heyoka's tolerance and ``precision`` its
-    arithmetic (one of integrators.EPSILON; samples are returned in double); ``method``,
+    arithmetic (samples are returned in double); ``method``,
     ``rtol``, ``atol`` apply to the SciPy backend, whose right-hand side is the lambdified
     NumPy one (independent of heyoka) or, with ``compiled``, heyoka's cfunc (for speed
     studies of the integrator itself). Progress is logged ``progress``
@@ -327,7 +327,8 @@ def integrate(
     return ds
 
 
-def orbit_samples(params: Params, y, n: int, spacing: float, *, tol: float = DEFAULT_TOL, precision: str = "double",
+def orbit_samples(params: Params, y, n: int, spacing: float, *, tol: float = DEFAULT_TOL,
+                  precision: Precision = Precision.DOUBLE,
                   samples_per_spacing: int = 400, scene: str = "") -> tuple[np.ndarray, xr.Dataset]:
     """n states along the orbit from y (in ``precision`` at ``tol``), ``spacing`` time units apart (the
     first is y, bounded; returned in double), and the sampled record of that stretch

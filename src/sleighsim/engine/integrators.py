@@ -34,6 +34,8 @@ from typing import Callable
 
 import numpy as np
 
+from sleighsim.engine.precision import Precision
+
 #: The sleigh's angle as its compiled integrators store it: delta + DELTA_SHIFT, in [0, 2 pi).
 DELTA_SHIFT = math.pi
 #: Angle variables of the sleigh's integrators: name -> (state index, stored shift).
@@ -123,37 +125,13 @@ def set_pars(ta, params) -> None:
     ta.pars[:] = values[:, None] if ta.pars.ndim == 2 else values
 
 
-#: The arithmetics an integration can run in, each with its machine epsilon (its Taylor tolerance
-#: when a run is to follow the exact orbit as far as that arithmetic can).
-EPSILON = {"double": 2.0**-52, "long double": 2.0**-63, "quad": 2.0**-112}
-
-
-def precision_flags(precision: str) -> tuple[bool, bool]:
-    """(long_double, quad) of :func:`flow` for ``precision``, one of :data:`EPSILON`."""
-    if precision not in EPSILON:
-        raise ValueError(f"precision {precision!r}: choose one of {list(EPSILON)}")
-    return precision == "long double", precision == "quad"
-
-
-def fp_type(long_double: bool, quad: bool = False):
-    """The floating-point type of a compiled integrator: heyoka's real128 when ``quad``,
-    np.longdouble when ``long_double``, else float."""
-    if long_double and quad:
-        raise ValueError("long_double and quad exclude each other")
-    if quad:
-        import heyoka as hy
-
-        return hy.real128
-    return np.longdouble if long_double else float
-
-
-def flow(kinematics: bool, tol: float, long_double: bool = False, quad: bool = False):
+def flow(kinematics: bool, tol: float, precision: Precision = Precision.DOUBLE):
     """The sleigh (with (theta, x, y) when ``kinematics``), in double, long double (80-bit on
-    x86-64, machine epsilon 1.1e-19) or, with ``quad``, quadruple precision (heyoka's real128,
-    machine epsilon 1.9e-34). Full (not compact) mode in double and long double, compact mode in
-    quad, whichever steps faster there (benchmarks/precision_cost.yaml: costs per time unit and
-    compile times per precision and mode). Returns (integrator, compile seconds)."""
-    fp = fp_type(long_double, quad)
+    x86-64, machine epsilon 1.1e-19) or quadruple precision (heyoka's real128, machine epsilon
+    1.9e-34). Full (not compact) mode in double and long double, compact mode in quad, whichever
+    steps faster there (benchmarks/precision_cost.yaml: costs per time unit and compile times per
+    precision and mode). Returns (integrator, compile seconds)."""
+    fp, quad = precision.fp_type, precision is Precision.QUAD
 
     def build():
         import heyoka as hy
@@ -165,7 +143,7 @@ def flow(kinematics: bool, tol: float, long_double: bool = False, quad: bool = F
         return hy.taylor_adaptive(heyoka_system(kinematics, DELTA_SHIFT), y0, tol=fp(tol),
                                   pars=compile_pars(fp), fp_type=fp, compact_mode=quad)
 
-    return compiled(("flow", kinematics, tol, long_double, quad), build)
+    return compiled(("flow", kinematics, tol, precision), build)
 
 
 def rhs_function(kinematics: bool = False, k: int = 0, params=None):

@@ -21,6 +21,7 @@ import numpy as np
 from sleighsim.engine import integrators
 from sleighsim.model import equations
 from sleighsim.engine.integrate import IntegrationError, check_tol
+from sleighsim.engine.precision import Precision
 from sleighsim.model.params import Params
 
 log = logging.getLogger("sleighsim")
@@ -39,10 +40,10 @@ class _Recorder:
         self.hits.append((t, *ta.d_output[:4], self.offset))
 
 
-def event_integrator(tol: float, precision: str = "double"):
-    """The sleigh with the sin(2 delta) = 0 event in ``precision`` (one of integrators.EPSILON),
+def event_integrator(tol: float, precision: Precision = Precision.DOUBLE):
+    """The sleigh with the sin(2 delta) = 0 event in ``precision``,
     compiled once per process. Returns (ta, compile_s)."""
-    fp = integrators.fp_type(*integrators.precision_flags(precision))
+    fp = precision.fp_type
 
     def build():
         import heyoka as hy
@@ -56,10 +57,10 @@ def event_integrator(tol: float, precision: str = "double"):
     return integrators.compiled(("events", tol, precision), build)
 
 
-def crossings(params: Params, y0, t0: float, t_end: float, *, tol: float = 2.0**-52, precision: str = "double",
+def crossings(params: Params, y0, t0: float, t_end: float, *, tol: float = 2.0**-52, precision: Precision = Precision.DOUBLE,
               scene: str = "", progress: int = 20) -> dict:
     """All crossings of delta = k pi/2 for t in (t0, t_end], starting from y0 at t0, integrated in
-    ``precision`` (one of integrators.EPSILON) at ``tol``; the crossings are returned in double.
+    ``precision`` at ``tol``; the crossings are returned in double.
 
     Returns arrays: time, u, Omega, omega, k (the multiple of pi/2 of the reduced delta, so
     k mod 4 is the section class), residual |delta - k pi/2| (rad); plus steps, wall_time_s,

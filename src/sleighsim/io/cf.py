@@ -118,42 +118,52 @@ def missing(ds: xr.Dataset) -> list[str]:
     return out
 
 
-def dataset_name(path) -> tuple[str, str]:
+def dataset_name(path, precision: str = "double") -> tuple[str, str]:
     """(name, variant) of a file of a results tree: the scene of ``data/<scene>.nc`` ("" variant),
     ``data/precision/<tag>/<scene>.nc``, ``data/ladder/<scene>.nc``, ``data/realization/<k>/<scene>.nc``,
     ``chunks/<scene>/<k>.nc`` or ``chunks/precision/<tag>/<scene>/<k>.nc``; any other file by its
     parent folder and stem ("stability/verdicts") when :data:`sleighsim.io.titles.TITLES` knows that, else
-    by its stem ("claims")."""
+    by its stem ("claims"). ``precision``: the config name of the arithmetic the dataset was computed
+    in (the writer's knowledge; never read back from the path); ValueError when a file under
+    precision/ is said to be in double."""
     parts = Path(path).with_suffix("").parts
     anchors = [i for i, p in enumerate(parts[:-1]) if p in ("data", "chunks")]
     rest = list(parts[anchors[-1]:]) if anchors else []
     match rest:
         case ["data", scene]:
             return scene, ""
-        case ["data", "precision", tag, scene]:
-            return scene, f"in {tag.replace('_', ' ')}"
+        case ["data", "precision", _, scene]:
+            return scene, _in_precision(path, precision)
         case ["data", "ladder", scene]:
             return scene, "its precision ladder: the key observables in every arithmetic and where they converge"
         case ["data", "realization", k, scene]:
             return scene, f"realization {k}: the start states perturbed"
         case ["chunks", scene, k]:
             return scene, f"chunk {k}"
-        case ["chunks", "precision", tag, scene, k]:
-            return scene, f"chunk {k} in {tag.replace('_', ' ')}"
+        case ["chunks", "precision", _, scene, k]:
+            return scene, f"chunk {k} {_in_precision(path, precision)}"
     nested = "/".join(parts[-2:])
     return (nested, "") if nested in TITLES else (parts[-1], "")
 
 
-def title(path) -> str:
-    """The CF title of the dataset written to ``path``: what it is (:data:`sleighsim.io.titles.TITLES`),
-    its name and variant; a file the titles do not know is named by its file name."""
-    name, variant = dataset_name(path)
+def _in_precision(path, precision: str) -> str:
+    if precision == "double":
+        raise ValueError(f"{path}: a dataset under precision/ needs the precision it was computed in")
+    return f"in {precision}"
+
+
+def title(path, precision: str = "double") -> str:
+    """The CF title of the dataset written to ``path`` and computed in ``precision`` (its config
+    name): what it is (:data:`sleighsim.io.titles.TITLES`), its name and variant; a file the
+    titles do not know is named by its file name."""
+    name, variant = dataset_name(path, precision)
     what = TITLES.get(name, "sleighsim dataset")
     return f"Chaplygin sleigh with a passive internal rotor: {what} [{name}{', ' + variant if variant else ''}]"
 
 
-def global_attrs(path, provenance: dict, history: str = "") -> dict:
-    """The CF global attributes of a dataset written to ``path`` with ``provenance``
+def global_attrs(path, provenance: dict, history: str = "", precision: str = "double") -> dict:
+    """The CF global attributes of a dataset written to ``path`` (computed in ``precision``, see
+    :func:`title`) with ``provenance``
     (:func:`sleighsim.io.netcdf.provenance_attrs`): Conventions, title, source, references, the model's
     units (time_unit, nondimensionalisation) and ``history`` with this write's line appended (CF:
     one line per program that wrote the data, an ISO 8601 time first)."""
@@ -162,7 +172,7 @@ def global_attrs(path, provenance: dict, history: str = "") -> dict:
             f"sleighsim.io.netcdf.write_dataset wrote {Path(path).name}")
     return {
         "Conventions": CONVENTIONS,
-        "title": title(path),
+        "title": title(path, precision),
         "history": f"{history}\n{line}" if history else line,
         "source": (f"sleighsim {version} (git commit {provenance['git_commit']}); integrator library heyoka "
                    f"{provenance['version_heyoka']} (SciPy where the attribute backend says so); Python "

@@ -74,10 +74,11 @@ def atomic_path(path):
         raise
 
 
-def write_dataset(ds: xr.Dataset, path) -> Path:
+def write_dataset(ds: xr.Dataset, path, precision: str = "double") -> Path:
     """Write ``ds`` to netCDF at ``path`` atomically, adding the provenance attributes
     (package versions, git commit, creation time) and the CF-1.11 attributes (:mod:`sleighsim.io.cf`:
-    Conventions, title from the path, history, source, references; long_name and units of every
+    Conventions, title from the path and ``precision`` (the config name of the arithmetic ``ds`` was
+    computed in), history, source, references; long_name and units of every
     variable the vocabulary knows; a variable still without them is logged, and the tests fail on it;
     no _FillValue on coordinate variables).
     Text is written at its own width: a fixed text width kept in the encoding of a variable read from
@@ -90,7 +91,7 @@ def write_dataset(ds: xr.Dataset, path) -> Path:
             v.encoding = {**v.encoding, "_FillValue": None}
     provenance = provenance_attrs()
     ds.attrs.update(provenance)
-    ds.attrs.update(cf.global_attrs(path, provenance, history=ds.attrs.get("history", "")))
+    ds.attrs.update(cf.global_attrs(path, provenance, history=ds.attrs.get("history", ""), precision=precision))
     if lacking := cf.missing(ds):
         log.warning("%s: no CF attributes known for: %s", path, "; ".join(lacking))
     with atomic_path(path) as tmp:

@@ -9,11 +9,10 @@ import numpy as np
 import sympy as sp
 import xarray as xr
 
-from sleighsim.model import mechanics as mech
-from sleighsim.model import equations
-from sleighsim.model import printed
 from sleighsim.engine import transient
 from sleighsim.engine.integrate import sample_grid
+from sleighsim.model import equations, printed
+from sleighsim.model import mechanics as mech
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import REFERENCE_LABEL, REFERENCE_STATE, energy_label
 from sleighsim.scenes import memory

@@ -26,10 +26,10 @@ from scipy.stats import binomtest
 
 from sleighsim.engine import transient
 from sleighsim.engine.integrate import integrate, sample_grid
+from sleighsim.engine.transient import settle
 from sleighsim.io.netcdf import read_dataset
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import state_at_label
-from sleighsim.engine.transient import settle
 from sleighsim.scenes import memory
 from sleighsim.scenes.checks import ConfigError
 from sleighsim.scenes.kind import SceneKind

@@ -24,13 +24,11 @@ import time
 import numpy as np
 import xarray as xr
 
-from sleighsim.engine import integrators
 from sleighsim.chaos import lyapunov
-from sleighsim.model import equations
-from sleighsim.engine import poincare
-from sleighsim.engine import transient
+from sleighsim.engine import integrators, poincare, transient
 from sleighsim.engine.integrate import final_state, integrate, sample_grid
 from sleighsim.io.netcdf import write_dataset
+from sleighsim.model import equations
 from sleighsim.model.params import Params
 from sleighsim.scenes import memory
 from sleighsim.scenes.bench_peers import heyoka_end_state, peer_comparison

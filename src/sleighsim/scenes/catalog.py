@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import xarray as xr
 
+from sleighsim.engine.precision import Precision
 from sleighsim.scenes import (
     audit,
     basins,
@@ -71,8 +72,8 @@ def chunk_count(cfg: dict) -> int:
 
 
 def precision_tag(precision: str) -> str:
-    """A precision's name in paths: "long double" -> "long_double"."""
-    return precision.replace(" ", "_")
+    """A precision's name in paths (``Precision.tag``): "long double" -> "long_double"."""
+    return Precision.parse(precision).tag
 
 
 def variant(scene: str, precision: str) -> str:

@@ -18,16 +18,16 @@ import time
 import numpy as np
 import xarray as xr
 
-from sleighsim.chaos import lyapunov
-from sleighsim.model import perturbation as pert
 from sleighsim.analysis import spectra
+from sleighsim.chaos import lyapunov
 from sleighsim.engine import transient
 from sleighsim.engine.integrate import final_state, integrate, sample_grid
+from sleighsim.engine.transient import settle
+from sleighsim.model import perturbation as pert
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import state_at_label
-from sleighsim.engine.transient import settle
-from sleighsim.scenes.hierarchy import hierarchy_numbers, series_errors
 from sleighsim.scenes import memory
+from sleighsim.scenes.hierarchy import hierarchy_numbers, series_errors
 from sleighsim.scenes.kind import SceneKind
 
 log = logging.getLogger("sleighsim")

@@ -8,7 +8,7 @@ import math
 import numpy as np
 
 from sleighsim.engine import integrators
-from sleighsim.engine.integrators import EPSILON, precision_flags
+from sleighsim.engine.precision import Precision
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import state_at_label
 
@@ -58,10 +58,9 @@ def steady_arithmetic(cfg: dict) -> dict:
     """The arithmetic of a scene's steady-state part: the block's ``precision`` (double, the paper's
     arithmetic, when unset) at the block's ``tol`` in double, else at that precision's machine
     epsilon. The transient before it always runs in double at ``tol``, so every precision of a
-    scene's ladder starts from the same settled point. Returns {"precision", "tol"}."""
-    precision = cfg.get("precision", "double")
-    precision_flags(precision)
-    return {"precision": precision, "tol": cfg["tol"] if precision == "double" else EPSILON[precision]}
+    scene's ladder starts from the same settled point. Returns {"precision" (a Precision), "tol"}."""
+    precision = Precision.parse(cfg.get("precision", "double"))
+    return {"precision": precision, "tol": cfg["tol"] if precision is Precision.DOUBLE else precision.epsilon}
 
 
 def stored_state(y) -> np.ndarray:

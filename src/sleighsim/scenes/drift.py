@@ -10,16 +10,16 @@ import time
 import numpy as np
 import xarray as xr
 
-from sleighsim.io import cf
-from sleighsim.engine import integrators
-from sleighsim.chaos import lyapunov
-from sleighsim.model import equations
-from sleighsim.engine import transient
 from sleighsim.analysis import windows
+from sleighsim.chaos import lyapunov
+from sleighsim.engine import integrators, transient
+from sleighsim.engine.precision import Precision
+from sleighsim.engine.transient import settle
+from sleighsim.io import cf
+from sleighsim.model import equations
 from sleighsim.model.attrs import state_attrs
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import state_at_label
-from sleighsim.engine.transient import settle
 from sleighsim.scenes import memory
 from sleighsim.scenes.checks import multiple
 from sleighsim.scenes.kind import SceneKind
@@ -74,7 +74,8 @@ def drift_windows(cfg: dict, scene: str = "") -> xr.Dataset:
     y, transient_attrs = settle(params, y0, cfg["t_transient"], **cfg["transient"], tol=cfg["tol"], label=scene,
                                 progress=1)
     tol = cfg["tol_long_double"] if cfg["long_double"] else cfg["tol"]
-    ta, compile_s = lyapunov.sleigh_tangent(1, tol, cfg["compact_mode"], cfg["long_double"])
+    arithmetic = Precision.LONG_DOUBLE if cfg["long_double"] else Precision.DOUBLE
+    ta, compile_s = lyapunov.sleigh_tangent(1, tol, cfg["compact_mode"], arithmetic)
     integrators.set_pars(ta, params)
     precision = "double" if ta.state.dtype == np.float64 else f"long double (epsilon {float(np.finfo(ta.state.dtype).eps):.2g})"
     (t_start, interval, interval_sd, n_spikes, lam, drift), n_windows, steps = _windowed(ta, y, params, cfg, scene)

@@ -11,20 +11,19 @@ import time
 import numpy as np
 import xarray as xr
 
-from sleighsim.io import cf
 from sleighsim.analysis import fits
-from sleighsim.engine import integrators
 from sleighsim.chaos import lyapunov
-from sleighsim.model import equations
-from sleighsim.engine import transient
-from sleighsim.model.attrs import state_attrs
+from sleighsim.engine import integrators, transient
 from sleighsim.engine.integrate import final_state, integrate, orbit_samples, sample_grid
+from sleighsim.engine.transient import settle
+from sleighsim.io import cf
+from sleighsim.model import equations
+from sleighsim.model.attrs import state_attrs
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import state_at_label
-from sleighsim.engine.transient import settle
-from sleighsim.scenes.common import steady_arithmetic
 from sleighsim.scenes import memory
 from sleighsim.scenes.checks import ConfigError, blocks
+from sleighsim.scenes.common import steady_arithmetic
 from sleighsim.scenes.kind import SceneKind
 
 log = logging.getLogger("sleighsim")
@@ -33,7 +32,7 @@ log = logging.getLogger("sleighsim")
 def _run(params, y, *, k, cfg, compact, label, T=None, seed=0):
     """Benettin from y with k vectors in the block's steady-state arithmetic (:func:`.common.steady_arithmetic`)."""
     arith = steady_arithmetic(cfg)
-    ta, compile_s = lyapunov.sleigh_tangent(k, arith["tol"], compact, *integrators.precision_flags(arith["precision"]))
+    ta, compile_s = lyapunov.sleigh_tangent(k, arith["tol"], compact, arith["precision"])
     integrators.set_pars(ta, params)
     out = lyapunov.benettin(ta, 4, k, y, t_align=cfg["t_align"], T=cfg["T"] if T is None else T, tau=cfg["tau"],
                             n_blocks=cfg["n_blocks"], seed=seed, label=label)

@@ -17,16 +17,14 @@ import time
 import numpy as np
 import xarray as xr
 
-from sleighsim.io import cf
-from sleighsim.engine import integrators
 from sleighsim.chaos import lyapunov
-from sleighsim.engine import poincare
-from sleighsim.engine import transient
+from sleighsim.engine import integrators, poincare, transient
 from sleighsim.engine.integrate import orbit_samples
+from sleighsim.engine.transient import settle
+from sleighsim.io import cf
 from sleighsim.io.netcdf import read_dataset
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import b_image, state_at_label
-from sleighsim.engine.transient import settle
 from sleighsim.scenes import memory
 from sleighsim.scenes.checks import ConfigError, increasing
 from sleighsim.scenes.common import steady_arithmetic

@@ -13,12 +13,12 @@ import numpy as np
 import sympy as sp
 import xarray as xr
 
+from sleighsim.analysis import fits
+from sleighsim.engine.integrate import integrate, sample_grid
 from sleighsim.io import cf
 from sleighsim.io.vocabulary import STATE_KINDS
-from sleighsim.analysis import fits
 from sleighsim.model import perturbation as pert
 from sleighsim.model.attrs import state_attrs
-from sleighsim.engine.integrate import integrate, sample_grid
 from sleighsim.model.equations import state_difference
 from sleighsim.model.params import Params
 from sleighsim.scenes import memory

@@ -17,23 +17,20 @@ import time
 import numpy as np
 import xarray as xr
 
-from sleighsim.io import cf
-from sleighsim.engine import integrators
-from sleighsim.chaos.faithfulness import ROUNDING
-from sleighsim.model.equations import energy
 from sleighsim.analysis.observables import SEPARATED
+from sleighsim.engine import integrators
+from sleighsim.engine.precision import Precision
+from sleighsim.engine.transient import settle, spike_times
+from sleighsim.io import cf
+from sleighsim.model.equations import energy
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import state_at_label
-from sleighsim.engine.transient import settle, spike_times
-from sleighsim.scenes.common import nan_padded
 from sleighsim.scenes import memory
 from sleighsim.scenes.checks import multiple
+from sleighsim.scenes.common import nan_padded
 from sleighsim.scenes.kind import SceneKind
 
 log = logging.getLogger("sleighsim")
-
-#: Taylor tolerance of each precision's run (its machine epsilon).
-TOL = {"double": 2.0**-52, "long double": 2.0**-63, "quad": 2.0**-112}
 
 
 # the docstring is written into the precision_ladder dataset (attribute agreement_rule)
@@ -58,11 +55,11 @@ def converged_precision(runs: list[dict], names: list[str], dt: float) -> str:
     return "not converged"
 
 
-def run_in(params, y, precision: str, *, T: float, dt: float, spike_factor: float) -> dict:
+def run_in(params, y, precision: Precision, *, T: float, dt: float, spike_factor: float) -> dict:
     """The orbit from y (model variables) in ``precision`` over T, sampled every dt: velocities and
     the spike train of Omega (``transient.spike_times``), with the run's wall time."""
     start = time.perf_counter()
-    ta, _ = integrators.flow(False, TOL[precision], precision == "long double", precision == "quad")
+    ta, _ = integrators.flow(False, precision.epsilon, precision)
     integrators.set_pars(ta, params)
     fp = ta.state.dtype.type
     ta.time = fp(0)
@@ -91,8 +88,8 @@ def separation(coarse: dict, fine: dict) -> np.ndarray:
 
 def one_state(params, y0, cfg: dict, label: str) -> dict:
     """Settle the state from y0 (double), then run it in every precision of the ladder."""
-    y, pre = settle(params, y0, cfg["t_transient"], **cfg["transient"], tol=TOL["double"], label=label, progress=1)
-    runs = [run_in(params, y, p, T=cfg["T"], dt=cfg["dt"], spike_factor=cfg["transient"]["spike_factor"])
+    y, pre = settle(params, y0, cfg["t_transient"], **cfg["transient"], tol=Precision.DOUBLE.epsilon, label=label, progress=1)
+    runs = [run_in(params, y, Precision.parse(p), T=cfg["T"], dt=cfg["dt"], spike_factor=cfg["transient"]["spike_factor"])
             for p in cfg["precisions"]]
     seps = [separation(a, b) for a, b in zip(runs[:-1], runs[1:])]
     t = cfg["dt"] * np.arange(1, runs[0]["velocities"].shape[0] + 1)
@@ -109,7 +106,7 @@ def precision_ladder(cfg: dict, scene: str = "") -> xr.Dataset:
     and when it first exceeds SEPARATED; per state, the converged precision."""
     start = time.perf_counter()
     params = Params.from_config(cfg["params"])
-    names, precs = list(cfg["states"]), list(cfg["precisions"])
+    names, precs = list(cfg["states"]), [Precision.parse(p) for p in cfg["precisions"]]
     out = [one_state(params, state_at_label(cfg["states"][n], params, cfg["energy_label"]), cfg, f"{scene}[{n}]")
            for n in names]
     every = int(round(cfg["separation_every"] / cfg["dt"]))
@@ -137,9 +134,9 @@ def precision_ladder(cfg: dict, scene: str = "") -> xr.Dataset:
                       cf.attrs("configured start state (u, Omega, omega, delta) in model units, before scaling to "
                                "the label")),
         },
-        coords={"state": names, "precision": precs, "component": ["u", "Omega", "omega", "delta"], "pair": [f"{a} / {b}" for a, b in zip(precs[:-1], precs[1:])],
+        coords={"state": names, "precision": [p.value for p in precs], "component": ["u", "Omega", "omega", "delta"], "pair": [f"{a} / {b}" for a, b in zip(precs[:-1], precs[1:])],
                 "t_separation": cfg["dt"] * every * np.arange(1, out[0]["separations"][0][every - 1::every].size + 1),
-                "rounding": ("precision", [ROUNDING[p] for p in precs]), "tol": ("precision", [TOL[p] for p in precs])},
+                "rounding": ("precision", [p.rounding for p in precs]), "tol": ("precision", [p.epsilon for p in precs])},
     )
     ds.attrs.update(params.attrs())
     ds.attrs.update(scene=scene, energy_label=cfg["energy_label"], T=cfg["T"], dt=cfg["dt"],

@@ -10,19 +10,19 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from sleighsim.analysis import spectra
+from sleighsim.engine import poincare
+from sleighsim.engine.integrate import integrate, sample_grid
+from sleighsim.engine.transient import settle
 from sleighsim.io import cf
+from sleighsim.io.netcdf import read_dataset
 from sleighsim.io.vocabulary import STATE_KINDS
 from sleighsim.model import equations
-from sleighsim.engine import poincare
-from sleighsim.analysis import spectra
 from sleighsim.model.attrs import state_attrs
-from sleighsim.engine.integrate import integrate, sample_grid
-from sleighsim.io.netcdf import read_dataset
 from sleighsim.model.params import Params
-from sleighsim.engine.transient import settle
-from sleighsim.scenes.common import initial_state, steady_arithmetic
 from sleighsim.scenes import memory
 from sleighsim.scenes.checks import ConfigError
+from sleighsim.scenes.common import initial_state, steady_arithmetic
 from sleighsim.scenes.kind import SceneKind
 
 log = logging.getLogger("sleighsim")

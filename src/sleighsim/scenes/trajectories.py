@@ -9,17 +9,17 @@ import time
 import numpy as np
 import xarray as xr
 
+from sleighsim.engine.integrate import integrate, sample_grid
+from sleighsim.engine.transient import phases, settle, spike_times
 from sleighsim.io import cf
 from sleighsim.model import equations
 from sleighsim.model.attrs import state_attrs
-from sleighsim.engine.integrate import integrate, sample_grid
 from sleighsim.model.params import Params
 from sleighsim.model.sleigh0 import closed_form
 from sleighsim.model.sleigh0 import rhs as sleigh0_rhs
-from sleighsim.engine.transient import phases, settle, spike_times
-from sleighsim.scenes.common import initial_state, steady_arithmetic
 from sleighsim.scenes import memory
 from sleighsim.scenes.checks import ConfigError, increasing
+from sleighsim.scenes.common import initial_state, steady_arithmetic
 from sleighsim.scenes.kind import SceneKind
 
 log = logging.getLogger("sleighsim")

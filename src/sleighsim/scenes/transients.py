@@ -10,16 +10,16 @@ import time
 import numpy as np
 import xarray as xr
 
-from sleighsim.io import cf
 from sleighsim.analysis import fits
-from sleighsim.model import equations
 from sleighsim.engine import transient
 from sleighsim.engine.integrate import final_state, integrate, sample_grid
+from sleighsim.io import cf
+from sleighsim.model import equations
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import REFERENCE_LABEL, state_at_label
-from sleighsim.scenes.common import nan_padded
 from sleighsim.scenes import memory
 from sleighsim.scenes.checks import ConfigError
+from sleighsim.scenes.common import nan_padded
 from sleighsim.scenes.kind import SceneKind
 
 log = logging.getLogger("sleighsim")

@@ -23,12 +23,12 @@ import numpy as np
 import xarray as xr
 from scipy import stats
 
-from sleighsim.io import cf
 from sleighsim.engine.integrate import integrate, sample_grid
-from sleighsim.engine.integrators import EPSILON
+from sleighsim.engine.precision import Precision
+from sleighsim.engine.transient import spike_times
+from sleighsim.io import cf
 from sleighsim.model.equations import STATE_NAMES
 from sleighsim.model.params import Params
-from sleighsim.engine.transient import spike_times
 from sleighsim.scenes import memory
 from sleighsim.scenes.kind import SceneKind
 
@@ -38,7 +38,7 @@ log = logging.getLogger("sleighsim")
 FAR = 100.0
 
 
-def spikes_after(params, y0, precision: str, tol: float, cfg: dict, scene: str) -> tuple:
+def spikes_after(params, y0, precision: Precision, tol: float, cfg: dict, scene: str) -> tuple:
     """(first spike, second spike, wall seconds, max relative energy drift) of the run from y0 in
     ``precision`` at ``tol`` (NaN for a spike that does not come within t_end)."""
     start = time.perf_counter()
@@ -57,9 +57,9 @@ def fitted(runs) -> np.ndarray:
     error), and of a tolerance run in several such arithmetics only the finest (the same injected
     error is one point of the law, not one per arithmetic; its rounding lies farthest below it)."""
     finest = {}
-    for i in sorted(range(len(runs)), key=lambda i: -EPSILON[runs[i][0]]):  # coarse to fine: the finest stays
+    for i in sorted(range(len(runs)), key=lambda i: -runs[i][0].epsilon):  # coarse to fine: the finest stays
         p, t = runs[i]
-        if t >= FAR * EPSILON[p]:
+        if t >= FAR * p.epsilon:
             finest[t] = i
     return np.isin(np.arange(len(runs)), list(finest.values()))
 
@@ -92,15 +92,15 @@ def trigger_law(cfg: dict, scene: str = "") -> xr.Dataset:
     """First and second spike per (precision, tol) of ``cfg["tols"]`` from y0, and the fitted law."""
     start = time.perf_counter()
     params = Params.from_config(cfg["params"])
-    runs = [(p, float(t)) for p, tols in cfg["tols"].items() for t in tols]
+    runs = [(Precision.parse(p), float(t)) for p, tols in cfg["tols"].items() for t in tols]
     out = np.array([spikes_after(params, cfg["y0"], p, t, cfg, scene) for p, t in runs])
     tol = np.array([t for _, t in runs])
     in_fit = fitted(runs)
     law = fit(np.log10(tol[in_fit]), out[in_fit, 0])
     ds = xr.Dataset(
-        {"precision": ("run", np.array([p for p, _ in runs], dtype=object)),
+        {"precision": ("run", np.array([p.value for p, _ in runs], dtype=object)),
          "tol": ("run", tol, cf.attrs("Taylor tolerance: the size of the injected error where in_fit")),
-         "rounding": ("run", [EPSILON[p] for p, _ in runs], cf.attrs("machine epsilon of the arithmetic")),
+         "rounding": ("run", [p.epsilon for p, _ in runs], cf.attrs("machine epsilon of the arithmetic")),
          "in_fit": ("run", in_fit.astype(np.int8), cf.attrs(f"1 when tol >= {FAR:g} x rounding (the tolerance sets "
                                                             "the injected error), in the finest such arithmetic that "
                                                             "ran this tol, else 0")),

@@ -16,7 +16,6 @@ import time
 import numpy as np
 import xarray as xr
 
-from sleighsim.chaos.faithfulness import ROUNDING
 from sleighsim.chaos.orbits import (
     loschmidt_indicator,
     two_trajectory_indicator,
@@ -33,6 +32,7 @@ from sleighsim.chaos.rule import (
 from sleighsim.chaos.verdicts import CHAOTIC
 from sleighsim.engine import integrators
 from sleighsim.engine.integrate import orbit_samples
+from sleighsim.engine.precision import Precision
 from sleighsim.engine.transient import settle
 from sleighsim.io import cf
 from sleighsim.io.netcdf import read_dataset
@@ -77,7 +77,8 @@ def one_state(params, y0, cfg: dict, scene: str) -> dict:
     m, ld, megno_double, megno_precision = tangent_indicators(params, replicas, res, cfg, scene, values, errors, verdicts)
     freq = frequency_indicator(params, replicas[0], cfg, sigma)
     values["frequency"], errors["frequency"], verdicts["frequency"] = freq["value"], freq["error"], freq["verdict"]
-    L, L_ld = loschmidt_run(params, replicas[0], cfg), loschmidt_run(params, replicas[0], cfg, long_double=True)
+    L = loschmidt_run(params, replicas[0], cfg)
+    L_ld = loschmidt_run(params, replicas[0], cfg, precision=Precision.LONG_DOUBLE)
     los = loschmidt_indicator(L, L_ld, sigma)
     values["loschmidt"], errors["loschmidt"], verdicts["loschmidt"] = los["value"], los["error"], los["verdict"]
     flow, tts = two_trajectory_runs(params, replicas[-1], cfg)
@@ -152,7 +153,7 @@ def verdict(cfg: dict, scene: str = "") -> xr.Dataset:
         variables(per_state, out, ind, ft),
         coords={"state": names, "indicator": ind, "i": np.arange(1, 5), "d0": np.asarray(cfg["d0"], float),
                 "T_loschmidt": loschmidt_T(cfg), "precision": ["double", "long double"],
-                "split": np.asarray(fc["splits"], int), "frequency_precision": list(PRECISIONS), "arithmetic": list(ROUNDING),
+                "split": np.asarray(fc["splits"], int), "frequency_precision": list(PRECISIONS), "arithmetic": [p.value for p in Precision],
                 "tangent_based": ("indicator", [int(i in TANGENT_BASED) for i in ind])},
     )
     set_attrs(ds, cfg, params, per_state, start)

@@ -10,7 +10,7 @@ import numpy as np
 import xarray as xr
 
 from sleighsim.chaos import naff as frequencies
-from sleighsim.chaos.faithfulness import ROUNDING, cycle_gains, follows
+from sleighsim.chaos.faithfulness import cycle_gains, follows
 from sleighsim.chaos.frequency import frequency_log_ratio, judge_frequency
 from sleighsim.chaos.orbits import (
     d0_independent,
@@ -29,6 +29,7 @@ from sleighsim.chaos.tangent import (
     judge_benettin,
     judge_megno,
 )
+from sleighsim.engine.precision import Precision
 from sleighsim.io import cf
 from sleighsim.scenes.common import nan_padded
 from sleighsim.scenes.verdict_frequency import frequency_indicator
@@ -173,9 +174,9 @@ def _gain_vars(out: list) -> dict:
         "spike_period": ("state", [spike_period(g["spike_times"]) for g in gains],
                          cf.attrs("median interval between the spikes of the gauge's run: which torus of the family "
                                   "the state reached (to about tau_gain)", "time")),
-        "log10_gain_rounding": (("state", "arithmetic"), [[g["log10_gain_rounding"][a] for a in ROUNDING] for g in gains],
+        "log10_gain_rounding": (("state", "arithmetic"), [[g["log10_gain_rounding"][a] for a in Precision] for g in gains],
                                 cf.attrs("log10(G_max x unit roundoff of the arithmetic)")),
-        "follows_orbit": (("state", "arithmetic"), np.array([[g["follows"][a] for a in ROUNDING] for g in gains],
+        "follows_orbit": (("state", "arithmetic"), np.array([[g["follows"][a] for a in Precision] for g in gains],
                                                             dtype=object),
                           {"long_name": "does the arithmetic follow the exact orbit (G x rounding below "
                                         "faithfulness.FAITHFUL_MAX; unknown without a complete cycle)"}),

@@ -16,24 +16,25 @@ from sleighsim.chaos.frequency import (
 )
 from sleighsim.chaos.verdicts import REGULAR
 from sleighsim.engine import integrators
+from sleighsim.engine.precision import Precision
 from sleighsim.model import equations
 from sleighsim.scenes.common import stored_state
 
-PRECISIONS = ("double", "long double", "quad")  # the frequency indicator's runs, in order
+PRECISIONS = tuple(Precision)  # the frequency indicator's runs, in order
 
 
-def _frequency_tol(cfg: dict, precision: str) -> float:
+def _frequency_tol(cfg: dict, precision: Precision) -> float:
     """The Taylor tolerance of the frequency run in ``precision`` (one of PRECISIONS)."""
     return {"double": cfg["tol"], "long double": cfg["tol_long_double"], "quad": cfg["frequency"]["tol_quad"]}[precision]
 
 
-def frequency_run(params, y, cfg: dict, precision: str = "double") -> dict:
+def frequency_run(params, y, cfg: dict, precision: Precision = Precision.DOUBLE) -> dict:
     """``chaos.frequency.frequency_drift`` of the velocity frequency.component (u, Omega or omega) from y,
     sampled every frequency.dt: in double at tol over frequency.T, in long double at
     tol_long_double over frequency.T, or in quad at frequency.tol_quad over frequency.quad_T."""
     fc = cfg["frequency"]
-    T = fc["quad_T"] if precision == "quad" else fc["T"]
-    flow, _ = integrators.flow(False, _frequency_tol(cfg, precision), precision == "long double", precision == "quad")
+    T = fc["quad_T"] if precision is Precision.QUAD else fc["T"]
+    flow, _ = integrators.flow(False, _frequency_tol(cfg, precision), precision)
     integrators.set_pars(flow, params)
     return frequency_drift(flow, stored_state(y), T=T, dt=fc["dt"], component=equations.STATE_NAMES.index(fc["component"]),
                            splits=fc["splits"], min_cycles=fc["min_cycles"], callback=integrators.bounded(flow))
@@ -53,7 +54,7 @@ def frequency_indicator(params, y, cfg: dict, sigma: float) -> dict:
     for prev, precision in zip((None, *PRECISIONS[:-1]), PRECISIONS):
         if prev is not None and (judgement[0] == REGULAR or made[prev]["splits"].size < 2):
             break
-        if precision == "quad" and cfg["frequency"]["quad_T"] <= 0:
+        if precision is Precision.QUAD and cfg["frequency"]["quad_T"] <= 0:
             judgement = (judgement[0], judgement[1] + "; quad run not made (frequency.quad_T = 0; config/cluster.yaml makes it)")
             break
         run = made[precision] = frequency_run(params, y, cfg, precision)

@@ -16,6 +16,7 @@ from sleighsim.chaos.orbits import (
 )
 from sleighsim.engine import integrators
 from sleighsim.engine.integrate import integrate, sample_grid
+from sleighsim.engine.precision import Precision
 from sleighsim.model import equations
 from sleighsim.scenes.common import stored_state
 
@@ -48,11 +49,12 @@ def two_trajectory_runs(params, y, cfg: dict) -> tuple:
     return flow, tts
 
 
-def loschmidt_run(params, y, cfg: dict, *, long_double: bool = False) -> dict:
+def loschmidt_run(params, y, cfg: dict, *, precision: Precision = Precision.DOUBLE) -> dict:
     """``chaos.orbits.loschmidt`` from y (model variables) with the involution R at loschmidt_n
     log-spaced T in loschmidt_T, relative to max |velocity|: in double at tol, or in long double at
     tol_long_double (rounding 2^11 smaller: the rounding floor is 3.3 decades lower)."""
-    flow, _ = integrators.flow(False, cfg["tol_long_double"] if long_double else cfg["tol"], long_double)
+    tol = cfg["tol_long_double"] if precision is Precision.LONG_DOUBLE else cfg["tol"]
+    flow, _ = integrators.flow(False, tol, precision)
     integrators.set_pars(flow, params)
     return loschmidt(flow, stored_state(y), loschmidt_T(cfg), lambda z: R * z, callback=integrators.bounded(flow),
                      difference=equations.state_difference, scale=float(np.max(np.abs(np.asarray(y)[:3]))))

@@ -10,7 +10,6 @@ import math
 from sleighsim.chaos import lyapunov
 from sleighsim.chaos.faithfulness import (
     FAITHFUL_MAX,
-    ROUNDING,
     follows,
     spike_cycle_gains,
 )
@@ -32,6 +31,7 @@ from sleighsim.chaos.tangent import (
 )
 from sleighsim.chaos.verdicts import CHAOTIC
 from sleighsim.engine import integrators
+from sleighsim.engine.precision import Precision
 from sleighsim.scenes.common import stored_state
 
 log = logging.getLogger("sleighsim")
@@ -94,15 +94,17 @@ def indicator_follows(ln_gain_max: float, arithmetic: dict) -> dict:
     """{indicator: does its arithmetic follow the orbit (``faithfulness.follows``)}: G x rounding
     below 1e-3, or below LOSCHMIDT_GAIN_ROUNDING_MAX for the Loschmidt test."""
     limit = {"loschmidt": LOSCHMIDT_GAIN_ROUNDING_MAX}
-    return {name: follows(ln_gain_max, ROUNDING[a], limit.get(name, FAITHFUL_MAX)) for name, a in arithmetic.items()}
+    return {name: follows(ln_gain_max, Precision.parse(a).rounding, limit.get(name, FAITHFUL_MAX))
+            for name, a in arithmetic.items()}
 
 
-def megno_run(params, y, cfg: dict, *, long_double: bool = False) -> dict:
+def megno_run(params, y, cfg: dict, *, precision: Precision = Precision.DOUBLE) -> dict:
     """MEGNO from y (model variables), renormalised every tau, <Y> recorded at megno_samples times
     (``chaos.tangent.megno``): over T_megno in double, or over T_long_double at tol_long_double in long
     double."""
+    long_double = precision is Precision.LONG_DOUBLE
     tol, T = (cfg["tol_long_double"], cfg["T_long_double"]) if long_double else (cfg["tol"], cfg["T_megno"])
-    ta, _ = lyapunov.sleigh_megno(tol, long_double, cfg["compact_mode"])
+    ta, _ = lyapunov.sleigh_megno(tol, precision, cfg["compact_mode"])
     integrators.set_pars(ta, params)
     return megno(ta, 4, stored_state(y), T=T, n_samples=cfg["megno_samples"], tau=cfg["tau"], callback=integrators.bounded(ta))
 
@@ -121,7 +123,7 @@ def precision_check(params, y, cfg: dict, scene: str) -> dict:
     no longer resolved) can change which MEGNO run is judged. Returns lambda_1, stderr, check
     ("confirmed" | "not confirmed"), the reason and the run (``megno``)."""
     tau, sigma, T = cfg["tau"], cfg["sigma"], cfg["T_long_double"]
-    m = megno_run(params, y, cfg, long_double=True)
+    m = megno_run(params, y, cfg, precision=Precision.LONG_DOUBLE)
     g = m["log_growth"][math.ceil(cfg["t_align"] / tau):]  # the alignment of the vector left out
     lam, err, bound, ok = growth_confirmed(g, tau, T, sigma, N_BLOCKS)
     text = (f"long double (tol {cfg['tol_long_double']:.2g}): lambda_1 = {lam:.3g} +- {err:.2g} over T = {T:.3g}, "

@@ -1,0 +1,52 @@
+"""The arithmetics an integration can run in: one type, parsed once where a scene's config is read.
+
+A :class:`Precision` is a string enum whose value is its config name ("double", "long double",
+"quad"), so a dataset attribute or coordinate written from it holds that name. Each member carries
+its path tag, its machine epsilon (its Taylor tolerance when a run is to follow the exact orbit as
+far as that arithmetic can), its rounding unit (half the epsilon), heyoka's floating-point type and
+the NumPy dtype of its states.
+"""
+
+from __future__ import annotations
+
+import enum
+
+import numpy as np
+
+
+class Precision(enum.StrEnum):
+    """An arithmetic: ``tag`` (its name in paths), ``epsilon`` (machine epsilon), ``rounding``
+    (unit roundoff), ``fp_type`` (heyoka's type: float, np.longdouble, heyoka.real128) and ``dtype``."""
+
+    DOUBLE = ("double", "double", 2.0**-52, 2.0**-53)
+    LONG_DOUBLE = ("long double", "long_double", 2.0**-63, 2.0**-64)  # 80-bit on x86-64
+    QUAD = ("quad", "quad", 2.0**-112, 2.0**-113)  # heyoka's real128
+
+    def __new__(cls, name: str, tag: str, epsilon: float, rounding: float):
+        member = str.__new__(cls, name)
+        member._value_ = name
+        member.tag, member.epsilon, member.rounding = tag, epsilon, rounding
+        return member
+
+    @classmethod
+    def parse(cls, value) -> Precision:
+        """The member named ``value`` (its config name, or a member); ValueError naming it otherwise."""
+        for member in cls:
+            if value is member or (isinstance(value, str) and value == member.value):
+                return member
+        raise ValueError(f"precision {value!r}: choose one of {[m.value for m in cls]}")
+
+    @property
+    def fp_type(self):
+        """heyoka's floating-point type of this arithmetic (real128 needs heyoka, imported on use for
+        start-up time)."""
+        if self is Precision.QUAD:
+            import heyoka as hy
+
+            return hy.real128
+        return np.longdouble if self is Precision.LONG_DOUBLE else float
+
+    @property
+    def dtype(self) -> np.dtype:
+        """The NumPy dtype of states in this arithmetic."""
+        return np.dtype(self.fp_type)

@@ -1,0 +1,29 @@
+"""The arithmetic type: parsed from its config name, refused otherwise, each member's numbers."""
+
+import numpy as np
+import pytest
+
+from sleighsim.engine.precision import Precision
+
+
+@pytest.mark.parametrize("name, member", [("double", Precision.DOUBLE), ("long double", Precision.LONG_DOUBLE),
+                                          ("quad", Precision.QUAD)])
+def test_parse_takes_the_config_name_or_a_member(name, member):
+    assert Precision.parse(name) is member and Precision.parse(member) is member
+    assert member == name and str(member) == name and f"{member}" == name  # written to datasets as its name
+
+
+@pytest.mark.parametrize("bad", ["long_double", "single", "Double", "", None, 64])
+def test_parse_refuses_anything_else_naming_it(bad):
+    with pytest.raises(ValueError, match=f"precision {bad!r}"):
+        Precision.parse(bad)
+
+
+def test_each_member_carries_its_tag_epsilon_rounding_and_types():
+    hy = pytest.importorskip("heyoka")
+    assert [p.tag for p in Precision] == ["double", "long_double", "quad"]
+    assert [p.epsilon for p in Precision] == [2.0**-52, 2.0**-63, 2.0**-112]
+    assert [p.rounding for p in Precision] == [2.0**-53, 2.0**-64, 2.0**-113]
+    assert [p.fp_type for p in Precision] == [float, np.longdouble, hy.real128]
+    assert [p.dtype for p in Precision] == [np.dtype(float), np.dtype(np.longdouble), np.dtype(hy.real128)]
+    assert list(Precision) == ["double", "long double", "quad"]  # coarse to fine
