@@ -8,7 +8,7 @@ Rows: every (system, precision, compact_mode, high_accuracy) with system "flow" 
 "tangent" (the sleigh plus one tangent vector, heyoka's variational equations, k = 1), precision one of
 sleighsim.engine.precision.Precision, each at its own machine epsilon as tolerance, and high_accuracy on only in
 double. Integrators come from the project's builders (integrators.flow: compact mode off in double and
-long double, on in quad; lyapunov.sleigh_tangent; lyapunov.tangent_integrator for quad); where they have no such option
+long double, on in quad; integrators.sleigh_tangent; integrators.tangent_integrator for quad); where they have no such option
 (compact_mode for the flow, high_accuracy anywhere) the integrator is built the way they build it with that
 option changed, and registered with integrators.compiled so its angle is kept bounded like theirs.
 
@@ -104,15 +104,15 @@ def _flow_variant(tol, precision, compact, ha):
 
 
 def _tangent_variant(tol, precision, compact, ha):
-    """lyapunov.sleigh_tangent's build (k = 1) in any precision, with high_accuracy set."""
+    """integrators.sleigh_tangent's build (k = 1) in any precision, with high_accuracy set."""
     fp = precision.fp_type
     sys_ = equations.heyoka_system(delta_shift=integrators.DELTA_SHIFT)
 
     def build():
         if not ha:
-            return lyapunov.tangent_integrator(sys_, 1, tol, equations.compile_pars(fp), compact_mode=compact,
+            return integrators.tangent_integrator(sys_, 1, tol, equations.compile_pars(fp), compact_mode=compact,
                                                precision=precision)[0]
-        import heyoka as hy  # lyapunov.tangent_integrator with high_accuracy on
+        import heyoka as hy  # integrators.tangent_integrator with high_accuracy on
 
         vsys = hy.var_ode_sys(sys_, [v for v, _ in sys_[:1]], order=1)
         return hy.taylor_adaptive(vsys, np.full(len(sys_), 0.1, dtype=fp), tol=fp(tol), pars=equations.compile_pars(fp),
@@ -131,8 +131,8 @@ def build(system, name, compact, ha):
             return integrators.flow(False, tol, precision)[0], "integrators.flow"
         return _flow_variant(tol, precision, compact, ha), "integrators.flow's build, options changed"
     if not quad and not ha:
-        return lyapunov.sleigh_tangent(1, tol, compact, precision)[0], "lyapunov.sleigh_tangent"
-    how = "lyapunov.tangent_integrator" if not ha else "lyapunov.tangent_integrator's build, high_accuracy on"
+        return integrators.sleigh_tangent(1, tol, compact, precision)[0], "integrators.sleigh_tangent"
+    how = "integrators.tangent_integrator" if not ha else "integrators.tangent_integrator's build, high_accuracy on"
     return _tangent_variant(tol, precision, compact, ha), how
 
 

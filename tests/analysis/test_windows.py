@@ -58,7 +58,7 @@ def test_a_drift_above_the_tolerance_must_be_resolved_above_it():
 def test_windowed_orbit_gives_benettins_exponent_and_the_sampled_component():
     p = Params.paper(eps=0.3)
     y0 = state_at_label([0.0, 0.1, 1.0, 0.0], p, 1.0)
-    ta, _ = lyapunov.sleigh_tangent(1, 1e-14, True)
+    ta, _ = integrators.sleigh_tangent(1, 1e-14, True)
     integrators.set_pars(ta, p)
     got = list(windows.windowed_orbit(ta, 4, y0, n_windows=4, window=50.0, tau=5.0, component=1, seed=7))
     assert [w["index"] for w in got] == [0, 1, 2, 3] and got[1]["t_start"] == 50.0
@@ -80,7 +80,7 @@ def test_windowed_orbit_in_long_double_matches_double_where_both_are_accurate():
     y0 = state_at_label([0.0, 0.1, 1.0, 0.0], p, 1.0)
     runs = {}
     for ld in (False, True):
-        ta, _ = lyapunov.sleigh_tangent(1, 1.0842021724855044e-19 if ld else 2.0**-52, True,
+        ta, _ = integrators.sleigh_tangent(1, 1.0842021724855044e-19 if ld else 2.0**-52, True,
                                    Precision.LONG_DOUBLE if ld else Precision.DOUBLE)
         integrators.set_pars(ta, p)
         runs[ld] = list(windows.windowed_orbit(ta, 4, y0, n_windows=3, window=50.0, tau=5.0, component=1, seed=7))

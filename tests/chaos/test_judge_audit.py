@@ -72,6 +72,7 @@ from sleighsim.chaos import lyapunov
 from sleighsim.chaos import orbits
 from sleighsim.chaos import tangent
 from sleighsim.chaos.verdicts import CHAOTIC, REGULAR, UNDECIDED, VERDICTS, polynomial_rate_bound
+from sleighsim.engine import integrators
 
 SIGMA = 3.0
 TARGET = 0.01  # at most 1 false verdict in 100 (the frequency judge's target)
@@ -134,14 +135,14 @@ def _flow(system):
 def _megno_ta(system):
     import heyoka as hy
 
-    return tangent.megno_integrator(SYSTEMS[system][1](hy))
+    return integrators.megno_integrator(SYSTEMS[system][1](hy))
 
 
 @functools.cache
 def _replica_ta(system, lanes=4):
     import heyoka as hy
 
-    ta, n, _ = lyapunov.tangent_integrator_batch(SYSTEMS[system][1](hy), lanes)
+    ta, n, _ = integrators.tangent_integrator_batch(SYSTEMS[system][1](hy), lanes)
     return ta, n
 
 

@@ -94,7 +94,7 @@ def test_two_chunkings_agree_to_rounding_times_the_measured_growth(settled):
     a = _states(integrate(P, settled, grid, progress=1))
     b = _states(integrate(P, settled, grid, progress=int(T)))
     gap = np.max(np.abs(equations.state_difference(a, b)), axis=1)
-    ta, _ = lyapunov.sleigh_tangent(1, 2.0**-52, True)
+    ta, _ = integrators.sleigh_tangent(1, 2.0**-52, True)
     integrators.set_pars(ta, P)
     r = lyapunov.benettin(ta, 4, 1, settled, t_align=0.0, T=T, tau=1.0)
     log_growth = np.concatenate([[0.0], np.cumsum(r["log_growth"][:, 0])])  # ln |v(t)|, t = 0, 1, ..., T
@@ -114,7 +114,7 @@ def test_benettin_sums_do_not_depend_on_the_renormalisation_interval(settled):
     grid = [0.0, T]
     ends = [final_state(integrate(P, settled, grid, progress=p)) for p in (1, 100)]
     assert np.max(np.abs(equations.state_difference(*ends))) < 1e-7
-    ta, _ = lyapunov.sleigh_tangent(4, 2.0**-52, True)
+    ta, _ = integrators.sleigh_tangent(4, 2.0**-52, True)
     integrators.set_pars(ta, P)
     lam = {tau: lyapunov.benettin(ta, 4, 4, settled, t_align=0.0, T=T, tau=tau)["exponents"] for tau in (10.0, 1.0, 0.1)}
     for tau in (1.0, 0.1):

@@ -3,7 +3,7 @@
 Import from the submodules (nothing is re-exported here):
 
 * ``tangent``: tangent-based indicators: finite-time exponents (``finite_time_exponents``,
-  ``judge_ftle``), MEGNO (``megno_integrator``, ``megno``, ``judge_megno``), the replicas'
+  ``judge_ftle``), MEGNO (``megno`` on ``engine.integrators.megno_integrator``, ``judge_megno``), the replicas'
   Benettin lambda_1 (``judge_benettin``) and the long-double precision check (``growth_confirmed``,
   ``megno_in_long_double``).
 * ``orbits``: indicators without tangent dynamics built on pairs of orbits: two nearby

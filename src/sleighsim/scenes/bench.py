@@ -122,7 +122,7 @@ def observables_vs_tol(cfg: dict) -> xr.Dataset:
     params, y = _settled(cfg)
     lam, wall, rot = [], [], []
     for tol in cfg["heyoka_tols"]:
-        ta, _ = lyapunov.sleigh_tangent(1, tol, True)
+        ta, _ = integrators.sleigh_tangent(1, tol, True)
         integrators.set_pars(ta, params)
         r = lyapunov.benettin(ta, 4, 1, y, t_align=0.0, T=cfg["T_lyapunov"], tau=LYAPUNOV_TAU)
         lam.append(r["exponents"][0])

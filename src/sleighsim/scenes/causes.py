@@ -19,7 +19,6 @@ import numpy as np
 import xarray as xr
 
 from sleighsim.chaos import lyapunov
-from sleighsim.model import perturbation as pert
 from sleighsim.analysis import spectra
 from sleighsim.engine import transient
 from sleighsim.engine.integrate import final_state, integrate, sample_grid
@@ -27,6 +26,7 @@ from sleighsim.model.params import Params
 from sleighsim.model.symmetries import state_at_label
 from sleighsim.engine.transient import settle
 from sleighsim.scenes.hierarchy import hierarchy_numbers, series_errors
+from sleighsim.engine.hierarchy import integrate_hierarchy
 
 log = logging.getLogger("sleighsim")
 
@@ -48,7 +48,7 @@ def _series_omega_error(params, y0, sc, tol) -> float:
     """Relative error of omega at sc.t_end between the order-sc.order series and the exact flow."""
     times = sample_grid(0.0, sc["t_end"], sc["dt"])
     exact = integrate(params, y0, times, tol=tol, progress=1)
-    h = pert.integrate_hierarchy(sc["order"], y0, times, b=params.b, K2=params.K2,
+    h = integrate_hierarchy(sc["order"], y0, times, b=params.b, K2=params.K2,
                                  kappa_value=(params.K2 - 1.0) / params.eps, tol=tol)
     return float(series_errors(exact, h, params.eps, sc["order"])["omega_rel_error"][1][-1])
 
@@ -118,7 +118,7 @@ def integration_error(cfg: dict, scene: str = "") -> xr.Dataset:
                             "omega_rel_error", "wall_time_s")}
     sc = cfg["series"]
     times = sample_grid(0.0, sc["t_end"], sc["dt"])
-    h = pert.integrate_hierarchy(sc["order"], y0, times, b=params.b, K2=params.K2,
+    h = integrate_hierarchy(sc["order"], y0, times, b=params.b, K2=params.K2,
                                  kappa_value=(params.K2 - 1.0) / params.eps, tol=cfg["tol"])
     for rtol in rtols:
         kw = dict(backend="scipy", method=cfg["method"], rtol=float(rtol), atol=float(rtol * cfg["atol_factor"]),

@@ -12,7 +12,6 @@ import xarray as xr
 
 from sleighsim.io import cf
 from sleighsim.engine import integrators
-from sleighsim.chaos import lyapunov
 from sleighsim.model import equations
 from sleighsim.engine import transient
 from sleighsim.analysis import windows
@@ -45,7 +44,7 @@ def drift_windows(cfg: dict, scene: str = "") -> xr.Dataset:
                                 progress=1)
     tol = cfg["tol_long_double"] if cfg["long_double"] else cfg["tol"]
     arithmetic = Precision.LONG_DOUBLE if cfg["long_double"] else Precision.DOUBLE
-    ta, compile_s = lyapunov.sleigh_tangent(1, tol, cfg["compact_mode"], arithmetic)
+    ta, compile_s = integrators.sleigh_tangent(1, tol, cfg["compact_mode"], arithmetic)
     integrators.set_pars(ta, params)
     precision = "double" if ta.state.dtype == np.float64 else f"long double (epsilon {float(np.finfo(ta.state.dtype).eps):.2g})"
     n_windows = int(round(cfg["T"] / cfg["window"]))

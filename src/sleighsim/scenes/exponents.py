@@ -30,7 +30,7 @@ log = logging.getLogger("sleighsim")
 def _run(params, y, *, k, cfg, compact, label, T=None, seed=0):
     """Benettin from y with k vectors in the block's steady-state arithmetic (:func:`.common.steady_arithmetic`)."""
     arith = steady_arithmetic(cfg)
-    ta, compile_s = lyapunov.sleigh_tangent(k, arith["tol"], compact, arith["precision"])
+    ta, compile_s = integrators.sleigh_tangent(k, arith["tol"], compact, arith["precision"])
     integrators.set_pars(ta, params)
     out = lyapunov.benettin(ta, 4, k, y, t_align=cfg["t_align"], T=cfg["T"] if T is None else T, tau=cfg["tau"],
                             n_blocks=cfg["n_blocks"], seed=seed, label=label)
@@ -298,7 +298,7 @@ def formal_exponents(cfg: dict, scene: str = "") -> xr.Dataset:
         label = f"{scene}[eps={eps:g}]"
         y, pre = settle(params, y0, cfg["t_transient"], **cfg["transient"], tol=cfg["tol"], label=label, progress=1)
         replicas, _ = orbit_samples(params, y, cfg["replicas"], cfg["replica_spacing"], tol=cfg["tol"], scene=label)
-        ta, _ = lyapunov.sleigh_tangent_batch(cfg["replicas"], cfg["tol"], cfg["compact_mode"], k=1)
+        ta, _ = integrators.sleigh_tangent_batch(cfg["replicas"], cfg["tol"], cfg["compact_mode"], k=1)
         integrators.set_pars(ta, params)
         res = lyapunov.replica_exponents(ta, 4, 1, replicas, cfg["tau"], T_round=cfg["T_round"],
                                          max_rounds=cfg["max_rounds"], target_rel=cfg["target_rel"],
