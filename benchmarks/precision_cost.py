@@ -19,11 +19,11 @@ Per row:
   SymPy side of the model built once;
 - per time unit: the paper's main state (eps 0.1, b 1, K2 1.1; y0 = (0, 0.1, 1, 0) at energy label 0.1127)
   propagated over a transient (6000 time units, double) first; every timed run starts from that settled
-  state (the tangent vector from lyapunov.initial_directions(4, 1, seed 0)). Windows: "long" (3000 time
+  state (the tangent vector from benettin.initial_directions(4, 1, seed 0)). Windows: "long" (3000 time
   units, more than one spike cycle of about 2400; double and long double) and "short" (300 time units,
   before the first spike; every precision, so quad's ratio to double is taken on the same stretch of
   orbit). The flow runs in one propagate_for; the tangent system in legs of tau = 10 with the vector
-  renormalised after each (as lyapunov.benettin does). One untimed warm-up (over the window, the short
+  renormalised after each (as benettin.benettin does). One untimed warm-up (over the window, the short
   window for quad), then the median of the repeats (5; 3 in quad). The cost is CPU seconds (process time,
   so other load on the machine does not count), wall seconds beside it; steps per time unit from heyoka.
 
@@ -51,7 +51,7 @@ sys.path.insert(0, str(REPO / "src"))
 import numpy as np
 
 from sleighsim.engine import integrators
-from sleighsim.chaos import lyapunov
+from sleighsim.chaos import benettin
 from sleighsim.model import equations
 from sleighsim.engine import transient
 from sleighsim.ops import benchio
@@ -151,7 +151,7 @@ def propagate(ta, system, y0, T, what=""):
     ta.time = fp(0)
     integrators.load(ta, y0)
     if system == "tangent":
-        ta.state[4:] = lyapunov.initial_directions(4, 1, 0).ravel().astype(ta.state.dtype)
+        ta.state[4:] = benettin.initial_directions(4, 1, 0).ravel().astype(ta.state.dtype)
     c0, w0 = time.process_time(), time.perf_counter()
     if system == "flow":
         res = ta.propagate_for(fp(T), callback=callback)

@@ -18,7 +18,7 @@ import json, sys, time
 t0 = time.process_time()
 import heyoka as hy
 hy.llvm_state.set_diskcache_enabled(sys.argv[1] == "on")
-from sleighsim.chaos import lyapunov
+from sleighsim.chaos import benettin
 from sleighsim.engine import integrators
 from sleighsim.model import mechanics
 t1 = time.process_time(); mechanics.derive()

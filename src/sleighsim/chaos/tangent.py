@@ -8,7 +8,7 @@ Engines (all times in the flow's own time unit, exponents lambda in 1/time, natu
   exactly as extra quadratures of heyoka's variational equations.
 
 Judges: ``judge_ftle``, ``judge_megno`` (``judge_megno_run`` on a ``megno`` run), ``judge_benettin``
-(the replicas' lambda_1 of ``lyapunov.replica_exponents``), ``megno_in_long_double`` and
+(the replicas' lambda_1 of ``benettin.replica_exponents``), ``megno_in_long_double`` and
 ``growth_confirmed`` (the long-double precision check). Engine conventions: ``propagate``;
 verdict conventions: ``verdicts``.
 """

@@ -18,7 +18,7 @@ import time
 import numpy as np
 import xarray as xr
 
-from sleighsim.chaos import lyapunov
+from sleighsim.chaos import benettin
 from sleighsim.analysis import spectra
 from sleighsim.engine import transient
 from sleighsim.engine.integrate import final_state, integrate, sample_grid
@@ -141,7 +141,7 @@ def integration_error(cfg: dict, scene: str = "") -> xr.Dataset:
         y = final_state(integrate(params, state_at_label(y0, params, lc["energy_label"]), [0.0, lc["t_transient"]],
                                   backend="scipy", method=cfg["method"], rtol=float(rtol),
                                   atol=float(rtol * cfg["atol_factor"]), compiled=True, progress=1))
-        r = lyapunov.scipy_benettin(params, y, 4, T=lc["T"], tau=lc["tau"], method=cfg["method"], rtol=float(rtol),
+        r = benettin.scipy_benettin(params, y, 4, T=lc["T"], tau=lc["tau"], method=cfg["method"], rtol=float(rtol),
                                     atol=float(rtol * cfg["atol_factor"]))
         exps.append(r["exponents"])
         log.info("%s: protocol with %s rtol %g: %s", scene, cfg["method"], rtol, r["exponents"])

@@ -17,7 +17,7 @@ import xarray as xr
 from sleighsim.io import cf
 from sleighsim.chaos import naff as frequencies
 from sleighsim.engine import integrators
-from sleighsim.chaos import lyapunov
+from sleighsim.chaos import benettin
 from sleighsim.model import equations
 from sleighsim.chaos.frequency import frequency_drift, frequency_log_ratio, judge_frequency, judged_run
 from sleighsim.chaos.orbits import (
@@ -138,11 +138,11 @@ def gain_run(params, y, cfg: dict) -> dict:
 
 
 def replica_run(params, replicas, cfg: dict, scene: str) -> dict:
-    """Benettin over the replicas (one SIMD lane each, 4 tangent vectors), ``lyapunov.replica_exponents``
+    """Benettin over the replicas (one SIMD lane each, 4 tangent vectors), ``benettin.replica_exponents``
     at tol with tau, T_round, max_rounds, target_rel, t_align, regular_floor and sigma from cfg."""
     ta, _ = integrators.sleigh_tangent_batch(cfg["replicas"], cfg["tol"], cfg["compact_mode"], k=4)
     integrators.set_pars(ta, params)
-    return lyapunov.replica_exponents(ta, 4, 4, replicas, cfg["tau"], T_round=cfg["T_round"], max_rounds=cfg["max_rounds"],
+    return benettin.replica_exponents(ta, 4, 4, replicas, cfg["tau"], T_round=cfg["T_round"], max_rounds=cfg["max_rounds"],
                                       target_rel=cfg["target_rel"], t_align=cfg["t_align"],
                                       regular_floor=cfg["regular_floor"], sigma=cfg["sigma"], label=scene)
 

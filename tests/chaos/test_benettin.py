@@ -7,7 +7,7 @@ import pytest
 
 from sleighsim.analysis import fits
 from sleighsim.engine import integrators
-from sleighsim.chaos import lyapunov
+from sleighsim.chaos import benettin, zero_one
 from sleighsim.model import equations
 from sleighsim.engine.integrate import final_state, integrate
 from sleighsim.model.params import Params
@@ -21,7 +21,7 @@ def test_lorenz_spectrum_matches_published_values(hy):
     x, y, z = hy.make_vars("x", "y", "z")
     sys = [(x, 10.0 * (y - x)), (y, x * (28.0 - z) - y), (z, x * y - 8.0 / 3.0 * z)]
     ta, n, _ = integrators.tangent_integrator(sys, 3)
-    r = lyapunov.benettin(ta, n, 3, [1.0, 1.0, 20.0], t_align=100.0, T=10000.0, tau=0.5)
+    r = benettin.benettin(ta, n, 3, [1.0, 1.0, 20.0], t_align=100.0, T=10000.0, tau=0.5)
     lam = r["exponents"]
     assert lam[0] == pytest.approx(0.906, rel=0.01)
     assert lam[2] == pytest.approx(-14.572, rel=0.01)
@@ -36,7 +36,7 @@ def test_torus_flow_exponents_decay_like_one_over_T(hy):
     a, b = hy.make_vars("a", "b")
     sys = [(a, 1.0 + 0.5 * hy.cos(a)), (b, math.sqrt(2) + 0.3 * hy.cos(b))]
     ta, n, _ = integrators.tangent_integrator(sys, 2)
-    r = lyapunov.benettin(ta, n, 2, [0.1, 0.2], t_align=0.0, T=1e5, tau=1.0)
+    r = benettin.benettin(ta, n, 2, [0.1, 0.2], t_align=0.0, T=1e5, tau=1.0)
     bound = math.log(1.5 / 0.5) + math.log((math.sqrt(2) + 0.3) / (math.sqrt(2) - 0.3))
     assert np.all(np.abs(r["running"]) * r["T_grid"][:, None] <= bound + 1e-9)
     assert np.all(np.abs(r["exponents"]) <= bound / 1e5)
@@ -48,8 +48,8 @@ def test_alignment_and_renormalisation_interval_do_not_change_lorenz_lambda1(hy)
     x, y, z = hy.make_vars("x", "y", "z")
     sys = [(x, 10.0 * (y - x)), (y, x * (28.0 - z) - y), (z, x * y - 8.0 / 3.0 * z)]
     ta, n, _ = integrators.tangent_integrator(sys, 1)
-    a = lyapunov.benettin(ta, n, 1, [1.0, 1.0, 20.0], t_align=50.0, T=5000.0, tau=0.1)["exponents"][0]
-    b = lyapunov.benettin(ta, n, 1, [1.0, 1.0, 20.0], t_align=50.0, T=5000.0, tau=2.0)["exponents"][0]
+    a = benettin.benettin(ta, n, 1, [1.0, 1.0, 20.0], t_align=50.0, T=5000.0, tau=0.1)["exponents"][0]
+    b = benettin.benettin(ta, n, 1, [1.0, 1.0, 20.0], t_align=50.0, T=5000.0, tau=2.0)["exponents"][0]
     assert a == pytest.approx(0.906, rel=0.03) and b == pytest.approx(a, rel=0.03)
 
 
@@ -57,7 +57,7 @@ def test_benettin_rejects_bad_settings(hy):
     x = hy.make_vars("x")
     ta, n, _ = integrators.tangent_integrator([(x, -x)], 1)
     with pytest.raises(ValueError, match="tau"):
-        lyapunov.benettin(ta, n, 1, [1.0], t_align=0.0, T=10.0, tau=0.0)
+        benettin.benettin(ta, n, 1, [1.0], t_align=0.0, T=10.0, tau=0.0)
     with pytest.raises(ValueError, match="k = 2"):
         integrators.tangent_integrator([(x, -x)], 2)
 
@@ -70,9 +70,9 @@ def test_zero_one_test_separates_regular_from_chaotic():
     x[0] = 0.3
     for i in range(2999):
         x[i + 1] = 3.97 * x[i] * (1 - x[i])  # chaotic logistic map
-    assert lyapunov.zero_one_test(periodic)["K"] < 0.1
-    assert lyapunov.zero_one_test(quasi)["K"] < 0.1
-    assert lyapunov.zero_one_test(x)["K"] > 0.9
+    assert zero_one.zero_one_test(periodic)["K"] < 0.1
+    assert zero_one.zero_one_test(quasi)["K"] < 0.1
+    assert zero_one.zero_one_test(x)["K"] > 0.9
 
 
 def test_sleigh_exponents_sum_to_the_mean_divergence():
@@ -82,9 +82,9 @@ def test_sleigh_exponents_sum_to_the_mean_divergence():
     y = REFERENCE_STATE
     ta, _ = integrators.sleigh_tangent(4, 1e-13, True)
     integrators.set_pars(ta, p)
-    r = lyapunov.benettin(ta, 4, 4, y, t_align=0.0, T=2000.0, tau=5.0)
+    r = benettin.benettin(ta, 4, 4, y, t_align=0.0, T=2000.0, tau=5.0)
     lam = r["exponents"]
-    div = lyapunov.mean_divergence(p, y, 2000.0, 1e-13)
+    div = benettin.mean_divergence(p, y, 2000.0, 1e-13)
     assert lam.sum() == pytest.approx(div, abs=1e-9)
     assert abs(div) > 1e-5  # the flow contracts phase-space volume (C18) although E is invariant
 
@@ -129,15 +129,15 @@ def test_batch_lanes_match_the_scalar_benettin_run(k):
     taus = np.array([5.0, 3.0])
     ta, n, _ = integrators.tangent_integrator_batch(equations.heyoka_system(), 2, npars=equations.n_heyoka_pars(), compact_mode=True, k=k)
     ta.pars[:] = np.array([equations.heyoka_pars(p) for p in ps]).T
-    batch = lyapunov.batch_benettin(ta, n, k, ys, taus, t_align_steps=4, n_steps=40)
+    batch = benettin.batch_benettin(ta, n, k, ys, taus, t_align_steps=4, n_steps=40)
     lam = batch["log_growth"].sum(axis=0) / (40 * taus)  # (k, lanes)
     for j, p in enumerate(ps):
         ts, _, _ = integrators.tangent_integrator(equations.heyoka_system(), k, pars=equations.heyoka_pars(p), compact_mode=True)
-        one = lyapunov.benettin(ts, 4, k, ys[j], t_align=4 * taus[j], T=40 * taus[j], tau=taus[j], n_blocks=4)
+        one = benettin.benettin(ts, 4, k, ys[j], t_align=4 * taus[j], T=40 * taus[j], tau=taus[j], n_blocks=4)
         assert lam[:, j] == pytest.approx(one["exponents"], rel=1e-9, abs=1e-12)
         assert batch["log_growth"][:, :, j] == pytest.approx(one["log_growth"], rel=1e-9, abs=1e-12)
     with pytest.raises(ValueError):
-        lyapunov.batch_benettin(ta, n, k, ys[:1], taus[:1], n_steps=10)
+        benettin.batch_benettin(ta, n, k, ys[:1], taus[:1], n_steps=10)
 
 
 def _lorenz(hy):
@@ -148,7 +148,7 @@ def _lorenz(hy):
 def test_replicas_resolve_lorenz_and_stop_as_converged(hy):
     ta, n, _ = integrators.tangent_integrator_batch(_lorenz(hy), 4, k=3)
     y0s = np.array([[1.0, 1.0, 20.0], [2.0, 1.0, 20.0], [1.0, 3.0, 20.0], [1.0, 1.0, 25.0]])
-    r = lyapunov.replica_exponents(ta, n, 3, y0s, 0.5, T_round=500.0, max_rounds=6, target_rel=0.01, t_align=50.0,
+    r = benettin.replica_exponents(ta, n, 3, y0s, 0.5, T_round=500.0, max_rounds=6, target_rel=0.01, t_align=50.0,
                                    regular_floor=0.01)
     assert r["status"] == "converged" and r["stderr"][0] <= 0.01 * r["exponents"][0]
     assert r["exponents"][0] == pytest.approx(0.906, rel=0.02) and r["exponents"][2] == pytest.approx(-14.572, rel=0.01)
@@ -161,18 +161,18 @@ def test_replicas_call_a_torus_regular_and_cap_an_unresolved_run(hy):
     torus = [(a, 1.0 + 0.5 * hy.cos(a)), (b, math.sqrt(2) + 0.3 * hy.cos(b))]
     ta, n, _ = integrators.tangent_integrator_batch(torus, 4)
     starts = np.array([[0.1, 0.2], [1.0, 2.0], [2.0, 0.5], [3.0, 4.0]])
-    r = lyapunov.replica_exponents(ta, n, 1, starts, 1.0, T_round=2000.0, max_rounds=5, target_rel=0.1,
+    r = benettin.replica_exponents(ta, n, 1, starts, 1.0, T_round=2000.0, max_rounds=5, target_rel=0.1,
                                    regular_floor=0.01)
     assert r["status"] == "regular" and r["T"] == 2000.0
-    r = lyapunov.replica_exponents(ta, n, 1, starts, 1.0, T_round=2000.0, max_rounds=2, target_rel=0.1,
+    r = benettin.replica_exponents(ta, n, 1, starts, 1.0, T_round=2000.0, max_rounds=2, target_rel=0.1,
                                    regular_floor=1e-3)  # a finer floor needs a longer run than the cap
     assert r["status"] == "capped" and r["T"] == 4000.0
     ta, n, _ = integrators.tangent_integrator_batch(_lorenz(hy), 2)
-    r = lyapunov.replica_exponents(ta, n, 1, np.array([[1.0, 1.0, 20.0], [2.0, 1.0, 20.0]]), 0.5, T_round=5.0,
+    r = benettin.replica_exponents(ta, n, 1, np.array([[1.0, 1.0, 20.0], [2.0, 1.0, 20.0]]), 0.5, T_round=5.0,
                                    max_rounds=2, target_rel=1e-6, regular_floor=0.01)  # short: nothing is resolved
     assert r["status"] == "capped" and r["T"] == 10.0 and len(r["history"]) == 2
     with pytest.raises(ValueError, match="at least 2 lanes"):
-        lyapunov.replica_exponents(integrators.tangent_integrator_batch(_lorenz(hy), 1)[0], 3, 1, np.ones((1, 3)), 0.5,
+        benettin.replica_exponents(integrators.tangent_integrator_batch(_lorenz(hy), 1)[0], 3, 1, np.ones((1, 3)), 0.5,
                                    T_round=5.0, max_rounds=1, target_rel=0.1, regular_floor=0.01)
 
 
@@ -225,10 +225,10 @@ def test_lane_loop_runs_the_batch_method_in_extended_precision(precision):
     taus = np.array([5.0, 3.0])
     runs = {}
     for prec in (Precision.DOUBLE, precision):
-        lanes, _ = lyapunov.sleigh_tangent_lanes(2, prec.epsilon, True, k=2, precision=prec)
+        lanes, _ = benettin.sleigh_tangent_lanes(2, prec.epsilon, True, k=2, precision=prec)
         integrators.set_pars(lanes, p)
-        runs[prec] = lyapunov.batch_benettin(lanes, 4, 2, ys, taus, t_align_steps=2, n_steps=8)
-    assert isinstance(lanes, lyapunov.LaneLoop) and lanes.state.dtype != np.float64
+        runs[prec] = benettin.batch_benettin(lanes, 4, 2, ys, taus, t_align_steps=2, n_steps=8)
+    assert isinstance(lanes, benettin.LaneLoop) and lanes.state.dtype != np.float64
     assert runs[precision]["log_growth"] == pytest.approx(runs["double"]["log_growth"], rel=1e-8, abs=1e-10)
     assert runs[precision]["final_state"] == pytest.approx(runs["double"]["final_state"], rel=1e-9, abs=1e-11)
     assert not np.allclose(runs[precision]["final_state"][0], runs[precision]["final_state"][1])
