@@ -8,7 +8,7 @@ Rows: every (system, precision, compact_mode, high_accuracy) with system "flow" 
 "tangent" (the sleigh plus one tangent vector, heyoka's variational equations, k = 1), precision one of
 sleighsim.engine.precision.Precision, each at its own machine epsilon as tolerance, and high_accuracy on only in
 double. Integrators come from the project's builders (integrators.flow: compact mode off in double and
-long double, on in quad; lyapunov.sleigh_tangent; lyapunov.tangent_integrator for quad); where they have no such option
+long double, on in quad; integrators.sleigh_tangent; integrators.tangent_integrator for quad); where they have no such option
 (compact_mode for the flow, high_accuracy anywhere) the integrator is built the way they build it with that
 option changed, and registered with integrators.compiled so its angle is kept bounded like theirs.
 
@@ -19,11 +19,11 @@ Per row:
   SymPy side of the model built once;
 - per time unit: the paper's main state (eps 0.1, b 1, K2 1.1; y0 = (0, 0.1, 1, 0) at energy label 0.1127)
   propagated over a transient (6000 time units, double) first; every timed run starts from that settled
-  state (the tangent vector from lyapunov.initial_directions(4, 1, seed 0)). Windows: "long" (3000 time
+  state (the tangent vector from benettin.initial_directions(4, 1, seed 0)). Windows: "long" (3000 time
   units, more than one spike cycle of about 2400; double and long double) and "short" (300 time units,
   before the first spike; every precision, so quad's ratio to double is taken on the same stretch of
   orbit). The flow runs in one propagate_for; the tangent system in legs of tau = 10 with the vector
-  renormalised after each (as lyapunov.benettin does). One untimed warm-up (over the window, the short
+  renormalised after each (as benettin.benettin does). One untimed warm-up (over the window, the short
   window for quad), then the median of the repeats (5; 3 in quad). The cost is CPU seconds (process time,
   so other load on the machine does not count), wall seconds beside it; steps per time unit from heyoka.
 
@@ -51,7 +51,7 @@ sys.path.insert(0, str(REPO / "src"))
 import heyoka as hy
 import numpy as np
 
-from sleighsim.chaos import lyapunov
+from sleighsim.chaos import benettin
 from sleighsim.engine import integrators, transient
 from sleighsim.engine.precision import Precision
 from sleighsim.model import equations
@@ -99,15 +99,15 @@ def _flow_variant(tol, precision, compact, ha):
 
 
 def _tangent_variant(tol, precision, compact, ha):
-    """lyapunov.sleigh_tangent's build (k = 1) in any precision, with high_accuracy set."""
+    """integrators.sleigh_tangent's build (k = 1) in any precision, with high_accuracy set."""
     fp = precision.fp_type
     sys_ = equations.heyoka_system(delta_shift=integrators.DELTA_SHIFT)
 
     def build():
         if not ha:
-            return lyapunov.tangent_integrator(sys_, 1, tol, equations.compile_pars(fp), compact_mode=compact,
+            return integrators.tangent_integrator(sys_, 1, tol, equations.compile_pars(fp), compact_mode=compact,
                                                precision=precision)[0]
-        import heyoka as hy  # lyapunov.tangent_integrator with high_accuracy on
+        import heyoka as hy  # integrators.tangent_integrator with high_accuracy on
 
         vsys = hy.var_ode_sys(sys_, [v for v, _ in sys_[:1]], order=1)
         return hy.taylor_adaptive(vsys, np.full(len(sys_), 0.1, dtype=fp), tol=fp(tol), pars=equations.compile_pars(fp),
@@ -126,8 +126,8 @@ def build(system, name, compact, ha):
             return integrators.flow(False, tol, precision)[0], "integrators.flow"
         return _flow_variant(tol, precision, compact, ha), "integrators.flow's build, options changed"
     if not quad and not ha:
-        return lyapunov.sleigh_tangent(1, tol, compact, precision)[0], "lyapunov.sleigh_tangent"
-    how = "lyapunov.tangent_integrator" if not ha else "lyapunov.tangent_integrator's build, high_accuracy on"
+        return integrators.sleigh_tangent(1, tol, compact, precision)[0], "integrators.sleigh_tangent"
+    how = "integrators.tangent_integrator" if not ha else "integrators.tangent_integrator's build, high_accuracy on"
     return _tangent_variant(tol, precision, compact, ha), how
 
 
@@ -144,7 +144,7 @@ def propagate(ta, system, y0, T, what=""):
     ta.time = fp(0)
     integrators.load(ta, y0)
     if system == "tangent":
-        ta.state[4:] = lyapunov.initial_directions(4, 1, 0).ravel().astype(ta.state.dtype)
+        ta.state[4:] = benettin.initial_directions(4, 1, 0).ravel().astype(ta.state.dtype)
     c0, w0 = time.process_time(), time.perf_counter()
     if system == "flow":
         res = ta.propagate_for(fp(T), callback=callback)

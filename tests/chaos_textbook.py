@@ -31,6 +31,7 @@ import numpy as np
 from sleighsim.chaos import orbits
 from sleighsim.chaos import tangent
 from sleighsim.chaos.verdicts import UNDECIDED
+from sleighsim.engine import integrators
 
 LORENZ_LAMBDA = 0.9056
 
@@ -101,7 +102,7 @@ def textbook_runs(hy):
     }
     out = {}
     for name, (sys, y0, T, tau) in cases.items():
-        tm, n = tangent.megno_integrator(sys)
+        tm, n = integrators.megno_integrator(sys)
         ta = hy.taylor_adaptive(sys, y0, compact_mode=True)
         m = tangent.megno(tm, n, y0, T=T, n_samples=100, tau=tau)
         f = tangent.finite_time_exponents(m["log_growth"], tau, tau * np.array([10, 20, 40, 80, 160, 320]), t_skip=T / 2)

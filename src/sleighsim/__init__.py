@@ -16,8 +16,8 @@ import importlib
 #: sleighsim.engine.integrate.integrate (the package attribute ``integrate`` is its module).
 _EXPORTS = {
     "IntegrationError": "engine.integrate", "final_state": "engine.integrate", "sample_grid": "engine.integrate",
-    "integrate": "engine.integrate", "benettin": "chaos.lyapunov", "mean_divergence": "chaos.lyapunov",
-    "tangent_integrator": "chaos.lyapunov", "derive": "model.mechanics", "energy": "model.equations",
+    "integrate": "engine.integrate", "benettin": "chaos.benettin", "mean_divergence": "chaos.benettin",
+    "tangent_integrator": "engine.integrators", "derive": "model.mechanics", "energy": "model.equations",
     "jacobian": "model.equations", "rhs": "model.equations", "Params": "model.params",
     "REFERENCE_LABEL": "model.symmetries", "REFERENCE_STATE": "model.symmetries", "energy_label": "model.symmetries",
     "reverse": "model.symmetries", "state_at_label": "model.symmetries",

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from sleighsim.engine import integrators
-from sleighsim.chaos import lyapunov
+from sleighsim.chaos import benettin
 from sleighsim.analysis import windows
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import state_at_label
@@ -58,13 +58,13 @@ def test_a_drift_above_the_tolerance_must_be_resolved_above_it():
 def test_windowed_orbit_gives_benettins_exponent_and_the_sampled_component():
     p = Params.paper(eps=0.3)
     y0 = state_at_label([0.0, 0.1, 1.0, 0.0], p, 1.0)
-    ta, _ = lyapunov.sleigh_tangent(1, 1e-14, True)
+    ta, _ = integrators.sleigh_tangent(1, 1e-14, True)
     integrators.set_pars(ta, p)
     got = list(windows.windowed_orbit(ta, 4, y0, n_windows=4, window=50.0, tau=5.0, component=1, seed=7))
     assert [w["index"] for w in got] == [0, 1, 2, 3] and got[1]["t_start"] == 50.0
     assert all(w["x"].size == 10 and w["x"][-1] == w["state"][1] for w in got)
     assert np.allclose(got[2]["t"], 100.0 + 5.0 * np.arange(1, 11))
-    ref = lyapunov.benettin(ta, 4, 1, y0, t_align=0.0, T=200.0, tau=5.0, n_blocks=4, seed=7)
+    ref = benettin.benettin(ta, 4, 1, y0, t_align=0.0, T=200.0, tau=5.0, n_blocks=4, seed=7)
     lam = np.mean([w["lambda_1"] for w in got])
     assert math.isclose(lam, float(ref["exponents"][0]), rel_tol=1e-8, abs_tol=1e-12)
     # each window's exponent is its own block of the same accumulation
@@ -80,7 +80,7 @@ def test_windowed_orbit_in_long_double_matches_double_where_both_are_accurate():
     y0 = state_at_label([0.0, 0.1, 1.0, 0.0], p, 1.0)
     runs = {}
     for ld in (False, True):
-        ta, _ = lyapunov.sleigh_tangent(1, 1.0842021724855044e-19 if ld else 2.0**-52, True,
+        ta, _ = integrators.sleigh_tangent(1, 1.0842021724855044e-19 if ld else 2.0**-52, True,
                                    Precision.LONG_DOUBLE if ld else Precision.DOUBLE)
         integrators.set_pars(ta, p)
         runs[ld] = list(windows.windowed_orbit(ta, 4, y0, n_windows=3, window=50.0, tau=5.0, component=1, seed=7))

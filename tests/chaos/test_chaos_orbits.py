@@ -22,6 +22,7 @@ from chaos_textbook import (
 
 from sleighsim.chaos import orbits, tangent
 from sleighsim.chaos.verdicts import CHAOTIC, REGULAR, UNDECIDED
+from sleighsim.engine import integrators
 
 C, G, U = CHAOTIC, REGULAR, UNDECIDED
 
@@ -299,7 +300,7 @@ def test_callbacks_reach_every_propagation_and_angle_reduction_works(hy):
     assert _two_verdict(r) == REGULAR
     L = orbits.loschmidt(ta, y0, np.geomspace(10, 3000, 8), _flip_momenta, callback=red, difference=wrap)
     assert np.max(L["error"]) < 1e-9
-    tm, n = tangent.megno_integrator(sys)
+    tm, n = integrators.megno_integrator(sys)
     m = tangent.megno(tm, n, y0, T=3000.0, n_samples=60, callback=hy.callback.angle_reducer([a, b]))
     assert abs(m["final"] - 2.0) < 0.1 and np.all(np.abs(m["final_state"][:2]) <= 2 * math.pi)
     # a counting callback is called by every engine
@@ -322,7 +323,7 @@ def test_failed_integration_raises_runtime_error_naming_the_time(hy):
         orbits.two_trajectory(ta, [0.2, 1.0], d0=1e-8, tau=1.0, T=20.0, n_blocks=2)
     with pytest.raises(RuntimeError, match="t = "):
         orbits.loschmidt(ta, [0.2, 1.0], [10.0], lambda s: s)
-    tm, n = tangent.megno_integrator(sys)
+    tm, n = integrators.megno_integrator(sys)
     with pytest.raises(RuntimeError, match="t = "):
         tangent.megno(tm, n, [0.2, 1.0], T=20.0, n_samples=4, tau=1.0)
 

@@ -18,6 +18,7 @@ from chaos_textbook import (
 from sleighsim.chaos import tangent, verdicts
 from sleighsim.chaos.tangent import judge_benettin
 from sleighsim.chaos.verdicts import CHAOTIC, REGULAR, UNDECIDED
+from sleighsim.engine import integrators
 
 C, G, U = CHAOTIC, REGULAR, UNDECIDED
 
@@ -67,7 +68,7 @@ def test_megno_log_growth_is_the_benettin_series(runs):
 
 def test_megno_rejects_bad_input(hy):
     x, v = hy.make_vars("x", "v")
-    tm, n = tangent.megno_integrator([(x, v), (v, -x)])
+    tm, n = integrators.megno_integrator([(x, v), (v, -x)])
     for kw, name in [({"T": 0.0}, "T"), ({"n_samples": 2}, "n_samples"), ({"tau": -1.0}, "tau"),
                      ({"tau": 0.3}, "T"), ({"tau": 5.0}, "tau")]:
         args = {"T": 10.0, "n_samples": 4, **kw}
@@ -76,7 +77,7 @@ def test_megno_rejects_bad_input(hy):
     with pytest.raises(ValueError, match="n = 3"):
         tangent.megno(tm, 3, [1.0, 0.0, 0.0], T=10.0, n_samples=4)
     with pytest.raises(ValueError, match="sys"):
-        tangent.megno_integrator([])
+        integrators.megno_integrator([])
 
 
 # ----------------------------------------------------------------------------- FTLE

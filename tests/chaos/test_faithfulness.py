@@ -64,7 +64,6 @@ def test_tangent_run_refuses_a_horizon_shorter_than_two_steps():
 def test_the_main_state_amplifies_rounding_beyond_double_precision(hy):
     """The settled main state (eps = 0.1, label 0.1127): ln G of about 33-46 per spike cycle, so
     double precision does not follow its orbit and quad does."""
-    from sleighsim.chaos import lyapunov
     from sleighsim.engine import integrators
     from sleighsim.model.params import Params
 
@@ -74,7 +73,7 @@ def test_the_main_state_amplifies_rounding_beyond_double_precision(hy):
     flow.time = 0.0
     integrators.load(flow, np.array([0.0, 0.1, 1.0, 0.0]))
     flow.propagate_until(2.0e4, callback=integrators.bounded(flow))
-    ta, _ = lyapunov.sleigh_tangent(4, 2.0**-52, True)
+    ta, _ = integrators.sleigh_tangent(4, 2.0**-52, True)
     integrators.set_pars(ta, p)
     g = fa.spike_cycle_gains(ta, integrators.read(flow, 4), T=1.2e4)
     assert 3 <= g["ln_gain"].size <= 4 and np.all((g["ln_gain"] > 25) & (g["ln_gain"] < 50))

@@ -7,7 +7,7 @@ module audits the others, each judge on its own engine's runs with its default s
 * ``tangent.judge_ftle`` and ``tangent.judge_megno_run`` on one ``tangent.megno`` run per realization (the
   FTLE from its one-vector Benettin series, windows n / 500 x (1, 2, 4, 8, 16) intervals tau after
   skipping the first half, as chaos_textbook scales them at n = 1e4);
-* ``tangent.judge_benettin`` on ``lyapunov.replica_exponents`` with 4 replicas (lanes) along the
+* ``tangent.judge_benettin`` on ``benettin.replica_exponents`` with 4 replicas (lanes) along the
   realization's orbit (CONFIG_LIKE: target_rel 0.1 as in config.yaml, regular_floor the polynomial bound
   at the capped horizon, as config.yaml's floor sits at its cap);
 * ``orbits.judge_two_trajectory`` on one ``two_trajectory`` run (d0 = 1e-8; in the workflow the
@@ -68,8 +68,9 @@ from chaos_textbook import (
     _oscillators,
 )
 
-from sleighsim.chaos import lyapunov, orbits, tangent
+from sleighsim.chaos import benettin, orbits, tangent
 from sleighsim.chaos.verdicts import CHAOTIC, REGULAR, UNDECIDED, VERDICTS, polynomial_rate_bound
+from sleighsim.engine import integrators
 
 SIGMA = 3.0
 TARGET = 0.01  # at most 1 false verdict in 100 (the frequency judge's target)
@@ -132,14 +133,14 @@ def _flow(system):
 def _megno_ta(system):
     import heyoka as hy
 
-    return tangent.megno_integrator(SYSTEMS[system][1](hy))
+    return integrators.megno_integrator(SYSTEMS[system][1](hy))
 
 
 @functools.cache
 def _replica_ta(system, lanes=4):
     import heyoka as hy
 
-    ta, n, _ = lyapunov.tangent_integrator_batch(SYSTEMS[system][1](hy), lanes)
+    ta, n, _ = integrators.tangent_integrator_batch(SYSTEMS[system][1](hy), lanes)
     return ta, n
 
 
@@ -206,7 +207,7 @@ def _benettin_verdicts(cls, lanes=4, max_rounds=4):
             T_round = steps * tau
             floor = polynomial_rate_bound(max_rounds * T_round, tau)
             for seed in range(PER[cls]):
-                res = lyapunov.replica_exponents(ta, n, 1, _along_orbit(system, next(starts), lanes), tau,
+                res = benettin.replica_exponents(ta, n, 1, _along_orbit(system, next(starts), lanes), tau,
                                                  T_round=T_round, max_rounds=max_rounds, target_rel=0.1,
                                                  regular_floor=floor, t_align=20 * tau, sigma=SIGMA, seed=seed)
                 out.append((system, T_round, tangent.judge_benettin(res, tau, SIGMA)))

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from sleighsim.engine import integrators
-from sleighsim.chaos import lyapunov
+from sleighsim.chaos import benettin
 from sleighsim.model import equations
 from sleighsim.engine.integrate import bound, final_state, integrate, sample_grid
 from sleighsim.model.params import Params
@@ -94,9 +94,9 @@ def test_two_chunkings_agree_to_rounding_times_the_measured_growth(settled):
     a = _states(integrate(P, settled, grid, progress=1))
     b = _states(integrate(P, settled, grid, progress=int(T)))
     gap = np.max(np.abs(equations.state_difference(a, b)), axis=1)
-    ta, _ = lyapunov.sleigh_tangent(1, 2.0**-52, True)
+    ta, _ = integrators.sleigh_tangent(1, 2.0**-52, True)
     integrators.set_pars(ta, P)
-    r = lyapunov.benettin(ta, 4, 1, settled, t_align=0.0, T=T, tau=1.0)
+    r = benettin.benettin(ta, 4, 1, settled, t_align=0.0, T=T, tau=1.0)
     log_growth = np.concatenate([[0.0], np.cumsum(r["log_growth"][:, 0])])  # ln |v(t)|, t = 0, 1, ..., T
     worst = np.exp(log_growth - np.minimum.accumulate(log_growth))  # max over s <= t of the growth s -> t
     steps_per_unit = 4.0
@@ -114,9 +114,9 @@ def test_benettin_sums_do_not_depend_on_the_renormalisation_interval(settled):
     grid = [0.0, T]
     ends = [final_state(integrate(P, settled, grid, progress=p)) for p in (1, 100)]
     assert np.max(np.abs(equations.state_difference(*ends))) < 1e-7
-    ta, _ = lyapunov.sleigh_tangent(4, 2.0**-52, True)
+    ta, _ = integrators.sleigh_tangent(4, 2.0**-52, True)
     integrators.set_pars(ta, P)
-    lam = {tau: lyapunov.benettin(ta, 4, 4, settled, t_align=0.0, T=T, tau=tau)["exponents"] for tau in (10.0, 1.0, 0.1)}
+    lam = {tau: benettin.benettin(ta, 4, 4, settled, t_align=0.0, T=T, tau=tau)["exponents"] for tau in (10.0, 1.0, 0.1)}
     for tau in (1.0, 0.1):
         assert np.all(np.abs(lam[tau] / lam[10.0] - 1) < 5e-3), (tau, lam[tau], lam[10.0])
 

@@ -204,10 +204,9 @@ def test_the_rhs_with_its_parameters_compiled_in_is_the_one_with_runtime_paramet
 
 def test_set_pars_fills_every_lane_in_the_integrators_precision_and_a_stale_vector_is_refused():
     from sleighsim.engine import integrators
-    from sleighsim.chaos import lyapunov
 
     p = Params.paper(eps=0.2, b=0.5)
-    ta, _ = lyapunov.sleigh_tangent_batch(2, DEFAULT_TOL, True)
+    ta, _ = integrators.sleigh_tangent_batch(2, DEFAULT_TOL, True)
     integrators.set_pars(ta, p)
     assert ta.pars.shape == (equations.n_heyoka_pars(), 2)
     assert np.array_equal(ta.pars[:, 0], equations.heyoka_pars(p)) and np.array_equal(ta.pars[:, 1], ta.pars[:, 0])

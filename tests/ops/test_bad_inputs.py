@@ -170,7 +170,7 @@ LIBRARY_CALLS = [
 
 
 def _call(fn, kw):
-    from sleighsim.chaos import lyapunov
+    from sleighsim.chaos import benettin
     from sleighsim.engine import poincare
     from sleighsim.engine.integrate import integrate
 
@@ -178,7 +178,7 @@ def _call(fn, kw):
         args = dict(params=P, y0=REF, times=[0.0, 1.0]) | kw
         return integrate(args.pop("params"), args.pop("y0"), args.pop("times"), **args)
     if fn == "mean_divergence":
-        return lyapunov.mean_divergence(P, REF, **(dict(T=1.0, tol=2.0**-52) | kw))
+        return benettin.mean_divergence(P, REF, **(dict(T=1.0, tol=2.0**-52) | kw))
     return poincare.crossings(P, REF, 0.0, **(dict(t_end=1.0) | kw))
 
 

@@ -104,11 +104,10 @@ def gauge(params_cfg: dict, y, *, T: float, tau: float, spike_factor: float, tol
     double at tol over T in steps of tau): ln G per spike cycle and, per arithmetic, G x rounding and
     whether it follows the orbit ("unknown" without a complete cycle within T)."""
     from sleighsim.engine import integrators
-    from sleighsim.chaos import lyapunov
     from sleighsim.chaos.faithfulness import spike_cycle_gains
     from sleighsim.model.params import Params
 
-    ta, _ = lyapunov.sleigh_tangent(4, tol, True)
+    ta, _ = integrators.sleigh_tangent(4, tol, True)
     integrators.set_pars(ta, Params.from_config(params_cfg))
     return spike_cycle_gains(ta, np.asarray(y, float), T=T, tau=tau, spike_factor=spike_factor)
 

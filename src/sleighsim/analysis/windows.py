@@ -17,7 +17,7 @@ from collections.abc import Iterator
 import heyoka as hy
 import numpy as np
 
-from sleighsim.chaos import lyapunov
+from sleighsim.chaos import benettin
 from sleighsim.chaos.common import linfit
 from sleighsim.engine import integrators
 
@@ -34,7 +34,7 @@ def windowed_orbit(ta, n: int, y0, *, n_windows: int, window: float, tau: float,
     and ``x`` (state[component] every tau), ``lambda_1`` (log growth of the tangent vector over the
     window / window), ``state`` (model variables at the window's end, in the integrator's precision)
     and ``steps``. The tangent
-    vector starts as ``lyapunov.initial_directions(n, 1, seed)``, as in ``lyapunov.benettin``, and is
+    vector starts as ``benettin.initial_directions(n, 1, seed)``, as in ``benettin.benettin``, and is
     aligned over t_align (renormalised every tau, not recorded; the windows' clock starts after it)."""
     per = window / tau
     if not (tau > 0 and window > 0 and n_windows >= 1 and abs(per - round(per)) < 1e-9 and round(per) >= 2):
@@ -44,7 +44,7 @@ def windowed_orbit(ta, n: int, y0, *, n_windows: int, window: float, tau: float,
     callback = integrators.bounded(ta)
     ta.time = ta.state.dtype.type(0)  # double, or long double for an extended-precision integrator
     integrators.load(ta, y0)
-    ta.state[n:2 * n] = lyapunov.initial_directions(n, 1, seed).ravel()
+    ta.state[n:2 * n] = benettin.initial_directions(n, 1, seed).ravel()
     for _ in range(int(math.ceil(t_align / tau))):
         _step(ta, n, tau, callback, label)
     last = time.perf_counter()

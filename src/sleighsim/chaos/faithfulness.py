@@ -69,7 +69,7 @@ def follows(ln_gain: float, rounding: float, limit: float = FAITHFUL_MAX) -> str
 
 
 def tangent_run(ta, y0, *, T: float, tau: float, component: int = 1) -> dict:
-    """Propagate the orbit from ``y0`` with the 4 x 4 tangent map of ``ta`` (``lyapunov.sleigh_tangent``
+    """Propagate the orbit from ``y0`` with the 4 x 4 tangent map of ``ta`` (``integrators.sleigh_tangent``
     with k = 4, parameters set) over T in steps of tau, re-orthonormalising by QR after each step.
     Returns t (the step ends), x (component ``component`` of the state there: Omega by default) and
     R (n_steps, 4, 4), the R factors in double."""

@@ -4,11 +4,11 @@ Engines (all times in the flow's own time unit, exponents lambda in 1/time, natu
 
 * ``finite_time_exponents``: statistics of finite-time Lyapunov exponents (FTLEs) over
   non-overlapping windows of length W of a renormalised tangent vector's log growth.
-* ``megno_integrator`` / ``megno``: MEGNO (Cincotta & Simo 2000, A&AS 147, 205) computed
+* ``megno`` (on ``engine.integrators.megno_integrator``): MEGNO (Cincotta & Simo 2000, A&AS 147, 205) computed
   exactly as extra quadratures of heyoka's variational equations.
 
 Judges: ``judge_ftle``, ``judge_megno`` (``judge_megno_run`` on a ``megno`` run), ``judge_benettin``
-(the replicas' lambda_1 of ``lyapunov.replica_exponents``), ``megno_in_long_double`` and
+(the replicas' lambda_1 of ``benettin.replica_exponents``), ``megno_in_long_double`` and
 ``growth_confirmed`` (the long-double precision check). Engine conventions: ``propagate``;
 verdict conventions: ``verdicts``.
 """
@@ -21,7 +21,6 @@ import numpy as np
 
 from sleighsim.chaos.common import _n_intervals, _positive, _state, linfit
 from sleighsim.chaos.propagate import _propagate_until
-from sleighsim.engine.precision import Precision
 from sleighsim.chaos.verdicts import CHAOTIC, REGULAR, UNDECIDED, _check_judge, _g, polynomial_rate_bound
 
 # ----------------------------------------------------------------------------- engines
@@ -105,48 +104,11 @@ def _window_statistics(g, W, m, n_win):
     return mean, std
 
 
-def megno_integrator(sys, pars=(), tol=None, compact_mode=True, precision: Precision = Precision.DOUBLE):
-    """heyoka integrator for ``sys`` (list of (var, expr)), one tangent vector and the MEGNO
-    quadratures.
-
-    State layout: [y (n), delta (n), I, J] with delta the variational vector (heyoka's
-    derivatives with respect to the first initial condition, overwritten by ``megno``),
-    I' = t (delta_dot . delta) / (delta . delta) and J' = 2 I / t, so that
-    Y(t) = 2 I / t and <Y>(t) = J / t (t = heyoka's time, which must start > 0), in the arithmetic
-    ``precision``. Returns (ta, n).
-    """
-    import heyoka as hy
-
-    fp_type = precision.fp_type
-    sys = list(sys)
-    n = len(sys)
-    if n == 0:
-        raise ValueError("sys is empty")
-    names = {str(v) for v, _ in sys}
-    if {"megno_I", "megno_J"} & names:
-        raise ValueError("sys must not use the variable names megno_I / megno_J")
-    vsys = hy.var_ode_sys(sys, [sys[0][0]], order=1)
-    eqs = list(vsys.sys)
-    if len(eqs) != 2 * n:
-        raise RuntimeError(f"var_ode_sys returned {len(eqs)} equations, expected {2 * n}")
-    delta = [v for v, _ in eqs[n:]]
-    ddot = [e for _, e in eqs[n:]]
-    qi, qj = hy.make_vars("megno_I", "megno_J")
-    num = hy.sum([d * f for d, f in zip(delta, ddot)])
-    den = hy.sum([d * d for d in delta])
-    eqs += [(qi, hy.time * num / den), (qj, 2.0 * qi / hy.time)]
-    kw = {"pars": np.array(pars, dtype=fp_type), "compact_mode": compact_mode, "fp_type": fp_type}
-    if tol is not None:
-        kw["tol"] = fp_type(_positive("tol", tol))
-    ta = hy.taylor_adaptive(eqs, np.array([0.1] * n + [1.0] * n + [0.0, 0.0], dtype=fp_type), **kw)
-    return ta, n
-
-
 def megno(ta, n, y0, *, T, n_samples, tau=None, callback=None, seed=0):
     """MEGNO Y(t) = (2/t) int_0^t s (delta_dot . delta)/(delta . delta) ds and its running
     mean <Y>(t) = (1/t) int_0^t Y ds (Cincotta & Simo 2000), integrated exactly.
 
-    ``ta`` and ``n`` come from ``megno_integrator``. The tangent vector starts in a random
+    ``ta`` and ``n`` come from ``engine.integrators.megno_integrator``. The tangent vector starts in a random
     unit direction (``seed``) and is renormalised to unit length every ``tau`` (default
     T / n_samples; T must be a multiple of it), which leaves the integrand unchanged; its
     log norm before each renormalisation is the one-vector Benettin series

@@ -1,4 +1,6 @@
-"""Compiled heyoka integrators: one cache per process, and the angles each keeps bounded.
+"""Compiled heyoka integrators: every builder of the project (the flow, its tangent and MEGNO
+extensions, the section events, the divergence quadrature, the perturbation hierarchy), one cache
+per process, and the angles each keeps bounded.
 
 An integrator is compiled once per process for its structure (system, tolerance, mode) and
 reused; parameters are runtime par[] and states are set per run. heyoka also keeps compiled
@@ -172,3 +174,220 @@ def rhs_function(kinematics: bool = False, k: int = 0, params=None):
         return hy.cfunc(exprs, vars=[v for v, _ in sys])
 
     return compiled(("cfunc", kinematics, k, values), build, angles={})[0]
+
+
+def _tangent(sys, k: int, make):
+    """(ta, n, compile_s) of ``make(vsys, n)``: heyoka's first-order variational equations of ``sys``
+    (list of (var, expr)) with respect to its first k variables, built by ``make``."""
+    import heyoka as hy
+
+    sys = list(sys)
+    n = len(sys)
+    if not 1 <= k <= n:
+        raise ValueError(f"k = {k} is outside the admissible range [1, {n}]")
+    start = time.perf_counter()
+    vsys = hy.var_ode_sys(sys, [v for v, _ in sys[:k]], order=1)
+    return make(vsys, n), n, time.perf_counter() - start
+
+
+def tangent_integrator(sys, k: int, tol: float = 2.0**-52, pars=(), compact_mode: bool = True,
+                       precision: Precision = Precision.DOUBLE):
+    """heyoka integrator for ``sys`` (list of (var, expr)) plus k tangent vectors, in ``precision``.
+
+    Returns (ta, n, compile_s); the state is [y (n), V (n x k, row-major)]."""
+    import heyoka as hy
+
+    fp = precision.fp_type
+    return _tangent(sys, k, lambda vsys, n: hy.taylor_adaptive(
+        vsys, np.full(n, 0.1, dtype=fp), tol=fp(tol), pars=np.array(pars, dtype=fp), compact_mode=compact_mode,
+        fp_type=fp))
+
+
+def tangent_integrator_batch(sys, batch_size: int, tol: float = 2.0**-52, npars: int = 0,
+                             compact_mode: bool = True, k: int = 1):
+    """heyoka batch integrator (SIMD lanes, double) for ``sys`` plus k tangent vectors per lane.
+
+    Returns (ta, n, compile_s); the state has shape (n + n k, batch_size), the tangent
+    vectors stored as (n, k) row-major below the state."""
+    import heyoka as hy
+
+    return _tangent(sys, k, lambda vsys, n: hy.taylor_adaptive_batch(
+        vsys, np.full((n + n * k, batch_size), 0.1), tol=tol, pars=np.zeros((npars, batch_size)),
+        compact_mode=compact_mode))
+
+
+def sleigh_tangent(k: int, tol: float, compact: bool, precision: Precision = Precision.DOUBLE):
+    """The sleigh plus k tangent vectors in ``precision``, compiled once per process.
+    compact_mode compiles in 0.1-1 s; full mode steps 1.3-2.3x faster here but its first
+    compilation takes seconds to about a minute (45 s for 8 lanes and 4 vectors; later ones come
+    from heyoka's on-disk cache). Returns (ta, compile_s)."""
+    from sleighsim.model import equations
+
+    def build():
+        return tangent_integrator(equations.heyoka_system(delta_shift=DELTA_SHIFT), k, tol,
+                                  equations.compile_pars(precision.fp_type), compact_mode=compact,
+                                  precision=precision)[0]
+
+    return compiled(("tangent", k, tol, compact, precision), build)
+
+
+def sleigh_tangent_batch(batch_size: int, tol: float, compact: bool, k: int = 1):
+    """The sleigh plus k tangent vectors in ``batch_size`` SIMD lanes, compiled once per process.
+    Returns (ta, compile_s)."""
+    from sleighsim.model import equations
+
+    def build():
+        return tangent_integrator_batch(equations.heyoka_system(delta_shift=DELTA_SHIFT), batch_size, tol,
+                                        npars=equations.n_heyoka_pars(), compact_mode=compact, k=k)[0]
+
+    return compiled(("tangent_batch", batch_size, tol, compact, k), build)
+
+
+def megno_integrator(sys, pars=(), tol=None, compact_mode=True, precision: Precision = Precision.DOUBLE):
+    """heyoka integrator for ``sys`` (list of (var, expr)), one tangent vector and the MEGNO
+    quadratures.
+
+    State layout: [y (n), delta (n), I, J] with delta the variational vector (heyoka's
+    derivatives with respect to the first initial condition, overwritten by ``chaos.tangent.megno``),
+    I' = t (delta_dot . delta) / (delta . delta) and J' = 2 I / t, so that
+    Y(t) = 2 I / t and <Y>(t) = J / t (t = heyoka's time, which must start > 0), in the arithmetic
+    ``precision``. Returns (ta, n).
+    """
+    import heyoka as hy
+
+    fp_type = precision.fp_type
+    sys = list(sys)
+    n = len(sys)
+    if n == 0:
+        raise ValueError("sys is empty")
+    names = {str(v) for v, _ in sys}
+    if {"megno_I", "megno_J"} & names:
+        raise ValueError("sys must not use the variable names megno_I / megno_J")
+    vsys = hy.var_ode_sys(sys, [sys[0][0]], order=1)
+    eqs = list(vsys.sys)
+    if len(eqs) != 2 * n:
+        raise RuntimeError(f"var_ode_sys returned {len(eqs)} equations, expected {2 * n}")
+    delta = [v for v, _ in eqs[n:]]
+    ddot = [e for _, e in eqs[n:]]
+    qi, qj = hy.make_vars("megno_I", "megno_J")
+    num = hy.sum([d * f for d, f in zip(delta, ddot)])
+    den = hy.sum([d * d for d in delta])
+    eqs += [(qi, hy.time * num / den), (qj, 2.0 * qi / hy.time)]
+    kw = {"pars": np.array(pars, dtype=fp_type), "compact_mode": compact_mode, "fp_type": fp_type}
+    if tol is not None:
+        kw["tol"] = fp_type(_positive_tol(tol))
+    ta = hy.taylor_adaptive(eqs, np.array([0.1] * n + [1.0] * n + [0.0, 0.0], dtype=fp_type), **kw)
+    return ta, n
+
+
+def _positive_tol(value) -> float:
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"tol must be a positive number, got {value!r}") from None
+    if not (math.isfinite(v) and v > 0):
+        raise ValueError(f"tol must be positive and finite, got {value!r}")
+    return v
+
+
+def sleigh_megno(tol: float, precision: Precision = Precision.DOUBLE, compact: bool = True):
+    """The sleigh, one tangent vector and the MEGNO quadratures (:func:`megno_integrator`, in
+    compact or full mode), in ``precision`` (long double: 80-bit on x86-64, machine epsilon
+    1.1e-19, about 5x the cost of double), compiled once per process. Returns (ta, compile_s)."""
+    from sleighsim.model import equations
+
+    def build():
+        return megno_integrator(equations.heyoka_system(delta_shift=DELTA_SHIFT),
+                                pars=equations.compile_pars(precision.fp_type), tol=tol, precision=precision,
+                                compact_mode=compact)[0]
+
+    return compiled(("megno", tol, precision, compact), build)
+
+
+def divergence(tol):
+    """The sleigh (in double) plus a quadrature D' = trace J(y): D(T)/T is the mean phase-space
+    contraction, computed without tangent vectors. Compiled once per process; returns the integrator."""
+    from sleighsim.model import equations
+
+    def build():
+        import heyoka as hy
+
+        sys = equations.heyoka_system(delta_shift=DELTA_SHIFT)
+        trace = hy.sum([hy.diff(e, v) for v, e in sys])
+        return hy.taylor_adaptive(sys + [(hy.make_vars("D"), trace)], [0.0, 0.1, 1.0, 0.0, 0.0], tol=tol,
+                                  pars=equations.compile_pars())
+
+    return compiled(("divergence", tol), build)[0]
+
+
+class EventRecorder:
+    """Event callback of :func:`events`: stores (local t, u, Omega, omega, delta, time offset) in ``hits``."""
+
+    def __init__(self):
+        self.hits: list = []
+        self.offset = 0.0
+
+    def __call__(self, ta, t, d_sgn):
+        ta.update_d_output(t)
+        self.hits.append((t, *ta.d_output[:4], self.offset))
+
+
+def events(tol: float, precision: Precision = Precision.DOUBLE):
+    """The sleigh with the sin(2 delta) = 0 event (an :class:`EventRecorder`, ``ta.nt_events[0].callback``)
+    in ``precision``, compiled once per process. Returns (ta, compile_s)."""
+    fp = precision.fp_type
+
+    def build():
+        import heyoka as hy
+
+        from sleighsim.model import equations
+
+        sys = equations.heyoka_system(delta_shift=DELTA_SHIFT)
+        stored = sys[3][0]  # delta + pi: sin(2 (delta + pi)) = sin(2 delta)
+        y0 = np.array([0.0, 0.1, 1.0, DELTA_SHIFT]).astype(fp)
+        return hy.taylor_adaptive(sys, y0, pars=equations.compile_pars(fp), tol=fp(tol), fp_type=fp,
+                                  nt_events=[hy.nt_event(hy.sin(2.0 * stored), EventRecorder(), fp_type=fp)])
+
+    return compiled(("events", tol, precision), build)
+
+
+def hierarchy(order: int, tol: float):
+    """The perturbation hierarchy to ``order`` (``model.perturbation.hierarchy``; delta0 kept in
+    [0, 2 pi)), compiled once per process. Returns (ta, compile_s)."""
+    return compiled(("hierarchy", order, tol), lambda: _build_hierarchy(order, tol), angles={"delta0": (3, 0.0)})
+
+
+def _build_hierarchy(order: int, tol: float):
+    import heyoka as hy
+    import sympy as sp  # here, not at the top: SymPy costs start-up time every other integrator saves
+
+    from sleighsim.model import mechanics as mech
+    from sleighsim.model import perturbation as pert
+
+    x = pert.symbols(order)
+    names = pert.state_names(order)
+    hv = dict(zip(names, hy.make_vars(*names)))
+    smap = {x[v][k]: hv[f"{v}{k}"] for v in pert.VARS for k in range(order + 1)}
+    smap.update({mech.b: hy.par[0], mech.K2: hy.par[1], pert.kappa: hy.par[2]})
+    h = pert.hierarchy(order)
+
+    def convert(e):
+        """SymPy -> heyoka. Rationals with non-dyadic denominators become doubles; integer
+        powers above 2 become explicit products, because heyoka's general pow recurrence
+        divides by the base, which starts at zero (orders >= 1, sin(delta0))."""
+        if e == 0:
+            return hy.expression(0.0)
+        e = e.xreplace({r: sp.Float(r, 17) for r in e.atoms(sp.Rational) if r.q & (r.q - 1)})
+        local = dict(smap)
+        for z in sorted((z for z in e.atoms(sp.Pow) if z.exp.is_Integer and z.exp > 2), key=sp.default_sort_key):
+            base = hy.from_sympy(z.base, smap)
+            prod = base
+            for _ in range(int(z.exp) - 1):
+                prod = prod * base
+            d = sp.Dummy()
+            local[d] = prod
+            e = e.xreplace({z: d})
+        return hy.from_sympy(e, local)
+
+    sys = [(hv[f"{v}{k}"], convert(h[v][k])) for k in range(order + 1) for v in pert.VARS]
+    return hy.taylor_adaptive(sys, [0.0] * len(names), pars=[1.0, 1.1, 1.0], tol=tol, compact_mode=order > 2)

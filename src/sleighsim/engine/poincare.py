@@ -19,42 +19,12 @@ import time
 import numpy as np
 
 from sleighsim.engine import integrators
-from sleighsim.model import equations
 from sleighsim.engine.integrate import IntegrationError, check_tol
 from sleighsim.engine.precision import Precision
 from sleighsim.model.params import Params
 
 log = logging.getLogger("sleighsim")
 TWO_PI = 2.0 * math.pi
-
-
-class _Recorder:
-    """Event callback: stores (local t, u, Omega, omega, delta, time offset)."""
-
-    def __init__(self):
-        self.hits: list = []
-        self.offset = 0.0
-
-    def __call__(self, ta, t, d_sgn):
-        ta.update_d_output(t)
-        self.hits.append((t, *ta.d_output[:4], self.offset))
-
-
-def event_integrator(tol: float, precision: Precision = Precision.DOUBLE):
-    """The sleigh with the sin(2 delta) = 0 event in ``precision``,
-    compiled once per process. Returns (ta, compile_s)."""
-    fp = precision.fp_type
-
-    def build():
-        import heyoka as hy
-
-        sys = equations.heyoka_system(delta_shift=integrators.DELTA_SHIFT)
-        stored = sys[3][0]  # delta + pi: sin(2 (delta + pi)) = sin(2 delta)
-        y0 = np.array([0.0, 0.1, 1.0, integrators.DELTA_SHIFT]).astype(fp)
-        return hy.taylor_adaptive(sys, y0, pars=equations.compile_pars(fp), tol=fp(tol), fp_type=fp,
-                                  nt_events=[hy.nt_event(hy.sin(2.0 * stored), _Recorder(), fp_type=fp)])
-
-    return integrators.compiled(("events", tol, precision), build)
 
 
 def crossings(params: Params, y0, t0: float, t_end: float, *, tol: float = 2.0**-52, precision: Precision = Precision.DOUBLE,
@@ -71,7 +41,7 @@ def crossings(params: Params, y0, t0: float, t_end: float, *, tol: float = 2.0**
     if not (math.isfinite(t0) and math.isfinite(t_end) and t_end > t0):
         raise ValueError(f"t_end = {t_end} is outside the admissible range (t0 = {t0}, inf): crossings need t_end > t0")
     check_tol(tol, precision)
-    ta, compile_s = event_integrator(tol, precision)
+    ta, compile_s = integrators.events(tol, precision)
     fp = ta.state.dtype.type
     callback = integrators.bounded(ta)
     rec = ta.nt_events[0].callback

@@ -18,14 +18,12 @@ initial data vanish (the paper's case).
 
 from __future__ import annotations
 
-import time
 from functools import lru_cache
 
 import numpy as np
 import sympy as sp
 import xarray as xr
 
-from sleighsim.engine import integrators
 from sleighsim.model import mechanics as mech
 
 kappa = sp.Symbol("kappa", positive=True)
@@ -226,66 +224,6 @@ def compare_printed(kappa_value=1) -> list[dict]:
 
 def state_names(order: int) -> list[str]:
     return [f"{v}{k}" for k in range(order + 1) for v in VARS]
-
-
-def _integrator(order: int, tol: float):
-    """The hierarchy to ``order`` (compiled once per process). Returns (ta, compile_s)."""
-    return integrators.compiled(("hierarchy", order, tol), lambda: _build_integrator(order, tol), angles={"delta0": (3, 0.0)})
-
-
-def _build_integrator(order: int, tol: float):
-    import heyoka as hy
-
-    x = symbols(order)
-    names = state_names(order)
-    hv = dict(zip(names, hy.make_vars(*names)))
-    smap = {x[v][k]: hv[f"{v}{k}"] for v in VARS for k in range(order + 1)}
-    smap.update({mech.b: hy.par[0], mech.K2: hy.par[1], kappa: hy.par[2]})
-    h = hierarchy(order)
-
-    def convert(e):
-        """SymPy -> heyoka. Rationals with non-dyadic denominators become doubles; integer
-        powers above 2 become explicit products, because heyoka's general pow recurrence
-        divides by the base, which starts at zero (orders >= 1, sin(delta0))."""
-        if e == 0:
-            return hy.expression(0.0)
-        e = e.xreplace({r: sp.Float(r, 17) for r in e.atoms(sp.Rational) if r.q & (r.q - 1)})
-        local = dict(smap)
-        for z in sorted((z for z in e.atoms(sp.Pow) if z.exp.is_Integer and z.exp > 2), key=sp.default_sort_key):
-            base = hy.from_sympy(z.base, smap)
-            prod = base
-            for _ in range(int(z.exp) - 1):
-                prod = prod * base
-            d = sp.Dummy()
-            local[d] = prod
-            e = e.xreplace({z: d})
-        return hy.from_sympy(e, local)
-
-    sys = [(hv[f"{v}{k}"], convert(h[v][k])) for k in range(order + 1) for v in VARS]
-    return hy.taylor_adaptive(sys, [0.0] * len(names), pars=[1.0, 1.1, 1.0], tol=tol, compact_mode=order > 2)
-
-
-def integrate_hierarchy(order: int, y0, times, *, b=1.0, K2=1.1, kappa_value=1.0, tol=2.0**-52) -> xr.Dataset:
-    """Integrate the hierarchy to ``order`` from x0(0) = y0 and all higher orders zero, with
-    heyoka (as the exact flow). Variables u0, Omega0, ..., delta_order on ``times``."""
-    import heyoka as hy
-
-    times = np.asarray(times, dtype=float)
-    ta, compile_s = _integrator(order, tol)
-    ta.time = float(times[0])
-    ta.state[:] = 0.0
-    ta.state[:4] = np.asarray(y0, dtype=float)
-    ta.pars[:] = [b, K2, kappa_value]
-    start = time.perf_counter()
-    res = ta.propagate_grid(times, callback=integrators.bounded(ta))
-    if res[0] != hy.taylor_outcome.time_limit or not np.all(np.isfinite(res[5])):
-        raise RuntimeError(f"hierarchy integration to order {order} failed at t = {ta.time:g}: {res[0].name}")
-    ds = xr.Dataset({n: ("time", res[5][:, i]) for i, n in enumerate(state_names(order))}, coords={"time": times})
-    ds.attrs.update(order=order, b=b, K2=K2, kappa=kappa_value, backend="heyoka", method="taylor_adaptive",
-                    tol=tol, steps=int(res[3]), compile_time_s=compile_s, wall_time_s=time.perf_counter() - start,
-                    initial_data="order 0 from y0, all higher orders zero")
-    ds.attrs.update({f"y0_{v}": float(c) for v, c in zip(VARS, y0)})
-    return ds
 
 
 def partial_sum(ds: xr.Dataset, var: str, eps: float, upto: int) -> np.ndarray:

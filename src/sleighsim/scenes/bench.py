@@ -24,7 +24,7 @@ import time
 import numpy as np
 import xarray as xr
 
-from sleighsim.chaos import lyapunov
+from sleighsim.chaos import benettin
 from sleighsim.engine import integrators, poincare, transient
 from sleighsim.engine.integrate import final_state, integrate, sample_grid
 from sleighsim.io.netcdf import write_dataset
@@ -119,9 +119,9 @@ def observables_vs_tol(cfg: dict) -> xr.Dataset:
     params, y = _settled(cfg)
     lam, wall, rot = [], [], []
     for tol in cfg["heyoka_tols"]:
-        ta, _ = lyapunov.sleigh_tangent(1, tol, True)
+        ta, _ = integrators.sleigh_tangent(1, tol, True)
         integrators.set_pars(ta, params)
-        r = lyapunov.benettin(ta, 4, 1, y, t_align=0.0, T=cfg["T_lyapunov"], tau=LYAPUNOV_TAU)
+        r = benettin.benettin(ta, 4, 1, y, t_align=0.0, T=cfg["T_lyapunov"], tau=LYAPUNOV_TAU)
         lam.append(r["exponents"][0])
         wall.append(r["wall_time_s"])
         c = poincare.crossings(params, y, 0.0, cfg["t_rotation"], tol=tol)
@@ -136,13 +136,13 @@ def observables_vs_tol(cfg: dict) -> xr.Dataset:
 def scipy_max_le(params, y, T, tau, method, rtol, atol, seed=0) -> tuple[float, float]:
     """Benettin's largest exponent with SciPy: the flow and one tangent vector (J(y) v, with
     the derived Jacobian) integrated over T in segments of tau, renormalised after each.
-    The same initial tangent vector as sleighsim.chaos.lyapunov. Returns (lambda_1, wall seconds)."""
+    The same initial tangent vector as sleighsim.chaos.benettin. Returns (lambda_1, wall seconds)."""
     from scipy.integrate import solve_ivp
 
     def f(t, z):
         return np.concatenate([equations.rhs(z[:4], params), equations.jacobian(z[:4], params) @ z[4:]])
 
-    z = np.r_[np.asarray(y, float), lyapunov.initial_directions(4, 1, seed)[:, 0]]
+    z = np.r_[np.asarray(y, float), benettin.initial_directions(4, 1, seed)[:, 0]]
     n, total = int(round(T / tau)), 0.0
     start = time.perf_counter()
     for _ in range(n):

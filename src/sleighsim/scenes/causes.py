@@ -19,11 +19,11 @@ import numpy as np
 import xarray as xr
 
 from sleighsim.analysis import spectra
-from sleighsim.chaos import lyapunov
+from sleighsim.chaos import benettin
 from sleighsim.engine import transient
+from sleighsim.engine.hierarchy import integrate_hierarchy
 from sleighsim.engine.integrate import final_state, integrate, sample_grid
 from sleighsim.engine.transient import settle
-from sleighsim.model import perturbation as pert
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import state_at_label
 from sleighsim.scenes import memory
@@ -50,7 +50,7 @@ def _series_omega_error(params, y0, sc, tol) -> float:
     """Relative error of omega at sc.t_end between the order-sc.order series and the exact flow."""
     times = sample_grid(0.0, sc["t_end"], sc["dt"])
     exact = integrate(params, y0, times, tol=tol, progress=1)
-    h = pert.integrate_hierarchy(sc["order"], y0, times, b=params.b, K2=params.K2,
+    h = integrate_hierarchy(sc["order"], y0, times, b=params.b, K2=params.K2,
                                  kappa_value=(params.K2 - 1.0) / params.eps, tol=tol)
     return float(series_errors(exact, h, params.eps, sc["order"])["omega_rel_error"][1][-1])
 
@@ -127,7 +127,7 @@ def integration_error(cfg: dict, scene: str = "") -> xr.Dataset:
                             "omega_rel_error", "wall_time_s")}
     sc = cfg["series"]
     times = sample_grid(0.0, sc["t_end"], sc["dt"])
-    h = pert.integrate_hierarchy(sc["order"], y0, times, b=params.b, K2=params.K2,
+    h = integrate_hierarchy(sc["order"], y0, times, b=params.b, K2=params.K2,
                                  kappa_value=(params.K2 - 1.0) / params.eps, tol=cfg["tol"])
     for rtol in rtols:
         kw = dict(backend="scipy", method=cfg["method"], rtol=float(rtol), atol=float(rtol * cfg["atol_factor"]),
@@ -150,7 +150,7 @@ def integration_error(cfg: dict, scene: str = "") -> xr.Dataset:
         y = final_state(integrate(params, state_at_label(y0, params, lc["energy_label"]), [0.0, lc["t_transient"]],
                                   backend="scipy", method=cfg["method"], rtol=float(rtol),
                                   atol=float(rtol * cfg["atol_factor"]), compiled=True, progress=1))
-        r = lyapunov.scipy_benettin(params, y, 4, T=lc["T"], tau=lc["tau"], method=cfg["method"], rtol=float(rtol),
+        r = benettin.scipy_benettin(params, y, 4, T=lc["T"], tau=lc["tau"], method=cfg["method"], rtol=float(rtol),
                                     atol=float(rtol * cfg["atol_factor"]))
         exps.append(r["exponents"])
         log.info("%s: protocol with %s rtol %g: %s", scene, cfg["method"], rtol, r["exponents"])

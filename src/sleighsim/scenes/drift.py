@@ -11,7 +11,6 @@ import numpy as np
 import xarray as xr
 
 from sleighsim.analysis import windows
-from sleighsim.chaos import lyapunov
 from sleighsim.engine import integrators, transient
 from sleighsim.engine.precision import Precision
 from sleighsim.engine.transient import settle
@@ -75,7 +74,7 @@ def drift_windows(cfg: dict, scene: str = "") -> xr.Dataset:
                                 progress=1)
     tol = cfg["tol_long_double"] if cfg["long_double"] else cfg["tol"]
     arithmetic = Precision.LONG_DOUBLE if cfg["long_double"] else Precision.DOUBLE
-    ta, compile_s = lyapunov.sleigh_tangent(1, tol, cfg["compact_mode"], arithmetic)
+    ta, compile_s = integrators.sleigh_tangent(1, tol, cfg["compact_mode"], arithmetic)
     integrators.set_pars(ta, params)
     precision = "double" if ta.state.dtype == np.float64 else f"long double (epsilon {float(np.finfo(ta.state.dtype).eps):.2g})"
     (t_start, interval, interval_sd, n_spikes, lam, drift), n_windows, steps = _windowed(ta, y, params, cfg, scene)

@@ -1,6 +1,6 @@
 """Lyapunov scenes at one eps: the four-exponent spectrum (C18, C19), the paper's protocol
 (C19), the largest exponent against energy (F10, C20), and what small eps costs (C25).
-The Benettin engine is :mod:`sleighsim.chaos.lyapunov`."""
+The Benettin engine is :mod:`sleighsim.chaos.benettin`."""
 
 from __future__ import annotations
 
@@ -12,7 +12,7 @@ import numpy as np
 import xarray as xr
 
 from sleighsim.analysis import fits
-from sleighsim.chaos import lyapunov
+from sleighsim.chaos import benettin
 from sleighsim.engine import integrators, transient
 from sleighsim.engine.integrate import final_state, integrate, orbit_samples, sample_grid
 from sleighsim.engine.transient import settle
@@ -32,9 +32,9 @@ log = logging.getLogger("sleighsim")
 def _run(params, y, *, k, cfg, compact, label, T=None, seed=0):
     """Benettin from y with k vectors in the block's steady-state arithmetic (:func:`.common.steady_arithmetic`)."""
     arith = steady_arithmetic(cfg)
-    ta, compile_s = lyapunov.sleigh_tangent(k, arith["tol"], compact, arith["precision"])
+    ta, compile_s = integrators.sleigh_tangent(k, arith["tol"], compact, arith["precision"])
     integrators.set_pars(ta, params)
-    out = lyapunov.benettin(ta, 4, k, y, t_align=cfg["t_align"], T=cfg["T"] if T is None else T, tau=cfg["tau"],
+    out = benettin.benettin(ta, 4, k, y, t_align=cfg["t_align"], T=cfg["T"] if T is None else T, tau=cfg["tau"],
                             n_blocks=cfg["n_blocks"], seed=seed, label=label)
     out["compile_time_s"] = compile_s
     return out
@@ -69,14 +69,14 @@ def spectrum(cfg: dict, scene: str = "") -> xr.Dataset:
     arith = steady_arithmetic(cfg)
     replicas, _ = orbit_samples(params, y, cfg["replicas"], cfg["replica_spacing"], **arith, scene=scene)
     B = cfg["replicas"]
-    ta, compile_s = lyapunov.sleigh_tangent_lanes(B, arith["tol"], cfg["compact_mode"], k=4, precision=arith["precision"])
+    ta, compile_s = benettin.sleigh_tangent_lanes(B, arith["tol"], cfg["compact_mode"], k=4, precision=arith["precision"])
     integrators.set_pars(ta, params)
-    res = lyapunov.replica_exponents(ta, 4, 4, replicas, cfg["tau"], T_round=cfg["T_round"],
+    res = benettin.replica_exponents(ta, 4, 4, replicas, cfg["tau"], T_round=cfg["T_round"],
                                      max_rounds=cfg["max_rounds"], target_rel=cfg["target_rel"], t_align=cfg["t_align"],
                                      regular_floor=cfg["regular_floor"], sigma=cfg["sigma"], label=scene)
     # The mean divergence (trace of the Jacobian) over each replica's window, without tangent vectors:
     # an independent estimate of the sum of the exponents, with its own spread over replicas.
-    div = np.array([lyapunov.mean_divergence(params, _advance(params, x, cfg["t_align"], cfg["tol"]), res["T"], cfg["tol"])
+    div = np.array([benettin.mean_divergence(params, _advance(params, x, cfg["t_align"], cfg["tol"]), res["T"], cfg["tol"])
                     for x in replicas])
     T_grid, running = _running(res["log_growth"], cfg["tau"])
     lam, err, per = res["exponents"], res["stderr"], res["per_replica"]
@@ -221,12 +221,12 @@ def energy_sweep(cfg: dict, scene: str = "") -> xr.Dataset:
                                 progress=1)
     lanes = np.array([np.r_[y[:3] / s, y[3]] for s in scale])  # the time-scaling images of the settled state
     arith = steady_arithmetic(cfg)
-    ta, compile_s = lyapunov.sleigh_tangent_lanes(labels.size, arith["tol"], cfg["compact_mode"],
+    ta, compile_s = benettin.sleigh_tangent_lanes(labels.size, arith["tol"], cfg["compact_mode"],
                                                   precision=arith["precision"])
     integrators.set_pars(ta, params)
     steps = int(round(cfg["T"] / cfg["tau"]))
     tau, T = cfg["tau"] * scale, steps * cfg["tau"] * scale  # per label
-    r = lyapunov.batch_benettin(ta, 4, 1, lanes, tau, n_steps=steps,
+    r = benettin.batch_benettin(ta, 4, 1, lanes, tau, n_steps=steps,
                                 t_align_steps=int(math.ceil(cfg["t_align"] / cfg["tau"])), label=scene)
     g = r["log_growth"][:, 0, :]  # (steps, lanes)
     blocks = g[: (steps // cfg["n_blocks"]) * cfg["n_blocks"]].reshape(cfg["n_blocks"], -1, labels.size).sum(axis=1)
@@ -327,9 +327,9 @@ def formal_exponents(cfg: dict, scene: str = "") -> xr.Dataset:
         label = f"{scene}[eps={eps:g}]"
         y, pre = settle(params, y0, cfg["t_transient"], **cfg["transient"], tol=cfg["tol"], label=label, progress=1)
         replicas, _ = orbit_samples(params, y, cfg["replicas"], cfg["replica_spacing"], tol=cfg["tol"], scene=label)
-        ta, _ = lyapunov.sleigh_tangent_batch(cfg["replicas"], cfg["tol"], cfg["compact_mode"], k=1)
+        ta, _ = integrators.sleigh_tangent_batch(cfg["replicas"], cfg["tol"], cfg["compact_mode"], k=1)
         integrators.set_pars(ta, params)
-        res = lyapunov.replica_exponents(ta, 4, 1, replicas, cfg["tau"], T_round=cfg["T_round"],
+        res = benettin.replica_exponents(ta, 4, 1, replicas, cfg["tau"], T_round=cfg["T_round"],
                                          max_rounds=cfg["max_rounds"], target_rel=cfg["target_rel"],
                                          t_align=cfg["t_align"], regular_floor=cfg["regular_floor"],
                                          sigma=cfg["sigma"], label=label)

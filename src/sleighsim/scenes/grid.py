@@ -17,7 +17,7 @@ import time
 import numpy as np
 import xarray as xr
 
-from sleighsim.chaos import lyapunov
+from sleighsim.chaos import benettin
 from sleighsim.engine import integrators, poincare, transient
 from sleighsim.engine.integrate import orbit_samples
 from sleighsim.engine.transient import settle
@@ -107,7 +107,7 @@ def _steadiness(states, n_blocks: int, rtol: float) -> tuple[float, bool]:
 
 def row(cfg: dict, eps: float, label: str = "", check_b: bool = False) -> dict:
     """One eps row at b = 1: pre-run from y0 at the label (transient checked), replicas along the
-    settled orbit, the replica estimate of lambda_1 (lyapunov.replica_exponents), steadiness of each
+    settled orbit, the replica estimate of lambda_1 (benettin.replica_exponents), steadiness of each
     replica, the steady spike interval, and (poincare_span > 0) the P_2pi rotation number and curve
     thickness; with ``check_b``, lambda_1 again at the b_check values from the replicas mapped by the
     symmetry (one round)."""
@@ -119,11 +119,11 @@ def row(cfg: dict, eps: float, label: str = "", check_b: bool = False) -> dict:
                     tol=cfg["tol"], label=label, progress=1)
     replicas, interval, interval_std = _replicas(p, y, cfg, s, label)
     B, arith = cfg["replicas"], steady_arithmetic(cfg)
-    ta, _ = lyapunov.sleigh_tangent_lanes(B, arith["tol"], cfg["compact_mode"], precision=arith["precision"])
+    ta, _ = benettin.sleigh_tangent_lanes(B, arith["tol"], cfg["compact_mode"], precision=arith["precision"])
     integrators.set_pars(ta, p)
     kw = dict(T_round=cfg["T_round"] * s, max_rounds=cfg["max_rounds"], target_rel=cfg["target_rel"],
               regular_floor=cfg["regular_floor"] / s, t_align=cfg["t_align"] * s, sigma=cfg["sigma"], label=label)
-    r = lyapunov.replica_exponents(ta, 4, 1, replicas, tau, **kw)
+    r = benettin.replica_exponents(ta, 4, 1, replicas, tau, **kw)
     drift, steady = _steadiness(r["states"], cfg["steady_blocks"], cfg["transient"]["rtol"])
     out = {"lambda_1": float(r["exponents"][0]), "stderr": float(r["stderr"][0]), "T": r["T"], "tau": tau,
            "status_code": STATUS.index(r["status"]), "transient_over": pre["transient_over"],
@@ -143,7 +143,7 @@ def row(cfg: dict, eps: float, label: str = "", check_b: bool = False) -> dict:
         for b in cfg["b_check"]:
             pb = Params.paper(eps=eps, b=b)
             integrators.set_pars(ta, pb)
-            rb = lyapunov.replica_exponents(ta, 4, 1, np.array([b_image(x, 1.0, b) for x in replicas]),
+            rb = benettin.replica_exponents(ta, 4, 1, np.array([b_image(x, 1.0, b) for x in replicas]),
                                             tau, **dict(kw, max_rounds=1, label=f"{label}[b={b:g}]"))
             T1, first = r["history"][0][0], r["history"][0][1]  # the b = 1 estimate after the same single round
             diffs.append(abs(rb["exponents"][0] - first))

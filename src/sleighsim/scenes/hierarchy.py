@@ -14,6 +14,7 @@ import sympy as sp
 import xarray as xr
 
 from sleighsim.analysis import fits
+from sleighsim.engine.hierarchy import integrate_hierarchy
 from sleighsim.engine.integrate import integrate, sample_grid
 from sleighsim.io import cf
 from sleighsim.io.vocabulary import STATE_KINDS
@@ -37,7 +38,7 @@ def _hierarchy_params(cfg):
 def _series_error(order, eps, K2, y0, times, tol):
     """Max abs error over ``times`` of the order-``order`` partial sum against the exact flow
     (delta compared modulo 2 pi: both runs keep it bounded)."""
-    ds = pert.integrate_hierarchy(order, y0, times, K2=K2, kappa_value=(K2 - 1.0) / eps, tol=tol)
+    ds = integrate_hierarchy(order, y0, times, K2=K2, kappa_value=(K2 - 1.0) / eps, tol=tol)
     ex = integrate(Params.paper(eps=eps, K2=K2), y0, times, tol=tol, progress=1)
     series = np.stack([pert.partial_sum(ds, v, eps, order) for v in pert.VARS], axis=-1)
     exact = np.stack([ex[v].values for v in pert.VARS], axis=-1)
@@ -88,7 +89,7 @@ def series_vs_exact(cfg: dict, scene: str = "") -> xr.Dataset:
     times = sample_grid(0.0, cfg["t_end"], cfg["dt"])
     order = cfg["order"]
     exact = integrate(params, y0, times, tol=cfg["tol"], scene=scene, progress=1)
-    h = pert.integrate_hierarchy(order, y0, times, b=b, K2=K2, kappa_value=kap, tol=cfg["tol"])
+    h = integrate_hierarchy(order, y0, times, b=b, K2=K2, kappa_value=kap, tol=cfg["tol"])
     data = series_errors(exact, h, eps, order)
     conv = convergence_study({"tol": cfg["tol"], **cfg["convergence"]})
     cc = cfg["convergence"]
@@ -138,7 +139,7 @@ def _paper_closed_forms(u0, omega0, b, K2) -> dict:
 def hierarchy_numbers(y0, times, *, b: float, K2: float, kappa: float, tol: float, fit_window) -> tuple:
     """The hierarchy to order 2 from y0 on ``times`` and the numbers of C07-C10 measured on
     ``fit_window``, beside the paper's closed forms. Returns (hierarchy dataset, numbers)."""
-    h = pert.integrate_hierarchy(2, y0, times, b=b, K2=K2, kappa_value=kappa, tol=tol)
+    h = integrate_hierarchy(2, y0, times, b=b, K2=K2, kappa_value=kappa, tol=tol)
     w0, w1 = fit_window
     win = (times >= w0) & (times <= w1)
     tw = times[win]
@@ -247,7 +248,7 @@ def hierarchy_audit(cfg: dict, scene: str = "") -> xr.Dataset:
     rows = pert.compare_printed(kappa_value=1)
     order = 4
     times = sample_grid(0.0, cfg["t_end"], cfg["dt"])
-    h = pert.integrate_hierarchy(order, cfg["y0"], times, b=b, K2=K2, kappa_value=kap, tol=cfg["tol"])
+    h = integrate_hierarchy(order, cfg["y0"], times, b=b, K2=K2, kappa_value=kap, tol=cfg["tol"])
     cols = [h[n].values for n in pert.state_names(order)]
     # Order 3: symbolic forcing with the order-1 unknowns set to zero, and along the solution.
     x = pert.symbols(order)

@@ -7,7 +7,7 @@ from __future__ import annotations
 import logging
 import math
 
-from sleighsim.chaos import lyapunov
+from sleighsim.chaos import benettin
 from sleighsim.chaos.faithfulness import (
     FAITHFUL_MAX,
     follows,
@@ -44,17 +44,17 @@ def gain_run(params, y, cfg: dict) -> dict:
     """The faithfulness gauge along the settled orbit from y: ln G of each spike cycle (the largest
     singular value of the one-period tangent map, ``faithfulness.spike_cycle_gains``) over T_gain, in
     double at tol, and G x rounding per arithmetic."""
-    ta, _ = lyapunov.sleigh_tangent(4, cfg["tol"], cfg["compact_mode"])
+    ta, _ = integrators.sleigh_tangent(4, cfg["tol"], cfg["compact_mode"])
     integrators.set_pars(ta, params)
     return spike_cycle_gains(ta, y, T=cfg["T_gain"], tau=cfg["tau_gain"], spike_factor=cfg["transient"]["spike_factor"])
 
 
 def replica_run(params, replicas, cfg: dict, scene: str) -> dict:
-    """Benettin over the replicas (one SIMD lane each, 4 tangent vectors), ``lyapunov.replica_exponents``
+    """Benettin over the replicas (one SIMD lane each, 4 tangent vectors), ``benettin.replica_exponents``
     at tol with tau, T_round, max_rounds, target_rel, t_align, regular_floor and sigma from cfg."""
-    ta, _ = lyapunov.sleigh_tangent_batch(cfg["replicas"], cfg["tol"], cfg["compact_mode"], k=4)
+    ta, _ = integrators.sleigh_tangent_batch(cfg["replicas"], cfg["tol"], cfg["compact_mode"], k=4)
     integrators.set_pars(ta, params)
-    return lyapunov.replica_exponents(ta, 4, 4, replicas, cfg["tau"], T_round=cfg["T_round"], max_rounds=cfg["max_rounds"],
+    return benettin.replica_exponents(ta, 4, 4, replicas, cfg["tau"], T_round=cfg["T_round"], max_rounds=cfg["max_rounds"],
                                       target_rel=cfg["target_rel"], t_align=cfg["t_align"],
                                       regular_floor=cfg["regular_floor"], sigma=cfg["sigma"], label=scene)
 
@@ -104,7 +104,7 @@ def megno_run(params, y, cfg: dict, *, precision: Precision = Precision.DOUBLE) 
     double."""
     long_double = precision is Precision.LONG_DOUBLE
     tol, T = (cfg["tol_long_double"], cfg["T_long_double"]) if long_double else (cfg["tol"], cfg["T_megno"])
-    ta, _ = lyapunov.sleigh_megno(tol, precision, cfg["compact_mode"])
+    ta, _ = integrators.sleigh_megno(tol, precision, cfg["compact_mode"])
     integrators.set_pars(ta, params)
     return megno(ta, 4, stored_state(y), T=T, n_samples=cfg["megno_samples"], tau=cfg["tau"], callback=integrators.bounded(ta))
 

@@ -1,5 +1,5 @@
-"""Lyapunov exponents by Benettin's method on heyoka's variational equations,
-and the 0-1 test for chaos (an indicator that uses no tangent dynamics).
+"""Lyapunov exponents by Benettin's method on heyoka's variational equations (the integrators
+are built in ``engine.integrators``; the 0-1 test is ``chaos.zero_one``).
 
 Benettin: k tangent vectors (the first-order variational equations of
 ``var_ode_sys`` with respect to the first k initial conditions; their values
@@ -23,69 +23,6 @@ from sleighsim.engine.integrate import check_tol
 from sleighsim.engine.precision import Precision
 
 log = logging.getLogger("sleighsim")
-
-
-def tangent_integrator(sys, k: int, tol: float = 2.0**-52, pars=(), compact_mode: bool = True,
-                       precision: Precision = Precision.DOUBLE):
-    """heyoka integrator for ``sys`` (list of (var, expr)) plus k tangent vectors, in ``precision``.
-
-    Returns (ta, n, compile_s); the state is [y (n), V (n x k, row-major)]."""
-    import heyoka as hy
-
-    fp_type = precision.fp_type
-
-    sys = list(sys)
-    n = len(sys)
-    if not 1 <= k <= n:
-        raise ValueError(f"k = {k} is outside the admissible range [1, {n}]")
-    start = time.perf_counter()
-    vsys = hy.var_ode_sys(sys, [v for v, _ in sys[:k]], order=1)
-    ta = hy.taylor_adaptive(vsys, np.full(n, 0.1, dtype=fp_type), tol=fp_type(tol), pars=np.array(pars, dtype=fp_type),
-                            compact_mode=compact_mode, fp_type=fp_type)
-    return ta, n, time.perf_counter() - start
-
-
-def sleigh_tangent(k: int, tol: float, compact: bool, precision: Precision = Precision.DOUBLE):
-    """The sleigh plus k tangent vectors in ``precision``, compiled once per process.
-    compact_mode compiles in 0.1-1 s; full mode steps 1.3-2.3x faster here but its first
-    compilation takes seconds to about a minute (45 s for 8 lanes and 4 vectors; later ones come
-    from heyoka's on-disk cache). Returns
-    (ta, compile_s)."""
-    from sleighsim.model import equations
-
-    def build():
-        return tangent_integrator(equations.heyoka_system(delta_shift=integrators.DELTA_SHIFT), k, tol,
-                                  equations.compile_pars(precision.fp_type), compact_mode=compact,
-                                  precision=precision)[0]
-
-    return integrators.compiled(("tangent", k, tol, compact, precision), build)
-
-
-def sleigh_megno(tol: float, precision: Precision = Precision.DOUBLE, compact: bool = True):
-    """The sleigh, one tangent vector and the MEGNO quadratures (``chaos.tangent.megno_integrator``,
-    in compact or full mode), in ``precision`` (long double: 80-bit on x86-64, machine epsilon
-    1.1e-19, about 5x the cost of double), compiled once per process. Returns (ta, compile_s)."""
-    from sleighsim.model import equations
-    from sleighsim.chaos.tangent import megno_integrator
-
-    def build():
-        return megno_integrator(equations.heyoka_system(delta_shift=integrators.DELTA_SHIFT),
-                                pars=equations.compile_pars(precision.fp_type), tol=tol, precision=precision,
-                                compact_mode=compact)[0]
-
-    return integrators.compiled(("megno", tol, precision, compact), build)
-
-
-def sleigh_tangent_batch(batch_size: int, tol: float, compact: bool, k: int = 1):
-    """The sleigh plus k tangent vectors in ``batch_size`` SIMD lanes, compiled once per process.
-    Returns (ta, compile_s)."""
-    from sleighsim.model import equations
-
-    def build():
-        return tangent_integrator_batch(equations.heyoka_system(delta_shift=integrators.DELTA_SHIFT), batch_size, tol,
-                                        npars=equations.n_heyoka_pars(), compact_mode=compact, k=k)[0]
-
-    return integrators.compiled(("tangent_batch", batch_size, tol, compact, k), build)
 
 
 class LaneLoop:
@@ -124,28 +61,12 @@ class LaneLoop:
 def sleigh_tangent_lanes(batch_size: int, tol: float, compact: bool, k: int = 1,
                          precision: Precision = Precision.DOUBLE):
     """``batch_size`` lanes of the sleigh plus k tangent vectors for :func:`batch_benettin` and
-    :func:`replica_exponents`: SIMD lanes (:func:`sleigh_tangent_batch`) in double, else a
+    :func:`replica_exponents`: SIMD lanes (``integrators.sleigh_tangent_batch``) in double, else a
     :class:`LaneLoop` over one scalar integrator in ``precision``. Returns (lanes, compile_s)."""
     if precision is Precision.DOUBLE:
-        return sleigh_tangent_batch(batch_size, tol, compact, k=k)
-    ta, compile_s = sleigh_tangent(k, tol, compact, precision)
+        return integrators.sleigh_tangent_batch(batch_size, tol, compact, k=k)
+    ta, compile_s = integrators.sleigh_tangent(k, tol, compact, precision)
     return LaneLoop(ta, batch_size), compile_s
-
-
-def _divergence_integrator(tol):
-    """The flow plus a quadrature D' = trace J(y): D(T)/T is the mean phase-space
-    contraction, computed without tangent vectors."""
-    from sleighsim.model import equations
-
-    def build():
-        import heyoka as hy
-
-        sys = equations.heyoka_system(delta_shift=integrators.DELTA_SHIFT)
-        trace = hy.sum([hy.diff(e, v) for v, e in sys])
-        return hy.taylor_adaptive(sys + [(hy.make_vars("D"), trace)], [0.0, 0.1, 1.0, 0.0, 0.0], tol=tol,
-                                  pars=equations.compile_pars())
-
-    return integrators.compiled(("divergence", tol), build)[0]
 
 
 def mean_divergence(params, y0, T, tol) -> float:
@@ -153,7 +74,7 @@ def mean_divergence(params, y0, T, tol) -> float:
     if not (math.isfinite(T) and T > 0):
         raise ValueError(f"T = {T} is outside the admissible range (0, inf): the mean is over [0, T]")
     check_tol(tol)
-    ta = _divergence_integrator(tol)
+    ta = integrators.divergence(tol)
     ta.time = 0.0
     y = np.array([*np.asarray(y0, float), 0.0])
     y[3] %= 2.0 * math.pi
@@ -233,29 +154,10 @@ def benettin(ta, n: int, k: int, y0, *, t_align: float, T: float, tau: float, n_
     }
 
 
-def tangent_integrator_batch(sys, batch_size: int, tol: float = 2.0**-52, npars: int = 0,
-                             compact_mode: bool = True, k: int = 1):
-    """heyoka batch integrator (SIMD lanes) for ``sys`` plus k tangent vectors per lane.
-
-    Returns (ta, n, compile_s); the state has shape (n + n k, batch_size), the tangent
-    vectors stored as (n, k) row-major below the state."""
-    import heyoka as hy
-
-    sys = list(sys)
-    n = len(sys)
-    if not 1 <= k <= n:
-        raise ValueError(f"k = {k} is outside the admissible range [1, {n}]")
-    start = time.perf_counter()
-    vsys = hy.var_ode_sys(sys, [v for v, _ in sys[:k]], order=1)
-    ta = hy.taylor_adaptive_batch(vsys, np.full((n + n * k, batch_size), 0.1), tol=tol,
-                                  pars=np.zeros((npars, batch_size)), compact_mode=compact_mode)
-    return ta, n, time.perf_counter() - start
-
-
 def batch_benettin(ta, n: int, k: int, y0s, taus, *, n_steps: int, t_align_steps: int = 0, seed: int = 0,
                    resume: bool = False, label: str = "", progress_every: float = 30.0) -> dict:
     """Benettin's method for several systems or replicas in lock-step, one per SIMD lane (``ta``
-    from :func:`tangent_integrator_batch` with k vectors, pars already set): lane j renormalises
+    from ``integrators.tangent_integrator_batch`` with k vectors, pars already set): lane j renormalises
     every taus[j] (QR of its k vectors); t_align_steps steps align the vectors (not accumulated),
     then n_steps are accumulated. With ``resume`` the lanes continue from the integrator's state
     (y0s and the vectors are not reset). Returns the log growth of every step, vector and lane
@@ -382,27 +284,3 @@ def scipy_benettin(params, y0, k: int, *, T: float, tau: float, method: str, rto
         if i >= 0:
             total += np.log(np.abs(np.diag(r)))
     return {"exponents": total / (n * tau), "final_state": z[:4].copy(), "wall_time_s": time.perf_counter() - start}
-
-
-def zero_one_test(phi, *, n_c: int = 100, seed: int = 0, n_cut_fraction: float = 0.1) -> dict:
-    """Gottwald-Melbourne 0-1 test (correlation method, 2009) on a sampled observable.
-
-    K near 0: regular (periodic or quasi-periodic); near 1: chaotic. The median of
-    K over n_c random c in (pi/5, 4 pi/5) is returned, with the spread."""
-    phi = np.asarray(phi, float)
-    phi = phi - phi.mean()
-    N = len(phi)
-    n_cut = max(2, int(n_cut_fraction * N))
-    ns = np.arange(1, n_cut + 1)
-    cs = np.random.default_rng(seed).uniform(math.pi / 5, 4 * math.pi / 5, n_c)
-    Ks = np.empty(n_c)
-    j = np.arange(1, N + 1)
-    E2 = phi.mean() ** 2
-    for m, c in enumerate(cs):
-        p = np.cumsum(phi * np.cos(j * c))
-        q = np.cumsum(phi * np.sin(j * c))
-        M = np.array([np.mean((p[n:] - p[:-n]) ** 2 + (q[n:] - q[:-n]) ** 2) for n in ns])
-        D = M - E2 * (1 - np.cos(ns * c)) / (1 - np.cos(c))
-        Ks[m] = np.corrcoef(ns, D)[0, 1]
-    return {"K": float(np.median(Ks)), "K_q25": float(np.quantile(Ks, 0.25)), "K_q75": float(np.quantile(Ks, 0.75)),
-            "n_samples": N, "n_c": n_c}

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from sleighsim.analysis import fits
-from sleighsim.chaos import lyapunov
+from sleighsim.chaos import benettin, zero_one
 from sleighsim.engine import integrators
 from sleighsim.engine.integrate import final_state, integrate
 from sleighsim.engine.precision import Precision
@@ -19,8 +19,8 @@ from sleighsim.scenes import grid, verdict_tangent
 def test_lorenz_spectrum_matches_published_values(hy):
     x, y, z = hy.make_vars("x", "y", "z")
     sys = [(x, 10.0 * (y - x)), (y, x * (28.0 - z) - y), (z, x * y - 8.0 / 3.0 * z)]
-    ta, n, _ = lyapunov.tangent_integrator(sys, 3)
-    r = lyapunov.benettin(ta, n, 3, [1.0, 1.0, 20.0], t_align=100.0, T=10000.0, tau=0.5)
+    ta, n, _ = integrators.tangent_integrator(sys, 3)
+    r = benettin.benettin(ta, n, 3, [1.0, 1.0, 20.0], t_align=100.0, T=10000.0, tau=0.5)
     lam = r["exponents"]
     assert lam[0] == pytest.approx(0.906, rel=0.01)
     assert lam[2] == pytest.approx(-14.572, rel=0.01)
@@ -34,8 +34,8 @@ def test_torus_flow_exponents_decay_like_one_over_T(hy):
     |lambda(T)| T is at most log(max f / min f) summed over both circles."""
     a, b = hy.make_vars("a", "b")
     sys = [(a, 1.0 + 0.5 * hy.cos(a)), (b, math.sqrt(2) + 0.3 * hy.cos(b))]
-    ta, n, _ = lyapunov.tangent_integrator(sys, 2)
-    r = lyapunov.benettin(ta, n, 2, [0.1, 0.2], t_align=0.0, T=1e5, tau=1.0)
+    ta, n, _ = integrators.tangent_integrator(sys, 2)
+    r = benettin.benettin(ta, n, 2, [0.1, 0.2], t_align=0.0, T=1e5, tau=1.0)
     bound = math.log(1.5 / 0.5) + math.log((math.sqrt(2) + 0.3) / (math.sqrt(2) - 0.3))
     assert np.all(np.abs(r["running"]) * r["T_grid"][:, None] <= bound + 1e-9)
     assert np.all(np.abs(r["exponents"]) <= bound / 1e5)
@@ -46,19 +46,19 @@ def test_torus_flow_exponents_decay_like_one_over_T(hy):
 def test_alignment_and_renormalisation_interval_do_not_change_lorenz_lambda1(hy):
     x, y, z = hy.make_vars("x", "y", "z")
     sys = [(x, 10.0 * (y - x)), (y, x * (28.0 - z) - y), (z, x * y - 8.0 / 3.0 * z)]
-    ta, n, _ = lyapunov.tangent_integrator(sys, 1)
-    a = lyapunov.benettin(ta, n, 1, [1.0, 1.0, 20.0], t_align=50.0, T=5000.0, tau=0.1)["exponents"][0]
-    b = lyapunov.benettin(ta, n, 1, [1.0, 1.0, 20.0], t_align=50.0, T=5000.0, tau=2.0)["exponents"][0]
+    ta, n, _ = integrators.tangent_integrator(sys, 1)
+    a = benettin.benettin(ta, n, 1, [1.0, 1.0, 20.0], t_align=50.0, T=5000.0, tau=0.1)["exponents"][0]
+    b = benettin.benettin(ta, n, 1, [1.0, 1.0, 20.0], t_align=50.0, T=5000.0, tau=2.0)["exponents"][0]
     assert a == pytest.approx(0.906, rel=0.03) and b == pytest.approx(a, rel=0.03)
 
 
 def test_benettin_rejects_bad_settings(hy):
     x = hy.make_vars("x")
-    ta, n, _ = lyapunov.tangent_integrator([(x, -x)], 1)
+    ta, n, _ = integrators.tangent_integrator([(x, -x)], 1)
     with pytest.raises(ValueError, match="tau"):
-        lyapunov.benettin(ta, n, 1, [1.0], t_align=0.0, T=10.0, tau=0.0)
+        benettin.benettin(ta, n, 1, [1.0], t_align=0.0, T=10.0, tau=0.0)
     with pytest.raises(ValueError, match="k = 2"):
-        lyapunov.tangent_integrator([(x, -x)], 2)
+        integrators.tangent_integrator([(x, -x)], 2)
 
 
 def test_zero_one_test_separates_regular_from_chaotic():
@@ -69,9 +69,9 @@ def test_zero_one_test_separates_regular_from_chaotic():
     x[0] = 0.3
     for i in range(2999):
         x[i + 1] = 3.97 * x[i] * (1 - x[i])  # chaotic logistic map
-    assert lyapunov.zero_one_test(periodic)["K"] < 0.1
-    assert lyapunov.zero_one_test(quasi)["K"] < 0.1
-    assert lyapunov.zero_one_test(x)["K"] > 0.9
+    assert zero_one.zero_one_test(periodic)["K"] < 0.1
+    assert zero_one.zero_one_test(quasi)["K"] < 0.1
+    assert zero_one.zero_one_test(x)["K"] > 0.9
 
 
 def test_sleigh_exponents_sum_to_the_mean_divergence():
@@ -79,11 +79,11 @@ def test_sleigh_exponents_sum_to_the_mean_divergence():
     computed here without tangent vectors; the near-zero pair needs the long run."""
     p = Params.paper(eps=0.1)
     y = REFERENCE_STATE
-    ta, _ = lyapunov.sleigh_tangent(4, 1e-13, True)
+    ta, _ = integrators.sleigh_tangent(4, 1e-13, True)
     integrators.set_pars(ta, p)
-    r = lyapunov.benettin(ta, 4, 4, y, t_align=0.0, T=2000.0, tau=5.0)
+    r = benettin.benettin(ta, 4, 4, y, t_align=0.0, T=2000.0, tau=5.0)
     lam = r["exponents"]
-    div = lyapunov.mean_divergence(p, y, 2000.0, 1e-13)
+    div = benettin.mean_divergence(p, y, 2000.0, 1e-13)
     assert lam.sum() == pytest.approx(div, abs=1e-9)
     assert abs(div) > 1e-5  # the flow contracts phase-space volume (C18) although E is invariant
 
@@ -126,17 +126,17 @@ def test_batch_lanes_match_the_scalar_benettin_run(k):
     ps = [Params.paper(eps=0.1, b=1.0), Params.paper(eps=0.2, b=0.5)]
     ys = np.array([state_at_label([0.0, 0.1, 1.0, 0.0], p, 0.1127) for p in ps])
     taus = np.array([5.0, 3.0])
-    ta, n, _ = lyapunov.tangent_integrator_batch(equations.heyoka_system(), 2, npars=equations.n_heyoka_pars(), compact_mode=True, k=k)
+    ta, n, _ = integrators.tangent_integrator_batch(equations.heyoka_system(), 2, npars=equations.n_heyoka_pars(), compact_mode=True, k=k)
     ta.pars[:] = np.array([equations.heyoka_pars(p) for p in ps]).T
-    batch = lyapunov.batch_benettin(ta, n, k, ys, taus, t_align_steps=4, n_steps=40)
+    batch = benettin.batch_benettin(ta, n, k, ys, taus, t_align_steps=4, n_steps=40)
     lam = batch["log_growth"].sum(axis=0) / (40 * taus)  # (k, lanes)
     for j, p in enumerate(ps):
-        ts, _, _ = lyapunov.tangent_integrator(equations.heyoka_system(), k, pars=equations.heyoka_pars(p), compact_mode=True)
-        one = lyapunov.benettin(ts, 4, k, ys[j], t_align=4 * taus[j], T=40 * taus[j], tau=taus[j], n_blocks=4)
+        ts, _, _ = integrators.tangent_integrator(equations.heyoka_system(), k, pars=equations.heyoka_pars(p), compact_mode=True)
+        one = benettin.benettin(ts, 4, k, ys[j], t_align=4 * taus[j], T=40 * taus[j], tau=taus[j], n_blocks=4)
         assert lam[:, j] == pytest.approx(one["exponents"], rel=1e-9, abs=1e-12)
         assert batch["log_growth"][:, :, j] == pytest.approx(one["log_growth"], rel=1e-9, abs=1e-12)
     with pytest.raises(ValueError):
-        lyapunov.batch_benettin(ta, n, k, ys[:1], taus[:1], n_steps=10)
+        benettin.batch_benettin(ta, n, k, ys[:1], taus[:1], n_steps=10)
 
 
 def _lorenz(hy):
@@ -145,9 +145,9 @@ def _lorenz(hy):
 
 
 def test_replicas_resolve_lorenz_and_stop_as_converged(hy):
-    ta, n, _ = lyapunov.tangent_integrator_batch(_lorenz(hy), 4, k=3)
+    ta, n, _ = integrators.tangent_integrator_batch(_lorenz(hy), 4, k=3)
     y0s = np.array([[1.0, 1.0, 20.0], [2.0, 1.0, 20.0], [1.0, 3.0, 20.0], [1.0, 1.0, 25.0]])
-    r = lyapunov.replica_exponents(ta, n, 3, y0s, 0.5, T_round=500.0, max_rounds=6, target_rel=0.01, t_align=50.0,
+    r = benettin.replica_exponents(ta, n, 3, y0s, 0.5, T_round=500.0, max_rounds=6, target_rel=0.01, t_align=50.0,
                                    regular_floor=0.01)
     assert r["status"] == "converged" and r["stderr"][0] <= 0.01 * r["exponents"][0]
     assert r["exponents"][0] == pytest.approx(0.906, rel=0.02) and r["exponents"][2] == pytest.approx(-14.572, rel=0.01)
@@ -158,20 +158,20 @@ def test_replicas_resolve_lorenz_and_stop_as_converged(hy):
 def test_replicas_call_a_torus_regular_and_cap_an_unresolved_run(hy):
     a, b = hy.make_vars("a", "b")
     torus = [(a, 1.0 + 0.5 * hy.cos(a)), (b, math.sqrt(2) + 0.3 * hy.cos(b))]
-    ta, n, _ = lyapunov.tangent_integrator_batch(torus, 4)
+    ta, n, _ = integrators.tangent_integrator_batch(torus, 4)
     starts = np.array([[0.1, 0.2], [1.0, 2.0], [2.0, 0.5], [3.0, 4.0]])
-    r = lyapunov.replica_exponents(ta, n, 1, starts, 1.0, T_round=2000.0, max_rounds=5, target_rel=0.1,
+    r = benettin.replica_exponents(ta, n, 1, starts, 1.0, T_round=2000.0, max_rounds=5, target_rel=0.1,
                                    regular_floor=0.01)
     assert r["status"] == "regular" and r["T"] == 2000.0
-    r = lyapunov.replica_exponents(ta, n, 1, starts, 1.0, T_round=2000.0, max_rounds=2, target_rel=0.1,
+    r = benettin.replica_exponents(ta, n, 1, starts, 1.0, T_round=2000.0, max_rounds=2, target_rel=0.1,
                                    regular_floor=1e-3)  # a finer floor needs a longer run than the cap
     assert r["status"] == "capped" and r["T"] == 4000.0
-    ta, n, _ = lyapunov.tangent_integrator_batch(_lorenz(hy), 2)
-    r = lyapunov.replica_exponents(ta, n, 1, np.array([[1.0, 1.0, 20.0], [2.0, 1.0, 20.0]]), 0.5, T_round=5.0,
+    ta, n, _ = integrators.tangent_integrator_batch(_lorenz(hy), 2)
+    r = benettin.replica_exponents(ta, n, 1, np.array([[1.0, 1.0, 20.0], [2.0, 1.0, 20.0]]), 0.5, T_round=5.0,
                                    max_rounds=2, target_rel=1e-6, regular_floor=0.01)  # short: nothing is resolved
     assert r["status"] == "capped" and r["T"] == 10.0 and len(r["history"]) == 2
     with pytest.raises(ValueError, match="at least 2 lanes"):
-        lyapunov.replica_exponents(lyapunov.tangent_integrator_batch(_lorenz(hy), 1)[0], 3, 1, np.ones((1, 3)), 0.5,
+        benettin.replica_exponents(integrators.tangent_integrator_batch(_lorenz(hy), 1)[0], 3, 1, np.ones((1, 3)), 0.5,
                                    T_round=5.0, max_rounds=1, target_rel=0.1, regular_floor=0.01)
 
 
@@ -206,7 +206,7 @@ def test_megno_in_long_double_matches_double_where_both_are_accurate():
                megno_samples=20, tau=10.0, compact_mode=True)
     a = verdict_tangent.megno_run(p, y0, cfg, precision=Precision.LONG_DOUBLE)
     b = verdict_tangent.megno_run(p, y0, cfg)
-    ta, _ = lyapunov.sleigh_megno(cfg["tol_long_double"], Precision.LONG_DOUBLE)
+    ta, _ = integrators.sleigh_megno(cfg["tol_long_double"], Precision.LONG_DOUBLE)
     assert ta.state.dtype == np.longdouble and a["log_growth"].dtype == float
     assert a["log_growth"] == pytest.approx(b["log_growth"], rel=1e-9, abs=1e-11)
     assert a["Y_mean"] == pytest.approx(b["Y_mean"], rel=1e-8)
@@ -224,10 +224,10 @@ def test_lane_loop_runs_the_batch_method_in_extended_precision(precision):
     taus = np.array([5.0, 3.0])
     runs = {}
     for prec in (Precision.DOUBLE, precision):
-        lanes, _ = lyapunov.sleigh_tangent_lanes(2, prec.epsilon, True, k=2, precision=prec)
+        lanes, _ = benettin.sleigh_tangent_lanes(2, prec.epsilon, True, k=2, precision=prec)
         integrators.set_pars(lanes, p)
-        runs[prec] = lyapunov.batch_benettin(lanes, 4, 2, ys, taus, t_align_steps=2, n_steps=8)
-    assert isinstance(lanes, lyapunov.LaneLoop) and lanes.state.dtype != np.float64
+        runs[prec] = benettin.batch_benettin(lanes, 4, 2, ys, taus, t_align_steps=2, n_steps=8)
+    assert isinstance(lanes, benettin.LaneLoop) and lanes.state.dtype != np.float64
     assert runs[precision]["log_growth"] == pytest.approx(runs["double"]["log_growth"], rel=1e-8, abs=1e-10)
     assert runs[precision]["final_state"] == pytest.approx(runs["double"]["final_state"], rel=1e-9, abs=1e-11)
     assert not np.allclose(runs[precision]["final_state"][0], runs[precision]["final_state"][1])
