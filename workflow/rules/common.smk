@@ -57,7 +57,9 @@ def canonical(value):
     return value
 
 
-SCENE_CFG = {name: canonical(scene_catalog.scene_config(config, name)) for name in SCENES}
+SCENE_CFG = {
+    name: canonical(scene_catalog.scene_config(config, name)) for name in SCENES
+}
 
 
 def alternatives(names):
