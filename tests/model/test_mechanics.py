@@ -4,9 +4,8 @@ import numpy as np
 import pytest
 import sympy as sp
 
+from sleighsim.model import equations, printed
 from sleighsim.model import mechanics as mech
-from sleighsim.model import equations
-from sleighsim.model import printed
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import REFERENCE_STATE
 
@@ -58,7 +57,8 @@ def test_printed_Omegadot_and_omegadot_equal_derived_udot_differs(rng):
 
 
 def test_printed_udot_differs_by_the_omega_squared_term():
-    """docs/equations.md: printed b w^2 eps (eps (K2-1) + K2) cos / D vs derived b w^2 eps^2 (K2^2 + eps (K2-1)) cos / D."""
+    """docs/equations.md: printed b w^2 eps (eps (K2-1) + K2) cos / D vs derived
+    b w^2 eps^2 (K2^2 + eps (K2-1)) cos / D."""
     sub = mech.paper_substitution()
     derived = sp.together(mech.derive().rhs[0].subs(sub))
     udot_printed = printed.equations()[0]

@@ -114,7 +114,8 @@ def _initial_state(y0, kinematics: bool) -> np.ndarray:
 
 
 def _fail(scene, t, state, why):
-    raise IntegrationError(f"scene {scene or '?'}: integration failed at t = {t:.6g}, state = {np.asarray(state).tolist()}: {why}")
+    raise IntegrationError(f"scene {scene or '?'}: integration failed at t = {t:.6g}, "
+                           f"state = {np.asarray(state).tolist()}: {why}")
 
 
 def bound(y, kinematics: bool) -> tuple[np.ndarray, np.ndarray]:
@@ -249,7 +250,8 @@ def _run_scipy(params, y0, t0, times, kinematics, scene, progress, max_steps, *,
             next_report += report_every
         y = solver.y
         if i < len(times) and (not -math.pi <= y[equations.DELTA] < math.pi
-                               or (kinematics and (not 0 <= y[equations.THETA] < TWO_PI or max(abs(y[5]), abs(y[6])) > math.pi))):
+                               or (kinematics and (not 0 <= y[equations.THETA] < TWO_PI
+                                                   or max(abs(y[5]), abs(y[6])) > math.pi))):
             # SciPy's error control is per component, but rtol |delta| still loosens delta itself:
             # restart from the bounded state with the step size reached.
             state, moved = bound(y, kinematics)

@@ -28,7 +28,7 @@ from __future__ import annotations
 import math
 import os
 import time
-from typing import Callable
+from collections.abc import Callable
 
 import numpy as np
 
@@ -320,10 +320,10 @@ class EventRecorder:
     """Event callback of :func:`events`: stores (local t, u, Omega, omega, delta, time offset) in ``hits``."""
 
     def __init__(self):
-        self.hits: list = []
-        self.offset = 0.0
+        self.hits, self.offset = [], 0.0  # hits: list of tuples; offset: the chunk's absolute start time
 
     def __call__(self, ta, t, d_sgn):
+        """Record the dense state at the event time ``t`` (heyoka's non-terminal event callback)."""
         ta.update_d_output(t)
         self.hits.append((t, *ta.d_output[:4], self.offset))
 
