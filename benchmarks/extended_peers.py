@@ -260,9 +260,9 @@ def _coefficients_mpmath():
 def mpmath_rhs():
     """F(t, y) -> list of 4 mpf: the sleigh's rhs (peers' polynomial form, lambdified with modules="mpmath"),
     and its setup seconds (the lambdify; the SymPy derivation is built beforehand)."""
-    peers._lambdified.cache_clear()
+    peers.lambdified.cache_clear()
     w0 = time.perf_counter()
-    lam = peers._lambdified("mpmath")
+    lam = peers.lambdified("mpmath")
     setup = time.perf_counter() - w0
     return lam, setup
 

@@ -7,10 +7,10 @@ import math
 import numpy as np
 import pytest
 
-from sleighsim.engine import integrators
 from sleighsim.chaos import benettin
-from sleighsim.model import equations
+from sleighsim.engine import integrators
 from sleighsim.engine.integrate import bound, final_state, integrate, sample_grid
+from sleighsim.model import equations
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import REFERENCE_STATE
 
@@ -116,7 +116,8 @@ def test_benettin_sums_do_not_depend_on_the_renormalisation_interval(settled):
     assert np.max(np.abs(equations.state_difference(*ends))) < 1e-7
     ta, _ = integrators.sleigh_tangent(4, 2.0**-52, True)
     integrators.set_pars(ta, P)
-    lam = {tau: benettin.benettin(ta, 4, 4, settled, t_align=0.0, T=T, tau=tau)["exponents"] for tau in (10.0, 1.0, 0.1)}
+    lam = {tau: benettin.benettin(ta, 4, 4, settled, t_align=0.0, T=T, tau=tau)["exponents"]
+           for tau in (10.0, 1.0, 0.1)}
     for tau in (1.0, 0.1):
         assert np.all(np.abs(lam[tau] / lam[10.0] - 1) < 5e-3), (tau, lam[tau], lam[10.0])
 

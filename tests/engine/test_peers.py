@@ -8,7 +8,7 @@ import types
 import numpy as np
 import pytest
 
-from sleighsim.engine import peers
+from sleighsim.engine import peer_jax, peer_lyapunov, peer_scipy, peers
 from sleighsim.model.equations import Params
 
 PARAMS = Params.paper(eps=0.1).values
@@ -20,7 +20,7 @@ def _rhs(how):
         pytest.importorskip("numba")
     if how == "heyoka":
         pytest.importorskip("heyoka")
-    return peers.rhs_function(PARAMS, how)
+    return peer_scipy.rhs_function(PARAMS, how)
 
 
 @pytest.fixture(scope="module")
@@ -56,59 +56,59 @@ def test_the_heyoka_lyapunov_peer_is_our_compiled_system_with_its_parameters(sta
     """The heyoka row of the Lyapunov peers integrates the engine's system (coefficients as runtime
     parameters computed from the physical ones), which equals the peers' NumPy rhs."""
     hy = pytest.importorskip("heyoka")
-    sys_ = peers.sleigh_heyoka()
+    sys_ = peer_lyapunov.sleigh_heyoka()
     f = hy.cfunc([e for _, e in sys_], vars=[v for v, _ in sys_])
-    pars = np.tile(np.array(peers.sleigh_heyoka_pars(PARAMS))[:, None], (1, len(states)))
+    pars = np.tile(np.array(peer_lyapunov.sleigh_heyoka_pars(PARAMS))[:, None], (1, len(states)))
     got = f(states.T.copy(), pars=pars).T
     want = np.array([_rhs("numpy")(0.0, y) for y in states])
     assert np.max(np.abs(got - want)) <= 1e-13 * np.max(np.abs(want))
     with pytest.raises(ValueError, match="6 parameter values"):
-        peers.sleigh_heyoka_pars(PARAMS[:5])
+        peer_lyapunov.sleigh_heyoka_pars(PARAMS[:5])
 
 
 def test_compiled_rhs_rejects_unknown_kind():
     with pytest.raises(ValueError, match="numba"):
-        peers.compiled_rhs(PARAMS, how="cython")
+        peer_scipy.compiled_rhs(PARAMS, how="cython")
 
 
 @pytest.mark.parametrize("how", ["numba", "heyoka"])
 def test_scipy_with_compiled_rhs_follows_the_numpy_orbit(how):
-    y_np, nfev_np = peers.scipy_run(_rhs("numpy"), Y0, 10.0, "DOP853", 1e-10, 1e-13)
-    y, nfev = peers.scipy_run(_rhs(how), Y0, 10.0, "DOP853", 1e-10, 1e-13)
+    y_np, nfev_np = peer_scipy.scipy_run(_rhs("numpy"), Y0, 10.0, "DOP853", 1e-10, 1e-13)
+    y, nfev = peer_scipy.scipy_run(_rhs(how), Y0, 10.0, "DOP853", 1e-10, 1e-13)
     assert nfev > 0 and abs(nfev - nfev_np) <= 0.05 * nfev_np
     assert peers.state_error(y, y_np) < 1e-9
 
 
 def test_diffrax_dopri8_agrees_with_scipy_dop853():
     pytest.importorskip("diffrax")
-    ref, _ = peers.scipy_run(_rhs("numpy"), Y0, 10.0, "DOP853", 1e-12, 1e-15)
-    y = peers.diffrax_run(PARAMS, Y0, 10.0, 1e-10, 1e-13, solver="Dopri8")
+    ref, _ = peer_scipy.scipy_run(_rhs("numpy"), Y0, 10.0, "DOP853", 1e-12, 1e-15)
+    y = peer_jax.diffrax_run(PARAMS, Y0, 10.0, 1e-10, 1e-13, solver="Dopri8")
     assert y.shape == (4,) and y.dtype == np.float64
     assert peers.state_error(y, ref) < 1e-8
-    solve = peers.diffrax_solver(10.0, 1e-10, 1e-13, "Dopri8")
+    solve = peer_jax.diffrax_solver(10.0, 1e-10, 1e-13, "Dopri8")
     assert solve.compile_s > 0.0
 
 
 def test_lyapax_lorenz_lambda_1():
     pytest.importorskip("lyapax")
-    run = peers.lyapax_lorenz(T=500.0, tau=1.0, dt=0.01, t_transient=50.0, repeats=1)
-    assert abs(run.lambda_1 - peers.LORENZ_LAMBDA_1) < 0.05 * peers.LORENZ_LAMBDA_1
+    run = peer_lyapunov.lyapax_lorenz(T=500.0, tau=1.0, dt=0.01, t_transient=50.0, repeats=1)
+    assert abs(run.lambda_1 - peer_lyapunov.LORENZ_LAMBDA_1) < 0.05 * peer_lyapunov.LORENZ_LAMBDA_1
     assert run.compile_s > 0.0 and run.wall_s > 0.0 and run.settings["T"] == pytest.approx(500.0)
 
 
 def test_heyoka_lorenz_lambda_1():
     """The baseline lyapax is compared against: Benettin on heyoka's variational equations."""
     pytest.importorskip("heyoka")
-    run = peers.heyoka_lorenz(T=500.0, tau=1.0, t_transient=50.0, repeats=1, warmup=0)
-    assert abs(run.lambda_1 - peers.LORENZ_LAMBDA_1) < 0.05 * peers.LORENZ_LAMBDA_1
+    run = peer_lyapunov.heyoka_lorenz(T=500.0, tau=1.0, t_transient=50.0, repeats=1, warmup=0)
+    assert abs(run.lambda_1 - peer_lyapunov.LORENZ_LAMBDA_1) < 0.05 * peer_lyapunov.LORENZ_LAMBDA_1
 
 
 @pytest.mark.parametrize(
     ("module", "call"),
     [
-        ("numba", lambda: peers.compiled_rhs(PARAMS, how="numba")),
-        ("diffrax", lambda: peers.diffrax_run(PARAMS, Y0, 1.0, 1e-8, 1e-11)),
-        ("lyapax", lambda: peers.lyapax_lorenz(T=10.0)),
+        ("numba", lambda: peer_scipy.compiled_rhs(PARAMS, how="numba")),
+        ("diffrax", lambda: peer_jax.diffrax_run(PARAMS, Y0, 1.0, 1e-8, 1e-11)),
+        ("lyapax", lambda: peer_lyapunov.lyapax_lorenz(T=10.0)),
     ],
 )
 def test_missing_peer_raises_with_install_hint(monkeypatch, module, call):
@@ -121,7 +121,7 @@ def test_missing_peer_raises_with_install_hint(monkeypatch, module, call):
 def test_lyapax_api_mismatch_is_a_peer_unavailable(monkeypatch):
     monkeypatch.setitem(sys.modules, "lyapax", types.ModuleType("lyapax"))
     with pytest.raises(peers.PeerUnavailable, match="lacks"):
-        peers.lyapax_lorenz(T=10.0)
+        peer_lyapunov.lyapax_lorenz(T=10.0)
 
 
 def test_peer_versions_lists_every_peer():

@@ -4,9 +4,8 @@ import numpy as np
 import pytest
 import sympy as sp
 
+from sleighsim.model import equations, printed
 from sleighsim.model import mechanics as mech
-from sleighsim.model import equations
-from sleighsim.model import printed
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import REFERENCE_STATE
 
@@ -58,7 +57,8 @@ def test_printed_Omegadot_and_omegadot_equal_derived_udot_differs(rng):
 
 
 def test_printed_udot_differs_by_the_omega_squared_term():
-    """docs/equations.md: printed b w^2 eps (eps (K2-1) + K2) cos / D vs derived b w^2 eps^2 (K2^2 + eps (K2-1)) cos / D."""
+    """docs/equations.md: printed b w^2 eps (eps (K2-1) + K2) cos / D vs derived
+    b w^2 eps^2 (K2^2 + eps (K2-1)) cos / D."""
     sub = mech.paper_substitution()
     derived = sp.together(mech.derive().rhs[0].subs(sub))
     udot_printed = printed.equations()[0]
@@ -71,12 +71,6 @@ def test_printed_udot_differs_by_the_omega_squared_term():
     for _ in range(50):
         args = (*rng.uniform(-2, 2, 4), rng.uniform(0.01, 0.9), rng.uniform(0.2, 3), 1 + rng.uniform(0.01, 2))
         assert abs(gap(*args)) < 1e-12
-
-
-def test_printed_udot_does_not_conserve_energy():
-    ds = printed.energy_drift(Params.paper(eps=0.1), REFERENCE_STATE, np.linspace(0, 1000, 101))
-    assert ds.attrs["derived_max_abs_rel_change"] < 1e-11
-    assert ds.attrs["printed_max_abs_rel_change"] > 0.5  # measured: about 1.37 within 1000 time units
 
 
 def test_paper_energy_formula_matches_mechanics(rng):

@@ -5,12 +5,11 @@ import math
 import numpy as np
 import pytest
 
-from sleighsim.model import equations
-from sleighsim.model import sleigh0
 from sleighsim.engine.integrate import DEFAULT_TOL, integrate, sample_grid
+from sleighsim.engine.precision import Precision
+from sleighsim.model import equations, sleigh0
 from sleighsim.model.params import PARAM_NAMES, Params
 from sleighsim.model.symmetries import REFERENCE_LABEL, REFERENCE_STATE, energy_label, state_at_label
-from sleighsim.engine.precision import Precision
 
 REF = REFERENCE_STATE
 
@@ -74,7 +73,8 @@ def test_energy_is_a_first_integral_of_the_vector_field(rng):
     p = Params.paper(eps=0.4, b=0.7, K2=1.8)
     for y in rng.uniform(-2, 2, (20, 4)):
         h = 1e-6
-        grad = np.array([(equations.energy(y + h * e, p) - equations.energy(y - h * e, p)) / (2 * h) for e in np.eye(4)])
+        grad = np.array([(equations.energy(y + h * e, p) - equations.energy(y - h * e, p)) / (2 * h)
+                         for e in np.eye(4)])
         assert abs(grad @ equations.rhs(y, p)) < 1e-8 * (1 + np.abs(equations.rhs(y, p)).sum())
 
 

@@ -7,15 +7,14 @@ import pytest
 import sympy as sp
 
 from sleighsim.analysis import fits
-from sleighsim.model import equations
-from sleighsim.model import sleigh0
 from sleighsim.engine import transient
+from sleighsim.engine.hierarchy import integrate_hierarchy
+from sleighsim.engine.transient import interval_groups
+from sleighsim.model import equations, sleigh0
 from sleighsim.model import mechanics as mech
 from sleighsim.model import perturbation as pert
 from sleighsim.model.params import Params
 from sleighsim.scenes.hierarchy import convergence_study
-from sleighsim.engine.transient import interval_groups
-from sleighsim.engine.hierarchy import integrate_hierarchy
 
 REF = [0.0, 0.1, 1.0, 0.0]
 
@@ -124,4 +123,5 @@ def test_phase_detector_finds_known_change_points():
 
 
 def test_interval_groups():
-    assert interval_groups(np.array([2000.0, 2040.0, 1300.0, np.nan, 1310.0, 2090.0]), 0.05).tolist() == [0, 0, 1, -1, 1, 0]
+    intervals = np.array([2000.0, 2040.0, 1300.0, np.nan, 1310.0, 2090.0])
+    assert interval_groups(intervals, 0.05).tolist() == [0, 0, 1, -1, 1, 0]

@@ -17,6 +17,7 @@ from __future__ import annotations
 import logging
 import math
 import time
+from functools import partial
 
 import numpy as np
 import xarray as xr
@@ -69,25 +70,29 @@ def check_tol(tol, precision: Precision = Precision.DOUBLE) -> None:
 SCIPY_MIN_RTOL = 100 * 2.0**-52
 
 
-def _check_options(params, backend, tol, precision, method, rtol, atol) -> None:
-    """The arguments of :func:`integrate` that select the arithmetic: TypeError or ValueError naming
-    the argument and its admissible range, before any work."""
-    if not isinstance(params, Params):
-        raise TypeError(f"params = {params!r} must be a Params (Params.paper or Params.physical)")
-    if backend == "heyoka":
-        check_tol(tol, precision)
-    elif backend == "scipy":
-        if precision is not Precision.DOUBLE:
-            raise ValueError(f"precision {precision.value!r}: the SciPy backend runs in double only")
-        if method not in SCIPY_METHODS:
-            raise ValueError(f"unknown SciPy method {method!r}; choose one of {sorted(SCIPY_METHODS)}")
-        if not SCIPY_MIN_RTOL <= finite("rtol", rtol) < 1:
-            raise ValueError(f"rtol = {rtol} is outside the admissible range [{SCIPY_MIN_RTOL:.3g}, 1) (SciPy raises "
-                             "a smaller one to 100 x double's machine epsilon)")
-        if not finite("atol", atol) > 0:
-            raise ValueError(f"atol = {atol} is outside the admissible range (0, inf)")
-    else:
-        raise ValueError(f"unknown backend {backend!r}; choose 'heyoka' or 'scipy'")
+def _check_scipy(precision, method, rtol, atol) -> None:
+    """The SciPy backend's arithmetic (double only), ``method``, ``rtol`` and ``atol``: TypeError or
+    ValueError naming the argument and its admissible range, before any work."""
+    if precision is not Precision.DOUBLE:
+        raise ValueError(f"precision {precision.value!r}: the SciPy backend runs in double only")
+    if method not in SCIPY_METHODS:
+        raise ValueError(f"unknown SciPy method {method!r}; choose one of {sorted(SCIPY_METHODS)}")
+    if not SCIPY_MIN_RTOL <= finite("rtol", rtol) < 1:
+        raise ValueError(f"rtol = {rtol} is outside the admissible range [{SCIPY_MIN_RTOL:.3g}, 1) (SciPy raises "
+                         "a smaller one to 100 x double's machine epsilon)")
+    if not finite("atol", atol) > 0:
+        raise ValueError(f"atol = {atol} is outside the admissible range (0, inf)")
+
+
+def _sample_times(times, t0) -> tuple[np.ndarray, float]:
+    """The sample times as a float array and the start time (default: the first sample), checked."""
+    times = np.asarray(times, dtype=float).ravel()
+    if times.size == 0 or not np.all(np.isfinite(times)) or np.any(np.diff(times) <= 0):
+        raise ValueError("sample times must be a non-empty, finite, strictly increasing sequence")
+    t0 = float(times[0]) if t0 is None else float(t0)
+    if not (math.isfinite(t0) and t0 <= times[0]):
+        raise ValueError(f"t0 = {t0} is outside the admissible range (-inf, first sample time {times[0]}]")
+    return times, t0
 
 
 def _initial_state(y0, kinematics: bool) -> np.ndarray:
@@ -109,7 +114,8 @@ def _initial_state(y0, kinematics: bool) -> np.ndarray:
 
 
 def _fail(scene, t, state, why):
-    raise IntegrationError(f"scene {scene or '?'}: integration failed at t = {t:.6g}, state = {np.asarray(state).tolist()}: {why}")
+    raise IntegrationError(f"scene {scene or '?'}: integration failed at t = {t:.6g}, "
+                           f"state = {np.asarray(state).tolist()}: {why}")
 
 
 def bound(y, kinematics: bool) -> tuple[np.ndarray, np.ndarray]:
@@ -144,7 +150,8 @@ class _Path:
         self.span *= min(2.0, max(0.5, math.pi / moved))
 
 
-def _run_heyoka(params, y0, t0, times, kinematics, tol, precision, scene, progress, max_steps):
+def _run_heyoka(params, y0, t0, times, kinematics, scene, progress, max_steps, *, tol, precision):
+    """heyoka's Taylor integrator at ``tol`` in ``precision``: (samples in double, info attributes)."""
     import heyoka as hy
 
     ta, compile_s = integrators.flow(kinematics, tol, precision)
@@ -201,7 +208,8 @@ def _run_heyoka(params, y0, t0, times, kinematics, tol, precision, scene, progre
     return out, info
 
 
-def _run_scipy(params, y0, t0, times, method, rtol, atol, kinematics, compiled, scene, progress, max_steps):
+def _run_scipy(params, y0, t0, times, kinematics, scene, progress, max_steps, *, method, rtol, atol, compiled):
+    """SciPy's one-step ``method`` at ``rtol``/``atol``, stepped one step at a time: (samples, info attributes)."""
     from scipy.integrate import _ivp
 
     solvers = {m: getattr(_ivp, m) for m in SCIPY_METHODS}
@@ -242,7 +250,8 @@ def _run_scipy(params, y0, t0, times, method, rtol, atol, kinematics, compiled, 
             next_report += report_every
         y = solver.y
         if i < len(times) and (not -math.pi <= y[equations.DELTA] < math.pi
-                               or (kinematics and (not 0 <= y[equations.THETA] < TWO_PI or max(abs(y[5]), abs(y[6])) > math.pi))):
+                               or (kinematics and (not 0 <= y[equations.THETA] < TWO_PI
+                                                   or max(abs(y[5]), abs(y[6])) > math.pi))):
             # SciPy's error control is per component, but rtol |delta| still loosens delta itself:
             # restart from the bounded state with the step size reached.
             state, moved = bound(y, kinematics)
@@ -290,22 +299,31 @@ def integrate(
     the error scale of the dynamics; the samples of theta, x and y are the unwrapped, absolute
     values.
     """
-    _check_options(params, backend, tol, precision, method, rtol, atol)
-    times = np.asarray(times, dtype=float).ravel()
-    if times.size == 0 or not np.all(np.isfinite(times)) or np.any(np.diff(times) <= 0):
-        raise ValueError("sample times must be a non-empty, finite, strictly increasing sequence")
-    t0 = float(times[0]) if t0 is None else float(t0)
-    if not (math.isfinite(t0) and t0 <= times[0]):
-        raise ValueError(f"t0 = {t0} is outside the admissible range (-inf, first sample time {times[0]}]")
+    if not isinstance(params, Params):
+        raise TypeError(f"params = {params!r} must be a Params (Params.paper or Params.physical)")
+    if backend == "heyoka":
+        check_tol(tol, precision)
+        run = partial(_run_heyoka, tol=tol, precision=precision)
+    elif backend == "scipy":
+        _check_scipy(precision, method, rtol, atol)
+        run = partial(_run_scipy, method=method, rtol=rtol, atol=atol, compiled=compiled)
+    else:
+        raise ValueError(f"unknown backend {backend!r}; choose 'heyoka' or 'scipy'")
+    times, t0 = _sample_times(times, t0)
     y0 = _initial_state(y0, kinematics)
 
     start = time.perf_counter()
-    if backend == "heyoka":
-        states, info = _run_heyoka(params, y0, t0, times, kinematics, tol, precision, scene, progress, max_steps)
-    else:
-        states, info = _run_scipy(params, y0, t0, times, method, rtol, atol, kinematics, compiled, scene, progress,
-                                  max_steps)
+    states, info = run(params, y0, t0, times, kinematics, scene, progress, max_steps)
     wall = time.perf_counter() - start
+    ds = _record(params, y0, t0, times, states, kinematics, scene, wall, info)
+    log.info("%s: done in %.3g s, %d steps, max relative energy drift %.3g", scene, wall, info["steps"],
+             ds.attrs["energy_max_rel_drift"])
+    return ds
+
+
+def _record(params, y0, t0, times, states, kinematics, scene, wall, info) -> xr.Dataset:
+    """The sampled ``states`` as a Dataset (delta reported in [0, 2 pi)) with the parameters, initial
+    state, energy drift, wall time [s] and the backend's ``info`` as attributes."""
     states[:, equations.DELTA] %= TWO_PI
 
     E0 = float(equations.energy(bound(y0, kinematics)[0][:4], params))
@@ -323,7 +341,6 @@ def integrate(
         scene=scene, t0=t0, t_end=float(times[-1]), n_samples=int(times.size),
         energy_max_rel_drift=drift, wall_time_s=wall, **info,
     )
-    log.info("%s: done in %.3g s, %d steps, max relative energy drift %.3g", scene, wall, info["steps"], drift)
     return ds
 
 

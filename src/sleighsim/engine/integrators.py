@@ -1,30 +1,26 @@
-"""Compiled heyoka integrators: every builder of the project (the flow, its tangent and MEGNO
-extensions, the section events, the divergence quadrature, the perturbation hierarchy), one cache
-per process, and the angles each keeps bounded.
+"""Compiled heyoka integrators: every builder of the project (the flow, its tangent and MEGNO extensions, the
+section events, the divergence quadrature, the perturbation hierarchy, the printed equations), one cache per
+process, and the angles each keeps bounded.
 
-An integrator is compiled once per process for its structure (system, tolerance, mode) and
-reused; parameters are runtime par[] and states are set per run. heyoka also keeps compiled
-code in its on-disk cache (heyoka.llvm_state), so a new process reuses earlier compilations.
+An integrator is compiled once per process for its structure (system, tolerance, mode) and reused; parameters are
+runtime par[] and states are set per run. heyoka also keeps compiled code in its on-disk cache (heyoka.llvm_state),
+so a new process reuses earlier compilations.
 
-Bounded angles. heyoka sizes its steps from the infinity norm of the whole state, so an angle
-that grows without bound (delta = theta - beta decreases by about 3.4 per time unit at
-eps = 0.1) loosens the accuracy of u and Omega in proportion to it. The equations depend on
-delta only through sin and cos, so reducing it by whole turns is an exact symmetry: every
-integrator registers its angles here, and every propagation passes :func:`bounded` as its
-step callback (heyoka's compiled angle reducer, which brings them back to [0, 2 pi) after
-every step, at no measurable cost per step). The sleigh's integrators store delta + pi, so
-the reduced angle is delta in [-pi, pi) and never exceeds |omega| (about 3.4 on the attractor)
-in that norm; :func:`load`, :func:`read` and :func:`samples` convert to and from the model's
-variables.
+Bounded angles. heyoka sizes its steps from the infinity norm of the whole state, so an angle that grows without
+bound (delta = theta - beta decreases by about 3.4 per time unit at eps = 0.1) loosens the accuracy of u and Omega
+in proportion to it. The equations depend on delta only through sin and cos, so reducing it by whole turns is an
+exact symmetry: every integrator registers its angles here, and every propagation passes :func:`bounded` as its step
+callback (heyoka's compiled angle reducer, which brings them back to [0, 2 pi) after every step, at no measurable
+cost per step). The sleigh's integrators store delta + pi, so the reduced angle is delta in [-pi, pi) and never
+exceeds |omega| (about 3.4 on the attractor) in that norm; :func:`load`, :func:`read` and :func:`samples` convert to
+and from the model's variables.
 
-JIT cache. heyoka's on-disk cache is on by default (~/.cache/heyoka); ``SLEIGHSIM_JIT_CACHE``
-points it elsewhere, e.g. node-local storage on a cluster (the cache does not support network
-file systems). Measured per process on this machine (CPU seconds, median of 3,
-benchmarks/startup.py): building the plain flow 0.76 s without the cache, 0.22 s with it (0.09 s
-of that lambdifies the polynomial form's coefficients, once per process); the 4-lane tangent
-batch 0.59 s, 0.04 s. (Measured over 1e6 time units from the reference state at tol 2.2e-16: energy
-drift 1.0e-12 with delta in [0, 2 pi), 5.9e-13 with delta in [-pi, pi); 2.3e-12 within 1e4
-time units when delta is left to grow.)
+JIT cache. heyoka's on-disk cache is on by default (~/.cache/heyoka); ``SLEIGHSIM_JIT_CACHE`` points it elsewhere,
+e.g. node-local storage on a cluster (the cache does not support network file systems). Measured per process on this
+machine (CPU seconds, median of 3, benchmarks/startup.py): building the plain flow 0.76 s without the cache, 0.22 s
+with it (0.09 s of that lambdifies the polynomial form's coefficients, once per process); the 4-lane tangent batch
+0.59 s, 0.04 s. (Measured over 1e6 time units from the reference state at tol 2.2e-16: energy drift 1.0e-12 with
+delta in [0, 2 pi), 5.9e-13 with delta in [-pi, pi); 2.3e-12 within 1e4 time units when delta is left to grow.)
 """
 
 from __future__ import annotations
@@ -32,7 +28,7 @@ from __future__ import annotations
 import math
 import os
 import time
-from typing import Callable
+from collections.abc import Callable
 
 import numpy as np
 
@@ -324,10 +320,10 @@ class EventRecorder:
     """Event callback of :func:`events`: stores (local t, u, Omega, omega, delta, time offset) in ``hits``."""
 
     def __init__(self):
-        self.hits: list = []
-        self.offset = 0.0
+        self.hits, self.offset = [], 0.0  # hits: list of tuples; offset: the chunk's absolute start time
 
     def __call__(self, ta, t, d_sgn):
+        """Record the dense state at the event time ``t`` (heyoka's non-terminal event callback)."""
         ta.update_d_output(t)
         self.hits.append((t, *ta.d_output[:4], self.offset))
 
@@ -349,6 +345,17 @@ def events(tol: float, precision: Precision = Precision.DOUBLE):
                                   nt_events=[hy.nt_event(hy.sin(2.0 * stored), EventRecorder(), fp_type=fp)])
 
     return compiled(("events", tol, precision), build)
+
+
+def printed(tol: float):
+    """The paper's equations as printed (``model.printed``, audit only), compiled once per process: (ta, compile_s)."""
+    import heyoka as hy
+
+    from sleighsim.model.printed import heyoka_system  # here, not at the top: SymPy costs start-up time
+
+    y0, pars = [0.0, 0.1, 1.0, 0.0], [0.1, 1.0, 1.1]  # pars: (eps, b, K2); delta unshifted, kept in [0, 2 pi)
+    return compiled(("printed", tol), lambda: hy.taylor_adaptive(heyoka_system(), y0, pars=pars, tol=tol),
+                    angles={"delta": (3, 0.0)})
 
 
 def hierarchy(order: int, tol: float):

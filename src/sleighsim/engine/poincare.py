@@ -27,8 +27,8 @@ log = logging.getLogger("sleighsim")
 TWO_PI = 2.0 * math.pi
 
 
-def crossings(params: Params, y0, t0: float, t_end: float, *, tol: float = 2.0**-52, precision: Precision = Precision.DOUBLE,
-              scene: str = "", progress: int = 20) -> dict:
+def crossings(params: Params, y0, t0: float, t_end: float, *, tol: float = 2.0**-52,
+              precision: Precision = Precision.DOUBLE, scene: str = "", progress: int = 20) -> dict:
     """All crossings of delta = k pi/2 for t in (t0, t_end], starting from y0 at t0, integrated in
     ``precision`` at ``tol``; the crossings are returned in double.
 
@@ -188,7 +188,8 @@ def scaled_set_distance(ref_points, ref_classes, other_points, other_classes, c:
     out = {}
     for tag, factor in (("scaled", c), ("unscaled", 1.0)):
         d = np.concatenate([
-            cKDTree(ref[np.asarray(ref_classes) == k]).query(np.asarray(other_points)[np.asarray(other_classes) == k] / factor)[0]
+            cKDTree(ref[np.asarray(ref_classes) == k]).query(
+                np.asarray(other_points)[np.asarray(other_classes) == k] / factor)[0]
             for k in np.unique(ref_classes)
         ]) / size
         out[f"{tag}_median"] = float(np.median(d))

@@ -23,6 +23,7 @@ class Precision(enum.StrEnum):
     QUAD = ("quad", "quad", 2.0**-112, 2.0**-113)  # heyoka's real128
 
     def __new__(cls, name: str, tag: str, epsilon: float, rounding: float):
+        """A member: config ``name``, file ``tag``, machine ``epsilon`` and unit ``rounding`` (half of it)."""
         member = str.__new__(cls, name)
         member._value_ = name
         member.tag, member.epsilon, member.rounding = tag, epsilon, rounding

@@ -9,7 +9,7 @@ import numpy as np
 import sympy as sp
 import xarray as xr
 
-from sleighsim.engine import transient
+from sleighsim.engine import printed_flow, transient
 from sleighsim.engine.integrate import sample_grid
 from sleighsim.model import equations, printed
 from sleighsim.model import mechanics as mech
@@ -30,7 +30,7 @@ def printed_model(cfg: dict, scene: str = "") -> xr.Dataset:
     D4 the term missing from the printed beta equation (dL/dbeta); D5 the physical energy
     of the reference state; D6 whether eps > 1 is admissible."""
     params = Params.from_config(cfg["params"])
-    ds = printed.energy_drift(params, cfg["y0"], sample_grid(0.0, cfg["t_end"], cfg["dt"]), cfg["tol"])
+    ds = printed_flow.energy_drift(params, cfg["y0"], sample_grid(0.0, cfg["t_end"], cfg["dt"]), cfg["tol"])
     # D2: printed Omegadot against the derivation under two readings of K^2.
     rng = np.random.default_rng(0)
     Y = rng.uniform(-1, 1, (200, 4))
@@ -114,7 +114,7 @@ def _printed_spikes(params: Params, cfg: dict) -> dict:
     (with their wrong udot) are integrated from the reference state."""
     sc = cfg["spikes"]
     times = sample_grid(0.0, sc["t_end"], sc["dt"])
-    Y = printed.trajectory(params, cfg["y0"], times, cfg["tol"])
+    Y = printed_flow.trajectory(params, cfg["y0"], times, cfg["tol"])
     ph = transient.phases(times, Y[:, 0], Y[:, 1], Y[:, 2], **sc["transient"])
     return {"printed_first_spike": ph["first_spike"], "printed_spike_interval": ph["spike_interval_mean"],
             "printed_n_spikes": ph["n_spikes"], "printed_spikes_t_end": sc["t_end"]}

@@ -78,7 +78,7 @@ def work_precision(cfg: dict) -> xr.Dataset:
         if backend == "heyoka":
             integrators.flow(False, tol)  # compile outside the timed runs
         reps = cfg["repeats"] if backend == "heyoka" else cfg["scipy_repeats"]
-        short, wall_short = _median_run(lambda: integrate(params, y0, [0.0, cfg["t_short"]], **kw), reps)
+        short, wall_short = _median_run(lambda kw=kw: integrate(params, y0, [0.0, cfg["t_short"]], **kw), reps)
         err = float(np.max(np.abs(equations.state_difference(final_state(short), ref))))
         row = dict(backend=backend, method=method, tol=tol, error_short=err, wall_short=wall_short,
                    drift_long=np.nan, wall_long=np.nan, steps_long=-1,
@@ -92,7 +92,8 @@ def work_precision(cfg: dict) -> xr.Dataset:
                        spike_interval=transient.interval_stats(spikes)[0], n_spikes=int(spikes.size))
         rows.append(row)
         log.info("bench %s %s %.0e: error %.2g in %.3g s; drift %.2g in %.3g s; spike interval %.5g", backend,
-                 method, tol, err, wall_short, rows[-1]["drift_long"], rows[-1]["wall_long"], rows[-1]["spike_interval"])
+                 method, tol, err, wall_short, rows[-1]["drift_long"], rows[-1]["wall_long"],
+                 rows[-1]["spike_interval"])
     ds = xr.Dataset({k: ("run", np.array([r[k] for r in rows])) for k in rows[0]})
     ds["reference_state"] = ("component", ref)
     ds.attrs.update(params.attrs())
@@ -163,7 +164,8 @@ def lyapunov_kernel_scipy(cfg: dict) -> xr.Dataset:
     rows = []
     for method, rtols in cfg["scipy_lyapunov"].items():
         for rtol in rtols:
-            lam, wall = scipy_max_le(params, y, cfg["T_lyapunov"], LYAPUNOV_TAU, method, rtol, rtol * cfg["atol_factor"])
+            lam, wall = scipy_max_le(params, y, cfg["T_lyapunov"], LYAPUNOV_TAU, method, rtol,
+                                     rtol * cfg["atol_factor"])
             rows.append((method, rtol, lam, wall))
             log.info("bench Lyapunov SciPy %s %.0e: lambda_1 %.5g in %.3g s", method, rtol, lam, wall)
     return xr.Dataset({"lyap_scipy_method": ("lyap_scipy", [r[0] for r in rows]),
@@ -262,7 +264,8 @@ QUICK = dict(
     params={"eps": 0.1, "b": 1.0, "K2": 1.1}, y0=[0.0, 0.1, 1.0, 0.0], t_short=100.0, t_long=600.0, dt_long=0.5,
     t_min=50.0, heyoka_tols=[1e-8, 1e-12, 2.220446049250313e-16], reference_tols=[1e-19, 1e-17],
     scipy={"DOP853": [1e-8], "RK45": [1e-6]}, atol_factor=1e-3, repeats=3, scipy_repeats=1, t_settle=100.0,
-    T_lyapunov=200.0, scipy_lyapunov={"DOP853": [1e-8]}, t_rotation=100.0, rel_converged=0.01, rel_converged_lyapunov=0.05, error_targets=[1e-6, 1e-8],
+    T_lyapunov=200.0, scipy_lyapunov={"DOP853": [1e-8]}, t_rotation=100.0, rel_converged=0.01,
+    rel_converged_lyapunov=0.05, error_targets=[1e-6, 1e-8],
     peers=dict(rtols=[1e-6, 1e-8], scipy_methods=["DOP853"], rhs_kinds=["numpy", "heyoka"], diffrax_solvers=["Dopri8"],
                repeats=3, warmup=1, lyapunov=dict(T_lorenz=200.0, T_sleigh=200.0, tau=1.0, repeats=1, lyapax_dt=[0.01],
                                                   lyapax_dt_sleigh=[0.05], heyoka_tols=[1e-9])),
@@ -280,6 +283,7 @@ def summary(ds: xr.Dataset) -> dict:
 
 
 def main(argv=None):
+    """The bench from the command line: run it (or ``--quick``) into OUT, or ``--summarize`` an existing one."""
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("out", help="netCDF file to write")
     parser.add_argument("--config", help="YAML file with a bench block (default: config/config.yaml)")

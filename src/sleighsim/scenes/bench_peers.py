@@ -1,4 +1,4 @@
-"""The peer comparison of the bench (``cfg["peers"]``, sleighsim.engine.peers): every engine a Python
+"""The peer comparison of the bench (``cfg["peers"]``, sleighsim.engine.peer_*): every engine a Python
 user would pick instead (SciPy with the Python and with compiled right-hand sides, diffrax) and
 heyoka's bare propagation at the same rtols, all against the same long-double reference with the
 same error metric, each timed after a warm-up as the median of ``repeats``, compile times beside;
@@ -13,14 +13,14 @@ import math
 import numpy as np
 import xarray as xr
 
-from sleighsim.engine import integrators, peers
+from sleighsim.engine import integrators, peer_lyapunov, peer_table, peers
 
 log = logging.getLogger("sleighsim")
 
 
 def heyoka_end_state(params, y0, t_end, tol):
     """heyoka's bare propagation to t_end (delta kept bounded), the engine-level peer of
-    peers.scipy_run: returns (run() -> end state, compile seconds)."""
+    peer_scipy.scipy_run: returns (run() -> end state, compile seconds)."""
     ta, compile_s = integrators.flow(False, tol)
 
     def run():
@@ -39,7 +39,7 @@ def peer_runs(cfg: dict, params, y0, ref) -> list[dict]:
     the long-double reference ``ref`` (max over components, delta modulo 2 pi), median wall after
     warm-up, compile seconds. A peer that is missing or fails is a row with error None and a note."""
     pc = cfg["peers"]
-    rows = peers.integration_table(
+    rows = peer_table.integration_table(
         params.values, y0, cfg["t_short"], rtols=pc["rtols"], atol_factor=cfg["atol_factor"],
         scipy_methods=pc["scipy_methods"], rhs_kinds=pc["rhs_kinds"], diffrax_solvers=pc["diffrax_solvers"],
         repeats=pc["repeats"], warmup=pc["warmup"], reference=ref, log=log.info)
@@ -99,13 +99,13 @@ def lyapunov_peers(cfg: dict, params) -> xr.Dataset:
     and on the sleigh over the same T and tau; a missing lyapax is a row with a note."""
     lc = cfg["peers"]["lyapunov"]
     kw = dict(tau=lc["tau"], repeats=lc["repeats"])
-    runs = [("lorenz", f"lyapax RK4 dt {dt:g}", lambda dt=dt: peers.lyapax_lorenz(T=lc["T_lorenz"], dt=dt, **kw))
-            for dt in lc["lyapax_dt"]]
-    runs += [("lorenz", f"heyoka tol {tol:g}", lambda tol=tol: peers.heyoka_lorenz(T=lc["T_lorenz"], tol=tol, **kw))
-             for tol in lc["heyoka_tols"]]
-    runs += [("sleigh", f"lyapax RK4 dt {dt:g}", lambda dt=dt: peers.lyapax_sleigh(
+    runs = [("lorenz", f"lyapax RK4 dt {dt:g}", lambda dt=dt: peer_lyapunov.lyapax_lorenz(
+        T=lc["T_lorenz"], dt=dt, **kw)) for dt in lc["lyapax_dt"]]
+    runs += [("lorenz", f"heyoka tol {tol:g}", lambda tol=tol: peer_lyapunov.heyoka_lorenz(
+        T=lc["T_lorenz"], tol=tol, **kw)) for tol in lc["heyoka_tols"]]
+    runs += [("sleigh", f"lyapax RK4 dt {dt:g}", lambda dt=dt: peer_lyapunov.lyapax_sleigh(
         params.values, T=lc["T_sleigh"], dt=dt, **kw)) for dt in lc["lyapax_dt_sleigh"]]
-    runs += [("sleigh", f"heyoka tol {tol:g}", lambda tol=tol: peers.heyoka_sleigh(
+    runs += [("sleigh", f"heyoka tol {tol:g}", lambda tol=tol: peer_lyapunov.heyoka_sleigh(
         params.values, T=lc["T_sleigh"], tol=tol, **kw)) for tol in lc["heyoka_tols"]]
     out = []
     for system, name, fn in runs:
@@ -123,4 +123,4 @@ def lyapunov_peers(cfg: dict, params) -> xr.Dataset:
                        "lyap_peer_compile_s": ("lyap_peer", np.array(cols[4], float)),
                        "lyap_peer_note": ("lyap_peer", np.array(cols[5], dtype=object).astype(str))},
                       attrs={"lyap_peer_T_lorenz": lc["T_lorenz"], "lyap_peer_T_sleigh": lc["T_sleigh"],
-                             "lyap_peer_tau": lc["tau"], "lorenz_lambda_1_literature": peers.LORENZ_LAMBDA_1})
+                             "lyap_peer_tau": lc["tau"], "lorenz_lambda_1_literature": peer_lyapunov.LORENZ_LAMBDA_1})
