@@ -175,6 +175,8 @@ def measure(ta, system, y0, T, repeats, warmup_T, what):
 
 
 def settled_state(params, y0, t_transient):
+    """The sleigh state (u, Omega, omega, delta) after ``t_transient`` time units from y0 at ``params``,
+    in double at its machine epsilon (angle kept bounded), as a float array; raises if the run stops early."""
     ta = integrators.flow(False, Precision.DOUBLE.epsilon)[0]
     integrators.set_pars(ta, params)
     ta.time = 0.0

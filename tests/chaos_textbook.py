@@ -28,8 +28,7 @@ import math
 
 import numpy as np
 
-from sleighsim.chaos import orbits
-from sleighsim.chaos import tangent
+from sleighsim.chaos import orbits, tangent
 from sleighsim.chaos.verdicts import UNDECIDED
 from sleighsim.engine import integrators
 

@@ -3,11 +3,10 @@
 import numpy as np
 import pytest
 import xarray as xr
+from test_judges import PAPER, _audit, _psd, _ref
 
 from sleighsim.claims import causes
 from sleighsim.claims.rules import Judgement
-
-from test_judges import PAPER, _audit, _psd, _ref
 
 J = Judgement("differs", "m", "r")
 K2 = [1.05, 1.1, 1.2, 1.3]

@@ -8,12 +8,11 @@ from pathlib import Path
 
 import pytest
 import xarray as xr
+from test_judges import _ref, _spectrum
 
 from sleighsim.claims import ledger as claims
-from sleighsim.report.figures.catalog import FIGURES
 from sleighsim.io.netcdf import read_dataset, write_dataset
-
-from test_judges import _ref, _spectrum
+from sleighsim.report.figures.catalog import FIGURES
 
 ROOT = Path(__file__).resolve().parents[2]
 CLAIMS_MD = ROOT / "paper" / "CLAIMS.md"

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from sleighsim.claims import ledger as claims
 from sleighsim.claims import judges
+from sleighsim.claims import ledger as claims
 from sleighsim.claims.judges import lyapunov, perturbation, sleigh0, steady_state, transients
 from sleighsim.claims.rules import CANNOT, DIFFERS, NOT_YET, REPRODUCED, all_of, digits, number
 from sleighsim.report.figures.catalog import FIGURES

@@ -11,11 +11,11 @@ from conftest import SMOKE
 from test_claims_report import CLAIMS_MD, LADDERED, PLAIN, REALIZED, _fig9, _ladder
 from test_judges import _spectrum
 
-from sleighsim.scenes import catalog
+from sleighsim.claims import ledger as claims
 from sleighsim.io.netcdf import write_dataset
 from sleighsim.ops.config import merged_config
-from sleighsim.claims import ledger as claims
 from sleighsim.report.figures.catalog import FIGURES
+from sleighsim.scenes import catalog
 
 LONG = "precision/long_double/fig9_ref"
 

@@ -11,12 +11,12 @@ import pytest
 import yaml
 from test_config import PLENTY, ROOT, SCHEMA, SMOKE, refused, with_value
 
+from sleighsim.engine.precision import Precision
+from sleighsim.model.params import Params
 from sleighsim.ops import configcheck
-from sleighsim.scenes import catalog
 from sleighsim.ops.configcheck import ConfigError
 from sleighsim.ops.configdoc import _resolve
-from sleighsim.model.params import Params
-from sleighsim.engine.precision import Precision
+from sleighsim.scenes import catalog
 
 REF = [0.0, 0.1, 1.0, 0.0]
 P = Params.paper(eps=0.1)

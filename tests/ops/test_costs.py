@@ -10,15 +10,13 @@ from pathlib import Path
 import pytest
 import yaml
 
-from sleighsim.scenes import catalog
-from sleighsim.ops import costs
-from sleighsim.ops import jobgraph
-from sleighsim.report.figures import costs as plots
-from sleighsim.ops import workmodel
 from sleighsim.io.benchmark_files import read_benchmark
+from sleighsim.ops import costs, jobgraph, workmodel
 from sleighsim.ops.estimate import estimate
 from sleighsim.ops.summary import SCHEMA, summarize
+from sleighsim.report.figures import costs as plots
 from sleighsim.report.figures.common import legibility
+from sleighsim.scenes import catalog
 
 ROOT = Path(__file__).resolve().parents[2]
 HEADER = "s\th:m:s\tmax_rss\tmax_vms\tmax_uss\tmax_pss\tio_in\tio_out\tmean_load\tcpu_time\n"

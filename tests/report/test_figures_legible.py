@@ -8,8 +8,8 @@ import pytest
 import xarray as xr
 from conftest import smoke_config
 
-from sleighsim.report.figures import catalog as figure_catalog
 from sleighsim.report import figures
+from sleighsim.report.figures import catalog as figure_catalog
 from sleighsim.report.figures.common import finish, legibility
 from sleighsim.scenes import catalog
 

@@ -102,8 +102,8 @@ def test_changing_the_grid_runtime_resource_reruns_nothing(smoke_run, tmp_path):
 def test_set_aside_moves_only_unreadable_products(tmp_path):
     import xarray as xr
 
-    from sleighsim.io.netcdf import write_dataset
     from sleighsim.io.integrity import set_aside
+    from sleighsim.io.netcdf import write_dataset
 
     results = tmp_path / "results"
     write_dataset(xr.Dataset({"u": ("t", [1.0, 2.0])}), results / "data" / "good.nc")

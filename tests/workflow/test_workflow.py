@@ -12,9 +12,9 @@ import pytest
 import yaml
 from conftest import ROOT, SMOKE, smoke_config, snakemake
 
+from sleighsim.io.netcdf import read_dataset
 from sleighsim.report.figures import catalog as figure_catalog
 from sleighsim.scenes import catalog
-from sleighsim.io.netcdf import read_dataset
 
 SMOKE_CFG = smoke_config()  # config/smoke.yaml is an overlay (tests/test_config.py checks it)
 PAPER_CFG = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
@@ -222,8 +222,8 @@ def test_the_smoke_ledger_judges_what_the_smoke_config_declares(smoke_run):
     """The claims rule passes the run's config to the ledger: C16 (fig9_ref, laddered in smoke.yaml)
     is judged in long double, C18 (lyap_spectrum, realized) on every realization; re-judging the
     tree from the command line's merged config gives the same rows."""
-    from sleighsim.ops.config import merged_config
     from sleighsim.claims import ledger as claims
+    from sleighsim.ops.config import merged_config
 
     assert "long double" in catalog.laddered(SMOKE_CFG)["fig9_ref"] and "lyap_spectrum" in catalog.realized(SMOKE_CFG)
     results = smoke_run / "results"

@@ -103,8 +103,8 @@ def gauge(params_cfg: dict, y, *, T: float, tau: float, spike_factor: float, tol
     """The faithfulness gauge along the settled orbit from y (``faithfulness.spike_cycle_gains``, in
     double at tol over T in steps of tau): ln G per spike cycle and, per arithmetic, G x rounding and
     whether it follows the orbit ("unknown" without a complete cycle within T)."""
-    from sleighsim.engine import integrators
     from sleighsim.chaos.faithfulness import spike_cycle_gains
+    from sleighsim.engine import integrators
     from sleighsim.model.params import Params
 
     ta, _ = integrators.sleigh_tangent(4, tol, True)

@@ -35,16 +35,16 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from sleighsim.chaos.rule import agree
 from sleighsim.chaos.faithfulness import UNKNOWN
-from sleighsim.engine.precision import Precision
-from sleighsim.io.netcdf import read_dataset, write_dataset, write_text
-from sleighsim.scenes.catalog import ladder_name, laddered, realization_name, realized, variant
+from sleighsim.chaos.rule import agree
 from sleighsim.claims import rules
 from sleighsim.claims.causes import CAUSE_TESTS
 from sleighsim.claims.evidence import CAUSES, EVIDENCE
 from sleighsim.claims.judges import JUDGES
 from sleighsim.claims.rules import CANNOT, DIFFERS, DOUBLE_ONLY, FRAGILE, NOT_YET, REPRODUCED, VERDICTS
+from sleighsim.engine.precision import Precision
+from sleighsim.io.netcdf import read_dataset, write_dataset, write_text
+from sleighsim.scenes.catalog import ladder_name, laddered, realization_name, realized, variant
 
 ID = re.compile(r"[FCD]\d+")
 PRECISIONS = tuple(p.value for p in Precision)  # coarse to fine

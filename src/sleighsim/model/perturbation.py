@@ -18,7 +18,7 @@ initial data vanish (the paper's case).
 
 from __future__ import annotations
 
-from functools import lru_cache
+from functools import cache
 
 import numpy as np
 import sympy as sp
@@ -56,7 +56,7 @@ def _kappa_form(poly_in_eps):
     return sp.expand(out)
 
 
-@lru_cache(maxsize=None)
+@cache
 def paper_form():
     """(F_u, F_Omega, F_omega) as rational functions of (u, Omega, omega, S, C; eps, b, K2, kappa).
 
@@ -149,7 +149,7 @@ def _series_of(poly, base, order):
     return total
 
 
-@lru_cache(maxsize=None)
+@cache
 def hierarchy(order: int) -> dict:
     """The hierarchy to ``order``: {'u': [udot_0, ..., udot_order], 'Omega': [...], 'omega': [...],
     'delta': [...]} as SymPy expressions in the symbols of :func:`symbols` and (b, K2, kappa)."""
@@ -223,6 +223,7 @@ def compare_printed(kappa_value=1) -> list[dict]:
 
 
 def state_names(order: int) -> list[str]:
+    """The hierarchy's state names to ``order``, order by order: u0, Omega0, omega0, delta0, u1, ..."""
     return [f"{v}{k}" for k in range(order + 1) for v in VARS]
 
 

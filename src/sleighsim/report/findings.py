@@ -8,8 +8,8 @@ import math
 
 import numpy as np
 
-from sleighsim.io.netcdf import read_dataset
 from sleighsim.analysis.observables import SEPARATED
+from sleighsim.io.netcdf import read_dataset
 from sleighsim.model.symmetries import REFERENCE_STATE
 from sleighsim.report.page import Table
 

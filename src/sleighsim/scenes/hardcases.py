@@ -102,6 +102,8 @@ def case_on_section(name, cfg):
 
 
 def case_refused(name, build):
+    """An inadmissible input: ``build()`` must raise ValueError (outcome "refused", its message the detail),
+    else the row is "degraded"."""
     try:
         build()
     except ValueError as err:

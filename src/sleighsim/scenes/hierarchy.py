@@ -93,7 +93,7 @@ def series_vs_exact(cfg: dict, scene: str = "") -> xr.Dataset:
     data = series_errors(exact, h, eps, order)
     conv = convergence_study({"tol": cfg["tol"], **cfg["convergence"]})
     cc = cfg["convergence"]
-    for o, (errs, slope, predicted) in conv.items():
+    for o, (errs, _slope, _predicted) in conv.items():
         data[f"convergence_error_order{o}"] = (("eps_study",), errs,
                                                cf.attrs(f"max error of the order-{o} partial sum on "
                                                         f"[0, {cc['t_end']:g}] (u, Omega, omega, delta, in their "

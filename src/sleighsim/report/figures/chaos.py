@@ -9,9 +9,9 @@ from matplotlib.lines import Line2D
 from matplotlib.ticker import NullFormatter
 
 from sleighsim.io.netcdf import read_dataset
-from sleighsim.report.page import CHAOS_COLOURS
 from sleighsim.report.figures.common import LABELS, RATE, WIDTH, finish
 from sleighsim.report.figures.figure import Figure
+from sleighsim.report.page import CHAOS_COLOURS
 
 #: The chaotic classes of a state (chaos.rule.classify), drawn in the chaotic colour.
 CHAOTIC_CLASSES = ("strange attractor", "conservative-type chaos", "mixed dynamics")
