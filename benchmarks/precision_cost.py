@@ -8,7 +8,8 @@ Rows: every (system, precision, compact_mode, high_accuracy) with system "flow" 
 "tangent" (the sleigh plus one tangent vector, heyoka's variational equations, k = 1), precision one of
 sleighsim.engine.precision.Precision, each at its own machine epsilon as tolerance, and high_accuracy on only in
 double. Integrators come from the project's builders (integrators.flow: compact mode off in double and
-long double, on in quad; integrators.sleigh_tangent; integrators.tangent_integrator for quad); where they have no such option
+long double, on in quad; integrators.sleigh_tangent; integrators.tangent_integrator for quad); where they have
+no such option
 (compact_mode for the flow, high_accuracy anywhere) the integrator is built the way they build it with that
 option changed, and registered with integrators.compiled so its angle is kept bounded like theirs.
 

@@ -172,7 +172,8 @@ def c20(judgement, paper, err):
     """The likely causes of a differing C20 (``judgement``: its judge's, ``paper``: the claim's values) tested
     on ``err``; returns the ledger's cause text."""
     lam1 = err.protocol_exponent.values[:, 0]
-    text = "lambda_1 of the protocol " + ", ".join(f"{v:.2g} at rtol {r:.0e}" for r, v in zip(err.lyapunov_rtol.values, lam1))
+    text = "lambda_1 of the protocol " + ", ".join(f"{v:.2g} at rtol {r:.0e}"
+                                                  for r, v in zip(err.lyapunov_rtol.values, lam1))
     hit = any(abs(v - paper["smallest"]) <= REL_TOL * paper["smallest"] for v in lam1)
     return _verdict([(f"integration error ({err.attrs['method']} protocol)", hit, text)])
 

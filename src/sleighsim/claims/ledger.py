@@ -180,7 +180,8 @@ class _Datasets:
             text = f"{n}: " + (f"converged in {c}" if c != "not converged" else c)
             if "follows_orbit" in ds:
                 f = str(ds.follows_orbit.sel(precision="double").values)
-                text += (", double " + f) if f != UNKNOWN else ", double's faithfulness not measured (no full spike cycle)"
+                text += ((", double " + f) if f != UNKNOWN
+                         else ", double's faithfulness not measured (no full spike cycle)")
             out.append(text)
         return "; ".join(out)
 
@@ -261,7 +262,8 @@ def judge_claim(row: Row, claim: Claim, load: _Datasets) -> None:
     row.evidence = _files(names) + (" " + j.note if names and j.note.startswith("(") else
                                     "; " + j.note if names and j.note else j.note)
     if row.verdict == DIFFERS and claim.id.startswith("D"):
-        row.cause = "the paper's model as printed (found by the derivation, no run involved): " + (j.reason or j.measured)
+        row.cause = ("the paper's model as printed (found by the derivation, no run involved): "
+                     + (j.reason or j.measured))
     if row.verdict == DIFFERS and claim.id in CAUSE_TESTS:
         needed = load.variants(CAUSES[claim.id], precision)  # the arithmetic the verdict was judged in
         try:
