@@ -158,7 +158,8 @@ def _arithmetic_note(ds, i: int) -> str:
     if "follows_orbit" not in ds.data_vars:
         return ""
     if not np.isfinite(ds.ln_gain_max.values[i]):
-        return ". Faithfulness gauge: no complete spike cycle within T_gain, so which arithmetic follows the orbit is unknown"
+        return (". Faithfulness gauge: no complete spike cycle within T_gain, so which arithmetic follows the orbit "
+                "is unknown")
     cells = [f"{a}: {ds.follows_orbit.values[i, k]} (G x rounding = 10^{ds.log10_gain_rounding.values[i, k]:.1f})"
              for k, a in enumerate(ds.arithmetic.values)]
     return f". Rounding amplified by ln G = {float(ds.ln_gain_max.values[i]):.1f} per spike cycle: " + "; ".join(cells)
