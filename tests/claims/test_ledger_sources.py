@@ -96,8 +96,9 @@ def _cli(tmp_path, *config):
     """The ledger the command line writes from a partial tree (it exits 3, naming what is missing)."""
     out = tmp_path / "ledger" / "claims.csv"
     (tmp_path / "figures").mkdir(exist_ok=True)
-    run = subprocess.run([sys.executable, "-m", "sleighsim.cli", "claims", "--data", str(tmp_path / "data"), "--figures",
-                          str(tmp_path / "figures"), "--out", str(out), *config], check=False, capture_output=True,
+    run = subprocess.run([sys.executable, "-m", "sleighsim.cli", "claims", "--data", str(tmp_path / "data"),
+                          "--figures", str(tmp_path / "figures"), "--out", str(out), *config], check=False,
+                         capture_output=True,
                          text=True, timeout=120)
     assert run.returncode == 3 and "are missing or unreadable" in run.stderr, run.stderr
     return {r.id: r for r in claims.read(out.with_suffix(".nc"))}
