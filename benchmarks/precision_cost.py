@@ -8,7 +8,8 @@ Rows: every (system, precision, compact_mode, high_accuracy) with system "flow" 
 "tangent" (the sleigh plus one tangent vector, heyoka's variational equations, k = 1), precision one of
 sleighsim.engine.precision.Precision, each at its own machine epsilon as tolerance, and high_accuracy on only in
 double. Integrators come from the project's builders (integrators.flow: compact mode off in double and
-long double, on in quad; integrators.sleigh_tangent; integrators.tangent_integrator for quad); where they have no such option
+long double, on in quad; integrators.sleigh_tangent; integrators.tangent_integrator for quad); where they have
+no such option
 (compact_mode for the flow, high_accuracy anywhere) the integrator is built the way they build it with that
 option changed, and registered with integrators.compiled so its angle is kept bounded like theirs.
 
@@ -175,6 +176,8 @@ def measure(ta, system, y0, T, repeats, warmup_T, what):
 
 
 def settled_state(params, y0, t_transient):
+    """The sleigh state (u, Omega, omega, delta) after ``t_transient`` time units from y0 at ``params``,
+    in double at its machine epsilon (angle kept bounded), as a float array; raises if the run stops early."""
     ta = integrators.flow(False, Precision.DOUBLE.epsilon)[0]
     integrators.set_pars(ta, params)
     ta.time = 0.0

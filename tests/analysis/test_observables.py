@@ -75,7 +75,8 @@ def test_every_declared_observable_has_an_uncertainty_rule():
 def test_ladder_of_synthetic_runs():
     double = _poincare(0.25, (0.24, 0.26), [1.0, 1.0, 1.0, 1.0])
     ld = _poincare(0.30, (0.299, 0.301), [1.0, 1.0, 1.0, 1.0], precision="long double", tol=2.0**-63)
-    ds = observables.ladder("poincare", catalog.KINDS["poincare"].observables, [double, ld], ["double", "long double"], scene="x")
+    ds = observables.ladder("poincare", catalog.KINDS["poincare"].observables, [double, ld], ["double", "long double"],
+                            scene="x")
     assert list(ds.converged_precision_of.values) == ["not converged", "double", "double"]
     assert ds.attrs["converged_precision"] == "not converged"
     assert ds.value.sel(precision="long double", observable="rotation_number") == 0.30
@@ -100,7 +101,8 @@ def test_poincare_scene_in_double_and_long_double_from_one_settled_point():
     runs = [poincare_maps({**cfg, "precision": p}, scene="t") for p in ("double", "long double")]
     assert [r.attrs["precision"] for r in runs] == ["double", "long double"]
     assert runs[1].attrs["tol"] == 2.0**-63 and runs[1].attrs["transient_tol"] == 2.0**-52
-    ds = observables.ladder("poincare", catalog.KINDS["poincare"].observables, runs, ["double", "long double"], scene="t")
+    ds = observables.ladder("poincare", catalog.KINDS["poincare"].observables, runs, ["double", "long double"],
+                            scene="t")
     assert ds.attrs["converged_precision"] == "double"
     assert 0 < ds.separation.max() < 1e-9
 
@@ -136,7 +138,8 @@ def test_trajectory_observables_on_each_branch():
     out = observed(_record(t, Omega, x), pre_run=True, spike_factor=1.8)
     assert out["n_spikes"] == 6 and out["first_spike_time"] == 1005.0 and out["first_spike_time_uncertainty"] == 0.5
     assert out["spike_interval_mean"] == pytest.approx(1040.0)
-    assert out["spike_interval_mean_uncertainty"] == pytest.approx(3200.0 / 3 - 1000.0)  # halves [1000, 1000], [1000, 1100, 1100]
+    # halves [1000, 1000], [1000, 1100, 1100]
+    assert out["spike_interval_mean_uncertainty"] == pytest.approx(3200.0 / 3 - 1000.0)
     assert out["path_reach"] == pytest.approx(30.0) and out["path_reach_uncertainty"] == pytest.approx(0.0, abs=0.1)
     few = observed(_record(t, 0.01 * np.sin(t) + np.exp(-((t - 3000.0) / 2.0) ** 2)), pre_run=True, spike_factor=1.8)
     assert few["n_spikes"] == 1 and "spike_interval_mean" not in few and "path_reach" not in few
@@ -150,7 +153,8 @@ def test_a_stated_uncertainty_is_used_and_a_missing_observable_never_agrees():
     b = xr.Dataset(attrs={"n_spikes": 7, "settled_state": np.zeros(4), "tol": 1e-19, "precision": "long double"})
     assert observables.observable(a, "spike_interval_mean") == (2300.0, 30.0)
     assert all(math.isnan(v) for v in observables.observable(b, "spike_interval_mean"))
-    ds = observables.ladder("trajectory", catalog.KINDS["trajectory"].observables, [a, b], ["double", "long double"], scene="x")
+    ds = observables.ladder("trajectory", catalog.KINDS["trajectory"].observables, [a, b], ["double", "long double"],
+                            scene="x")
     assert list(ds.observable.values) == ["n_spikes", "spike_interval_mean"]  # stated by no run: left out
     assert list(ds.converged_precision_of.values) == ["double", "not converged"]
 
@@ -167,5 +171,6 @@ def test_trajectory_scene_in_double_and_long_double_from_one_settled_point():
     assert [(r.attrs["precision"], r.attrs["transient_precision"]) for r in runs] == [("double", "double"),
                                                                                    ("long double", "double")]
     assert runs[1].attrs["tol"] == 2.0**-63
-    ds = observables.ladder("trajectory", catalog.KINDS["trajectory"].observables, runs, ["double", "long double"], scene="t")
+    ds = observables.ladder("trajectory", catalog.KINDS["trajectory"].observables, runs, ["double", "long double"],
+                            scene="t")
     assert "path_reach" in ds.observable.values and ds.attrs["converged_precision"] == "double"

@@ -5,12 +5,12 @@ import math
 import numpy as np
 import pytest
 
-from sleighsim.engine import integrators
-from sleighsim.chaos import benettin
 from sleighsim.analysis import windows
+from sleighsim.chaos import benettin
+from sleighsim.engine import integrators
+from sleighsim.engine.precision import Precision
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import state_at_label
-from sleighsim.engine.precision import Precision
 
 T_WIN = np.arange(10) * 1e5 + 5e4
 

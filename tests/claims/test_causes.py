@@ -3,11 +3,10 @@
 import numpy as np
 import pytest
 import xarray as xr
+from test_judges import PAPER, _audit, _psd, _ref
 
 from sleighsim.claims import causes
 from sleighsim.claims.rules import Judgement
-
-from test_judges import PAPER, _audit, _psd, _ref
 
 J = Judgement("differs", "m", "r")
 K2 = [1.05, 1.1, 1.2, 1.3]
@@ -50,7 +49,8 @@ def test_the_printed_equation_and_the_integrator_are_causes_too():
     k2 = _k2(first_spike=[5000] * 4, spike_interval=[2600] * 4)
     text = causes.c04(J, PAPER["C04"], k2, _err(), _audit(printed_first_spike=8800.0, printed_spikes_t_end=2e4), _law())
     assert text.startswith("explained by the printed udot")
-    text = causes.c05(J, PAPER["C05"], k2, _err(interval=(2200.0, 2600.0, 2600.0)), _audit(printed_spike_interval=np.nan))
+    text = causes.c05(J, PAPER["C05"], k2, _err(interval=(2200.0, 2600.0, 2600.0)),
+                      _audit(printed_spike_interval=np.nan))
     assert text.startswith("explained by integration error (RK45)") and "1e-03" in text
 
 
@@ -66,9 +66,10 @@ def test_one_k2_must_fit_every_number_of_c10(B, growth, explained):
 def test_c09_and_c11_and_c13():
     assert causes.c09(J, PAPER["C09"], _k2(Omega2_amplitude=[0.88, 0.89, 0.9, 0.91],
                                             phi1_over_pi=[0.47] * 4)).startswith("explained")
-    assert causes.c09(J, PAPER["C09"], _k2(Omega2_amplitude=[0.88] * 4, phi1_over_pi=[-0.47] * 4)).startswith(causes.NONE)
-    assert causes.c11(J, PAPER["C11"], _k2(omega_rel_error=[0.005] * 4), _err(rel=(0.02, 0.001, 0.0007))).startswith(
-        "explained by integration error")
+    assert causes.c09(J, PAPER["C09"], _k2(Omega2_amplitude=[0.88] * 4,
+                                            phi1_over_pi=[-0.47] * 4)).startswith(causes.NONE)
+    assert causes.c11(J, PAPER["C11"], _k2(omega_rel_error=[0.005] * 4),
+                      _err(rel=(0.02, 0.001, 0.0007))).startswith("explained by integration error")
     assert causes.c11(J, PAPER["C11"], _k2(omega_rel_error=[0.005] * 4), _err()).startswith(causes.NONE)
     hit = _k2(first_spike=[5500] * 4, spike_interval=[1500, 2250, 2300, 2400])
     assert causes.c13(J, PAPER["C13"], hit).startswith("explained")
@@ -89,8 +90,9 @@ def test_protocol_causes():
 
 
 def test_c22_near_ties_by_chance():
-    assert causes.c22(J, PAPER["C22"], _ref(n_p2pi=20000, return_time_min=5.0, return_time_max=6.0)).startswith("explained")
-    assert causes.c22(J, PAPER["C22"], _ref(n_p2pi=100, return_time_min=5.0, return_time_max=6.0)).startswith(causes.NONE)
+    many, few = (_ref(n_p2pi=n, return_time_min=5.0, return_time_max=6.0) for n in (20000, 100))
+    assert causes.c22(J, PAPER["C22"], many).startswith("explained")
+    assert causes.c22(J, PAPER["C22"], few).startswith(causes.NONE)
 
 
 def test_band_causes_units_and_aliasing():

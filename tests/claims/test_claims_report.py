@@ -8,12 +8,11 @@ from pathlib import Path
 
 import pytest
 import xarray as xr
+from test_judges import _ref, _spectrum
 
 from sleighsim.claims import ledger as claims
-from sleighsim.report.figures.catalog import FIGURES
 from sleighsim.io.netcdf import read_dataset, write_dataset
-
-from test_judges import _ref, _spectrum
+from sleighsim.report.figures.catalog import FIGURES
 
 ROOT = Path(__file__).resolve().parents[2]
 CLAIMS_MD = ROOT / "paper" / "CLAIMS.md"
@@ -93,8 +92,8 @@ def test_figure_rows_count_a_missing_transient_check_as_not_checked(tmp_path, mo
 
 
 def _fig9(path, n_loops, pairs):
-    ds = _ref(n_loops=n_loops, return_time_min=1.0, return_time_max=2.0, return_time_n_adjacent_pairs_within_tie_tol=pairs,
-              transient_over=1, n_p2pi=20000)
+    ds = _ref(n_loops=n_loops, return_time_min=1.0, return_time_max=2.0,
+              return_time_n_adjacent_pairs_within_tie_tol=pairs, transient_over=1, n_p2pi=20000)
     write_dataset(ds, path)
 
 
@@ -106,7 +105,8 @@ def test_ledger_on_synthetic_datasets(tmp_path):
     assert list(rows) == [c.id for c in claims.parse_claims(CLAIMS_MD)]
     assert rows["C16"].verdict == "reproduced" and "4 loops" in rows["C16"].measured
     assert rows["C22"].verdict == "differs" and rows["C22"].reason
-    assert rows["C22"].cause.startswith("explained by the number of return times")  # 19999^2 1e-7 / 1 = 40 near-ties by chance
+    # 19999^2 1e-7 / 1 = 40 near-ties by chance
+    assert rows["C22"].cause.startswith("explained by the number of return times")
     assert rows["C03"].verdict == "not yet computed" and rows["C03"].measured == ""
     assert rows["F3"].verdict == "not yet computed"
     assert rows["C02"].verdict == "reproduced"  # needs only the model
@@ -136,16 +136,18 @@ def test_command_line_rejudges_without_snakemake_and_names_what_is_missing(tmp_p
     out = tmp_path / "ledger" / "claims.csv"
     (tmp_path / "data").mkdir()
     (tmp_path / "figures").mkdir()
-    run = subprocess.run([sys.executable, "-m", "sleighsim.cli", "claims", "--data", str(tmp_path / "data"), "--figures",
-                          str(tmp_path / "figures"), "--out", str(out)], capture_output=True, text=True, timeout=120)
+    run = subprocess.run([sys.executable, "-m", "sleighsim.cli", "claims", "--data", str(tmp_path / "data"),
+                          "--figures", str(tmp_path / "figures"), "--out", str(out)],
+                         capture_output=True, text=True, timeout=120)
     assert run.returncode == 3 and "missing or unreadable" in run.stderr, run.stderr
     assert str(tmp_path / "data" / "fig2.nc") in run.stderr and str(tmp_path / "figures" / "fig1.png") in run.stderr
     rows = claims.read(out.with_suffix(".nc"))
     assert {r.verdict for r in rows if r.id != "C02"} == {"not yet computed"}
     (tmp_path / "garbage.md").write_text("no table here\n")
-    for args, says in ((["--data", str(tmp_path / "none")], "--data"), (["--figures", str(tmp_path / "none")], "--figures"),
-                       (["--claims", str(tmp_path / "none.md")], "none.md"), (["--claims", str(tmp_path / "garbage.md")],
-                                                                              "no claim rows"),
+    for args, says in ((["--data", str(tmp_path / "none")], "--data"),
+                       (["--figures", str(tmp_path / "none")], "--figures"),
+                       (["--claims", str(tmp_path / "none.md")], "none.md"),
+                       (["--claims", str(tmp_path / "garbage.md")], "no claim rows"),
                        (["--out", str(tmp_path / "x.txt")], ".csv")):
         base = {"--data": str(tmp_path / "data"), "--figures": str(tmp_path / "figures"), "--out": str(out)}
         base.update(dict(zip(args[::2], args[1::2])))
@@ -285,7 +287,8 @@ def test_a_claim_judged_in_a_finer_precision_keeps_its_verdict_and_reports_its_d
         write_dataset(_spectrum(div, 1e-4), data / f"{k}lyap_spectrum.nc")
     write_dataset(_spectrum(-1e-3, 1e-4), data / "precision" / "long_double" / "lyap_spectrum.nc")
     _ladder(data, "lyap_spectrum", "long double")
-    both = {"scenes": {"lyap_spectrum": {**REALIZED["scenes"]["lyap_spectrum"], "precisions": ["double", "long double"]}}}
+    both = {"scenes": {"lyap_spectrum": {**REALIZED["scenes"]["lyap_spectrum"],
+                                         "precisions": ["double", "long double"]}}}
     c18 = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures", both, FIGURES)}["C18"]
     assert c18.verdict == "reproduced" and c18.precision.startswith("long double")
     assert c18.realizations == "in double: realizations disagree: reproduced 2, differs 1 of 3; long double: one run"

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from sleighsim.claims import ledger as claims
 from sleighsim.claims import judges
+from sleighsim.claims import ledger as claims
 from sleighsim.claims.judges import lyapunov, perturbation, sleigh0, steady_state, transients
 from sleighsim.claims.rules import CANNOT, DIFFERS, NOT_YET, REPRODUCED, all_of, digits, number
 from sleighsim.report.figures.catalog import FIGURES
@@ -59,7 +59,8 @@ def test_c02_both_branches(monkeypatch):
 @pytest.mark.parametrize("judge, key, values, want", [
     ("c03", "sleigh_phase_end", 80.0, REPRODUCED), ("c03", "sleigh_phase_end", 300.0, DIFFERS),
     ("c03", "sleigh_phase_end", NAN, NOT_YET),
-    ("c04", "first_spike", 8650.0, REPRODUCED), ("c04", "first_spike", 5500.0, DIFFERS), ("c04", "first_spike", NAN, NOT_YET),
+    ("c04", "first_spike", 8650.0, REPRODUCED), ("c04", "first_spike", 5500.0, DIFFERS),
+    ("c04", "first_spike", NAN, NOT_YET),
 ])
 def test_c03_c04(monkeypatch, judge, key, values, want):
     monkeypatch.setattr(transients, "_phases", lambda ds: {key: values})
@@ -76,7 +77,8 @@ def test_c05_standard_error_decides(monkeypatch, mean, std, n, want):
 
 
 def _fig4(n_groups, reached=1):
-    ds = xr.Dataset({"level": ("run", [0, 0, 1]), "reached": ("run", [reached] * 3), "group": ("run", [0, n_groups - 1, 0]),
+    ds = xr.Dataset({"level": ("run", [0, 0, 1]), "reached": ("run", [reached] * 3),
+                     "group": ("run", [0, n_groups - 1, 0]),
                      "spike_interval_level0_units": ("run", [2000.0, 2100.0, 2000.0]),
                      "group_id": ("g", [0]), "long_spike_time": (("g", "k"), [[100.0, 2100.0, 4200.0, NAN]])})
     ds.attrs.update(level0_n_groups=n_groups, level1_n_groups=1, level0_distance_main_group=0.01,
@@ -124,8 +126,8 @@ def test_c11(err, want):
 @pytest.mark.parametrize("vanishes, n_secular, want", [(1, 3, REPRODUCED), (0, 3, DIFFERS), (1, 0, DIFFERS)])
 def test_c12(vanishes, n_secular, want):
     a = A(order3_forcing_vanishes=vanishes, order3_max_abs_along_solution=0.0, order4_n_secular=n_secular,
-          order3_forcing_with_order1_zero="0", order4_n_terms=78, growth_exponent_omega4=1.5, growth_exponent_omega2=0.8,
-          order4_secular_rule="a rule")
+          order3_forcing_with_order1_zero="0", order4_n_terms=78, growth_exponent_omega4=1.5,
+          growth_exponent_omega2=0.8, order4_secular_rule="a rule")
     assert perturbation.c12(PAPER["C12"], a).verdict == want
 
 
@@ -221,10 +223,12 @@ def _energy(smallest, low_value, with_low=True):
     # T / tau = 1e4 at every label: polynomial growth fakes 1.84e-4 at T = 1e5, 1.84e-6 at T = 1e7 (the low label)
     T = [1e7 if lab < 1e-3 else 1e5 for lab in labels]
     return xr.Dataset({"lambda_1": ("label", lam), "stderr": ("label", [1e-6] * len(lam)), "T": ("label", T),
-                       "tau": ("label", [t / 1e4 for t in T])}, coords={"label": labels}, attrs={"fitted_exponent": 0.5})
+                       "tau": ("label", [t / 1e4 for t in T])},
+                      coords={"label": labels}, attrs={"fitted_exponent": 0.5})
 
 
-@pytest.mark.parametrize("smallest, low, with_low, want", [(1.1e-4, 5e-5, True, REPRODUCED), (4e-3, 5e-5, True, DIFFERS),
+@pytest.mark.parametrize("smallest, low, with_low, want", [(1.1e-4, 5e-5, True, REPRODUCED),
+                                                           (4e-3, 5e-5, True, DIFFERS),
                                                            (1.1e-4, -5e-5, True, DIFFERS),
                                                            (1.1e-4, 1e-7, True, NOT_YET),
                                                            # resolved > 0 but below what polynomial growth fakes
@@ -260,14 +264,16 @@ def test_c21(grid, want):
 def test_c21_judges_the_rows_computed_and_names_those_left_to_another_config(other, want):
     grid = _grid([math.nan, 1e-3, 1e-5 if other == "regular" else 2e-3], [math.nan, 1e-5, 1e-6],
                  ["elsewhere", "converged", other])
-    for v in ("T", "tau", "transient_over", "steady"):  # a row left elsewhere is NaN throughout, as grid.chunk stores it
+    # a row left elsewhere is NaN throughout, as grid.chunk stores it
+    for v in ("T", "tau", "transient_over", "steady"):
         grid[v] = grid[v].astype(float)
         grid[v][0] = math.nan
     grid.attrs["elsewhere_config"] = "config/cluster.yaml"
     j = lyapunov.c21(PAPER["C21"], grid)
     assert j.verdict == want  # the row not computed here is neither unresolved nor below
     assert j.measured.endswith("not computed in this run: eps 0.02 (computed by config/cluster.yaml)")
-    rows = _regimes(["elsewhere", "regular", "converged", "converged"], [math.nan, 2e-6, 3e-4, 5e-4], [math.nan] + [0.001] * 3)
+    rows = _regimes(["elsewhere", "regular", "converged", "converged"], [math.nan, 2e-6, 3e-4, 5e-4],
+                    [math.nan] + [0.001] * 3)
     rows["T"] = rows["T"].copy(data=[math.nan, 1e5, 1e5, 1e5])
     assert lyapunov.c27(PAPER["C27"], rows).verdict == REPRODUCED  # C27 reads the same rows: the NaN row is skipped
 
@@ -276,7 +282,8 @@ def test_c26_names_the_eps_left_to_another_config():
     ds = _formal([1e-3, 1e-6, 2e-6], [1e-5, 1e-7, 1e-7])
     ds.attrs.update(eps_elsewhere=np.array([50.0]), elsewhere_config="config/cluster.yaml")
     j = lyapunov.c26(PAPER["C26"], ds)
-    assert j.verdict == REPRODUCED and j.measured.endswith("not computed in this run: eps 50 (computed by config/cluster.yaml)")
+    assert j.verdict == REPRODUCED and j.measured.endswith(
+        "not computed in this run: eps 50 (computed by config/cluster.yaml)")
     assert "not computed" not in lyapunov.c26(PAPER["C26"], _formal([1e-3, 1e-6, 2e-6], [1e-5, 1e-7, 1e-7])).measured
 
 
@@ -298,7 +305,8 @@ def test_bands_within_a_tenth_of_the_band_width(judge, band, want):
 
 def _cost(hours, budget=100.0):
     t = [1e-3, 1e-4, 1e-5]
-    return xr.Dataset({"wall_estimate_s": ("target", [1.0, 10.0, hours * 3600]), "transient_estimate": ("target", [1, 2, 3])},
+    return xr.Dataset({"wall_estimate_s": ("target", [1.0, 10.0, hours * 3600]),
+                       "transient_estimate": ("target", [1, 2, 3])},
                       coords={"target": t}, attrs={"budget_core_hours": budget})
 
 

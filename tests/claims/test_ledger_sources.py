@@ -11,11 +11,11 @@ from conftest import SMOKE
 from test_claims_report import CLAIMS_MD, LADDERED, PLAIN, REALIZED, _fig9, _ladder
 from test_judges import _spectrum
 
-from sleighsim.scenes import catalog
+from sleighsim.claims import ledger as claims
 from sleighsim.io.netcdf import write_dataset
 from sleighsim.ops.config import merged_config
-from sleighsim.claims import ledger as claims
 from sleighsim.report.figures.catalog import FIGURES
+from sleighsim.scenes import catalog
 
 LONG = "precision/long_double/fig9_ref"
 
@@ -96,8 +96,9 @@ def _cli(tmp_path, *config):
     """The ledger the command line writes from a partial tree (it exits 3, naming what is missing)."""
     out = tmp_path / "ledger" / "claims.csv"
     (tmp_path / "figures").mkdir(exist_ok=True)
-    run = subprocess.run([sys.executable, "-m", "sleighsim.cli", "claims", "--data", str(tmp_path / "data"), "--figures",
-                          str(tmp_path / "figures"), "--out", str(out), *config], check=False, capture_output=True,
+    run = subprocess.run([sys.executable, "-m", "sleighsim.cli", "claims", "--data", str(tmp_path / "data"),
+                          "--figures", str(tmp_path / "figures"), "--out", str(out), *config], check=False,
+                         capture_output=True,
                          text=True, timeout=120)
     assert run.returncode == 3 and "are missing or unreadable" in run.stderr, run.stderr
     return {r.id: r for r in claims.read(out.with_suffix(".nc"))}

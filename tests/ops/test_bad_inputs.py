@@ -11,12 +11,12 @@ import pytest
 import yaml
 from test_config import PLENTY, ROOT, SCHEMA, SMOKE, refused, with_value
 
+from sleighsim.engine.precision import Precision
+from sleighsim.model.params import Params
 from sleighsim.ops import configcheck
-from sleighsim.scenes import catalog
 from sleighsim.ops.configcheck import ConfigError
 from sleighsim.ops.configdoc import _resolve
-from sleighsim.model.params import Params
-from sleighsim.engine.precision import Precision
+from sleighsim.scenes import catalog
 
 REF = [0.0, 0.1, 1.0, 0.0]
 P = Params.paper(eps=0.1)
@@ -88,7 +88,8 @@ LONG_RUNS = [
      r"T_long = 1e\+15 must be shorter"),
     (("scenes", "main_drift", "T"), 1e12, r"scenes.main_drift: .* 139 CPU days .* horizon T = 1e\+12"),
     (("scenes", "fig11_grid", "T_round"), 1e13,  # chunked: the largest chunk's rows decide
-     r"scenes.fig11_grid: .* CPU days \(limit 30\); more chunks \(n_chunks = \d+\) or shorter horizons \(the longest: "),
+     r"scenes.fig11_grid: .* CPU days \(limit 30\); more chunks \(n_chunks = \d+\) or shorter horizons "
+     r"\(the longest: "),
     (("scenes", "chaos_verdict", "n_chunks"), 400,
      r"scenes.chaos_verdict.n_chunks = 400 would make 1200 jobs; at most 1000"),
     (("scenes", "lyap_spectrum", "realizations"), 5000, r"scenes.lyap_spectrum.realizations = 5000 would make"),

@@ -101,7 +101,8 @@ CROSS_FIELD = [
     (("scenes", "fig9_ref", "transient", "window"), 200.0, r"scenes.fig9_ref.transient.window = 200.0 must lie in"),
     (("scenes", "fig11_grid", "n_chunks"), 9, r"scenes.fig11_grid.n_chunks = 9 must lie in \[1, n_eps = 3\]"),
     (("scenes", "fig11_grid", "reference_eps"), 0.1, r"scenes.fig11_grid.reference_eps = 0.1 must lie in eps_range"),
-    (("scenes", "fig11_grid", "eps_range"), [0.5, 0.2], r"scenes.fig11_grid.eps_range = \[0.5, 0.2\] must be increasing"),
+    (("scenes", "fig11_grid", "eps_range"), [0.5, 0.2],
+     r"scenes.fig11_grid.eps_range = \[0.5, 0.2\] must be increasing"),
     (("scenes", "fig11_grid", "elsewhere"), {"eps": [0.02]},
      r"scenes.fig11_grid.elsewhere.eps: 0.02 is not a row of the grid \(\[0.2, 0.3162, 0.5\]\)"),
     (("scenes", "fig11_grid", "elsewhere"), {"eps": [0.5]}, None),  # a row of the smoke grid, not the reference: passes
@@ -115,7 +116,8 @@ CROSS_FIELD = [
      r"scenes.fig9_scaling.inputs.reference = 'fig9_nowhere' is not a scene"),
     (("scenes", "chaos_verdict", "transient", "window"), 1000.0,
      r"scenes.chaos_verdict.transient.window = 1000.0 must lie in"),
-    (("scenes", "fig9_scaling", "inputs", "scaled"), "fig1", r"scenes.fig9_scaling.inputs.scaled = 'fig1' is not a scene"),
+    (("scenes", "fig9_scaling", "inputs", "scaled"), "fig1",
+     r"scenes.fig9_scaling.inputs.scaled = 'fig1' is not a scene"),
 ]
 
 

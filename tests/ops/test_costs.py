@@ -10,15 +10,13 @@ from pathlib import Path
 import pytest
 import yaml
 
-from sleighsim.scenes import catalog
-from sleighsim.ops import costs
-from sleighsim.ops import jobgraph
-from sleighsim.report.figures import costs as plots
-from sleighsim.ops import workmodel
 from sleighsim.io.benchmark_files import read_benchmark
+from sleighsim.ops import costs, jobgraph, workmodel
 from sleighsim.ops.estimate import estimate
 from sleighsim.ops.summary import SCHEMA, summarize
+from sleighsim.report.figures import costs as plots
 from sleighsim.report.figures.common import legibility
+from sleighsim.scenes import catalog
 
 ROOT = Path(__file__).resolve().parents[2]
 HEADER = "s\th:m:s\tmax_rss\tmax_vms\tmax_uss\tmax_pss\tio_in\tio_out\tmean_load\tcpu_time\n"
@@ -205,8 +203,8 @@ def test_plot_costs_writes_png_and_pdf(tmp_path):
 
 def test_job_costs_from_the_reports_benchmark_files_and_their_figure(tmp_path):
     bench = fake_run(tmp_path, graph=False) / "results" / "benchmarks"
-    files = {"data/a": [bench / "scene" / "a.tsv"], "data/g": [bench / "gather" / "g.tsv", bench / "chunk" / "g" / "0.tsv",
-                                                              bench / "chunk" / "g" / "1.tsv"],
+    files = {"data/a": [bench / "scene" / "a.tsv"],
+             "data/g": [bench / "gather" / "g.tsv", bench / "chunk" / "g" / "0.tsv", bench / "chunk" / "g" / "1.tsv"],
              "figure/f": [bench / "figure" / "f.tsv"], "data/again": [bench / "scene" / "a.tsv"]}
     jobs = plots.job_costs(files)
     assert [j["job"] for j in jobs] == ["chunk/g/0", "scene/a", "chunk/g/1", "figure/f", "gather/g"]  # once each
@@ -409,4 +407,5 @@ def test_jobs_the_measured_run_did_not_have_are_estimated_from_their_scene_or_na
     quad = jobs["scene/precision/quad/fig9_ref"]
     assert quad["cpu_s"] == pytest.approx(4.0 * cost["quad"] / cost["long double"]) and quad["cpu_s"] > 100 * 4.0
     # no long-double measurement to scale from: named, not guessed
-    assert "scene/precision/quad/fig9_highE" in est["unmeasured"] and "scene/precision/long_double/fig9_highE" in est["unmeasured"]
+    assert ("scene/precision/quad/fig9_highE" in est["unmeasured"]
+            and "scene/precision/long_double/fig9_highE" in est["unmeasured"])

@@ -13,7 +13,7 @@ def _tree(root, value, note, sub="precision/long_double"):
         ds = xr.Dataset({"x": ("t", np.array([1.0, value]))},
                         attrs={"rule": note, "created_utc": str(root)})
         (root / rel).parent.mkdir(parents=True, exist_ok=True)
-        write_dataset(ds, root / rel)
+        write_dataset(ds, root / rel, precision="long double" if "precision/" in rel else "double")
     return root
 
 

@@ -4,11 +4,10 @@ from pathlib import Path
 
 import numpy as np
 import yaml
-
-from sleighsim.ops import stability
-from sleighsim.claims import ledger as claims
-
 from conftest import snakemake
+
+from sleighsim.claims import ledger as claims
+from sleighsim.ops import stability
 
 ROOT = Path(__file__).resolve().parents[2]
 

@@ -8,8 +8,8 @@ import pytest
 import xarray as xr
 from conftest import smoke_config
 
-from sleighsim.report.figures import catalog as figure_catalog
 from sleighsim.report import figures
+from sleighsim.report.figures import catalog as figure_catalog
 from sleighsim.report.figures.common import finish, legibility
 from sleighsim.scenes import catalog
 
@@ -78,7 +78,8 @@ def test_fig11_states_the_spread_across_b_from_its_data(tmp_path):
     assert legibility(fig) == []
     plt.close(fig)
     copies = figures.build("fig11", [grid_dataset(tmp_path / "copies.nc", spread=0.0)]).axes[0].get_title(loc="left")
-    assert "the 3 b columns are copies (filled by the symmetry, not computed)" in copies and "largest spread" not in copies
+    assert ("the 3 b columns are copies (filled by the symmetry, not computed)" in copies
+            and "largest spread" not in copies)
 
 
 def figure_source(results, name):

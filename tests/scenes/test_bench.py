@@ -45,7 +45,8 @@ def test_configured_tolerances_are_at_least_as_tight_as_the_converged_ones():
     summary_file = ROOT / "benchmarks" / "bench_summary.yaml"
     if not summary_file.exists():
         pytest.skip("no benchmark summary yet: run `snakemake -c2 bench` and "
-                    "`python -m sleighsim.scenes.bench results/data/bench.nc --summarize benchmarks/bench_summary.yaml`")
+                    "`python -m sleighsim.scenes.bench results/data/bench.nc "
+                    "--summarize benchmarks/bench_summary.yaml`")
     summary = yaml.safe_load(summary_file.read_text())
     converged = {k: v for k, v in summary.items() if k.startswith("loosest_converged_tol_")}
     assert converged, "the summary holds no converged tolerances"

@@ -42,7 +42,8 @@ def test_the_flow_is_reversible_under_R():
     y0 = np.array([0.05, 0.02, 0.8, 0.4])
     yT = integrate(p, y0, [0.0, 50.0], tol=1e-15)
     back = integrate(p, R * np.array([yT[v].values[-1] for v in equations.STATE_NAMES]), [0.0, 50.0], tol=1e-15)
-    assert np.max(np.abs(equations.state_difference(R * np.array([back[v].values[-1] for v in equations.STATE_NAMES]), y0))) < 1e-9
+    back_end = np.array([back[v].values[-1] for v in equations.STATE_NAMES])
+    assert np.max(np.abs(equations.state_difference(R * back_end, y0))) < 1e-9
 
 
 @pytest.mark.parametrize("lam, spread, want", [
@@ -195,7 +196,8 @@ def test_gather_keeps_an_answer_only_when_every_realization_gives_it(tmp_path):
                              "ln_gain": (("state", "cycle"), [[36.0] * (i + 2)]),
                              "spike_period": ("state", [2300.0 + k + 10 * i if (k, i) != (2, 1) else np.nan])},
                             coords={"state": [name]},
-                            attrs={"chunk": k, "n_chunks": 3, "wall_time_s": 0.75, "transient_over": 1, "tau_gain": 5.0})
+                            attrs={"chunk": k, "n_chunks": 3, "wall_time_s": 0.75, "transient_over": 1,
+                                   "tau_gain": 5.0})
             paths.append(tmp_path / f"{2 * k + i}.nc")
             write_dataset(ds, paths[-1])
     write_dataset(gather(paths[::-1], cfg), tmp_path / "gathered.nc")  # as the gather job writes it
@@ -213,7 +215,8 @@ def test_gather_keeps_an_answer_only_when_every_realization_gives_it(tmp_path):
     from sleighsim.report.build import _tori_note
 
     assert out.realization_spike_period.values[:, 0].tolist() == [2300.0, 2301.0, 2302.0]
-    assert _tori_note(out, 0).endswith("(median spike interval per realization, to about tau_gain = 5): 2300, 2301, 2302")
+    assert _tori_note(out, 0).endswith(
+        "(median spike interval per realization, to about tau_gain = 5): 2300, 2301, 2302")
     assert _tori_note(out, 1).endswith("2310, 2311, none")
     assert out.attrs["n_realizations"] == 3 and out.attrs["wall_time_s"] == 4.5 and "chunk" not in out.attrs
     with pytest.raises(ValueError, match="expected 0 ... 2"):

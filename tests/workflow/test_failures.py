@@ -102,8 +102,8 @@ def test_changing_the_grid_runtime_resource_reruns_nothing(smoke_run, tmp_path):
 def test_set_aside_moves_only_unreadable_products(tmp_path):
     import xarray as xr
 
-    from sleighsim.io.netcdf import write_dataset
     from sleighsim.io.integrity import set_aside
+    from sleighsim.io.netcdf import write_dataset
 
     results = tmp_path / "results"
     write_dataset(xr.Dataset({"u": ("t", [1.0, 2.0])}), results / "data" / "good.nc")
@@ -133,11 +133,14 @@ def test_a_deleted_or_truncated_dataset_is_rebuilt_by_the_default_target(smoke_r
     cut.write_bytes(cut.read_bytes()[:4000])
     dry = subprocess.run(_cmd(run, SMOKE, "-n"), capture_output=True, text=True, timeout=300)
     out = dry.stdout + dry.stderr
-    assert dry.returncode == 0 and "unreadable: results/data/fig4.nc -> results/unreadable/data/fig4.nc" in out, out[-3000:]
+    assert dry.returncode == 0 and "unreadable: results/data/fig4.nc -> results/unreadable/data/fig4.nc" in out, \
+        out[-3000:]
     assert "wildcards: scene=fig2" in out and "wildcards: scene=fig4" in out and "scene=fig7" not in out
     res = subprocess.run(_cmd(run, SMOKE, "-c2"), capture_output=True, text=True, timeout=600)
     assert res.returncode == 0, (res.stdout + res.stderr)[-3000:]
     assert (run / "results" / "unreadable" / "data" / "fig4.nc").stat().st_size == 4000
     for name in ("fig2", "fig4"):
-        new, old = read_dataset(run / "results" / "data" / f"{name}.nc"), read_dataset(smoke_run / "results" / "data" / f"{name}.nc")
-        assert all(np.array_equal(new[v].values, old[v].values, equal_nan=True) for v in old.data_vars if old[v].dtype.kind == "f")
+        new = read_dataset(run / "results" / "data" / f"{name}.nc")
+        old = read_dataset(smoke_run / "results" / "data" / f"{name}.nc")
+        assert all(np.array_equal(new[v].values, old[v].values, equal_nan=True)
+                   for v in old.data_vars if old[v].dtype.kind == "f")

@@ -12,9 +12,9 @@ import pytest
 import yaml
 from conftest import ROOT, SMOKE, smoke_config, snakemake
 
+from sleighsim.io.netcdf import read_dataset
 from sleighsim.report.figures import catalog as figure_catalog
 from sleighsim.scenes import catalog
-from sleighsim.io.netcdf import read_dataset
 
 SMOKE_CFG = smoke_config()  # config/smoke.yaml is an overlay (tests/test_config.py checks it)
 PAPER_CFG = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
@@ -25,9 +25,10 @@ def test_scene_names_appear_only_in_the_config_and_the_registry():
     named like its figure or its kind, fig3 or bench, shares that name with a plot function or module.)"""
     names = [n for n in PAPER_CFG["scenes"] if n not in figure_catalog.FIGURES and n not in catalog.KINDS]
     assert len(names) >= 10
-    places = [ROOT / "workflow" / "Snakefile", *sorted((ROOT / "workflow").rglob("*.smk")), *sorted((ROOT / "workflow").rglob("*.py")),
-              *sorted((ROOT / "src").rglob("*.py"))]
-    declared = {sys.modules[f.plot.__module__].__file__ for f in figure_catalog.FIGURES.values()}  # figures' declarations
+    places = [ROOT / "workflow" / "Snakefile", *sorted((ROOT / "workflow").rglob("*.smk")),
+              *sorted((ROOT / "workflow").rglob("*.py")), *sorted((ROOT / "src").rglob("*.py"))]
+    # figures' declarations
+    declared = {sys.modules[f.plot.__module__].__file__ for f in figure_catalog.FIGURES.values()}
     allowed = {ROOT / "src" / "sleighsim" / p
                for p in ("io/titles.py", "claims/evidence.py", "report/tables.py")}
     allowed |= {ROOT / "src" / "sleighsim" / "report" / "figures" / Path(f).name for f in declared}
@@ -222,8 +223,8 @@ def test_the_smoke_ledger_judges_what_the_smoke_config_declares(smoke_run):
     """The claims rule passes the run's config to the ledger: C16 (fig9_ref, laddered in smoke.yaml)
     is judged in long double, C18 (lyap_spectrum, realized) on every realization; re-judging the
     tree from the command line's merged config gives the same rows."""
-    from sleighsim.ops.config import merged_config
     from sleighsim.claims import ledger as claims
+    from sleighsim.ops.config import merged_config
 
     assert "long double" in catalog.laddered(SMOKE_CFG)["fig9_ref"] and "lyap_spectrum" in catalog.realized(SMOKE_CFG)
     results = smoke_run / "results"
@@ -248,5 +249,6 @@ def test_every_laddered_scene_of_the_smoke_run_has_its_ladder_from_one_settled_s
         assert ds.attrs["converged_precision"] in (*precisions[:-1], "not converged"), scene
         assert list(ds.precision.values) == precisions and ds.sizes["observable"] >= 1, scene
         finer = read_dataset(data / f"{catalog.variant(scene, precisions[-1])}.nc")
-        assert finer.attrs["precision"] == precisions[-1] and finer.attrs["transient_precision"] in ("double", precisions[-1])
+        assert finer.attrs["precision"] == precisions[-1]
+        assert finer.attrs["transient_precision"] in ("double", precisions[-1])
     assert all(figure_catalog.FIGURES[f].beside for f in ("fig3", "fig8", "fig10", "fig11"))

@@ -13,5 +13,6 @@ with logging_to(sm.log[0]):
     labels = {f: c.paper_value for f in FIGURES for c in claims.parse_claims(sm.input.claims_md)
               if c.id == FIGURES[f].paper}
     report.build(rows, out_dir=Path(sm.output.html).parent, tex_path=sm.input.tex, labels=labels,
-                 figures=dict(zip(sm.params.figures, sm.input.figures)), datasets=dict(zip(sm.params.data, sm.input.data)),
-                 benchmarks=sm.params.benchmarks, precision_cost=sm.input.precision_cost, cluster_config=sm.input.cluster)
+                 figures=dict(zip(sm.params.figures, sm.input.figures)),
+                 datasets=dict(zip(sm.params.data, sm.input.data)), benchmarks=sm.params.benchmarks,
+                 precision_cost=sm.input.precision_cost, cluster_config=sm.input.cluster)

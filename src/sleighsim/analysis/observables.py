@@ -3,7 +3,8 @@
 A scene whose block lists ``precisions`` is computed once per precision from the same settled
 point (the transient in double, then the steady-state part in that arithmetic at its machine
 epsilon, :func:`sleighsim.scenes.common.steady_arithmetic`). Its observables (those its kind
-declares, ``SceneKind.observables`` in :mod:`sleighsim.scenes.kind`, passed in by the caller) are read from each precision's dataset with an
+declares, ``SceneKind.observables`` in :mod:`sleighsim.scenes.kind`, passed in by the caller) are read
+from each precision's dataset with an
 uncertainty stated by the dataset itself; :func:`ladder` compares them precision by precision.
 
 Uncertainties (how each is estimated):
@@ -95,7 +96,8 @@ def _separation(runs: list[xr.Dataset]):
     vel = [np.stack([r[f"attractor_{v}"].values for v in ("u", "Omega", "omega")], axis=1) for r in runs]
     seps = [np.abs(a - b).max(axis=1) / np.abs(b).max() for a, b in zip(vel[:-1], vel[1:])]
     dt = float(runs[0].attrs.get("attractor_dt", math.nan))
-    first = [float(dt * np.argmax(s > SEPARATED)) if np.any(s > SEPARATED) else math.nan for s in seps]  # sample 0: t = 0
+    # sample 0: t = 0
+    first = [float(dt * np.argmax(s > SEPARATED)) if np.any(s > SEPARATED) else math.nan for s in seps]
     return seps, first, dt
 
 
@@ -103,8 +105,8 @@ def gauge(params_cfg: dict, y, *, T: float, tau: float, spike_factor: float, tol
     """The faithfulness gauge along the settled orbit from y (``faithfulness.spike_cycle_gains``, in
     double at tol over T in steps of tau): ln G per spike cycle and, per arithmetic, G x rounding and
     whether it follows the orbit ("unknown" without a complete cycle within T)."""
-    from sleighsim.engine import integrators
     from sleighsim.chaos.faithfulness import spike_cycle_gains
+    from sleighsim.engine import integrators
     from sleighsim.model.params import Params
 
     ta, _ = integrators.sleigh_tangent(4, tol, True)
@@ -117,7 +119,8 @@ def _with_gauge(ds: xr.Dataset, g: dict, precisions: list[str], T: float) -> xr.
                      {"long_name": "ln G of each complete spike cycle along the settled orbit (double)"})
     ds["log10_gain_rounding"] = ("precision", [g["log10_gain_rounding"][p] for p in precisions])
     ds["follows_orbit"] = ("precision", np.array([g["follows"][p] for p in precisions], dtype=object),
-                           {"long_name": "the arithmetic follows the exact orbit through a cycle (G x rounding < 1e-3)"})
+                           {"long_name": "the arithmetic follows the exact orbit through a cycle "
+                                         "(G x rounding < 1e-3)"})
     ds.attrs.update(ln_gain_max=g["ln_gain_max"], T_gain=T)
     return ds
 
@@ -140,11 +143,13 @@ def ladder(kind: str, names: tuple[str, ...], runs: list[xr.Dataset], precisions
     ds = xr.Dataset(
         {"value": (("precision", "observable"), vals[..., 0]),
          "uncertainty": (("precision", "observable"), vals[..., 1],
-                         {"long_name": "stated uncertainty of the value (sleighsim.analysis.observables: how each is estimated)"}),
+                         {"long_name": "stated uncertainty of the value "
+                                       "(sleighsim.analysis.observables: how each is estimated)"}),
          "agrees": (("observable", "precision", "finer"), agree.astype(np.int8)),
          "converged_precision_of": ("observable", np.array(per_obs, dtype=object)),
          "run_wall_s": ("precision", [float(r.attrs.get("wall_time_s", math.nan)) for r in runs]),
-         "run_energy_max_rel_drift": ("precision", [float(r.attrs.get("energy_max_rel_drift", math.nan)) for r in runs]),
+         "run_energy_max_rel_drift": ("precision",
+                                      [float(r.attrs.get("energy_max_rel_drift", math.nan)) for r in runs]),
          "tol": ("precision", [float(r.attrs["tol"]) for r in runs])},
         coords={"precision": precisions, "finer": precisions, "observable": names},
     )

@@ -141,7 +141,7 @@ def c13(judgement, paper, k2):
     times = [(K, f + n * d) for K, f, d in zip(k2.K2.values, k2.first_spike.values, k2.spike_interval.values)
              if finite(f, d) for n in range(0, 8)]
     near = sorted({f"{K:g}" for K, t in times if abs(t - want) <= 0.05 * want})
-    text = ("a spike within 5% of t = {:g} at K2 ".format(want) + ", ".join(near)) if near else \
+    text = (f"a spike within 5% of t = {want:g} at K2 " + ", ".join(near)) if near else \
         f"no K2 in [{k2.K2.values.min():g}, {k2.K2.values.max():g}] puts a spike within 5% of t = {want:g}"
     return _verdict([("the unstated K (spike times = first spike + n x interval)", bool(near), text)])
 
@@ -172,7 +172,8 @@ def c20(judgement, paper, err):
     """The likely causes of a differing C20 (``judgement``: its judge's, ``paper``: the claim's values) tested
     on ``err``; returns the ledger's cause text."""
     lam1 = err.protocol_exponent.values[:, 0]
-    text = "lambda_1 of the protocol " + ", ".join(f"{v:.2g} at rtol {r:.0e}" for r, v in zip(err.lyapunov_rtol.values, lam1))
+    text = "lambda_1 of the protocol " + ", ".join(f"{v:.2g} at rtol {r:.0e}"
+                                                  for r, v in zip(err.lyapunov_rtol.values, lam1))
     hit = any(abs(v - paper["smallest"]) <= REL_TOL * paper["smallest"] for v in lam1)
     return _verdict([(f"integration error ({err.attrs['method']} protocol)", hit, text)])
 

@@ -35,16 +35,16 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from sleighsim.chaos.rule import agree
 from sleighsim.chaos.faithfulness import UNKNOWN
-from sleighsim.engine.precision import Precision
-from sleighsim.io.netcdf import read_dataset, write_dataset, write_text
-from sleighsim.scenes.catalog import ladder_name, laddered, realization_name, realized, variant
+from sleighsim.chaos.rule import agree
 from sleighsim.claims import rules
 from sleighsim.claims.causes import CAUSE_TESTS
 from sleighsim.claims.evidence import CAUSES, EVIDENCE
 from sleighsim.claims.judges import JUDGES
 from sleighsim.claims.rules import CANNOT, DIFFERS, DOUBLE_ONLY, FRAGILE, NOT_YET, REPRODUCED, VERDICTS
+from sleighsim.engine.precision import Precision
+from sleighsim.io.netcdf import read_dataset, write_dataset, write_text
+from sleighsim.scenes.catalog import ladder_name, laddered, realization_name, realized, variant
 
 ID = re.compile(r"[FCD]\d+")
 PRECISIONS = tuple(p.value for p in Precision)  # coarse to fine
@@ -180,7 +180,8 @@ class _Datasets:
             text = f"{n}: " + (f"converged in {c}" if c != "not converged" else c)
             if "follows_orbit" in ds:
                 f = str(ds.follows_orbit.sel(precision="double").values)
-                text += (", double " + f) if f != UNKNOWN else ", double's faithfulness not measured (no full spike cycle)"
+                text += ((", double " + f) if f != UNKNOWN
+                         else ", double's faithfulness not measured (no full spike cycle)")
             out.append(text)
         return "; ".join(out)
 
@@ -261,7 +262,8 @@ def judge_claim(row: Row, claim: Claim, load: _Datasets) -> None:
     row.evidence = _files(names) + (" " + j.note if names and j.note.startswith("(") else
                                     "; " + j.note if names and j.note else j.note)
     if row.verdict == DIFFERS and claim.id.startswith("D"):
-        row.cause = "the paper's model as printed (found by the derivation, no run involved): " + (j.reason or j.measured)
+        row.cause = ("the paper's model as printed (found by the derivation, no run involved): "
+                     + (j.reason or j.measured))
     if row.verdict == DIFFERS and claim.id in CAUSE_TESTS:
         needed = load.variants(CAUSES[claim.id], precision)  # the arithmetic the verdict was judged in
         try:

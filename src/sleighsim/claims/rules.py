@@ -6,7 +6,7 @@ datasets were also computed in a finer arithmetic and only double reproduces the
 perturbed at the rounding level give different verdicts), "cannot be reproduced" (only from a computed rule, such as a measured cost above a
 stated budget, or a run that reached its stated cap without resolving the number), "not yet
 computed" (the dataset is missing, or does not determine the number: NaN).
-"""
+"""  # noqa: E501 (claims.ledger writes this docstring verbatim into the claims dataset's "rules" attribute)
 
 from __future__ import annotations
 

@@ -13,8 +13,8 @@ from pathlib import Path
 from sleighsim.claims.ledger import ledger, parse_claims, summary, write
 from sleighsim.io.integrity import readable
 from sleighsim.ops.config import BASE_CONFIG, REPO, merged_config
-from sleighsim.scenes.catalog import run_datasets
 from sleighsim.report.figures.catalog import FIGURES, figures_built
+from sleighsim.scenes.catalog import run_datasets
 
 
 def _parser() -> argparse.ArgumentParser:

@@ -21,8 +21,8 @@ from sleighsim.io.vocabulary import PATTERNS, VOCABULARY
 
 CONVENTIONS = "CF-1.11"
 REFERENCES = ("Fedonyuk, V. and Tallapragada, P., Chaotic dynamics of the Chaplygin sleigh with a passive internal "
-              "rotor (the LaTeX source, which states no journal or DOI, is paper/fedonyuk-tallapragada-sleigh-rotor.tex "
-              "of the sleighsim repository; CITATION.cff)")
+              "rotor (the LaTeX source, which states no journal or DOI, is "
+              "paper/fedonyuk-tallapragada-sleigh-rotor.tex of the sleighsim repository; CITATION.cff)")
 TIME_UNIT = ("the model's time unit: the equations (the paper's form with m = 1) fix no time scale, and the "
              "time-scaling symmetry (c u, c Omega, c omega, delta)(c t) maps a run at energy E to one at c^2 E, so "
              "times are nondimensional numbers (units '1') in this unit; rates, frequencies and velocities are per "

@@ -28,7 +28,8 @@ VOCABULARY: dict[str, tuple[str, str]] = {
     "finer": ("the other arithmetic of the comparison", "text"),
     "pair": ("pair of neighbouring arithmetics, coarse / fine", "text"),
     "arithmetic": ("floating-point arithmetic", "text"),
-    "observable": ("name of the key observable (declared by its scene kind: sleighsim.scenes.kind.SceneKind.observables)", "text"),
+    "observable": ("name of the key observable "
+                   "(declared by its scene kind: sleighsim.scenes.kind.SceneKind.observables)", "text"),
     "replica": ("index of the replica (an independent start point along the settled orbit)", "1"),
     "run": ("index of the run", "1"),
     "realization": ("index of the realization (0: the configured start states)", "1"),
@@ -106,7 +107,8 @@ VOCABULARY: dict[str, tuple[str, str]] = {
     "long_spike_time": ("times of the Omega spikes of the long-horizon check", "time"),
     "omega_block_drift": ("largest relative drift of omega's block means over the replicas", "1"),
     "rotation_number": ("rotation number of the P_2pi iterates", "1"),
-    "curve_thickness": ("thickness of the curve of the P_2pi iterates (sleighsim.engine.poincare.curve_thickness)", "1"),
+    "curve_thickness": ("thickness of the curve of the P_2pi iterates "
+                        "(sleighsim.engine.poincare.curve_thickness)", "1"),
     # Lyapunov exponents and chaos indicators
     "lambda_1": ("largest Lyapunov exponent lambda_1", "rate"),
     "stderr": ("standard error of the Lyapunov exponent", "rate"),

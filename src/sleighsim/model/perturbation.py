@@ -223,7 +223,7 @@ def compare_printed(kappa_value=1) -> list[dict]:
 
 
 def state_names(order: int) -> list[str]:
-    """The hierarchy's state variables to ``order``: u0, Omega0, omega0, delta0, u1, ..."""
+    """The hierarchy's state names to ``order``, order by order: u0, Omega0, omega0, delta0, u1, ..."""
     return [f"{v}{k}" for k in range(order + 1) for v in VARS]
 
 

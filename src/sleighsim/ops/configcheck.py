@@ -9,7 +9,8 @@
 - every sampling step is shorter than the horizon it samples;
 - the datasets a scene reads (``inputs``) are scenes of the config;
 - the records a scene holds in memory fit in this machine's memory (an estimate per kind,
-  declared by each kind, sleighsim.scenes.memory), its jobs are few enough to plan (:data:`MAX_SCENE_JOBS`) and each finishes within
+  declared by each kind, sleighsim.scenes.memory), its jobs are few enough to plan (:data:`MAX_SCENE_JOBS`)
+  and each finishes within
   :data:`MAX_JOB_CPU_DAYS` (the time units it integrates, sleighsim.ops.workmodel).
 
 Each error (:class:`sleighsim.scenes.checks.ConfigError`) names the config key and the admissible

@@ -30,8 +30,8 @@ import numpy as np
 import xarray as xr
 import yaml
 
-from sleighsim.io.netcdf import write_dataset, write_text
 from sleighsim.claims import ledger as claims
+from sleighsim.io.netcdf import write_dataset, write_text
 
 STATE_KEYS = ("y0", "states")
 REL = 1e-12

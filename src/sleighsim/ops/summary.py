@@ -33,8 +33,8 @@ from pathlib import Path
 
 import yaml
 
-from sleighsim.io.netcdf import atomic_path
 from sleighsim.io.benchmark_files import read_benchmark, rule_from_path
+from sleighsim.io.netcdf import atomic_path
 from sleighsim.ops.config import BASE_CONFIG, merged_config
 from sleighsim.ops.facts import git_commit, machine_facts
 from sleighsim.ops.jobgraph import COSTS_DIR, DAG_FILE, DRYRUN_FILE, critical_path, job_graph, predicted_wall

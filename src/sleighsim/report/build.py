@@ -15,19 +15,20 @@ from __future__ import annotations
 import csv
 import re
 import shutil
+from functools import partial
 from pathlib import Path
 from typing import NamedTuple
 
 import numpy as np
 import yaml
 
+from sleighsim.claims.ledger import Row
 from sleighsim.io.netcdf import read_dataset, write_text
 from sleighsim.report.figures import costs as plots
 from sleighsim.report.figures.catalog import FIGURES
-from sleighsim.report.tables import TABLES
-from sleighsim.claims.ledger import Row
 from sleighsim.report.findings import precision_findings
 from sleighsim.report.page import COLOURS, Table, math_html, render
+from sleighsim.report.tables import TABLES
 
 OUTCOME_COLOURS = {"reliable": COLOURS["reproduced"], "degraded": COLOURS["differs"],
                    "refused": COLOURS["not yet computed"]}
@@ -157,7 +158,8 @@ def _arithmetic_note(ds, i: int) -> str:
     if "follows_orbit" not in ds.data_vars:
         return ""
     if not np.isfinite(ds.ln_gain_max.values[i]):
-        return ". Faithfulness gauge: no complete spike cycle within T_gain, so which arithmetic follows the orbit is unknown"
+        return (". Faithfulness gauge: no complete spike cycle within T_gain, so which arithmetic follows the orbit "
+                "is unknown")
     cells = [f"{a}: {ds.follows_orbit.values[i, k]} (G x rounding = 10^{ds.log10_gain_rounding.values[i, k]:.1f})"
              for k, a in enumerate(ds.arithmetic.values)]
     return f". Rounding amplified by ln G = {float(ds.ln_gain_max.values[i]):.1f} per spike cycle: " + "; ".join(cells)
@@ -254,14 +256,18 @@ def other_figures(out_dir, figures, datasets) -> list[dict]:
     return out
 
 
+def _outcome_colour(k: int, vals) -> str:
+    """The colour of a row's outcome, the ``k``-th of its values ``vals`` ("" for no known outcome)."""
+    return OUTCOME_COLOURS.get(str(vals[k]), "")
+
+
 def tables(datasets) -> list[dict]:
     """The report's tables (:data:`sleighsim.report.tables.TABLES`), or the dataset that would hold each."""
     out = []
     for title, table in TABLES.items():
         content = None
         if table.data in datasets:
-            colour = (lambda vals, k=table.columns.index(table.colour_by): OUTCOME_COLOURS.get(str(vals[k]), "")
-                      ) if table.colour_by else None
+            colour = partial(_outcome_colour, table.columns.index(table.colour_by)) if table.colour_by else None
             content = dataset_table(read_dataset(datasets[table.data]), table.key, table.columns, colour)
         out.append({"title": title, "data": table.data, "table": content})
     return out

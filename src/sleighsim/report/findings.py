@@ -8,8 +8,8 @@ import math
 
 import numpy as np
 
-from sleighsim.io.netcdf import read_dataset
 from sleighsim.analysis.observables import SEPARATED
+from sleighsim.io.netcdf import read_dataset
 from sleighsim.model.symmetries import REFERENCE_STATE
 from sleighsim.report.page import Table
 
@@ -34,7 +34,8 @@ def _state_sentences(ladder, verdict, k: int, paper_interval: str) -> list[str]:
         i = list(verdict.state.values).index(st)
         g = float(verdict.ln_gain_max.values[i])
         if math.isfinite(g):
-            cells = [f"{a} {verdict.follows_orbit.values[i, j]} (G x rounding 10^{verdict.log10_gain_rounding.values[i, j]:.1f})"
+            cells = [f"{a} {verdict.follows_orbit.values[i, j]} "
+                     f"(G x rounding 10^{verdict.log10_gain_rounding.values[i, j]:.1f})"
                      for j, a in enumerate(verdict.arithmetic.values)]
             out.append(f"Mechanism: one spike cycle amplifies errors by up to e^{g:.1f}; " + "; ".join(cells) + ".")
         out.append(f"Chaos verdict: {verdict.verdict.values[i]} ({verdict.reason.values[i].split(';')[0]}).")

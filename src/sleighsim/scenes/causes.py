@@ -72,9 +72,9 @@ def k2_sweep(cfg: dict, scene: str = "") -> xr.Dataset:
     start = time.perf_counter()
     K2s = np.asarray(cfg["K2"], float)
     y0 = np.asarray(cfg["y0"], float)
-    rows = {k: [] for k in ("first_spike", "spike_interval", "spike_interval_stderr", "n_spikes", "energy_max_rel_drift",
-                            "Omega2_amplitude", "phi1_over_pi", "T2", "B", "omega2_growth", "omega_rel_error",
-                            "band_low", "band_high")}
+    rows = {k: [] for k in ("first_spike", "spike_interval", "spike_interval_stderr", "n_spikes",
+                            "energy_max_rel_drift", "Omega2_amplitude", "phi1_over_pi", "T2", "B", "omega2_growth",
+                            "omega_rel_error", "band_low", "band_high")}
     hc = cfg["hierarchy"]
     for K2 in K2s:
         p = Params.paper(eps=cfg["params"]["eps"], b=cfg["params"]["b"], K2=K2)
@@ -123,8 +123,8 @@ def integration_error(cfg: dict, scene: str = "") -> xr.Dataset:
     params = Params.from_config(cfg["params"])
     y0 = np.asarray(cfg["y0"], float)
     rtols = np.asarray(cfg["rtols"], float)
-    rows = {k: [] for k in ("first_spike", "spike_interval", "spike_interval_stderr", "n_spikes", "energy_max_rel_drift",
-                            "omega_rel_error", "wall_time_s")}
+    rows = {k: [] for k in ("first_spike", "spike_interval", "spike_interval_stderr", "n_spikes",
+                            "energy_max_rel_drift", "omega_rel_error", "wall_time_s")}
     sc = cfg["series"]
     times = sample_grid(0.0, sc["t_end"], sc["dt"])
     h = integrate_hierarchy(sc["order"], y0, times, b=params.b, K2=params.K2,
@@ -161,8 +161,8 @@ def integration_error(cfg: dict, scene: str = "") -> xr.Dataset:
         y0=y0, param_eps=params.eps, param_b=params.b, param_K2=params.K2, reference_tol=cfg["tol"],
         protocol_t_transient=lc["t_transient"], protocol_T=lc["T"], protocol_tau=lc["tau"],
         wall_time_s=time.perf_counter() - start,
-        stand_in=f"SciPy {cfg['method']} with atol = rtol x {cfg['atol_factor']:g} for MATLAB's ode45 (a Dormand-Prince "
-                 "5(4) pair, default rtol 1e-3, atol 1e-6)",
+        stand_in=f"SciPy {cfg['method']} with atol = rtol x {cfg['atol_factor']:g} for MATLAB's ode45 "
+                 "(a Dormand-Prince 5(4) pair, default rtol 1e-3, atol 1e-6)",
     )
     return ds
 

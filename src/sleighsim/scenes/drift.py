@@ -42,7 +42,8 @@ def _windowed(ta, y, params, cfg: dict, scene: str) -> tuple:
     for w in windows.windowed_orbit(ta, 4, y, n_windows=n_windows, window=cfg["window"], tau=cfg["tau"],
                                     component=1, t_align=cfg["t_align"], label=scene):
         mean, sd, count = _intervals(w["t"], w["x"], cfg["spike"])
-        rows.append((w["t_start"], mean, sd, count, w["lambda_1"], float(equations.energy(w["state"], params) / E0 - 1)))
+        rows.append((w["t_start"], mean, sd, count, w["lambda_1"],
+                     float(equations.energy(w["state"], params) / E0 - 1)))
         steps += w["steps"]
     return tuple(np.array(c) for c in zip(*rows)), n_windows, steps
 
@@ -52,7 +53,8 @@ def _notes(cfg: dict) -> dict:
     return {
         "spike_rule": (f"spike: |Omega| (sampled every tau) block maximum ({cfg['spike']['block']:g} time units) above "
                        f"{cfg['spike']['factor']:g} x the median block maximum of the window's second half; spikes "
-                       f"closer than {cfg['spike']['min_separation']:g} merged; interval: mean of the window's intervals"),
+                       f"closer than {cfg['spike']['min_separation']:g} merged; interval: mean of the window's "
+                       "intervals"),
         "uncertainty": "lambda_1_stderr: spread of the per-window values / sqrt(windows) (windows of many spike cycles "
                        "taken as independent); trends: least squares over the windows of the last part of the run",
         "precision_note": ("tangent-based exponents of this system are inflated by rounding amplified at the spikes in "
@@ -76,7 +78,8 @@ def drift_windows(cfg: dict, scene: str = "") -> xr.Dataset:
     arithmetic = Precision.LONG_DOUBLE if cfg["long_double"] else Precision.DOUBLE
     ta, compile_s = integrators.sleigh_tangent(1, tol, cfg["compact_mode"], arithmetic)
     integrators.set_pars(ta, params)
-    precision = "double" if ta.state.dtype == np.float64 else f"long double (epsilon {float(np.finfo(ta.state.dtype).eps):.2g})"
+    precision = ("double" if ta.state.dtype == np.float64
+                 else f"long double (epsilon {float(np.finfo(ta.state.dtype).eps):.2g})")
     (t_start, interval, interval_sd, n_spikes, lam, drift), n_windows, steps = _windowed(ta, y, params, cfg, scene)
     t_mid = t_start + cfg["window"] / 2
     judged = {name: windows.trend(t_mid, x, rel_tol=cfg["rel_tol"][name], sigma=cfg["sigma"],

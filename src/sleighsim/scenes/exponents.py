@@ -69,14 +69,16 @@ def spectrum(cfg: dict, scene: str = "") -> xr.Dataset:
     arith = steady_arithmetic(cfg)
     replicas, _ = orbit_samples(params, y, cfg["replicas"], cfg["replica_spacing"], **arith, scene=scene)
     B = cfg["replicas"]
-    ta, compile_s = benettin.sleigh_tangent_lanes(B, arith["tol"], cfg["compact_mode"], k=4, precision=arith["precision"])
+    ta, compile_s = benettin.sleigh_tangent_lanes(B, arith["tol"], cfg["compact_mode"], k=4,
+                                                  precision=arith["precision"])
     integrators.set_pars(ta, params)
     res = benettin.replica_exponents(ta, 4, 4, replicas, cfg["tau"], T_round=cfg["T_round"],
                                      max_rounds=cfg["max_rounds"], target_rel=cfg["target_rel"], t_align=cfg["t_align"],
                                      regular_floor=cfg["regular_floor"], sigma=cfg["sigma"], label=scene)
     # The mean divergence (trace of the Jacobian) over each replica's window, without tangent vectors:
     # an independent estimate of the sum of the exponents, with its own spread over replicas.
-    div = np.array([benettin.mean_divergence(params, _advance(params, x, cfg["t_align"], cfg["tol"]), res["T"], cfg["tol"])
+    div = np.array([benettin.mean_divergence(params, _advance(params, x, cfg["t_align"], cfg["tol"]), res["T"],
+                                             cfg["tol"])
                     for x in replicas])
     T_grid, running = _running(res["log_growth"], cfg["tau"])
     lam, err, per = res["exponents"], res["stderr"], res["per_replica"]
@@ -109,7 +111,8 @@ def spectrum(cfg: dict, scene: str = "") -> xr.Dataset:
         sum_minus_divergence_max=float(np.max(np.abs(sums - div))),
         lambda_1_decay_slope_last_decade=_decay_slope(T_grid, running[:, 0]),
         compile_time_s=compile_s, wall_time_s=time.perf_counter() - start,
-        energy_max_rel_drift=float(np.max(np.abs(equations.energy(res["final_state"], params) / equations.energy(y0, params) - 1))),
+        energy_max_rel_drift=float(np.max(np.abs(
+            equations.energy(res["final_state"], params) / equations.energy(y0, params) - 1))),
     )
     log.info("%s: exponents %s +- %s (%s, T = %.4g per replica); sum %.3g +- %.2g vs mean divergence %.3g +- %.2g",
              scene, lam, err, res["status"], res["T"], sums.mean(), ds.attrs["sum_all_stderr"], div.mean(),
@@ -187,11 +190,12 @@ def protocol(cfg: dict, scene: str = "") -> xr.Dataset:
     ds.attrs.update(settled_state=np.ravel(settled), **_lambda_observables(np.array(exps)),
                     t_transient=cfg["t_transient"], T=cfg["T"], n_blocks=cfg["n_blocks"], paper_tau=cfg["paper_tau"],
                     tau_check=cfg["tau_check"], tau_equivalence_max_rel_diff=agreement,
-                    tau_equivalence=f"renormalised every {cfg['tau']:g} instead of the paper's {cfg['paper_tau']:g}: equal "
-                                    "in exact arithmetic; over the first {:g} time units of state 0 the four exponents "
-                                    "agree to {:.1g} (relative)".format(cfg["tau_check"], agreement),
+                    tau_equivalence=f"renormalised every {cfg['tau']:g} instead of the paper's {cfg['paper_tau']:g}: "
+                                    "equal in exact arithmetic; over the first {:g} time units of state 0 the four "
+                                    "exponents agree to {:.1g} (relative)".format(cfg["tau_check"], agreement),
                     wall_time_s=time.perf_counter() - start, spread_lambda_1=float(np.ptp(np.array(exps)[:, 0])))
-    log.info("%s: tau %g and %g agree to %.2g over %g", scene, cfg["tau"], cfg["paper_tau"], agreement, cfg["tau_check"])
+    log.info("%s: tau %g and %g agree to %.2g over %g", scene, cfg["tau"], cfg["paper_tau"], agreement,
+             cfg["tau_check"])
     return ds
 
 
@@ -349,7 +353,8 @@ def formal_exponents(cfg: dict, scene: str = "") -> xr.Dataset:
         scene=scene, backend="heyoka", method="Benettin over independent replicas (k = 1), formal system m_c = 1 - eps",
         param_b=cfg["b"], param_K2=cfg["K2"], energy_label=cfg["energy_label"], y0=cfg["y0"],
         tol=cfg["tol"], tau=cfg["tau"], replicas=cfg["replicas"], replica_spacing=cfg["replica_spacing"],
-        compact_mode=int(cfg["compact_mode"]), uncertainty="standard error over independent replicas", wall_time_s=time.perf_counter() - start,
+        compact_mode=int(cfg["compact_mode"]), uncertainty="standard error over independent replicas",
+        wall_time_s=time.perf_counter() - start,
         eps_elsewhere=np.asarray(cfg.get("elsewhere", {}).get("eps", []), float),
         elsewhere_config=cfg.get("elsewhere", {}).get("config", ""),
     )

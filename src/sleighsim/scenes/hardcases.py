@@ -40,7 +40,8 @@ def case_params(name, params, y0, T, cfg):
     ok = a.attrs["energy_max_rel_drift"] < cfg["max_drift"] and disagree < cfg["max_disagreement"]
     how = "" if ok else (f"drift {a.attrs['energy_max_rel_drift']:.2g}" if a.attrs["energy_max_rel_drift"]
                          >= cfg["max_drift"] else f"backends differ by {disagree:.2g}")
-    return dict(case=name, outcome="reliable" if ok else "degraded", error=max(a.attrs["energy_max_rel_drift"], disagree),
+    return dict(case=name, outcome="reliable" if ok else "degraded",
+                error=max(a.attrs["energy_max_rel_drift"], disagree),
                 drift=a.attrs["energy_max_rel_drift"], disagreement=disagree, steps=a.attrs["steps"],
                 min_step=a.attrs["min_step"], max_step=a.attrs["max_step"], wall_s=a.attrs["wall_time_s"],
                 detail=how or f"T = {T:g}")
@@ -60,7 +61,8 @@ def case_scaling(name, label, cfg):
     ok = err < cfg["max_scaling_error"]
     return dict(case=name, outcome="reliable" if ok else "degraded", error=err,
                 drift=scaled.attrs["energy_max_rel_drift"], disagreement=np.nan, steps=scaled.attrs["steps"],
-                min_step=scaled.attrs["min_step"], max_step=scaled.attrs["max_step"], wall_s=scaled.attrs["wall_time_s"],
+                min_step=scaled.attrs["min_step"], max_step=scaled.attrs["max_step"],
+                wall_s=scaled.attrs["wall_time_s"],
                 detail=f"time-scaling law, c = {c:.3g}: max error {err:.2g} (velocities / c, delta)")
 
 
@@ -102,6 +104,8 @@ def case_on_section(name, cfg):
 
 
 def case_refused(name, build):
+    """An inadmissible input: ``build()`` must raise ValueError (outcome "refused", its message the detail),
+    else the row is "degraded"."""
     try:
         build()
     except ValueError as err:

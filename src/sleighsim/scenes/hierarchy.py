@@ -93,7 +93,7 @@ def series_vs_exact(cfg: dict, scene: str = "") -> xr.Dataset:
     data = series_errors(exact, h, eps, order)
     conv = convergence_study({"tol": cfg["tol"], **cfg["convergence"]})
     cc = cfg["convergence"]
-    for o, (errs, slope, predicted) in conv.items():
+    for o, (errs, _slope, _predicted) in conv.items():
         data[f"convergence_error_order{o}"] = (("eps_study",), errs,
                                                cf.attrs(f"max error of the order-{o} partial sum on "
                                                         f"[0, {cc['t_end']:g}] (u, Omega, omega, delta, in their "
@@ -131,7 +131,8 @@ def _paper_closed_forms(u0, omega0, b, K2) -> dict:
     """The paper's approximations (eq:Omega2_sol, eq:w2_approx) as printed, with our u0, omega0."""
     A = omega0**2 / K2 / math.sqrt(omega0**2 + u0**2 / (b**2 * K2**2))
     growth = u0 * A / (2 * b * K2)
-    return {"Omega2_amplitude": A, "phi1": math.atan(-omega0 * b * K2 / u0), "phi1_abs": math.atan(omega0 * b * K2 / u0),
+    return {"Omega2_amplitude": A, "phi1": math.atan(-omega0 * b * K2 / u0),
+            "phi1_abs": math.atan(omega0 * b * K2 / u0),
             "T1": 2 * math.pi / omega0, "T2": math.pi / omega0, "B": math.hypot(growth, omega0**2 / (2 * K2)),
             "omega2_growth": growth}
 
@@ -292,13 +293,15 @@ def hierarchy_audit(cfg: dict, scene: str = "") -> xr.Dataset:
                             "from the first to the second half; 'decays' when RMS < 1e-6 of the largest term",
         tol=cfg["tol"], t_end=float(times[-1]), backend="heyoka", steps=h.attrs["steps"],
         wall_time_s=time.perf_counter() - start, growth_block=cfg["growth_block"], late_start=cfg["late_start"],
-        growth_rule="log-log least-squares slope of the block maxima of |x| (blocks of growth_block) for t >= late_start",
+        growth_rule="log-log least-squares slope of the block maxima of |x| (blocks of growth_block) "
+                    "for t >= late_start",
         **{f"growth_exponent_{v}{k}": _growth_exponent(times, h[f"{v}{k}"].values, cfg["growth_block"],
                                                        cfg["late_start"])
            for v in pert.VARS for k in (2, 4)},
     )
     log.info("%s: done in %.3g s; %d printed terms differ; order 3 forcing vanishes: %s; %d of %d order-4 terms "
-             "secular", scene, ds.attrs["wall_time_s"], len(rows), ds.attrs["order3_forcing_vanishes"], n_sec, len(classified))
+             "secular", scene, ds.attrs["wall_time_s"], len(rows), ds.attrs["order3_forcing_vanishes"], n_sec,
+             len(classified))
     return ds
 
 

@@ -88,8 +88,10 @@ def separation(coarse: dict, fine: dict) -> np.ndarray:
 
 def one_state(params, y0, cfg: dict, label: str) -> dict:
     """Settle the state from y0 (double), then run it in every precision of the ladder."""
-    y, pre = settle(params, y0, cfg["t_transient"], **cfg["transient"], tol=Precision.DOUBLE.epsilon, label=label, progress=1)
-    runs = [run_in(params, y, Precision.parse(p), T=cfg["T"], dt=cfg["dt"], spike_factor=cfg["transient"]["spike_factor"])
+    y, pre = settle(params, y0, cfg["t_transient"], **cfg["transient"], tol=Precision.DOUBLE.epsilon, label=label,
+                    progress=1)
+    runs = [run_in(params, y, Precision.parse(p), T=cfg["T"], dt=cfg["dt"],
+                   spike_factor=cfg["transient"]["spike_factor"])
             for p in cfg["precisions"]]
     seps = [separation(a, b) for a, b in zip(runs[:-1], runs[1:])]
     t = cfg["dt"] * np.arange(1, runs[0]["velocities"].shape[0] + 1)
@@ -134,14 +136,17 @@ def precision_ladder(cfg: dict, scene: str = "") -> xr.Dataset:
                       cf.attrs("configured start state (u, Omega, omega, delta) in model units, before scaling to "
                                "the label")),
         },
-        coords={"state": names, "precision": [p.value for p in precs], "component": ["u", "Omega", "omega", "delta"], "pair": [f"{a} / {b}" for a, b in zip(precs[:-1], precs[1:])],
+        coords={"state": names, "precision": [p.value for p in precs], "component": ["u", "Omega", "omega", "delta"],
+                "pair": [f"{a} / {b}" for a, b in zip(precs[:-1], precs[1:])],
                 "t_separation": cfg["dt"] * every * np.arange(1, out[0]["separations"][0][every - 1::every].size + 1),
-                "rounding": ("precision", [p.rounding for p in precs]), "tol": ("precision", [p.epsilon for p in precs])},
+                "rounding": ("precision", [p.rounding for p in precs]),
+                "tol": ("precision", [p.epsilon for p in precs])},
     )
     ds.attrs.update(params.attrs())
     ds.attrs.update(scene=scene, energy_label=cfg["energy_label"], T=cfg["T"], dt=cfg["dt"],
                     integrator="heyoka Taylor in each precision, tolerance its machine epsilon (coordinate tol)",
-                    energy_max_rel_drift=float(np.nanmax([[r["energy_max_rel_drift"] for r in o["runs"]] for o in out])),
+                    energy_max_rel_drift=float(np.nanmax([[r["energy_max_rel_drift"] for r in o["runs"]]
+                                                          for o in out])),
                     agreement_rule=" ".join(agrees.__doc__.split()),
                     converged_rule=" ".join(converged_precision.__doc__.split()),
                     wall_time_s=time.perf_counter() - start)

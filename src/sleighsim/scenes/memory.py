@@ -19,11 +19,13 @@ class Span(NamedTuple):
 
     @property
     def what(self) -> str:
+        """The record's name: its horizon key, "/ step key" and "x lanes key" when there are such."""
         out = self.horizon[0] + (f" / {self.step[0]}" if self.step else "")
         return out + (f" x {self.lanes[0]}" if self.lanes[0] else "")
 
     @property
     def samples(self) -> float:
+        """The number of samples held: horizon / step (or horizon itself without a step) times lanes."""
         return self.horizon[1] / (self.step[1] if self.step else 1) * self.lanes[1]
 
 

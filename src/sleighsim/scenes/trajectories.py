@@ -49,7 +49,8 @@ def trajectory(cfg: dict, scene: str = "") -> xr.Dataset:
     ds.attrs.update(**arith, settled_state=np.asarray(y0, float)[:4],
                     transient_precision="double" if pre else arith["precision"], transient_tol=cfg["tol"])
     if pre:
-        ds.attrs.update(state_attrs(params, initial_state(cfg, params)), path_origin="the window's start (t_sample_start)")
+        ds.attrs.update(state_attrs(params, initial_state(cfg, params)),
+                        path_origin="the window's start (t_sample_start)")
         ds.attrs["energy_max_rel_drift"] = max(ds.attrs["energy_max_rel_drift"], pre["pre_run_energy_max_rel_drift"])
     return ds
 

@@ -183,7 +183,8 @@ def _level_distances(raw, smoothed, level, ok, group, c_of: list, n_levels: int)
                                                                   (level == 1) & (group == main))
         unscaled = [np.nanmean(smoothed[(level == li) & (group == main) & ok], axis=0) * (c_of[li] if li else 1.0)
                     for li in (0, 1)]
-        attrs["across_levels_distance_main_group_unscaled"] = float(np.nanmax(np.abs(unscaled[1] - unscaled[0]))) / scale
+        attrs["across_levels_distance_main_group_unscaled"] = (float(np.nanmax(np.abs(unscaled[1] - unscaled[0])))
+                                                                / scale)
     return attrs, n_groups, main, scale
 
 
@@ -232,8 +233,8 @@ def attractor_levels(cfg: dict, scene: str = "") -> xr.Dataset:
     ds.attrs.update(
         scene=scene, tol=cfg["tol"], backend="heyoka", labels=np.asarray(labels, float), n_runs=len(raw),
         n_reached=int(ok.sum()), main_group=int(main), group_rel_tol=cfg["group_rel_tol"],
-        alignment="first Omega spike after the sleigh-like phase (sleighsim.engine.transient.phases); level k is mapped "
-                  "onto level 0 by the time-scaling law (tau -> tau / c, omega -> omega / c); omega < 0 runs "
+        alignment="first Omega spike after the sleigh-like phase (sleighsim.engine.transient.phases); level k is "
+                  "mapped onto level 0 by the time-scaling law (tau -> tau / c, omega -> omega / c); omega < 0 runs "
                   "are mirrored",
         phase_rule=transient.PHASES_RULE, compare_window=window, compare_dt=dt_cmp, smooth=smooth,
         distance_rule="max over pairs of max over tau of |omega_i - omega_j| of the smoothed aligned curves "

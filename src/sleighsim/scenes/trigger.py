@@ -114,7 +114,8 @@ def trigger_law(cfg: dict, scene: str = "") -> xr.Dataset:
     ds.attrs.update({f"y0_{n}": float(v) for n, v in zip(STATE_NAMES, cfg["y0"])})
     ds.attrs.update({f"law_{k}": v for k, v in law.items()})
     ds.attrs.update(scene=scene, t_end=cfg["t_end"], dt=cfg["dt"], t_min=cfg["t_min"],
-                    spike_factor=cfg["spike_factor"], far=FAR, integrator="heyoka Taylor, tolerance and arithmetic per run",
+                    spike_factor=cfg["spike_factor"], far=FAR,
+                    integrator="heyoka Taylor, tolerance and arithmetic per run",
                     energy_max_rel_drift=float(np.nanmax(out[:, 3])), tol_max=float(tol.max()),
                     fit_rule=" ".join((fitted.__doc__ + " " + fit.__doc__).split()),
                     wall_time_s=time.perf_counter() - start)

@@ -37,9 +37,9 @@ def c18(paper, spectrum) -> Judgement:
     verdict = REPRODUCED if contracts else DIFFERS
     return Judgement(
         verdict, units="1/time", uncertainty=fmt(unc, 2),
-        measured=f"mean divergence {div:.3g} (plain flow, {a['replicas']} replicas); sum of exponents {a['sum_all']:.3g} "
-                 f"+- {a['sum_all_stderr']:.2g} (variational runs); lambda_1 + lambda_4 = {a['sum_lambda_1_4']:.3g} +- "
-                 f"{a['sum_lambda_1_4_stderr']:.2g}",
+        measured=f"mean divergence {div:.3g} (plain flow, {a['replicas']} replicas); sum of exponents "
+                 f"{a['sum_all']:.3g} +- {a['sum_all_stderr']:.2g} (variational runs); lambda_1 + lambda_4 = "
+                 f"{a['sum_lambda_1_4']:.3g} +- {a['sum_lambda_1_4_stderr']:.2g}",
         rule=f"contraction: the mean trace of J plus {K_SIGMA:g} standard errors over independent replicas is below 0",
         reason="" if contracts else ("the flow expands phase-space volume on average" if expands else
                                      f"no contraction resolved: the mean divergence is within {K_SIGMA:g} standard "
@@ -56,20 +56,21 @@ def c19(paper, protocol, spectrum) -> Judgement:
     return Judgement(
         all_of(parts), units="1/time", uncertainty=fmt(err, 2),
         difference=max(relative(w, o) for w, o in zip(want, lam)),
-        measured=f"converged spectrum (T = {spectrum.attrs['T']:g} per replica, {spectrum.attrs['replicas']} replicas): "
-                 f"{fmt(lam, 3)}; the paper's protocol (T = {protocol.attrs['T']:g} after {protocol.attrs['t_transient']:g}) "
-                 f"from {spread.shape[0]} states on the level gives lambda_1 in [{spread[:, 0].min():.2g}, "
+        measured=f"converged spectrum (T = {spectrum.attrs['T']:g} per replica, {spectrum.attrs['replicas']} "
+                 f"replicas): {fmt(lam, 3)}; the paper's protocol (T = {protocol.attrs['T']:g} after "
+                 f"{protocol.attrs['t_transient']:g}) from {spread.shape[0]} states on the level gives lambda_1 in "
+                 f"[{spread[:, 0].min():.2g}, "
                  f"{spread[:, 0].max():.2g}] and lambda_4 in [{spread[:, 3].min():.2g}, {spread[:, 3].max():.2g}]",
-        rule=f"each paper exponent (sorted) within {REL_TOL:.0%} or {K_SIGMA:g} standard errors of our converged one; the "
-             "protocol's spread over states is reported, not judged",
+        rule=f"each paper exponent (sorted) within {REL_TOL:.0%} or {K_SIGMA:g} standard errors of our converged "
+             "one; the protocol's spread over states is reported, not judged",
         reason="; ".join(f"lambda_{i + 1}: {o:.3g} +- {e:.2g} against {w:.3g}" for i, (w, o, e, v)
                          in enumerate(zip(want, lam, err, parts)) if v == DIFFERS))
 
 
 def fake_rates(rows) -> np.ndarray:
     """Per row of lambda_1 rows (T, tau per row): the rate polynomial growth fakes over the row's
-    horizon, 2 ln(T / tau) / T (chaos.verdicts.polynomial_rate_bound); NaN for a row not computed. A finite-time lambda_1 below
-    it does not show chaos: a regular orbit's tangent vector grows like a power of t."""
+    horizon, 2 ln(T / tau) / T (chaos.verdicts.polynomial_rate_bound); NaN for a row not computed. A
+    finite-time lambda_1 below it does not show chaos: a regular orbit's tangent vector grows like a power of t."""
     return np.array([polynomial_rate_bound(T, tau) if np.isfinite(T) and np.isfinite(tau) else math.nan
                      for T, tau in zip(rows["T"].values, rows["tau"].values)])
 
@@ -88,7 +89,8 @@ def c20(paper, energy) -> Judgement:
     if low.size:
         j = int(low[0])
         fake = fake_rates(energy)[j]
-        positive = REPRODUCED if lam[j] - K_SIGMA * err[j] > fake else DIFFERS if lam[j] + K_SIGMA * err[j] < 0 else NOT_YET
+        positive = (REPRODUCED if lam[j] - K_SIGMA * err[j] > fake
+                    else DIFFERS if lam[j] + K_SIGMA * err[j] < 0 else NOT_YET)
         low_text = (f"at E label {labels[j]:g}: lambda_1 = {lam[j]:.2g} +- {err[j]:.1g} (polynomial growth fakes up to "
                     f"{fake:.2g} over its horizon)")
     else:
@@ -96,11 +98,12 @@ def c20(paper, energy) -> Judgement:
     return Judgement(
         all_of([smallest, positive]), units="1/time", uncertainty=fmt(err[k], 2) if k is not None else "",
         difference=relative(paper["smallest"], lam[k]) if k is not None else math.nan,
-        measured=(f"smallest lambda_1 over labels {paper['label_min']:g} to {paper['label_max']:g}: {lam[k]:.2g} (E label "
-                  f"{labels[k]:g})" if k is not None else "no label in the paper's range") + f"; {low_text}; fitted "
+        measured=(f"smallest lambda_1 over labels {paper['label_min']:g} to {paper['label_max']:g}: {lam[k]:.2g} "
+                  f"(E label {labels[k]:g})" if k is not None else "no label in the paper's range")
+                 + f"; {low_text}; fitted "
                  f"exponent of lambda_1 against E {energy.attrs['fitted_exponent']:.4f} (law: 0.5)",
-        rule=f"the smallest value within {REL_TOL:.0%} or {K_SIGMA:g} standard errors of the paper's, and lambda_1 resolved "
-             f"positive at the lowest energy the paper names (lambda_1 - {K_SIGMA:g} stderr > {_FAKE})",
+        rule=f"the smallest value within {REL_TOL:.0%} or {K_SIGMA:g} standard errors of the paper's, and lambda_1 "
+             f"resolved positive at the lowest energy the paper names (lambda_1 - {K_SIGMA:g} stderr > {_FAKE})",
         reason=(f"the smallest value is {lam[k]:.2g}, not {paper['smallest']:g}; " if smallest == DIFFERS else "")
         + ("lambda_1 is not resolved positive at the lowest energy" if positive != REPRODUCED else ""))
 
@@ -131,18 +134,18 @@ def c21(paper, grid) -> Judgement:
 
     return Judgement(
         verdict, units="1/time",
-        measured=f"{grid.attrs['n_rows']} eps rows (b is a symmetry): resolved above {floor:g} and above the polynomial "
-                 f"rate at eps {listed(above)}; below or regular at eps {listed(below)}; unresolved within the run's "
-                 f"horizon (below the polynomial rate, capped or not steady) at eps {listed(unresolved)}; smallest resolved "
-                 "lambda_1 "
+        measured=f"{grid.attrs['n_rows']} eps rows (b is a symmetry): resolved above {floor:g} and above the "
+                 f"polynomial rate at eps {listed(above)}; below or regular at eps {listed(below)}; unresolved within "
+                 f"the run's horizon (below the polynomial rate, capped or not steady) at eps {listed(unresolved)}; "
+                 "smallest resolved lambda_1 "
                  f"{np.min(lam[above]) if above.any() else math.nan:.2g}" + _elsewhere(grid, eps[away]),
-        rule=f"reproduced when every row resolves lambda_1 - {K_SIGMA:g} stderr above {floor:g} and above {_FAKE}; differs "
-             f"when a steady row is resolved below {floor:g} or regular; cannot be reproduced when the rest are not resolved "
-             "within the configured horizon (max_rounds) or are not steady",
+        rule=f"reproduced when every row resolves lambda_1 - {K_SIGMA:g} stderr above {floor:g} and above {_FAKE}; "
+             f"differs when a steady row is resolved below {floor:g} or regular; cannot be reproduced when the rest "
+             "are not resolved within the configured horizon (max_rounds) or are not steady",
         reason="" if verdict == REPRODUCED else
         (f"lambda_1 is resolved below {floor:g} or regular at eps {listed(below)}" if below.any() else
-         f"lambda_1 is not resolved above {floor:g} and the polynomial rate (or the row is capped or not steady) at eps "
-         f"{listed(unresolved)}"))
+         f"lambda_1 is not resolved above {floor:g} and the polynomial rate (or the row is capped or not steady) at "
+         f"eps {listed(unresolved)}"))
 
 
 def c25(paper, cost) -> Judgement:
@@ -156,11 +159,12 @@ def c25(paper, cost) -> Judgement:
         CANNOT if over else NOT_YET, units="core-hours", difference=hours[k] / budget if finite(hours[k]) else math.nan,
         measured="; ".join(f"eps {e:g}: transient ~{t:.2g} time units, ~{h:.2g} core-hours" for e, t, h in
                            zip(targets, cost.transient_estimate.values, hours)) + f"; budget {budget:g} core-hours",
-        rule="the cost of reaching the attractor at the paper's smallest eps, extrapolated from measured transients and "
-             "step rates, against the budget stated in the config",
-        reason=f"eps {targets[k]:g} would take about {hours[k]:.3g} core-hours, above the budget of {budget:g}" if over else
-        f"eps {targets[k]:g} fits the budget ({hours[k]:.3g} core-hours) but is not run" if finite(hours[k]) else
-        "the transient was not measured at the configured eps, so the cost is not determined")
+        rule="the cost of reaching the attractor at the paper's smallest eps, extrapolated from measured transients "
+             "and step rates, against the budget stated in the config",
+        reason=(f"eps {targets[k]:g} would take about {hours[k]:.3g} core-hours, above the budget of {budget:g}"
+                if over else
+                f"eps {targets[k]:g} fits the budget ({hours[k]:.3g} core-hours) but is not run" if finite(hours[k])
+                else "the transient was not measured at the configured eps, so the cost is not determined"))
 
 
 def c26(paper, formal) -> Judgement:
@@ -214,16 +218,17 @@ def c27(paper, rows) -> Judgement:
     elif np.all(thin[resolved_below]):
         verdict, reason = REPRODUCED, ""
     else:
-        verdict, reason = DIFFERS, (f"regular rows below the first chaotic eps ({first_chaos:.3g}) without a thin P_2pi "
-                                    f"curve (not a torus) at eps {listed(resolved_below & ~thin)}")
+        verdict, reason = DIFFERS, (f"regular rows below the first chaotic eps ({first_chaos:.3g}) without a thin "
+                                    f"P_2pi curve (not a torus) at eps {listed(resolved_below & ~thin)}")
     return Judgement(
         verdict,
         measured=f"{eps.size} eps rows in [{eps.min():.3g}, {eps.max():.3g}]: chaotic (lambda_1 resolved above the "
                  f"polynomial rate) at eps "
                  f"{listed(chaotic)}; regular at eps {listed(regular)}; regular with a thin P_2pi curve at eps "
                  f"{listed(regular & thin)}",
-        rule=f"below the smallest chaotic eps (lambda_1 - {K_SIGMA:g} stderr > {_FAKE}), the rows resolved regular must have "
-             "a thin P_2pi curve (thickness < 0.01: a torus): reproduced when at least one such row exists and all "
+        rule=f"below the smallest chaotic eps (lambda_1 - {K_SIGMA:g} stderr > {_FAKE}), the rows resolved regular "
+             "must have a thin P_2pi curve (thickness < 0.01: a torus): reproduced when at least one such row exists "
+             "and all "
              "have it, differs when one does not, not yet computed when none is resolved regular (unresolved rows "
              "are not counted)",
         reason=reason)

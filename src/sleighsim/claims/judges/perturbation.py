@@ -56,8 +56,10 @@ def c09(paper, fig6) -> Judgement:
         all_of(parts), difference=max(relative(paper["Omega2_amplitude"], a["Omega2_amplitude"]),
                                       relative(paper["phi1_over_pi"], a["phi1_over_pi"])),
         measured=f"amplitude {a['Omega2_amplitude']:.4f}, phi1 = {a['phi1_over_pi']:.4f} pi (the paper's closed forms "
-                 f"with our u0, omega0: {a['theory_Omega2_amplitude']:.4f}, phi1 = {a['theory_phi1'] / math.pi:.4f} pi)",
-        rule=f"numbers, within {REL_TOL:.0%} or {K_SIGMA:g} uncertainties; phase from the fit Omega2 ~ -A sin(delta0 + phi1)",
+                 f"with our u0, omega0: {a['theory_Omega2_amplitude']:.4f}, "
+                 f"phi1 = {a['theory_phi1'] / math.pi:.4f} pi)",
+        rule=f"numbers, within {REL_TOL:.0%} or {K_SIGMA:g} uncertainties; "
+             "phase from the fit Omega2 ~ -A sin(delta0 + phi1)",
         reason=f"the printed phi1 = arctan(-omega0 b K^2 / u0) has sign {sign}: {a['theory_phi1'] / math.pi:.4f} pi "
                f"against the fitted {a['phi1_over_pi']:.4f} pi")
 
@@ -73,9 +75,9 @@ def c10(paper, fig6) -> Judgement:
     return Judgement(
         all_of(vs.values()), difference=max(relative(paper[k], a[ours]) for k, ours, _ in pairs),
         measured="; ".join(f"{k} {a[ours]:.4g} ({vs[k]})" for k, ours, _ in pairs),
-        rule=f"each number within {REL_TOL:.0%} or {K_SIGMA:g} uncertainties; simulation: a line plus a sinusoid fitted "
-             f"to omega2 on [{a['fit_window_start']:g}, {a['fit_window_end']:g}]; theory: the paper's closed forms with "
-             "our u0, omega0",
+        rule=f"each number within {REL_TOL:.0%} or {K_SIGMA:g} uncertainties; simulation: a line plus a sinusoid "
+             f"fitted to omega2 on [{a['fit_window_start']:g}, {a['fit_window_end']:g}]; theory: the paper's closed "
+             "forms with our u0, omega0",
         reason="; ".join(f"{k}: {a[ours]:.4g} against {paper[k]:g}" for k, ours, _ in pairs if vs[k] == DIFFERS))
 
 
@@ -89,8 +91,8 @@ def c11(paper, fig5) -> Judgement:
                      measured=f"{100 * e:.3g}% at t = {a['t_end']:g} (u {100 * a['u_rel_error_at_t_end']:.3g}%, "
                               f"Omega {100 * a['Omega_rel_error_at_t_end']:.3g}%)",
                      rule=f"number, within {REL_TOL:.0%}",
-                     reason=f"the derived hierarchy's error is {want / e:.3g} times smaller than the paper's" if finite(e)
-                     and e < want else "")
+                     reason=(f"the derived hierarchy's error is {want / e:.3g} times smaller than the paper's"
+                             if finite(e) and e < want else ""))
 
 
 def c12(paper, hierarchy) -> Judgement:

@@ -27,8 +27,8 @@ def c01(paper, fig2) -> Judgement:
     ok = a["closed_form_max_abs_error"] < 1e-10 and om_end < 1e-3 * V and turning < 1e-3
     return Judgement(
         REPRODUCED if ok else DIFFERS, units="rad/time",
-        measured=f"|Omega(t_end)| = {om_end:.2g} against u -> {V:.4g}; heading turns by {turning:.2g} rad over the last "
-                 f"10% of the path; closed form against heyoka {a['closed_form_max_abs_error']:.1e}",
+        measured=f"|Omega(t_end)| = {om_end:.2g} against u -> {V:.4g}; heading turns by {turning:.2g} rad over the "
+                 f"last 10% of the path; closed form against heyoka {a['closed_form_max_abs_error']:.1e}",
         rule="integration matches the closed form to 1e-10, |Omega(end)| < 1e-3 u(end) and the heading turns by less "
              "than 1e-3 rad over the last tenth of the path (a straight line)")
 
@@ -49,4 +49,5 @@ def c02(paper) -> Judgement:
         measured=f"max |rhs| with Omega = omega = 0: {at_rest:.1e}; smallest max |rhs| at 100 states with Omega, "
                  f"omega != 0: {elsewhere:.2g}",
         rule="the right-hand side vanishes on Omega = omega = 0 and nowhere else sampled (deltadot = Omega - omega, "
-             "and Omegadot = omegadot = 0 force Omega = omega = 0)", note="sleighsim.model.equations.rhs (derived equations)")
+             "and Omegadot = omegadot = 0 force Omega = omega = 0)",
+        note="sleighsim.model.equations.rhs (derived equations)")

@@ -44,7 +44,8 @@ def d3(paper, audit) -> Judgement:
     returns its Judgement."""
     a = audit.attrs
     return Judgement(DIFFERS if a["d3_n_differences"] else REPRODUCED,
-                     measured=f"{a['d3_n_differences']} entries differ: {a['d3_differences']}", rule="symbolic comparison")
+                     measured=f"{a['d3_n_differences']} entries differ: {a['d3_differences']}",
+                     rule="symbolic comparison")
 
 
 def d4(paper, audit) -> Judgement:

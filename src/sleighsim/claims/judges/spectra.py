@@ -26,8 +26,8 @@ def _band(paper, psd) -> Judgement:
         difference=max(relative(w, o) for w, o in zip(want, ours)),
         measured=f"Omega band [{ours[0]:.4g}, {ours[1]:.4g}] (u: [{a['u_band_low']:.4g}, {a['u_band_high']:.4g}]); "
                  f"{a['Omega_n_peaks_near_zero']} distinct peaks near 0; resolution {resolution:.2g}",
-        rule=f"both band edges within {REL_TOL:.0%} of the paper's band width or one frequency bin, whichever is larger "
-             f"({tol:.2g})")
+        rule=f"both band edges within {REL_TOL:.0%} of the paper's band width or one frequency bin, whichever is "
+             f"larger ({tol:.2g})")
 
 
 def c23(paper, psd) -> Judgement:

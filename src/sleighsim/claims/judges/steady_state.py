@@ -42,7 +42,8 @@ def c13(paper, fig7) -> Judgement:
     i = int(np.argmax(np.abs(Om)))
     turn = float(np.interp(t[i] + 300, t, th) - np.interp(t[i] - 300, t, th)) / math.pi
     back, length = _backward_stretch(t, u)
-    parts = [REPRODUCED if finite(back) and abs(back - paper["backward_time"]) < 0.05 * paper["backward_time"] else DIFFERS,
+    parts = [REPRODUCED if finite(back) and abs(back - paper["backward_time"]) < 0.05 * paper["backward_time"]
+             else DIFFERS,
              REPRODUCED if abs(t[i] - paper["spike_time"]) < 0.05 * paper["spike_time"] else DIFFERS,
              REPRODUCED if abs(abs(turn) - paper["turn_over_pi"]) < REL_TOL else DIFFERS]
     return Judgement(
@@ -73,7 +74,8 @@ def c14(paper, fig8) -> Judgement:
                  f"(bounded about 1, diffusive 1.41, straight 2), reaching {reach[-1]:.3g}; the path never repeats "
                  f"itself to better than {recurrence:.3g} of its size at any lag of 50 to {t[-1] - t[0]:.3g} / 3",
         rule="bounded: the farthest distance from the start grows by less than 1.2 over the second half of the path; "
-             "not periodic: at every lag the RMS distance between the path and its shifted copy exceeds 0.01 of its size",
+             "not periodic: at every lag the RMS distance between the path and its shifted copy exceeds 0.01 of its "
+             "size",
         reason="" if bounded else f"the path keeps leaving: its reach grows by {growth:.2f} over the second half")
 
 
@@ -92,7 +94,8 @@ def c15(paper, ref) -> Judgement:
                  f"{a['rotation_number']:.5g} (halves {a['rotation_number_first_half']:.5g}, "
                  f"{a['rotation_number_second_half']:.5g})",
         rule="at least 1000 iterates (thousands), curve thickness < 0.01 (a closed curve) and no return closer than "
-             "1e-6 of the set's size within 50 iterates (not periodic: a periodic orbit returns to integration accuracy)",
+             "1e-6 of the set's size within 50 iterates (not periodic: a periodic orbit returns to integration "
+             "accuracy)",
         reason="" if verdict == REPRODUCED else ", ".join(
             w for w, bad in (("fewer than 1000 iterates", not many), ("the set is not a thin curve", not thin),
                              ("the iterates repeat", not aperiodic)) if bad))
@@ -120,17 +123,19 @@ def c17(paper, ref, high, small, scaling) -> Judgement:
         REPRODUCED if persists and flatter_at_larger_eps else DIFFERS,
         measured=f"loops {high.attrs['n_loops']} (E label {high.attrs['energy_label']:.4g}), {small.attrs['n_loops']} "
                  f"(eps {small.attrs['param_eps']:g}); flatness (smallest / largest axis) {f_ref:.3g} at eps "
-                 f"{ref.attrs['param_eps']:g}, {f_small:.3g} at eps {small.attrs['param_eps']:g}, {f_high:.3g} at E label "
+                 f"{ref.attrs['param_eps']:g}, {f_small:.3g} at eps {small.attrs['param_eps']:g}, {f_high:.3g} at "
+                 "E label "
                  f"{high.attrs['energy_label']:.4g}; the higher label divided by c = {sc['scale_factor_c']:.4g} lies "
                  f"{sc['distance_scaled_median']:.2g} of the size from the reference set (unscaled "
                  f"{sc['distance_unscaled_median']:.2g})",
-        rule="the 4 loops persist at the higher label and at the smaller eps, and the attractor is flatter at the larger "
-             "eps; the energy changes only the scale (exact time-scaling symmetry), so it cannot change the shape",
+        rule="the 4 loops persist at the higher label and at the smaller eps, and the attractor is flatter at the "
+             "larger eps; the energy changes only the scale (exact time-scaling symmetry), so it cannot change the "
+             "shape",
         reason="" if persists and flatter_at_larger_eps else
         ("the loops do not persist; " if not persists else "") +
         ("" if flatter_at_larger_eps else f"the attractor is not flatter at the larger eps ({f_ref:.3g} against "
-                                          f"{f_small:.3g}); ") + f"at the same eps the shape does not depend on the energy "
-                                                                 f"({f_ref:.3g} against {f_high:.3g})")
+                                          f"{f_small:.3g}); ")
+        + f"at the same eps the shape does not depend on the energy ({f_ref:.3g} against {f_high:.3g})")
 
 
 def c22(paper, ref) -> Judgement:
@@ -143,8 +148,8 @@ def c22(paper, ref) -> Judgement:
     expected = N * N * tie / width if width > 0 else math.nan
     return Judgement(
         REPRODUCED if n == 0 else DIFFERS, units="time",
-        measured=f"{N} return times in [{a['return_time_min']:.5g}, {a['return_time_max']:.5g}]; {n} adjacent pairs closer "
-                 f"than {tie:g}; smallest difference {a['return_time_min_pairwise_difference']:.2g}",
+        measured=f"{N} return times in [{a['return_time_min']:.5g}, {a['return_time_max']:.5g}]; {n} adjacent pairs "
+                 f"closer than {tie:g}; smallest difference {a['return_time_min_pairwise_difference']:.2g}",
         rule=f"no two return times closer than the paper's {tie:g}",
         reason=f"{N} values spread over {width:.3g} give about {expected:.3g} pairs closer than {tie:g} by chance"
         if n else "")

@@ -36,8 +36,9 @@ def c03(paper, fig3) -> Judgement:
     limit = paper["sleigh_phase_end_max"]
     verdict = NOT_YET if not finite(t1) else REPRODUCED if t1 <= limit * (1 + REL_TOL) else DIFFERS
     return Judgement(verdict, measured=f"the sleigh-like phase ends at t = {t1:g}", units="time",
-                     rule=f"end of the sleigh-like phase (running mean of u first reaches 99% of its maximum before the "
-                          f"first spike) at most {limit:g} (+{REL_TOL:.0%})", note="(sleighsim.engine.transient.phases)",
+                     rule=f"end of the sleigh-like phase (running mean of u first reaches 99% of its maximum before "
+                          f"the first spike) at most {limit:g} (+{REL_TOL:.0%})",
+                     note="(sleighsim.engine.transient.phases)",
                      difference=max(0.0, t1 / limit - 1) if finite(t1) else math.nan)
 
 
@@ -76,7 +77,8 @@ def c06(paper, fig4) -> Judgement:
     groups = []
     for g in sorted(set(fig4.group.values[ok_runs].tolist())):
         sel = (fig4.group.values == g) & ok_runs
-        groups.append(f"group {g}: {sel.sum()} runs, interval {np.mean(fig4.spike_interval_level0_units.values[sel]):.0f}")
+        groups.append(f"group {g}: {sel.sum()} runs, "
+                      f"interval {np.mean(fig4.spike_interval_level0_units.values[sel]):.0f}")
     long = []
     for k, g in enumerate(fig4.group_id.values):
         sp = fig4.long_spike_time.values[k]

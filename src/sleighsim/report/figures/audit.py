@@ -20,7 +20,8 @@ def audit(sources):
     ax.set_xlabel(LABELS["t"])
     ax.set_ylabel(r"$|E(t)/E(0) - 1|$ (relative)")
     ax.set_title(f"The paper's printed udot does not conserve the energy: max change "
-                 f"{ds.attrs['printed_max_abs_rel_change']:.3g} (derived: {ds.attrs['derived_max_abs_rel_change']:.2g})")
+                 f"{ds.attrs['printed_max_abs_rel_change']:.3g} "
+                 f"(derived: {ds.attrs['derived_max_abs_rel_change']:.2g})")
     ax.legend()
     return finish(fig, ds.attrs)
 

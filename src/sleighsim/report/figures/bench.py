@@ -79,7 +79,8 @@ def _peers(ax, ds) -> None:
             continue
         compile_s = np.nanmax(ds.peer_compile_s.values[sel]) if np.isfinite(ds.peer_compile_s.values[sel]).any() else 0
         style = dict(color="k", lw=2.5, marker="o") if name.startswith("heyoka") else dict(marker=".", lw=1)
-        ax.loglog(ds.peer_error.values[sel], ds.peer_wall.values[sel], label=f"{name} (compile {compile_s:.2g} s)", **style)
+        ax.loglog(ds.peer_error.values[sel], ds.peer_wall.values[sel], label=f"{name} (compile {compile_s:.2g} s)",
+                  **style)
     missing = sorted({n for n, e in zip(ds.peer_engine.values, ds.peer_error.values) if not np.isfinite(e)})
     for t in ds.error_target.values:
         ax.axvline(t, color="0.85", lw=0.8, zorder=0)

@@ -3,9 +3,9 @@ function that draws it), and which of them a config builds."""
 
 from __future__ import annotations
 
-from sleighsim.scenes import catalog as scene_catalog
 from sleighsim.report.figures import audit, bench, chaos, exponents, precision, steady_state, trajectories, transients
 from sleighsim.report.figures.figure import Figure
+from sleighsim.scenes import catalog as scene_catalog
 
 #: Figure name -> declaration, in the order the report shows them (and the figure list names them).
 FIGURES: dict[str, Figure] = {f.name: f for f in (

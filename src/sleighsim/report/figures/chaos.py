@@ -9,9 +9,9 @@ from matplotlib.lines import Line2D
 from matplotlib.ticker import NullFormatter
 
 from sleighsim.io.netcdf import read_dataset
-from sleighsim.report.page import CHAOS_COLOURS
 from sleighsim.report.figures.common import LABELS, RATE, WIDTH, finish
 from sleighsim.report.figures.figure import Figure
+from sleighsim.report.page import CHAOS_COLOURS
 
 #: The chaotic classes of a state (chaos.rule.classify), drawn in the chaotic colour.
 CHAOTIC_CLASSES = ("strange attractor", "conservative-type chaos", "mixed dynamics")
@@ -68,10 +68,12 @@ def _rate_columns(ds) -> list[tuple[str, np.ndarray, np.ndarray]]:
     cols = [(n.replace("_", " ") + (" (t)" if t else ""), ds.indicator_value.values[:, j],
              ds.indicator_uncertainty.values[:, j])
             for j, (n, t) in enumerate(zip(map(str, ds.indicator.values), ds.tangent_based.values)) if n != "frequency"]
-    cols += [(f"two trajectory\nd0 = {d0:.0e}", ds.two_trajectory_rate.values[:, i], ds.two_trajectory_stderr.values[:, i])
+    cols += [(f"two trajectory\nd0 = {d0:.0e}", ds.two_trajectory_rate.values[:, i],
+              ds.two_trajectory_stderr.values[:, i])
              for i, d0 in enumerate(ds.d0.values)]
     if np.isfinite(ds.lambda_1_long_double.values).any():
-        cols.append(("benettin (t)\nlong double", ds.lambda_1_long_double.values, ds.lambda_1_long_double_stderr.values))
+        cols.append(("benettin (t)\nlong double", ds.lambda_1_long_double.values,
+                     ds.lambda_1_long_double_stderr.values))
     return cols
 
 

@@ -44,7 +44,8 @@ def costs_figure(summary: dict):
     ax.set_yticks(list(ys), rules)
     ax.set_xlabel("CPU seconds (s; segments: jobs)")
     ax.set_xlim(0, max((v["cpu_s"] or 0.0) for v in summary["rules"].values()) * 1.35 or 1.0)
-    ax.set_title(f"CPU per rule: {summary['cpu_s']:.4g} s in {summary['jobs_total']} jobs,\nwall {summary['wall_s']:.4g} s")
+    ax.set_title(f"CPU per rule: {summary['cpu_s']:.4g} s in {summary['jobs_total']} jobs,\n"
+                 f"wall {summary['wall_s']:.4g} s")
     ax.legend(handles=[Patch(facecolor="white", edgecolor="red", hatch="//", label="on the critical path"),
                        Patch(facecolor=cmap(1), label="chunk jobs (one colour each, numbered)")],
               loc="lower right", fontsize=8)

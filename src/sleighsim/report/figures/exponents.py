@@ -35,7 +35,8 @@ def fig10(sources):
     ax.set_ylabel(f"max Lyapunov exponent {LAMBDA_1}, +- standard error")
     ax.set_title(f"$\\epsilon$ = {ds.attrs['param_eps']:.3g}, b = {ds.attrs['param_b']:.3g}: fitted exponent "
                  f"{ds.attrs['fitted_exponent']:.4f} +- {ds.attrs['fitted_exponent_stderr']:.2g} (law: 0.5)\n"
-                 f"T = {ds.attrs['T_reference']:g} time units at E = {ds.attrs['reference_label']:g}, scaled by the law")
+                 f"T = {ds.attrs['T_reference']:g} time units at E = {ds.attrs['reference_label']:g}, "
+                 "scaled by the law")
     ax.legend()
     return finish(fig, ds.attrs)
 
@@ -106,8 +107,9 @@ def fig11(sources):
     ax.set_xlabel(r"$\epsilon$ (unitless)")
     ax.set_ylabel(f"$|\\lambda_1|$ ({RATE}), +- standard error over replicas")
     ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1))
-    head = (f"E label {ds.attrs['energy_label']:g}: {ds.attrs['n_rows']} rows, {100 * ds.attrs['fraction_flagged']:.0f}% "
-            f"flagged; reference row (eps {ds.attrs['reference_eps']:.3g}): stderr / lambda_1 = "
+    head = (f"E label {ds.attrs['energy_label']:g}: {ds.attrs['n_rows']} rows, "
+            f"{100 * ds.attrs['fraction_flagged']:.0f}% flagged; reference row (eps {ds.attrs['reference_eps']:.3g}): "
+            "stderr / lambda_1 = "
             f"{ds.attrs['reference_rel_err']:.2f}")
     ax.set_title("\n".join([head, *_b_symmetry(ds)]), loc="left")
     return finish(fig, ds.attrs)

@@ -1,4 +1,5 @@
-"""Figures of single runs: the schematic (F1), the eps = 0 sleigh (F2), transients and steady state in time (F3, F7) and the path (F8)."""
+"""Figures of single runs: the schematic (F1), the eps = 0 sleigh (F2), transients and steady state in time
+(F3, F7) and the path (F8)."""
 
 from __future__ import annotations
 
@@ -143,7 +144,8 @@ def fig8(sources):
     ax.plot(ds.x, ds.y, lw=0.4, label=f"double (reach {ds.attrs.get('path_reach', float('nan')):.4g})",
             **PRECISION_STYLE["double"])
     for (_, precision), other in finer_precisions(others).items():
-        ax.plot(other.x, other.y, lw=0.3, label=f"{precision} (reach {other.attrs.get('path_reach', float('nan')):.4g})",
+        ax.plot(other.x, other.y, lw=0.3,
+                label=f"{precision} (reach {other.attrs.get('path_reach', float('nan')):.4g})",
                 **PRECISION_STYLE[precision])
     ax.plot(ds.x[0], ds.y[0], "ks", ms=5, label=f"t = {float(ds.time[0]):g}")
     ax.plot(ds.x[-1], ds.y[-1], "r^", ms=6, label=f"t = {float(ds.time[-1]):g}")

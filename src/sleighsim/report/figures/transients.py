@@ -1,4 +1,5 @@
-"""Figures of the transient section: one attractor per level (F4), the series against the exact flow (F5), its terms (F6), transient length against eps, and the hierarchy's convergence and secular growth."""
+"""Figures of the transient section: one attractor per level (F4), the series against the exact flow (F5), its
+terms (F6), transient length against eps, and the hierarchy's convergence and secular growth."""
 
 from __future__ import annotations
 
@@ -127,7 +128,8 @@ def perturbation(sources):
     for name in fig5_ds.data_vars:
         if name.startswith("convergence_error_order"):
             o = name.removeprefix("convergence_error_order")
-            ax.loglog(eps, fig5_ds[name], "o-", label=f"order {o}: slope {fig5_ds.attrs[f'convergence_slope_order{o}']:.2f}"
+            ax.loglog(eps, fig5_ds[name], "o-",
+                      label=f"order {o}: slope {fig5_ds.attrs[f'convergence_slope_order{o}']:.2f}"
                       f" (predicted {fig5_ds.attrs[f'convergence_predicted_order{o}']})")
     ax.set_xlabel(r"$\epsilon$ (unitless)")
     ax.set_ylabel(f"max error on [0, {fig5_ds.attrs['convergence_window']:g}] (units of u, Omega, omega, delta)")
