@@ -64,3 +64,14 @@ def runs(hy):
     from chaos_textbook import textbook_runs
 
     return textbook_runs(hy)
+
+
+def write_fixture(ds, path):
+    """Write a fixture dataset (write_dataset); one under precision/<tag>/ as computed in that
+    precision: the tests lay out the tree, so they know it."""
+    from sleighsim.engine.precision import Precision
+    from sleighsim.io.netcdf import write_dataset
+
+    parts = Path(path).parts
+    tag = parts[parts.index("precision") + 1] if "precision" in parts else "double"
+    write_dataset(ds, path, precision={p.tag: p.value for p in Precision}[tag])

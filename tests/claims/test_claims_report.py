@@ -8,10 +8,11 @@ from pathlib import Path
 
 import pytest
 import xarray as xr
+from conftest import write_fixture
 from test_judges import _ref, _spectrum
 
 from sleighsim.claims import ledger as claims
-from sleighsim.io.netcdf import read_dataset, write_dataset
+from sleighsim.io.netcdf import read_dataset
 from sleighsim.report.figures.catalog import FIGURES
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -67,7 +68,7 @@ def test_every_value_of_the_claims_list_is_written_in_the_paper():
 
 
 def _steady(path, **attrs):
-    write_dataset(xr.Dataset(attrs=attrs), path)
+    write_fixture(xr.Dataset(attrs=attrs), path)
 
 
 def test_figure_rows_count_a_missing_transient_check_as_not_checked(tmp_path, monkeypatch):
@@ -94,7 +95,7 @@ def test_figure_rows_count_a_missing_transient_check_as_not_checked(tmp_path, mo
 def _fig9(path, n_loops, pairs):
     ds = _ref(n_loops=n_loops, return_time_min=1.0, return_time_max=2.0,
               return_time_n_adjacent_pairs_within_tie_tol=pairs, transient_over=1, n_p2pi=20000)
-    write_dataset(ds, path)
+    write_fixture(ds, path)
 
 
 def test_ledger_on_synthetic_datasets(tmp_path):
@@ -123,7 +124,7 @@ def test_ledger_on_synthetic_datasets(tmp_path):
 
 def test_a_cause_whose_datasets_are_missing_says_so(tmp_path):
     data = tmp_path / "data"
-    write_dataset(xr.Dataset(attrs=dict(omega_rel_error_at_t_end=7e-4, t_end=100.0, u_rel_error_at_t_end=0.01,
+    write_fixture(xr.Dataset(attrs=dict(omega_rel_error_at_t_end=7e-4, t_end=100.0, u_rel_error_at_t_end=0.01,
                                         Omega_rel_error_at_t_end=0.01)), data / "fig5.nc")
     rows = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures", PLAIN, FIGURES)}
     assert rows["C11"].verdict == "differs" and rows["C11"].cause.startswith("causes not yet computed: dataset")
@@ -241,7 +242,7 @@ def test_a_claim_in_two_precisions_takes_the_finer_verdict_unless_only_double_re
 
 
 def _ladder(data, scene="fig9_ref", converged="not converged"):
-    write_dataset(xr.Dataset(attrs={"converged_precision": converged}), data / "ladder" / f"{scene}.nc")
+    write_fixture(xr.Dataset(attrs={"converged_precision": converged}), data / "ladder" / f"{scene}.nc")
 
 
 def test_ledger_judges_in_the_finest_precision_computed_beside_double(tmp_path):
@@ -264,11 +265,11 @@ def test_ledger_judges_in_the_finest_precision_computed_beside_double(tmp_path):
 def test_a_claim_whose_realizations_disagree_is_fragile_and_one_whose_realizations_agree_keeps_its_verdict(tmp_path):
     data = tmp_path / "data"
     for k in ("", "realization/1/", "realization/2/"):
-        write_dataset(_spectrum(-1e-3, 1e-4), data / f"{k}lyap_spectrum.nc")
+        write_fixture(_spectrum(-1e-3, 1e-4), data / f"{k}lyap_spectrum.nc")
     rows = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures", REALIZED, FIGURES)}
     assert rows["C18"].verdict == "reproduced" and rows["C18"].realizations == "all 3 realizations agree"
     assert rows["C02"].realizations == ""  # no dataset, no realizations
-    write_dataset(_spectrum(1e-3, 1e-4), data / "realization" / "2" / "lyap_spectrum.nc")
+    write_fixture(_spectrum(1e-3, 1e-4), data / "realization" / "2" / "lyap_spectrum.nc")
     rows = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures", REALIZED, FIGURES)}
     c18 = rows["C18"]
     assert c18.verdict == "fragile" and c18.realizations == "realizations disagree: reproduced 2, differs 1 of 3"
@@ -284,8 +285,8 @@ def test_a_claim_judged_in_a_finer_precision_keeps_its_verdict_and_reports_its_d
     the double realizations disagree, and its column says both."""
     data = tmp_path / "data"
     for k, div in (("", -1e-3), ("realization/1/", -1e-3), ("realization/2/", 1e-3)):
-        write_dataset(_spectrum(div, 1e-4), data / f"{k}lyap_spectrum.nc")
-    write_dataset(_spectrum(-1e-3, 1e-4), data / "precision" / "long_double" / "lyap_spectrum.nc")
+        write_fixture(_spectrum(div, 1e-4), data / f"{k}lyap_spectrum.nc")
+    write_fixture(_spectrum(-1e-3, 1e-4), data / "precision" / "long_double" / "lyap_spectrum.nc")
     _ladder(data, "lyap_spectrum", "long double")
     both = {"scenes": {"lyap_spectrum": {**REALIZED["scenes"]["lyap_spectrum"],
                                          "precisions": ["double", "long double"]}}}
