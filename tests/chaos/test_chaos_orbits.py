@@ -20,7 +20,7 @@ from chaos_textbook import (
     _oscillators,
 )
 
-from sleighsim.chaos import orbits, tangent
+from sleighsim.chaos import megno, orbits
 from sleighsim.chaos.verdicts import CHAOTIC, REGULAR, UNDECIDED
 from sleighsim.engine import integrators
 
@@ -301,7 +301,7 @@ def test_callbacks_reach_every_propagation_and_angle_reduction_works(hy):
     L = orbits.loschmidt(ta, y0, np.geomspace(10, 3000, 8), _flip_momenta, callback=red, difference=wrap)
     assert np.max(L["error"]) < 1e-9
     tm, n = integrators.megno_integrator(sys)
-    m = tangent.megno(tm, n, y0, T=3000.0, n_samples=60, callback=hy.callback.angle_reducer([a, b]))
+    m = megno.megno(tm, n, y0, T=3000.0, n_samples=60, callback=hy.callback.angle_reducer([a, b]))
     assert abs(m["final"] - 2.0) < 0.1 and np.all(np.abs(m["final_state"][:2]) <= 2 * math.pi)
     # a counting callback is called by every engine
     c = _Counter()
@@ -311,7 +311,7 @@ def test_callbacks_reach_every_propagation_and_angle_reduction_works(hy):
     orbits.loschmidt(ta, y0, [5.0], _flip_momenta, callback=c)
     assert c.n > n1
     n2 = c.n
-    tangent.megno(tm, n, y0, T=20.0, n_samples=4, tau=1.0, callback=c)
+    megno.megno(tm, n, y0, T=20.0, n_samples=4, tau=1.0, callback=c)
     assert c.n >= n2 + 20
 
 
@@ -325,7 +325,7 @@ def test_failed_integration_raises_runtime_error_naming_the_time(hy):
         orbits.loschmidt(ta, [0.2, 1.0], [10.0], lambda s: s)
     tm, n = integrators.megno_integrator(sys)
     with pytest.raises(RuntimeError, match="t = "):
-        tangent.megno(tm, n, [0.2, 1.0], T=20.0, n_samples=4, tau=1.0)
+        megno.megno(tm, n, [0.2, 1.0], T=20.0, n_samples=4, tau=1.0)
 
 
 # ----------------------------------------------------------------------------- judges (synthetic)

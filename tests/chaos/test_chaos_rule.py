@@ -5,7 +5,7 @@ import math
 
 import pytest
 
-from sleighsim.chaos import orbits, tangent
+from sleighsim.chaos import megno, orbits, tangent
 from sleighsim.chaos.rule import DECISION_RULE, classify, consistent, decide
 from sleighsim.chaos.verdicts import CHAOTIC, REGULAR, UNDECIDED
 
@@ -58,7 +58,7 @@ def test_judges_feed_decide_on_textbook_orbits(runs):
     for name, want in expect.items():
         R = runs[name]
         verdicts = {
-            "megno": tangent.judge_megno(R["megno"]["final"], R["megno"]["resid"], R["megno"]["slope"],
+            "megno": megno.judge_megno(R["megno"]["final"], R["megno"]["resid"], R["megno"]["slope"],
                                      R["megno"]["slope_err"], R["T"]),
             "ftle": tangent.judge_ftle(R["ftle"]["rate"], R["ftle"]["rate_err"], R["ftle"]["T"], R["tau"],
                                    R["ftle"]["spread_slope"], R["ftle"]["spread_slope_err"]),

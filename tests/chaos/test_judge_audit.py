@@ -4,7 +4,7 @@ a judge calls a chaotic orbit "regular" and a torus "chaotic", over many indepen
 The frequency judge's false-"regular" audit is in test_chaos_frequency.py (it never says chaotic); this
 module audits the others, each judge on its own engine's runs with its default settings (sigma 3):
 
-* ``tangent.judge_ftle`` and ``tangent.judge_megno_run`` on one ``tangent.megno`` run per realization (the
+* ``tangent.judge_ftle`` and ``megno.judge_megno_run`` on one ``megno.megno`` run per realization (the
   FTLE from its one-vector Benettin series, windows n / 500 x (1, 2, 4, 8, 16) intervals tau after
   skipping the first half, as chaos_textbook scales them at n = 1e4);
 * ``tangent.judge_benettin`` on ``benettin.replica_exponents`` with 4 replicas (lanes) along the
@@ -68,7 +68,7 @@ from chaos_textbook import (
     _oscillators,
 )
 
-from sleighsim.chaos import benettin, orbits, tangent
+from sleighsim.chaos import benettin, megno, orbits, tangent
 from sleighsim.chaos.verdicts import CHAOTIC, REGULAR, UNDECIDED, VERDICTS, polynomial_rate_bound
 from sleighsim.engine import integrators
 
@@ -160,11 +160,11 @@ def _tangent_verdicts(cls):
             T = steps * tau
             windows = tau * steps / 500 * np.array([1, 2, 4, 8, 16])
             for seed in range(PER[cls]):
-                m = tangent.megno(tm, n, next(starts), T=T, n_samples=100, tau=tau, seed=seed)
+                m = megno.megno(tm, n, next(starts), T=T, n_samples=100, tau=tau, seed=seed)
                 f = tangent.finite_time_exponents(m["log_growth"], tau, windows, t_skip=T / 2)
                 ftle = tangent.judge_ftle(f["rate"], f["rate_err"], f["T"], f["tau"], f["spread_slope"],
                                           f["spread_slope_err"], sigma=SIGMA)
-                out.append((system, T, ftle, tangent.judge_megno_run(m, T, SIGMA)))
+                out.append((system, T, ftle, megno.judge_megno_run(m, T, SIGMA)))
     return out
 
 

@@ -3,9 +3,10 @@
 Import from the submodules (nothing is re-exported here):
 
 * ``tangent``: tangent-based indicators: finite-time exponents (``finite_time_exponents``,
-  ``judge_ftle``), MEGNO (``megno`` on ``engine.integrators.megno_integrator``, ``judge_megno``), the replicas'
-  Benettin lambda_1 (``judge_benettin``) and the long-double precision check (``growth_confirmed``,
-  ``megno_in_long_double``).
+  ``judge_ftle``), the replicas' Benettin lambda_1 (``judge_benettin``) and the long-double
+  precision check (``growth_confirmed``).
+* ``megno``: MEGNO (``megno`` on ``engine.integrators.megno_integrator``, ``megno_rate``,
+  ``judge_megno``, ``judge_megno_run``, ``megno_in_long_double``).
 * ``benettin``: Lyapunov exponents by Benettin's method (``benettin``, ``batch_benettin``,
   ``replica_exponents``, ``scipy_benettin``, ``mean_divergence``); ``zero_one``: the 0-1 test.
 * ``orbits``: indicators without tangent dynamics built on pairs of orbits: two nearby

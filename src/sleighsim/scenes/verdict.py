@@ -16,6 +16,7 @@ import time
 import numpy as np
 import xarray as xr
 
+from sleighsim.chaos.megno import megno_rate
 from sleighsim.chaos.orbits import (
     loschmidt_indicator,
     two_trajectory_indicator,
@@ -96,7 +97,7 @@ def one_state(params, y0, cfg: dict, scene: str) -> dict:
             "two_rates": [t["rate"] for t in tts], "two_stderrs": [t["stderr"] for t in tts],
             "megno_t": m["t"], "megno_Y_mean": m["Y_mean"], "megno_final": m["final"],
             "megno_t_ld": _or_nan(ld["megno"], "t", m["t"].size), "megno_Y_mean_ld": _or_nan(ld["megno"], "Y_mean", m["t"].size),
-            "megno_rate_double": 2 * m["slope"], "megno_rate_double_err": 2 * m["slope_err"],
+            "megno_rate_double": megno_rate(m)[0], "megno_rate_double_err": megno_rate(m)[1],
             "megno_verdict_double": megno_double[0], "megno_precision": megno_precision,
             "loschmidt_error": L["rel_error"], "loschmidt_error_ld": L_ld["rel_error"],
             "loschmidt_power": L_ld["pow_exponent"], "loschmidt_power_err": L_ld["pow_exponent_err"],

@@ -25,10 +25,8 @@ from sleighsim.chaos.rule import (
     consistent,
     faithful_gate,
 )
-from sleighsim.chaos.tangent import (
-    judge_benettin,
-    judge_megno,
-)
+from sleighsim.chaos.megno import judge_megno
+from sleighsim.chaos.tangent import judge_benettin
 from sleighsim.engine.precision import Precision
 from sleighsim.io import cf
 from sleighsim.scenes.common import nan_padded

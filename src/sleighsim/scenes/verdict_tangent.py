@@ -20,14 +20,17 @@ from sleighsim.chaos.rule import (
     TANGENT_BASED,
     precision_gate,
 )
+from sleighsim.chaos.megno import (
+    judge_megno_run,
+    megno,
+    megno_in_long_double,
+    megno_rate,
+)
 from sleighsim.chaos.tangent import (
     finite_time_exponents,
     growth_confirmed,
     judge_benettin,
     judge_ftle,
-    judge_megno_run,
-    megno,
-    megno_in_long_double,
 )
 from sleighsim.chaos.verdicts import CHAOTIC
 from sleighsim.engine import integrators
@@ -76,14 +79,14 @@ def tangent_indicators(params, replicas, res: dict, cfg: dict, scene: str, value
     verdicts["ftle"] = judge_ftle(f["rate"], f["rate_err"], f["T"], tau, f["spread_slope"], f["spread_slope_err"],
                                   sigma=sigma)
     m = megno_run(params, replicas[0], cfg)
-    values["megno"], errors["megno"] = 2 * m["slope"], 2 * m["slope_err"]
+    values["megno"], errors["megno"] = megno_rate(m)
     verdicts["megno"] = megno_double = judge_megno_run(m, cfg["T_megno"], sigma)
     megno_precision = "double"
     ld = {"lambda_1": math.nan, "stderr": math.nan, "check": "not run", "megno": None}
     if any(verdicts[k][0] == CHAOTIC for k in TANGENT_BASED):
         ld = precision_check(params, replicas[0], cfg, scene)
         precision_gate(verdicts, ld)
-        values["megno"], errors["megno"] = 2 * ld["megno"]["slope"], 2 * ld["megno"]["slope_err"]
+        values["megno"], errors["megno"] = megno_rate(ld["megno"])
         megno_precision = "long double"
         verdicts["megno"] = megno_in_long_double(judge_megno_run(ld["megno"], cfg["T_long_double"], sigma), ld,
                                                  megno_double, cfg["T_long_double"], cfg["T_megno"])
@@ -100,7 +103,7 @@ def indicator_follows(ln_gain_max: float, arithmetic: dict) -> dict:
 
 def megno_run(params, y, cfg: dict, *, precision: Precision = Precision.DOUBLE) -> dict:
     """MEGNO from y (model variables), renormalised every tau, <Y> recorded at megno_samples times
-    (``chaos.tangent.megno``): over T_megno in double, or over T_long_double at tol_long_double in long
+    (``chaos.megno.megno``): over T_megno in double, or over T_long_double at tol_long_double in long
     double."""
     long_double = precision is Precision.LONG_DOUBLE
     tol, T = (cfg["tol_long_double"], cfg["T_long_double"]) if long_double else (cfg["tol"], cfg["T_megno"])
