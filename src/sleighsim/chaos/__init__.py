@@ -12,8 +12,9 @@ Import from the submodules (nothing is re-exported here):
 * ``orbits``: indicators without tangent dynamics built on pairs of orbits: two nearby
   trajectories (``two_trajectory``, ``judge_two_trajectory``, ``d0_independent``) and the Loschmidt
   return error (``loschmidt``, ``loschmidt_fit``, ``judge_loschmidt``, ``judge_loschmidt_run``).
-* ``frequency``: frequency analysis without tangent dynamics (``frequency_drift``,
-  ``judge_frequency``, ``frequency_log_ratio``; the analysis itself is ``sleighsim.chaos.naff``).
+* ``frequency``: frequency analysis without tangent dynamics: the analysis (``leading_frequency``,
+  ``window_frequencies``, ``drift``), on an orbit (``frequency_drift``) and its judge
+  (``judge_frequency``, ``frequency_log_ratio``, ``judged_run``).
 * ``rule``: the decision rule (``DECISION_RULE``, ``decide``, ``consistent``, ``precision_gate``),
   the indicator names (``INDICATORS``, ``TANGENT_BASED``) and the state's class (``classify``).
 * ``verdicts``: the verdicts (``CHAOTIC``, ``REGULAR``, ``UNDECIDED``) and the judges' shared helpers

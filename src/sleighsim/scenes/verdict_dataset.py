@@ -9,9 +9,9 @@ import time
 import numpy as np
 import xarray as xr
 
-from sleighsim.chaos import naff as frequencies
 from sleighsim.chaos.faithfulness import cycle_gains, follows
-from sleighsim.chaos.frequency import frequency_log_ratio, judge_frequency
+from sleighsim.chaos.frequency import drift, frequency_log_ratio, judge_frequency
+from sleighsim.chaos.megno import judge_megno
 from sleighsim.chaos.orbits import (
     d0_independent,
     judge_loschmidt,
@@ -25,7 +25,6 @@ from sleighsim.chaos.rule import (
     consistent,
     faithful_gate,
 )
-from sleighsim.chaos.megno import judge_megno
 from sleighsim.chaos.tangent import judge_benettin
 from sleighsim.engine.precision import Precision
 from sleighsim.io import cf
@@ -200,7 +199,7 @@ def set_attrs(ds: xr.Dataset, cfg: dict, params, per_state, start: float) -> Non
         megno_rule=" ".join(judge_megno.__doc__.split()),
         frequency_rule=" ".join((frequency_indicator.__doc__ + " " + judge_frequency.__doc__ + " "
                                  + frequency_log_ratio.__doc__).split()),
-        frequency_method=" ".join(frequencies.drift.__doc__.split()), frequency_T=fc["T"], frequency_dt=fc["dt"],
+        frequency_method=" ".join(drift.__doc__.split()), frequency_T=fc["T"], frequency_dt=fc["dt"],
         frequency_component=fc["component"], frequency_min_cycles=fc["min_cycles"], frequency_quad_T=fc["quad_T"],
         frequency_tol_quad=fc["tol_quad"],
         loschmidt_rule=" ".join((loschmidt_indicator.__doc__ + " " + judge_loschmidt_run.__doc__ + " "

@@ -13,18 +13,18 @@ from sleighsim.chaos.faithfulness import (
     follows,
     spike_cycle_gains,
 )
+from sleighsim.chaos.megno import (
+    judge_megno_run,
+    megno,
+    megno_in_long_double,
+    megno_rate,
+)
 from sleighsim.chaos.orbits import (
     LOSCHMIDT_GAIN_ROUNDING_MAX,
 )
 from sleighsim.chaos.rule import (
     TANGENT_BASED,
     precision_gate,
-)
-from sleighsim.chaos.megno import (
-    judge_megno_run,
-    megno,
-    megno_in_long_double,
-    megno_rate,
 )
 from sleighsim.chaos.tangent import (
     finite_time_exponents,
