@@ -1,5 +1,5 @@
-"""Chaos indicators built on pairs of orbits, without tangent dynamics (sleighsim.chaos.orbits): two
-nearby trajectories and the Loschmidt return error on textbook systems with known answers
+"""Chaos indicators built on pairs of orbits, without tangent dynamics (sleighsim.chaos.two_trajectory,
+sleighsim.chaos.loschmidt): two nearby trajectories and the Loschmidt return error on textbook systems with known answers
 (chaos_textbook), every branch of their judges on synthetic inputs, and the engines' shared
 propagation conventions (callbacks, failed integrations; MEGNO's too)."""
 
@@ -20,7 +20,7 @@ from chaos_textbook import (
     _oscillators,
 )
 
-from sleighsim.chaos import megno, orbits
+from sleighsim.chaos import loschmidt, megno, two_trajectory
 from sleighsim.chaos.verdicts import CHAOTIC, REGULAR, UNDECIDED
 from sleighsim.engine import integrators
 
@@ -28,12 +28,12 @@ C, G, U = CHAOTIC, REGULAR, UNDECIDED
 
 
 def _two_verdict(r):
-    return orbits.judge_two_trajectory(r["rate"], r["stderr"], r["T"], r["tau"], r["running_slope"],
+    return two_trajectory.judge_two_trajectory(r["rate"], r["stderr"], r["T"], r["tau"], r["running_slope"],
                                     r["running_slope_err"])[0]
 
 
 def _losch_verdict(L):
-    return orbits.judge_loschmidt_run(L)[0]
+    return loschmidt.judge_loschmidt_run(L)[0]
 
 
 # ----------------------------------------------------------------------------- two trajectories
@@ -70,13 +70,13 @@ def test_two_trajectory_with_energy_projection_agrees_and_is_d0_independent(hy, 
     # T = 1e4, d0 = 1e-9 and 1e-7 with projection: 0.1116 and 0.1116; 0.1121 without
     # (the reference orbit is the same; the block rates show a sticky episode, 0.031, in
     # t = 1000-2000, so shorter runs of this realisation give lower rates)
-    r = orbits.two_trajectory(ta, HH_CHAOS, d0=1e-9, tau=1.0, T=T_HAM, project=project, seed=3)
+    r = two_trajectory.two_trajectory(ta, HH_CHAOS, d0=1e-9, tau=1.0, T=T_HAM, project=project, seed=3)
     assert len(calls) == round(T_HAM) + 1  # after every interval and at the start
     assert r["rate"] == pytest.approx(runs["hh_chaos"]["two"]["rate"], abs=0.01)
-    r2 = orbits.two_trajectory(ta, HH_CHAOS, d0=1e-7, tau=1.0, T=T_HAM, project=_hh_project, seed=4)
+    r2 = two_trajectory.two_trajectory(ta, HH_CHAOS, d0=1e-7, tau=1.0, T=T_HAM, project=_hh_project, seed=4)
     assert r2["rate"] == pytest.approx(r["rate"], abs=0.01)
     # the reference orbit is exactly the one of a plain integration in steps of tau
-    r3 = orbits.two_trajectory(ta, HH_CHAOS, d0=1e-8, tau=1.0, T=100.0)
+    r3 = two_trajectory.two_trajectory(ta, HH_CHAOS, d0=1e-8, tau=1.0, T=100.0)
     np.testing.assert_array_equal(r3["final_state"], _plain_orbit(ta, HH_CHAOS, 100, 1.0))
 
 
@@ -96,9 +96,9 @@ def test_two_trajectory_rejects_bad_input(runs):
                      ({"t_align": 1.5}, "t_align")]:
         args = {"d0": 1e-8, "tau": 1.0, "T": 20.0, **kw}
         with pytest.raises(ValueError, match=name):
-            orbits.two_trajectory(ta, OSC0, **args)
+            two_trajectory.two_trajectory(ta, OSC0, **args)
     with pytest.raises(ValueError, match="y0"):
-        orbits.two_trajectory(ta, [1.0, 0.0], d0=1e-8, tau=1.0, T=20.0)
+        two_trajectory.two_trajectory(ta, [1.0, 0.0], d0=1e-8, tau=1.0, T=20.0)
 
 
 def test_two_trajectory_runs_in_the_integrators_precision(runs):
@@ -106,8 +106,8 @@ def test_two_trajectory_runs_in_the_integrators_precision(runs):
 
     ta = runs["quartic"]["ta"]
     ld = hy.taylor_adaptive(_oscillators(hy, True), np.array(OSC0, dtype=np.longdouble), fp_type=np.longdouble)
-    a = orbits.two_trajectory(ta, OSC0, d0=1e-8, tau=1.0, T=50.0, seed=1)
-    b = orbits.two_trajectory(ld, OSC0, d0=1e-8, tau=1.0, T=50.0, seed=1)
+    a = two_trajectory.two_trajectory(ta, OSC0, d0=1e-8, tau=1.0, T=50.0, seed=1)
+    b = two_trajectory.two_trajectory(ld, OSC0, d0=1e-8, tau=1.0, T=50.0, seed=1)
     assert b["final_state"].dtype == np.longdouble and a["final_state"].dtype == np.float64
     # the same orbit and partner, to double's rounding amplified over T = 50
     np.testing.assert_allclose(np.asarray(b["final_state"], float), a["final_state"], rtol=0, atol=1e-9)
@@ -120,15 +120,15 @@ def test_two_trajectory_runs_in_the_integrators_precision(runs):
     ([1.0e-3, np.nan, 1.0e-3], [1e-5, 1e-5, 1e-5], False, "not finite"),
 ])
 def test_d0_independence_of_the_two_trajectory_rate(rates, stderrs, want, says):
-    ok, why = orbits.d0_independent([1e-11, 1e-9, 1e-7], rates, stderrs, sigma=3.0)
+    ok, why = two_trajectory.d0_independent([1e-11, 1e-9, 1e-7], rates, stderrs, sigma=3.0)
     assert ok is want and says in why
 
 
 def test_d0_independence_needs_two_separations():
-    ok, why = orbits.d0_independent([1e-9], [1e-3], [1e-5])
+    ok, why = two_trajectory.d0_independent([1e-9], [1e-3], [1e-5])
     assert ok is False and "not checked" in why
     with pytest.raises(ValueError):
-        orbits.d0_independent([1e-9, 1e-7], [1e-3], [1e-5])
+        two_trajectory.d0_independent([1e-9, 1e-7], [1e-3], [1e-5])
 
 
 # ----------------------------------------------------------------------------- Loschmidt
@@ -136,7 +136,7 @@ def test_d0_independence_needs_two_separations():
 def test_loschmidt_chaotic_error_grows_exponentially(runs):
     # Henon-Heiles E = 1/6, T = 10..300 (30 values): return error 1e-14 -> O(1); exp fit
     # rate 0.115 +- 0.007 (about lambda), power fit would need T^9.8
-    L = orbits.loschmidt(runs["hh_chaos"]["ta"], HH_CHAOS, np.linspace(10, 300, 30), _flip_momenta)
+    L = loschmidt.loschmidt(runs["hh_chaos"]["ta"], HH_CHAOS, np.linspace(10, 300, 30), _flip_momenta)
     assert L["error"][0] < 1e-10 and L["error"][-1] > 1e-3
     assert L["n_used"] >= 10 and L["better"] == "exponential"
     assert 0.05 < L["exp_rate"] < 0.3
@@ -150,7 +150,7 @@ def test_loschmidt_regular_error_grows_like_a_power(runs, name):
     # T = 100..1e5 (20 values): error 1e-15 -> 2e-10 (Henon-Heiles), 4e-9 (quartic); power fit
     # T^1.4 (14 usable points), T^1.7 (16); in the tail (last half) T^1.4-1.8
     y0 = runs[name]["y0"]
-    L = orbits.loschmidt(runs[name]["ta"], y0, np.geomspace(100, 1e5, 20), _flip_momenta)
+    L = loschmidt.loschmidt(runs[name]["ta"], y0, np.geomspace(100, 1e5, 20), _flip_momenta)
     assert np.max(L["rel_error"]) < 1e-7
     assert L["n_used"] >= 10 and 0.5 < L["pow_exponent"] < 3.0
     assert L["tail_n"] == math.ceil(L["n_used"] / 2) and 0.5 < L["tail_pow_exponent"] < 3.0
@@ -162,25 +162,25 @@ def test_loschmidt_sustained_growth_is_judged_in_the_tail():
     # over all points faster than T^3, in the tail T^2: regular, not chaos
     T = np.geomspace(100, 2e4, 30)
     e = np.where(T < 300, 1e-12, np.where(T < 1200, 1e-9, 1e-6 * (T / 1200) ** 2))
-    fit = orbits.loschmidt_fit(T, e, 1.0)
+    fit = loschmidt.loschmidt_fit(T, e, 1.0)
     assert fit["tail_n"] == 15 and np.array_equal(np.flatnonzero(fit["tail_used"]), np.arange(15, 30))
     assert fit["tail_pow_exponent"] == pytest.approx(2.0)
-    whole = orbits.judge_loschmidt(*(fit[k] for k in ("n_used",) + orbits._FIT_KEYS))
+    whole = loschmidt.judge_loschmidt(*(fit[k] for k in ("n_used",) + loschmidt._FIT_KEYS))
     assert whole[0] == CHAOTIC
-    v, reason = orbits.judge_loschmidt_run(fit)
+    v, reason = loschmidt.judge_loschmidt_run(fit)
     assert v == REGULAR and "power-law growth in the tail" in reason
     # exponential to saturation: chaotic over all points and in the tail
     T = np.linspace(10, 300, 30)
-    fit = orbits.loschmidt_fit(T, 1e-15 * np.exp(0.1 * T), 1.0)
+    fit = loschmidt.loschmidt_fit(T, 1e-15 * np.exp(0.1 * T), 1.0)
     assert fit["tail_exp_rate"] == pytest.approx(0.1)
-    assert orbits.judge_loschmidt_run(fit)[0] == CHAOTIC
+    assert loschmidt.judge_loschmidt_run(fit)[0] == CHAOTIC
     # the tail has at least tail_min points, at most all usable ones
-    fit = orbits.loschmidt_fit(np.geomspace(10, 1e4, 5), 1e-12 * np.geomspace(10, 1e4, 5), 1.0)
+    fit = loschmidt.loschmidt_fit(np.geomspace(10, 1e4, 5), 1e-12 * np.geomspace(10, 1e4, 5), 1.0)
     assert fit["n_used"] == 5 and fit["tail_n"] == 4
-    fit = orbits.loschmidt_fit(np.geomspace(10, 1e4, 5), 1e-12 * np.geomspace(10, 1e4, 5), 1.0, tail_min=9)
+    fit = loschmidt.loschmidt_fit(np.geomspace(10, 1e4, 5), 1e-12 * np.geomspace(10, 1e4, 5), 1.0, tail_min=9)
     assert fit["tail_n"] == 5
     with pytest.raises(ValueError, match="tail"):
-        orbits.loschmidt_fit(T, 1e-15 * np.exp(0.1 * T), 1.0, tail=0.0)
+        loschmidt.loschmidt_fit(T, 1e-15 * np.exp(0.1 * T), 1.0, tail=0.0)
 
 
 def test_loschmidt_fit_stops_at_saturation_and_checks_its_settings():
@@ -188,12 +188,12 @@ def test_loschmidt_fit_stops_at_saturation_and_checks_its_settings():
     T = np.geomspace(10, 1e4, 12)
     e = 1e-12 * T ** 2
     e[8], e[10] = 0.5, 1e-3
-    fit = orbits.loschmidt_fit(T, e, 1.0)
+    fit = loschmidt.loschmidt_fit(T, e, 1.0)
     assert fit["n_used"] == 8 and not fit["used"][9:].any()
     with pytest.raises(ValueError, match="rounding"):
-        orbits.loschmidt_fit(T, e, 1.0, rounding=0.0)
+        loschmidt.loschmidt_fit(T, e, 1.0, rounding=0.0)
     with pytest.raises(ValueError, match="tail_min"):
-        orbits.loschmidt_fit(T, e, 1.0, tail_min=1)
+        loschmidt.loschmidt_fit(T, e, 1.0, tail_min=1)
 
 
 def test_judge_loschmidt_run_is_monotone_in_the_uncertainties():
@@ -201,17 +201,17 @@ def test_judge_loschmidt_run_is_monotone_in_the_uncertainties():
     for whole, tail in ((LOS_CHAOS, LOS_CHAOS), (LOS_CHAOS, LOS_REG), (LOS_REG, LOS_REG)):
         base = _run_fits(whole, tail)
         for keys in (errs, [f"tail_{k}" for k in errs], errs + [f"tail_{k}" for k in errs]):
-            s = _monotone_in_errors(lambda **kw: orbits.judge_loschmidt_run(kw), base, keys)
+            s = _monotone_in_errors(lambda **kw: loschmidt.judge_loschmidt_run(kw), base, keys)
             assert s[-1] == UNDECIDED or keys == errs, (whole is LOS_CHAOS, tail is LOS_CHAOS, keys, s)
 
 
 def _run_fits(whole, tail):
-    return {**whole, **{f"tail_{k}": tail[k] for k in orbits._FIT_KEYS}, "tail_n": tail["n_used"]}
+    return {**whole, **{f"tail_{k}": tail[k] for k in loschmidt._FIT_KEYS}, "tail_n": tail["n_used"]}
 
 
 def test_judge_loschmidt_run_branches():
     mid = {**LOS_REG, "pow_exponent": 4.0}  # neither clearly exponential nor below T^3
-    assert orbits.judge_loschmidt(**mid)[0] == UNDECIDED
+    assert loschmidt.judge_loschmidt(**mid)[0] == UNDECIDED
     cases = [((LOS_CHAOS, LOS_CHAOS), CHAOTIC, "sustained into the tail"),
              ((LOS_CHAOS, LOS_REG), REGULAR, "power-law growth in the tail"),
              ((LOS_REG, LOS_REG), REGULAR, "power-law growth in the tail"),
@@ -219,11 +219,11 @@ def test_judge_loschmidt_run_branches():
              ((LOS_REG, mid), UNDECIDED, "neither"),
              ((LOS_REG, LOS_CHAOS), UNDECIDED, "neither")]
     for (whole, tail), want, words in cases:
-        v, reason = orbits.judge_loschmidt_run(_run_fits(whole, tail))
+        v, reason = loschmidt.judge_loschmidt_run(_run_fits(whole, tail))
         assert v == want and words in reason, (whole, tail, v, reason)
-    v, reason = orbits.judge_loschmidt_run(_run_fits(LOS_CHAOS, {**LOS_CHAOS, "exp_rate": float("nan")}))
+    v, reason = loschmidt.judge_loschmidt_run(_run_fits(LOS_CHAOS, {**LOS_CHAOS, "exp_rate": float("nan")}))
     assert v == UNDECIDED and "not finite: exp_rate" in reason
-    v, reason = orbits.judge_loschmidt_run(_run_fits(LOS_CHAOS, {**LOS_CHAOS, "n_used": 2}))
+    v, reason = loschmidt.judge_loschmidt_run(_run_fits(LOS_CHAOS, {**LOS_CHAOS, "n_used": 2}))
     assert v == UNDECIDED and "2 return errors" in reason
 
 
@@ -231,43 +231,43 @@ def test_loschmidt_shares_one_forward_run_and_uses_the_integrators_precision(run
     import heyoka as hy
 
     ta = runs["quartic"]["ta"]
-    a = orbits.loschmidt(ta, OSC0, [30.0, 10.0, 20.0], _flip_momenta)
-    b = orbits.loschmidt(ta, OSC0, [10.0, 20.0, 30.0], _flip_momenta)
+    a = loschmidt.loschmidt(ta, OSC0, [30.0, 10.0, 20.0], _flip_momenta)
+    b = loschmidt.loschmidt(ta, OSC0, [10.0, 20.0, 30.0], _flip_momenta)
     np.testing.assert_array_equal(a["error"], b["error"][[2, 0, 1]])
     assert a["floor"] == pytest.approx(1e3 * np.finfo(float).eps * np.max(np.abs(OSC0)))
     ld = hy.taylor_adaptive(_oscillators(hy, True), np.array(OSC0, dtype=np.longdouble), fp_type=np.longdouble)
-    c = orbits.loschmidt(ld, OSC0, [10.0, 20.0, 30.0], _flip_momenta)
+    c = loschmidt.loschmidt(ld, OSC0, [10.0, 20.0, 30.0], _flip_momenta)
     assert c["floor"] == pytest.approx(1e3 * float(np.finfo(np.longdouble).eps) * np.max(np.abs(OSC0)))
     assert np.all(c["error"] < 1e-3 * b["error"].max() + 1e-17)
     # horizons more than a factor 2 apart: the shared forward run still stops exactly at each T
     # (the same errors as separate runs from y0, to long double's rounding)
     Ts = [1.3, 7.77, 61.1]  # 61.1 - 7.77 is not exact in double: a relative step would miss T
-    shared = orbits.loschmidt(ld, OSC0, Ts, _flip_momenta)["error"]
-    alone = [orbits.loschmidt(ld, OSC0, [T], _flip_momenta)["error"][0] for T in Ts]
+    shared = loschmidt.loschmidt(ld, OSC0, Ts, _flip_momenta)["error"]
+    alone = [loschmidt.loschmidt(ld, OSC0, [T], _flip_momenta)["error"][0] for T in Ts]
     np.testing.assert_allclose(shared, alone, rtol=0, atol=1e-16)
     with pytest.raises(ValueError, match="precision"):
-        orbits.loschmidt(ld, OSC0, Ts, lambda z: np.asarray(_flip_momenta(z), float))
+        loschmidt.loschmidt(ld, OSC0, Ts, lambda z: np.asarray(_flip_momenta(z), float))
 
 
 def test_loschmidt_fit_synthetic_and_bad_input(runs):
     T = np.linspace(10, 300, 20)
-    fit = orbits.loschmidt_fit(T, 1e-15 * np.exp(0.1 * T), 1.0)
+    fit = loschmidt.loschmidt_fit(T, 1e-15 * np.exp(0.1 * T), 1.0)
     assert fit["better"] == "exponential" and fit["exp_rate"] == pytest.approx(0.1)
     assert fit["n_used"] == int(np.sum((1e-15 * np.exp(0.1 * T) > 1e3 * 2.220446049250313e-16)
                                        & (1e-15 * np.exp(0.1 * T) < 1e-2)))
-    fit = orbits.loschmidt_fit(np.geomspace(10, 1e4, 10), 1e-16 * np.geomspace(10, 1e4, 10) ** 1.5, 1.0)
+    fit = loschmidt.loschmidt_fit(np.geomspace(10, 1e4, 10), 1e-16 * np.geomspace(10, 1e4, 10) ** 1.5, 1.0)
     assert fit["better"] == "power" and fit["pow_exponent"] == pytest.approx(1.5)
-    fit = orbits.loschmidt_fit([1.0, 2.0], [1e-10, 1e-9], 1.0)
+    fit = loschmidt.loschmidt_fit([1.0, 2.0], [1e-10, 1e-9], 1.0)
     assert fit["better"] == "undetermined"
     ta = runs["quartic"]["ta"]
     with pytest.raises(ValueError, match="T_values"):
-        orbits.loschmidt(ta, OSC0, [], _flip_momenta)
+        loschmidt.loschmidt(ta, OSC0, [], _flip_momenta)
     with pytest.raises(ValueError, match="T_values"):
-        orbits.loschmidt(ta, OSC0, [10.0, 0.0], _flip_momenta)
+        loschmidt.loschmidt(ta, OSC0, [10.0, 0.0], _flip_momenta)
     with pytest.raises(ValueError, match="involution"):
-        orbits.loschmidt(ta, OSC0, [10.0], None)
+        loschmidt.loschmidt(ta, OSC0, [10.0], None)
     with pytest.raises(ValueError, match="scale"):
-        orbits.loschmidt(ta, [0.0] * 4, [10.0], _flip_momenta)
+        loschmidt.loschmidt(ta, [0.0] * 4, [10.0], _flip_momenta)
 
 
 # ----------------------------------------------------------------------------- callbacks, failures
@@ -295,20 +295,20 @@ def test_callbacks_reach_every_propagation_and_angle_reduction_works(hy):
 
     ta = hy.taylor_adaptive(sys, y0, compact_mode=True)
     red = hy.callback.angle_reducer([a, b])
-    r = orbits.two_trajectory(ta, y0, d0=1e-8, tau=1.0, T=3000.0, callback=red, difference=wrap)
+    r = two_trajectory.two_trajectory(ta, y0, d0=1e-8, tau=1.0, T=3000.0, callback=red, difference=wrap)
     assert np.all(np.abs(r["final_state"][:2]) <= 2 * math.pi)
     assert _two_verdict(r) == REGULAR
-    L = orbits.loschmidt(ta, y0, np.geomspace(10, 3000, 8), _flip_momenta, callback=red, difference=wrap)
+    L = loschmidt.loschmidt(ta, y0, np.geomspace(10, 3000, 8), _flip_momenta, callback=red, difference=wrap)
     assert np.max(L["error"]) < 1e-9
     tm, n = integrators.megno_integrator(sys)
     m = megno.megno(tm, n, y0, T=3000.0, n_samples=60, callback=hy.callback.angle_reducer([a, b]))
     assert abs(m["final"] - 2.0) < 0.1 and np.all(np.abs(m["final_state"][:2]) <= 2 * math.pi)
     # a counting callback is called by every engine
     c = _Counter()
-    orbits.two_trajectory(ta, y0, d0=1e-8, tau=1.0, T=20.0, callback=c, n_blocks=2)
+    two_trajectory.two_trajectory(ta, y0, d0=1e-8, tau=1.0, T=20.0, callback=c, n_blocks=2)
     n1 = c.n
     assert n1 >= 40  # at least one step per leg, 2 legs per interval
-    orbits.loschmidt(ta, y0, [5.0], _flip_momenta, callback=c)
+    loschmidt.loschmidt(ta, y0, [5.0], _flip_momenta, callback=c)
     assert c.n > n1
     n2 = c.n
     megno.megno(tm, n, y0, T=20.0, n_samples=4, tau=1.0, callback=c)
@@ -320,9 +320,9 @@ def test_failed_integration_raises_runtime_error_naming_the_time(hy):
     sys = [(x, x * x), (y, -y)]  # x blows up at t = 1 / x0
     ta = hy.taylor_adaptive(sys, [1.0, 1.0], compact_mode=True)
     with pytest.raises(RuntimeError, match="t = "):
-        orbits.two_trajectory(ta, [0.2, 1.0], d0=1e-8, tau=1.0, T=20.0, n_blocks=2)
+        two_trajectory.two_trajectory(ta, [0.2, 1.0], d0=1e-8, tau=1.0, T=20.0, n_blocks=2)
     with pytest.raises(RuntimeError, match="t = "):
-        orbits.loschmidt(ta, [0.2, 1.0], [10.0], lambda s: s)
+        loschmidt.loschmidt(ta, [0.2, 1.0], [10.0], lambda s: s)
     tm, n = integrators.megno_integrator(sys)
     with pytest.raises(RuntimeError, match="t = "):
         megno.megno(tm, n, [0.2, 1.0], T=20.0, n_samples=4, tau=1.0)
@@ -335,21 +335,21 @@ TWO_REG = {"rate": 8e-4, "stderr": 5e-4, "T": 1e4, "tau": 1.0, "running_slope": 
 
 
 def test_judge_two_trajectory_branches():
-    v, reason = orbits.judge_two_trajectory(**TWO_CHAOS)
+    v, reason = two_trajectory.judge_two_trajectory(**TWO_CHAOS)
     assert v == CHAOTIC and "0.9" in reason
-    assert orbits.judge_two_trajectory(**TWO_REG)[0] == REGULAR
+    assert two_trajectory.judge_two_trajectory(**TWO_REG)[0] == REGULAR
     # positive rate but still decaying (e.g. an orbit sticking to islands): undecided
-    assert orbits.judge_two_trajectory(**{**TWO_CHAOS, "running_slope": -0.5})[0] == UNDECIDED
+    assert two_trajectory.judge_two_trajectory(**{**TWO_CHAOS, "running_slope": -0.5})[0] == UNDECIDED
     # steady but not above what polynomial growth gives over T: undecided
-    assert orbits.judge_two_trajectory(**{**TWO_CHAOS, "rate": 0.05, "T": 100.0, "tau": 1e-3})[0] == UNDECIDED
-    _nan_each(orbits.judge_two_trajectory, TWO_CHAOS, TWO_CHAOS.keys())
-    _nan_each(orbits.judge_two_trajectory, TWO_REG, TWO_REG.keys())
-    s = _monotone_in_errors(orbits.judge_two_trajectory, TWO_CHAOS, ["stderr", "running_slope_err"])
+    assert two_trajectory.judge_two_trajectory(**{**TWO_CHAOS, "rate": 0.05, "T": 100.0, "tau": 1e-3})[0] == UNDECIDED
+    _nan_each(two_trajectory.judge_two_trajectory, TWO_CHAOS, TWO_CHAOS.keys())
+    _nan_each(two_trajectory.judge_two_trajectory, TWO_REG, TWO_REG.keys())
+    s = _monotone_in_errors(two_trajectory.judge_two_trajectory, TWO_CHAOS, ["stderr", "running_slope_err"])
     assert s[0] == CHAOTIC and s[-1] == UNDECIDED
-    s = _monotone_in_errors(orbits.judge_two_trajectory, TWO_REG, ["stderr", "running_slope_err"])
+    s = _monotone_in_errors(two_trajectory.judge_two_trajectory, TWO_REG, ["stderr", "running_slope_err"])
     assert s[0] == REGULAR and s[-1] == UNDECIDED
     with pytest.raises(ValueError, match="stderr"):
-        orbits.judge_two_trajectory(**{**TWO_CHAOS, "stderr": -0.1})
+        two_trajectory.judge_two_trajectory(**{**TWO_CHAOS, "stderr": -0.1})
 
 
 LOS_CHAOS = {"n_used": 20, "exp_rate": 0.11, "exp_rate_err": 0.007, "exp_rms": 1.9, "pow_exponent": 9.8,
@@ -359,24 +359,24 @@ LOS_REG = {"n_used": 6, "exp_rate": 5e-4, "exp_rate_err": 2e-4, "exp_rms": 1.1, 
 
 
 def test_judge_loschmidt_branches():
-    v, reason = orbits.judge_loschmidt(**LOS_CHAOS)
+    v, reason = loschmidt.judge_loschmidt(**LOS_CHAOS)
     assert v == CHAOTIC and "exponentially" in reason
     # exponential not clearly better, but far steeper than any power law: chaotic
-    v, reason = orbits.judge_loschmidt(**{**LOS_CHAOS, "exp_rms": 3.0})
+    v, reason = loschmidt.judge_loschmidt(**{**LOS_CHAOS, "exp_rms": 3.0})
     assert v == CHAOTIC and "faster than T^3" in reason
-    assert orbits.judge_loschmidt(**LOS_REG)[0] == REGULAR
+    assert loschmidt.judge_loschmidt(**LOS_REG)[0] == REGULAR
     # too few usable points
-    v, reason = orbits.judge_loschmidt(**{**LOS_REG, "n_used": 2})
+    v, reason = loschmidt.judge_loschmidt(**{**LOS_REG, "n_used": 2})
     assert v == UNDECIDED and "2 return errors" in reason
     # a steep power law that the exponential does not fit better: undecided
-    assert orbits.judge_loschmidt(**{**LOS_REG, "pow_exponent": 4.0})[0] == UNDECIDED
+    assert loschmidt.judge_loschmidt(**{**LOS_REG, "pow_exponent": 4.0})[0] == UNDECIDED
     # exponential fits clearly better, but its rate is not resolved above zero: undecided
-    assert orbits.judge_loschmidt(**{**LOS_CHAOS, "exp_rate_err": 0.1, "pow_exponent_err": 5.0})[0] == UNDECIDED
-    _nan_each(orbits.judge_loschmidt, LOS_CHAOS, LOS_CHAOS.keys())
-    _nan_each(orbits.judge_loschmidt, LOS_REG, LOS_REG.keys())
-    s = _monotone_in_errors(orbits.judge_loschmidt, LOS_CHAOS, ["exp_rate_err", "pow_exponent_err"])
+    assert loschmidt.judge_loschmidt(**{**LOS_CHAOS, "exp_rate_err": 0.1, "pow_exponent_err": 5.0})[0] == UNDECIDED
+    _nan_each(loschmidt.judge_loschmidt, LOS_CHAOS, LOS_CHAOS.keys())
+    _nan_each(loschmidt.judge_loschmidt, LOS_REG, LOS_REG.keys())
+    s = _monotone_in_errors(loschmidt.judge_loschmidt, LOS_CHAOS, ["exp_rate_err", "pow_exponent_err"])
     assert s[0] == CHAOTIC and s[-1] == UNDECIDED
-    s = _monotone_in_errors(orbits.judge_loschmidt, LOS_REG, ["exp_rate_err", "pow_exponent_err"])
+    s = _monotone_in_errors(loschmidt.judge_loschmidt, LOS_REG, ["exp_rate_err", "pow_exponent_err"])
     assert s[0] == REGULAR and s[-1] == UNDECIDED
 
 
@@ -398,11 +398,11 @@ _POW = (8, 3e-4, 5e-5, 0.5, 2.0, 0.1, 0.2)
     (_los(_EXP, _EXP), _los(_EXP, _EXP), C),
 ])
 def test_loschmidt_indicator_is_judged_in_long_double(L, L_ld, want):
-    from sleighsim.chaos.orbits import loschmidt_indicator
+    from sleighsim.chaos.loschmidt import loschmidt_indicator
 
     out = loschmidt_indicator(L, L_ld, 3.0)
-    assert out["verdict"][0] == want == orbits.judge_loschmidt_run(L_ld)[0]
-    assert out["verdict_double"] == orbits.judge_loschmidt_run(L)[0]
+    assert out["verdict"][0] == want == loschmidt.judge_loschmidt_run(L_ld)[0]
+    assert out["verdict_double"] == loschmidt.judge_loschmidt_run(L)[0]
     assert (out["value"], out["error"]) == (L_ld["tail_exp_rate"], L_ld["tail_exp_rate_err"])
     assert out["verdict"][1].startswith("in long double: ")
     assert out["verdict"][1].endswith(f"in double: {out['verdict_double']}")
@@ -414,9 +414,9 @@ def _tt(d0, rate, stderr=1e-5, T=1e5):
 
 def test_two_trajectory_indicator_judges_the_middle_run_and_needs_d0_independence():
     d0s = (1e-11, 1e-9, 1e-7)
-    same = orbits.two_trajectory_indicator([_tt(d, 1e-2) for d in d0s], d0s, tau=1.0, sigma=3.0)
+    same = two_trajectory.two_trajectory_indicator([_tt(d, 1e-2) for d in d0s], d0s, tau=1.0, sigma=3.0)
     assert same["value"] == 1e-2 and same["error"] == 1e-5 and same["verdict"][0] == CHAOTIC
-    follows = orbits.two_trajectory_indicator([_tt(d, r) for d, r in zip(d0s, (1e-2, 5e-3, 2e-3))], d0s,
+    follows = two_trajectory.two_trajectory_indicator([_tt(d, r) for d, r in zip(d0s, (1e-2, 5e-3, 2e-3))], d0s,
                                               tau=1.0, sigma=3.0)
     assert follows["value"] == 5e-3 and follows["verdict"][0] == UNDECIDED
     assert "at d0 = 1e-09 alone: chaotic" in follows["verdict"][1]

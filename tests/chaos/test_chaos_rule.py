@@ -5,7 +5,7 @@ import math
 
 import pytest
 
-from sleighsim.chaos import megno, orbits, tangent
+from sleighsim.chaos import megno, tangent, two_trajectory
 from sleighsim.chaos.rule import DECISION_RULE, classify, consistent, decide
 from sleighsim.chaos.verdicts import CHAOTIC, REGULAR, UNDECIDED
 
@@ -62,7 +62,7 @@ def test_judges_feed_decide_on_textbook_orbits(runs):
                                      R["megno"]["slope_err"], R["T"]),
             "ftle": tangent.judge_ftle(R["ftle"]["rate"], R["ftle"]["rate_err"], R["ftle"]["T"], R["tau"],
                                    R["ftle"]["spread_slope"], R["ftle"]["spread_slope_err"]),
-            "two_trajectory": orbits.judge_two_trajectory(R["two"]["rate"], R["two"]["stderr"], R["two"]["T"], R["tau"],
+            "two_trajectory": two_trajectory.judge_two_trajectory(R["two"]["rate"], R["two"]["stderr"], R["two"]["T"], R["tau"],
                                                        R["two"]["running_slope"], R["two"]["running_slope_err"]),
         }
         v, reason, _ = decide(verdicts, TANGENT)

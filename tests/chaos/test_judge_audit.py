@@ -10,9 +10,9 @@ module audits the others, each judge on its own engine's runs with its default s
 * ``tangent.judge_benettin`` on ``benettin.replica_exponents`` with 4 replicas (lanes) along the
   realization's orbit (CONFIG_LIKE: target_rel 0.1 as in config.yaml, regular_floor the polynomial bound
   at the capped horizon, as config.yaml's floor sits at its cap);
-* ``orbits.judge_two_trajectory`` on one ``two_trajectory`` run (d0 = 1e-8; in the workflow the
+* ``two_trajectory.judge_two_trajectory`` on one ``two_trajectory`` run (d0 = 1e-8; in the workflow the
   d0-independence check can only turn its verdict undecided);
-* ``orbits.judge_loschmidt_run`` on one ``loschmidt`` run (reversible systems only: not Lorenz).
+* ``loschmidt.judge_loschmidt_run`` on one ``loschmidt`` run (reversible systems only: not Lorenz).
 
 Realizations (seeded, independent draws): chaotic orbits: Henon-Heiles E = 1/6 orbit C and Lorenz, each
 start perturbed by 1e-6 of its largest component (Henon-Heiles: then put back on its energy level); the
@@ -68,7 +68,7 @@ from chaos_textbook import (
     _oscillators,
 )
 
-from sleighsim.chaos import benettin, megno, orbits, tangent
+from sleighsim.chaos import benettin, loschmidt, megno, tangent, two_trajectory
 from sleighsim.chaos.verdicts import CHAOTIC, REGULAR, UNDECIDED, VERDICTS, polynomial_rate_bound
 from sleighsim.engine import integrators
 
@@ -177,8 +177,8 @@ def _two_trajectory_verdicts(cls):
         for steps in HORIZONS:
             T = steps * tau
             for seed in range(PER[cls]):
-                r = orbits.two_trajectory(_flow(system), next(starts), d0=1e-8, tau=tau, T=T, seed=seed)
-                out.append((system, T, orbits.judge_two_trajectory(r["rate"], r["stderr"], r["T"], r["tau"],
+                r = two_trajectory.two_trajectory(_flow(system), next(starts), d0=1e-8, tau=tau, T=T, seed=seed)
+                out.append((system, T, two_trajectory.judge_two_trajectory(r["rate"], r["stderr"], r["T"], r["tau"],
                                                                    r["running_slope"], r["running_slope_err"],
                                                                    sigma=SIGMA)))
     return out
@@ -223,8 +223,8 @@ def _loschmidt_verdicts(cls):
         for T in horizons:
             grid = np.linspace(10.0, T, 30) if cls == CHAOS else np.geomspace(100.0, T, 16)
             for _ in range(PER_LOSCHMIDT[cls]):
-                L = orbits.loschmidt(_flow(system), next(starts), grid, _flip_momenta)
-                out.append((system, T, orbits.judge_loschmidt_run(L, sigma=SIGMA)))
+                L = loschmidt.loschmidt(_flow(system), next(starts), grid, _flip_momenta)
+                out.append((system, T, loschmidt.judge_loschmidt_run(L, sigma=SIGMA)))
     return out
 
 

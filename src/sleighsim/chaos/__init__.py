@@ -9,9 +9,11 @@ Import from the submodules (nothing is re-exported here):
   ``judge_megno``, ``judge_megno_run``, ``megno_in_long_double``).
 * ``benettin``: Lyapunov exponents by Benettin's method (``benettin``, ``batch_benettin``,
   ``replica_exponents``, ``scipy_benettin``, ``mean_divergence``); ``zero_one``: the 0-1 test.
-* ``orbits``: indicators without tangent dynamics built on pairs of orbits: two nearby
-  trajectories (``two_trajectory``, ``judge_two_trajectory``, ``d0_independent``) and the Loschmidt
-  return error (``loschmidt``, ``loschmidt_fit``, ``judge_loschmidt``, ``judge_loschmidt_run``).
+* indicators without tangent dynamics built on pairs of orbits: ``two_trajectory``, two nearby
+  trajectories (``two_trajectory``, ``judge_two_trajectory``, ``d0_independent``,
+  ``two_trajectory_indicator``), and ``loschmidt``, the Loschmidt return error (``loschmidt``,
+  ``loschmidt_fit``, ``judge_loschmidt``, ``judge_loschmidt_run``, ``loschmidt_indicator``,
+  ``LOSCHMIDT_GAIN_ROUNDING_MAX``).
 * ``frequency``: frequency analysis without tangent dynamics: the analysis (``leading_frequency``,
   ``window_frequencies``, ``drift``), on an orbit (``frequency_drift``) and its judge
   (``judge_frequency``, ``frequency_log_ratio``, ``judged_run``).

@@ -16,11 +16,8 @@ import time
 import numpy as np
 import xarray as xr
 
+from sleighsim.chaos.loschmidt import loschmidt_indicator
 from sleighsim.chaos.megno import megno_rate
-from sleighsim.chaos.orbits import (
-    loschmidt_indicator,
-    two_trajectory_indicator,
-)
 from sleighsim.chaos.rule import (
     INDICATORS,
     TANGENT_BASED,
@@ -30,6 +27,7 @@ from sleighsim.chaos.rule import (
     decide,
     faithful_gate,
 )
+from sleighsim.chaos.two_trajectory import two_trajectory_indicator
 from sleighsim.chaos.verdicts import CHAOTIC
 from sleighsim.engine import integrators
 from sleighsim.engine.integrate import orbit_samples

@@ -11,14 +11,13 @@ import xarray as xr
 
 from sleighsim.chaos.faithfulness import cycle_gains, follows
 from sleighsim.chaos.frequency import drift, frequency_log_ratio, judge_frequency
-from sleighsim.chaos.megno import judge_megno
-from sleighsim.chaos.orbits import (
-    d0_independent,
+from sleighsim.chaos.loschmidt import (
     judge_loschmidt,
     judge_loschmidt_run,
     loschmidt_fit,
     loschmidt_indicator,
 )
+from sleighsim.chaos.megno import judge_megno
 from sleighsim.chaos.rule import (
     DECISION_RULE,
     classify,
@@ -26,6 +25,7 @@ from sleighsim.chaos.rule import (
     faithful_gate,
 )
 from sleighsim.chaos.tangent import judge_benettin
+from sleighsim.chaos.two_trajectory import d0_independent
 from sleighsim.engine.precision import Precision
 from sleighsim.io import cf
 from sleighsim.scenes.common import nan_padded

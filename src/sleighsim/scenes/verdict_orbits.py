@@ -9,11 +9,11 @@ import math
 
 import numpy as np
 
-from sleighsim.chaos.orbits import (
+from sleighsim.chaos.loschmidt import (
     loschmidt,
     loschmidt_fit,
-    two_trajectory,
 )
+from sleighsim.chaos.two_trajectory import two_trajectory
 from sleighsim.engine import integrators
 from sleighsim.engine.integrate import integrate, sample_grid
 from sleighsim.engine.precision import Precision

@@ -13,14 +13,14 @@ from sleighsim.chaos.faithfulness import (
     follows,
     spike_cycle_gains,
 )
+from sleighsim.chaos.loschmidt import (
+    LOSCHMIDT_GAIN_ROUNDING_MAX,
+)
 from sleighsim.chaos.megno import (
     judge_megno_run,
     megno,
     megno_in_long_double,
     megno_rate,
-)
-from sleighsim.chaos.orbits import (
-    LOSCHMIDT_GAIN_ROUNDING_MAX,
 )
 from sleighsim.chaos.rule import (
     TANGENT_BASED,
