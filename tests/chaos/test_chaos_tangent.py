@@ -122,7 +122,7 @@ def test_judge_ftle_branches():
         tangent.judge_ftle(**{**FTLE_CHAOS, "T": 0.0})
 
 
-# ----------------------------------------------------------------------------- the sleigh's Benettin judge and the long-double check
+# ----------------------------------------------------------------------------- Benettin judge, long-double check
 
 def _res(lam1, err1, status, T=1e5):
     return {"exponents": np.array([lam1, 0, 0, -lam1]), "stderr": np.array([err1] * 4), "T": T, "status": status}

@@ -14,7 +14,8 @@ def _torus(T, dt):
     """Three lines at 0.1, 0.1 sqrt(2) and their sum: a 2-torus."""
     f1, f2 = 0.1, 0.1 * math.sqrt(2)
     t = np.arange(0.0, T, dt)
-    return np.cos(2 * math.pi * f1 * t) + 0.4 * np.cos(2 * math.pi * f2 * t + 0.3) + 0.1 * np.cos(2 * math.pi * (f1 + f2) * t)
+    return (np.cos(2 * math.pi * f1 * t) + 0.4 * np.cos(2 * math.pi * f2 * t + 0.3)
+            + 0.1 * np.cos(2 * math.pi * (f1 + f2) * t))
 
 
 def test_leading_frequency_recovers_a_quasi_periodic_line_and_follows_the_band():

@@ -124,7 +124,8 @@ def judge_megno(y_mean, y_err, slope, slope_err, T, *, sigma=3.0, y_chaotic_min=
     if y_mean + sigma * y_err < y_regular_max and (slope + sigma * slope_err) * T < growth_max:
         return REGULAR, (f"<Y> below {_g(y_regular_max)} without growth over T (lambda below about "
                          f"{_g(2 * y_regular_max / T)}); {nums}")
-    return UNDECIDED, f"<Y> neither resolved above {_g(y_chaotic_min)} and growing nor settled below {_g(y_regular_max)}; {nums}"
+    return UNDECIDED, (f"<Y> neither resolved above {_g(y_chaotic_min)} and growing nor settled below "
+                       f"{_g(y_regular_max)}; {nums}")
 
 
 def judge_megno_run(m: dict, T: float, sigma: float) -> tuple[str, str]:

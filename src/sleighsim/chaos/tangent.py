@@ -128,7 +128,8 @@ def judge_ftle(rate, rate_err, T, tau, spread_slope, spread_slope_err, *, sigma=
         return CHAOTIC, f"exponential growth resolved: rate - sigma err = {_g(lo)} > bound; {nums}"
     if hi < bound and s_hi < spread_slope_max:
         return REGULAR, (f"no growth beyond polynomial (rate + sigma err = {_g(hi)} < bound, so lambda < "
-                         f"{_g(bound)}) and spread falls like W^{_g(spread_slope)} (< W^{_g(spread_slope_max)}); {nums}")
+                         f"{_g(bound)}) and spread falls like W^{_g(spread_slope)} (< W^{_g(spread_slope_max)}); "
+                         f"{nums}")
     return UNDECIDED, f"neither exponential growth resolved nor a regular spread law; {nums}"
 
 
