@@ -28,7 +28,7 @@ import math
 
 import numpy as np
 
-from sleighsim.chaos import orbits, tangent
+from sleighsim.chaos import megno, tangent, two_trajectory
 from sleighsim.chaos.verdicts import UNDECIDED
 from sleighsim.engine import integrators
 
@@ -103,10 +103,10 @@ def textbook_runs(hy):
     for name, (sys, y0, T, tau) in cases.items():
         tm, n = integrators.megno_integrator(sys)
         ta = hy.taylor_adaptive(sys, y0, compact_mode=True)
-        m = tangent.megno(tm, n, y0, T=T, n_samples=100, tau=tau)
+        m = megno.megno(tm, n, y0, T=T, n_samples=100, tau=tau)
         f = tangent.finite_time_exponents(m["log_growth"], tau, tau * np.array([10, 20, 40, 80, 160, 320]),
                                           t_skip=T / 2)
-        two = orbits.two_trajectory(ta, y0, d0=1e-8, tau=tau, T=T)
+        two = two_trajectory.two_trajectory(ta, y0, d0=1e-8, tau=tau, T=T)
         out[name] = {"ta": ta, "megno": m, "ftle": f, "two": two, "T": T, "tau": tau, "y0": y0}
     return out
 

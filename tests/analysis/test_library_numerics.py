@@ -32,7 +32,7 @@ import numpy as np
 import pytest
 
 from sleighsim.analysis import fits
-from sleighsim.chaos import naff as fq
+from sleighsim.chaos import frequency as fq
 from sleighsim.chaos.common import linfit
 
 LINES = ((0.1, 1.0, 0.0), (0.1 * math.sqrt(2), 0.4, 0.3), (0.1 * (1 + math.sqrt(2)), 0.1, 1.1))

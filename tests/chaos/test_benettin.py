@@ -126,12 +126,14 @@ def test_batch_lanes_match_the_scalar_benettin_run(k):
     ps = [Params.paper(eps=0.1, b=1.0), Params.paper(eps=0.2, b=0.5)]
     ys = np.array([state_at_label([0.0, 0.1, 1.0, 0.0], p, 0.1127) for p in ps])
     taus = np.array([5.0, 3.0])
-    ta, n, _ = integrators.tangent_integrator_batch(equations.heyoka_system(), 2, npars=equations.n_heyoka_pars(), compact_mode=True, k=k)
+    ta, n, _ = integrators.tangent_integrator_batch(equations.heyoka_system(), 2, npars=equations.n_heyoka_pars(),
+                                                    compact_mode=True, k=k)
     ta.pars[:] = np.array([equations.heyoka_pars(p) for p in ps]).T
     batch = benettin.batch_benettin(ta, n, k, ys, taus, t_align_steps=4, n_steps=40)
     lam = batch["log_growth"].sum(axis=0) / (40 * taus)  # (k, lanes)
     for j, p in enumerate(ps):
-        ts, _, _ = integrators.tangent_integrator(equations.heyoka_system(), k, pars=equations.heyoka_pars(p), compact_mode=True)
+        ts, _, _ = integrators.tangent_integrator(equations.heyoka_system(), k, pars=equations.heyoka_pars(p),
+                                                  compact_mode=True)
         one = benettin.benettin(ts, 4, k, ys[j], t_align=4 * taus[j], T=40 * taus[j], tau=taus[j], n_blocks=4)
         assert lam[:, j] == pytest.approx(one["exponents"], rel=1e-9, abs=1e-12)
         assert batch["log_growth"][:, :, j] == pytest.approx(one["log_growth"], rel=1e-9, abs=1e-12)

@@ -2,7 +2,7 @@
 (frequency_drift, judge_frequency, frequency_log_ratio) on every branch of the judge and on the textbook
 orbits of chaos_textbook.
 
-Measured with splits (2, 4, 8, 16), the slope between K = 4 and 16 (frequencies.MIN_WINDOWS), double /
+Measured with splits (2, 4, 8, 16), the slope between K = 4 and 16 (frequency.MIN_WINDOWS), double /
 long double (heyoka, compact mode), x(t) sampled every 0.25 (Lorenz 0.02): Henon-Heiles E = 1/12 slope
 -2.8 (T = 1e4) and -4.0 (T = 2e4), quartic oscillators at the refinement's precision (-inf) from T = 2e4
 (-1.4 at T = 1e4, where D at K = 4 is just above that precision); Henon-Heiles E = 1/6 slope 0.0 to 0.25, Lorenz
@@ -18,7 +18,6 @@ import numpy as np
 import pytest
 
 from sleighsim.chaos import frequency
-from sleighsim.chaos import naff as fq
 from sleighsim.chaos.verdicts import REGULAR, UNDECIDED
 
 G, U = REGULAR, UNDECIDED
@@ -77,7 +76,7 @@ def test_frequency_log_ratio_uses_the_shared_splits_and_a_correlated_error():
     assert all(map(math.isnan, frequency.frequency_log_ratio(a, {"splits": np.array([16]), "D": np.array([1.0])})))
     # a spread below the refinement's precision counts as that precision
     zero = frequency.frequency_log_ratio(a, {"splits": np.array([2]), "D": np.array([0.0])})
-    assert zero[0] == pytest.approx(math.log(1e-2 / fq.PRECISION)) and zero[1] == pytest.approx(1.0)
+    assert zero[0] == pytest.approx(math.log(1e-2 / frequency.PRECISION)) and zero[1] == pytest.approx(1.0)
 
 
 # ----------------------------------------------------------------------------- textbook orbits

@@ -5,7 +5,7 @@ import math
 
 import pytest
 
-from sleighsim.chaos import orbits, tangent
+from sleighsim.chaos import megno, tangent, two_trajectory
 from sleighsim.chaos.rule import DECISION_RULE, classify, consistent, decide
 from sleighsim.chaos.verdicts import CHAOTIC, REGULAR, UNDECIDED
 
@@ -58,18 +58,19 @@ def test_judges_feed_decide_on_textbook_orbits(runs):
     for name, want in expect.items():
         R = runs[name]
         verdicts = {
-            "megno": tangent.judge_megno(R["megno"]["final"], R["megno"]["resid"], R["megno"]["slope"],
+            "megno": megno.judge_megno(R["megno"]["final"], R["megno"]["resid"], R["megno"]["slope"],
                                      R["megno"]["slope_err"], R["T"]),
             "ftle": tangent.judge_ftle(R["ftle"]["rate"], R["ftle"]["rate_err"], R["ftle"]["T"], R["tau"],
                                    R["ftle"]["spread_slope"], R["ftle"]["spread_slope_err"]),
-            "two_trajectory": orbits.judge_two_trajectory(R["two"]["rate"], R["two"]["stderr"], R["two"]["T"], R["tau"],
-                                                       R["two"]["running_slope"], R["two"]["running_slope_err"]),
+            "two_trajectory": two_trajectory.judge_two_trajectory(R["two"]["rate"], R["two"]["stderr"], R["two"]["T"],
+                                                                  R["tau"], R["two"]["running_slope"],
+                                                                  R["two"]["running_slope_err"]),
         }
         v, reason, _ = decide(verdicts, TANGENT)
         assert v == want, (name, reason)
 
 
-# ----------------------------------------------------------------------------- rate consistency and the class of a state
+# ----------------------------------------------------------------------------- rate consistency, the class of a state
 
 @pytest.mark.parametrize("verdict, a, others, want", [
     (C, (7.3e-4, 5.6e-5), {"two_trajectory": (8.5e-3, 3.2e-4)}, U),   # chaotic by both, rates 11x apart

@@ -92,14 +92,16 @@ def test_the_report_names_the_arithmetic_that_follows_each_orbit(tmp_path):
                      "ln_gain_max": ("state", [36.2, math.nan]),
                      "log10_gain_rounding": (("state", "arithmetic"), [[-0.2, -3.5, -18.3], [math.nan] * 3]),
                      "follows_orbit": (("state", "arithmetic"),
-                                       np.array([["does not follow", "follows", "follows"], ["unknown"] * 3], dtype=object))},
+                                       np.array([["does not follow", "follows", "follows"], ["unknown"] * 3],
+                                                dtype=object))},
                     coords={"state": ["main", "rotor"], "arithmetic": [p.value for p in Precision]})
     write_dataset(ds, tmp_path / "v.nc")
     (main, v0, why0, decided, _), (_, _, why1, _, _) = chaos_answers({"chaos_verdict": tmp_path / "v.nc"})
     assert main == "main" and decided == "follows the orbit: long double, quad"
     assert v0 == "undecided" and why0.startswith("r0. Rounding amplified by ln G = 36.2")
     assert "double: does not follow (G x rounding = 10^-0.2); long double: follows" in why0
-    assert why1 == "r1. Faithfulness gauge: no complete spike cycle within T_gain, so which arithmetic follows the orbit is unknown"
+    assert why1 == ("r1. Faithfulness gauge: no complete spike cycle within T_gain, so which arithmetic follows "
+                    "the orbit is unknown")
 
 
 def test_the_report_prices_the_decisive_run_only_where_a_verdict_left_it_undone(tmp_path):
@@ -113,7 +115,8 @@ def test_the_report_prices_the_decisive_run_only_where_a_verdict_left_it_undone(
 
     cost = tmp_path / "cost.yaml"
     rows = [{"system": s, "precision": p, "compact_mode": c, "high_accuracy": False, "cost_s_per_tu": v}
-            for s, p, c, v in (("flow", "quad", True, 6e-3), ("flow", "quad", False, 9e-3), ("tangent", "quad", True, 1.0))]
+            for s, p, c, v in (("flow", "quad", True, 6e-3), ("flow", "quad", False, 9e-3),
+                               ("tangent", "quad", True, 1.0))]
     cost.write_text(yaml.safe_dump({"date": "2026-11-24T00:00", "machine": {"cpu_model": "cpu X"}, "rows": rows}))
     cluster = tmp_path / "cluster.yaml"
     cluster.write_text(yaml.safe_dump({"scenes": {"chaos_verdict": {"frequency": {"quad_T": 1e5}}}}))
@@ -141,7 +144,8 @@ def test_the_first_screen_names_the_arithmetic_each_state_was_decided_in():
 
     from sleighsim.report.build import _decided_in
 
-    follows = np.array([["does not follow", "follows", "follows"], ["does not follow"] * 3, ["unknown"] * 3], dtype=object)
+    follows = np.array([["does not follow", "follows", "follows"], ["does not follow"] * 3, ["unknown"] * 3],
+                       dtype=object)
     ds = xr.Dataset({"megno_precision": ("state", np.array(["long double", "double", "double"], dtype=object)),
                      "follows_orbit": (("state", "arithmetic"), follows)},
                     coords={"state": ["a", "b", "c"], "arithmetic": [p.value for p in Precision],

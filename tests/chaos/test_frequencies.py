@@ -1,19 +1,21 @@
-"""Frequency analysis (sleighsim.chaos.naff) on synthetic signals. Its use as a chaos indicator:
-test_chaos_frequency.py; in the chaos verdict: test_verdict.py."""
+"""Frequency analysis (sleighsim.chaos.frequency: leading_frequency, window_frequencies, drift) on
+synthetic signals. Its use as a chaos indicator: test_chaos_frequency.py; in the chaos verdict:
+test_verdict.py."""
 
 import math
 
 import numpy as np
 import pytest
 
-from sleighsim.chaos import naff as fq
+from sleighsim.chaos import frequency as fq
 
 
 def _torus(T, dt):
     """Three lines at 0.1, 0.1 sqrt(2) and their sum: a 2-torus."""
     f1, f2 = 0.1, 0.1 * math.sqrt(2)
     t = np.arange(0.0, T, dt)
-    return np.cos(2 * math.pi * f1 * t) + 0.4 * np.cos(2 * math.pi * f2 * t + 0.3) + 0.1 * np.cos(2 * math.pi * (f1 + f2) * t)
+    return (np.cos(2 * math.pi * f1 * t) + 0.4 * np.cos(2 * math.pi * f2 * t + 0.3)
+            + 0.1 * np.cos(2 * math.pi * (f1 + f2) * t))
 
 
 def test_leading_frequency_recovers_a_quasi_periodic_line_and_follows_the_band():
@@ -91,7 +93,7 @@ def test_the_refined_frequency_does_not_depend_on_the_number_of_blas_threads():
     import subprocess
     import sys
 
-    code = ("import math, numpy as np; from sleighsim.chaos.naff import leading_frequency; "
+    code = ("import math, numpy as np; from sleighsim.chaos.frequency import leading_frequency; "
             "t = np.arange(0.0, 2e4, 0.25); "
             "x = np.cos(2 * math.pi * 0.1414 * t) + 0.3 * np.cos(2 * math.pi * 0.031 * t + 1.0); "
             "print(repr(leading_frequency(x, 0.25)))")

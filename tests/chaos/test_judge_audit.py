@@ -4,15 +4,15 @@ a judge calls a chaotic orbit "regular" and a torus "chaotic", over many indepen
 The frequency judge's false-"regular" audit is in test_chaos_frequency.py (it never says chaotic); this
 module audits the others, each judge on its own engine's runs with its default settings (sigma 3):
 
-* ``tangent.judge_ftle`` and ``tangent.judge_megno_run`` on one ``tangent.megno`` run per realization (the
+* ``tangent.judge_ftle`` and ``megno.judge_megno_run`` on one ``megno.megno`` run per realization (the
   FTLE from its one-vector Benettin series, windows n / 500 x (1, 2, 4, 8, 16) intervals tau after
   skipping the first half, as chaos_textbook scales them at n = 1e4);
 * ``tangent.judge_benettin`` on ``benettin.replica_exponents`` with 4 replicas (lanes) along the
   realization's orbit (CONFIG_LIKE: target_rel 0.1 as in config.yaml, regular_floor the polynomial bound
   at the capped horizon, as config.yaml's floor sits at its cap);
-* ``orbits.judge_two_trajectory`` on one ``two_trajectory`` run (d0 = 1e-8; in the workflow the
+* ``two_trajectory.judge_two_trajectory`` on one ``two_trajectory`` run (d0 = 1e-8; in the workflow the
   d0-independence check can only turn its verdict undecided);
-* ``orbits.judge_loschmidt_run`` on one ``loschmidt`` run (reversible systems only: not Lorenz).
+* ``loschmidt.judge_loschmidt_run`` on one ``loschmidt`` run (reversible systems only: not Lorenz).
 
 Realizations (seeded, independent draws): chaotic orbits: Henon-Heiles E = 1/6 orbit C and Lorenz, each
 start perturbed by 1e-6 of its largest component (Henon-Heiles: then put back on its energy level); the
@@ -68,7 +68,7 @@ from chaos_textbook import (
     _oscillators,
 )
 
-from sleighsim.chaos import benettin, orbits, tangent
+from sleighsim.chaos import benettin, loschmidt, megno, tangent, two_trajectory
 from sleighsim.chaos.verdicts import CHAOTIC, REGULAR, UNDECIDED, VERDICTS, polynomial_rate_bound
 from sleighsim.engine import integrators
 
@@ -160,11 +160,11 @@ def _tangent_verdicts(cls):
             T = steps * tau
             windows = tau * steps / 500 * np.array([1, 2, 4, 8, 16])
             for seed in range(PER[cls]):
-                m = tangent.megno(tm, n, next(starts), T=T, n_samples=100, tau=tau, seed=seed)
+                m = megno.megno(tm, n, next(starts), T=T, n_samples=100, tau=tau, seed=seed)
                 f = tangent.finite_time_exponents(m["log_growth"], tau, windows, t_skip=T / 2)
                 ftle = tangent.judge_ftle(f["rate"], f["rate_err"], f["T"], f["tau"], f["spread_slope"],
                                           f["spread_slope_err"], sigma=SIGMA)
-                out.append((system, T, ftle, tangent.judge_megno_run(m, T, SIGMA)))
+                out.append((system, T, ftle, megno.judge_megno_run(m, T, SIGMA)))
     return out
 
 
@@ -177,8 +177,8 @@ def _two_trajectory_verdicts(cls):
         for steps in HORIZONS:
             T = steps * tau
             for seed in range(PER[cls]):
-                r = orbits.two_trajectory(_flow(system), next(starts), d0=1e-8, tau=tau, T=T, seed=seed)
-                out.append((system, T, orbits.judge_two_trajectory(r["rate"], r["stderr"], r["T"], r["tau"],
+                r = two_trajectory.two_trajectory(_flow(system), next(starts), d0=1e-8, tau=tau, T=T, seed=seed)
+                out.append((system, T, two_trajectory.judge_two_trajectory(r["rate"], r["stderr"], r["T"], r["tau"],
                                                                    r["running_slope"], r["running_slope_err"],
                                                                    sigma=SIGMA)))
     return out
@@ -223,8 +223,8 @@ def _loschmidt_verdicts(cls):
         for T in horizons:
             grid = np.linspace(10.0, T, 30) if cls == CHAOS else np.geomspace(100.0, T, 16)
             for _ in range(PER_LOSCHMIDT[cls]):
-                L = orbits.loschmidt(_flow(system), next(starts), grid, _flip_momenta)
-                out.append((system, T, orbits.judge_loschmidt_run(L, sigma=SIGMA)))
+                L = loschmidt.loschmidt(_flow(system), next(starts), grid, _flip_momenta)
+                out.append((system, T, loschmidt.judge_loschmidt_run(L, sigma=SIGMA)))
     return out
 
 

@@ -40,3 +40,11 @@ def test_module_paths_compare_by_last_name_only_with_the_flag(tmp_path, capsys):
     other = _tree(tmp_path / "other", 2.0, "spikes by sleighsim.engine.transient.settle")
     assert resultdiff.main(["--module-paths", str(old), str(other)]) == 1
     assert "attribute rule differs" in capsys.readouterr().out
+
+
+def test_module_paths_in_double_backquotes_compare_by_last_name_only(tmp_path):
+    old = _tree(tmp_path / "old", 2.0, "the gate (``chaos.orbits.LOSCHMIDT_MAX``)")
+    moved = _tree(tmp_path / "moved", 2.0, "the gate (``chaos.loschmidt.LOSCHMIDT_MAX``)")
+    other = _tree(tmp_path / "other", 2.0, "the gate (``chaos.loschmidt.OTHER_MAX``)")
+    assert resultdiff.main(["--module-paths", str(old), str(moved)]) == 0
+    assert resultdiff.main(["--module-paths", str(old), str(other)]) == 1

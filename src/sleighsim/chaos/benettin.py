@@ -40,6 +40,7 @@ class LaneLoop:
 
     @property
     def pars(self):
+        """The scalar integrator's parameters (shared by every lane)."""
         return self.ta.pars
 
     def set_time(self, times) -> None:
@@ -101,8 +102,6 @@ def benettin(ta, n: int, k: int, y0, *, t_align: float, T: float, tau: float, n_
     (n_steps, k) (the convergence history), the final state and wall time."""
     if not (tau > 0 and T >= n_blocks * tau and t_align >= 0):
         raise ValueError(f"need tau > 0, T >= n_blocks * tau and t_align >= 0 (tau={tau}, T={T}, t_align={t_align})")
-    import heyoka as hy
-
     start = time.perf_counter()
     callback = integrators.bounded(ta)
     fp = ta.state.dtype.type  # float, or the extended type of a long double or quad integrator
@@ -120,13 +119,7 @@ def benettin(ta, n: int, k: int, y0, *, t_align: float, T: float, tau: float, n_
     r = 0
     last_log = time.perf_counter()
     for i in range(-n_align, n_steps):
-        res = ta.propagate_for(fp(tau), callback=callback)
-        if res[0] != hy.taylor_outcome.time_limit or not np.all(np.isfinite(ta.state)):
-            raise RuntimeError(f"{label}: Lyapunov run failed at t = {ta.time:.6g}: heyoka outcome {res[0].name}")
-        ta.time = fp(0)  # autonomous: keep the clock small
-        V = ta.state[n:].reshape(n, k).astype(float)  # QR in double (numpy's has no extended precision)
-        q, rr = np.linalg.qr(V)
-        ta.state[n:] = q.ravel()
+        rr = _renormalised_leg(ta, n, k, fp(tau), callback, label)
         if i < 0:
             continue
         growth = np.log(np.abs(np.diag(rr)))
@@ -138,7 +131,8 @@ def benettin(ta, n: int, k: int, y0, *, t_align: float, T: float, tau: float, n_
             r += 1
         if time.perf_counter() - last_log > progress_every:
             last_log = time.perf_counter()
-            log.info("%s: Lyapunov t = %.4g / %.4g, lambda_1 ~ %.4g", label, (i + 1) * tau, T, total[0] / ((i + 1) * tau))
+            log.info("%s: Lyapunov t = %.4g / %.4g, lambda_1 ~ %.4g", label, (i + 1) * tau, T,
+                     total[0] / ((i + 1) * tau))
     block_len = np.bincount(block_of, minlength=n_blocks) * tau
     block_est = blocks / block_len[:, None]
     exps = total / (n_steps * tau)
@@ -152,6 +146,22 @@ def benettin(ta, n: int, k: int, y0, *, t_align: float, T: float, tau: float, n_
         "final_state": integrators.read(ta, n).astype(float),
         "wall_time_s": time.perf_counter() - start,
     }
+
+
+def _renormalised_leg(ta, n: int, k: int, tau, callback, label: str) -> np.ndarray:
+    """One leg of ``benettin``: the flow and its k tangent vectors propagated over tau (in the
+    integrator's type), the clock reset to 0, the vectors replaced by Q of their QR decomposition
+    (in double). Returns R (k, k); RuntimeError if the leg fails."""
+    import heyoka as hy  # local: heyoka takes seconds to import
+
+    res = ta.propagate_for(tau, callback=callback)
+    if res[0] != hy.taylor_outcome.time_limit or not np.all(np.isfinite(ta.state)):
+        raise RuntimeError(f"{label}: Lyapunov run failed at t = {ta.time:.6g}: heyoka outcome {res[0].name}")
+    ta.time = ta.state.dtype.type(0)  # autonomous: keep the clock small
+    V = ta.state[n:].reshape(n, k).astype(float)  # QR in double (numpy's has no extended precision)
+    q, rr = np.linalg.qr(V)
+    ta.state[n:] = q.ravel()
+    return rr
 
 
 def batch_benettin(ta, n: int, k: int, y0s, taus, *, n_steps: int, t_align_steps: int = 0, seed: int = 0,
@@ -226,7 +236,8 @@ def replica_exponents(ta, n: int, k: int, y0s, tau: float, *, T_round: float, ma
     growth, states, history = [], [], []
     start, status = time.perf_counter(), "capped"
     for rnd in range(max_rounds):
-        r = batch_benettin(ta, n, k, y0s, taus, n_steps=steps, t_align_steps=int(math.ceil(t_align / tau)) if rnd == 0 else 0,
+        r = batch_benettin(ta, n, k, y0s, taus, n_steps=steps,
+                           t_align_steps=int(math.ceil(t_align / tau)) if rnd == 0 else 0,
                            seed=seed, resume=rnd > 0, label=f"{label} round {rnd + 1}")
         growth.append(r["log_growth"])
         states.append(r["states"])

@@ -22,8 +22,7 @@ import math
 
 import numpy as np
 
-from sleighsim.engine import integrators
-from sleighsim.engine import transient
+from sleighsim.engine import integrators, transient
 from sleighsim.engine.precision import Precision
 
 #: An arithmetic follows the exact orbit through a cycle when G x rounding is below this.

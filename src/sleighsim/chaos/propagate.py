@@ -30,7 +30,7 @@ def _propagate_until(ta, t_end, callback):
 
     res = ta.propagate_until(t_end) if callback is None else ta.propagate_until(t_end, callback=callback)
     if res[0] != hy.taylor_outcome.time_limit:
-        raise RuntimeError(f"integration stopped at t = {float(ta.time):.6g} (target {float(t_end):.6g}): heyoka outcome "
-                           f"{res[0]}")
+        raise RuntimeError(f"integration stopped at t = {float(ta.time):.6g} (target {float(t_end):.6g}): "
+                           f"heyoka outcome {res[0]}")
     if not np.all(np.isfinite(ta.state)):
         raise RuntimeError(f"non-finite state at t = {float(ta.time):.6g}")

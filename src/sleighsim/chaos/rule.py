@@ -84,7 +84,7 @@ def faithful_gate(verdicts: dict, arithmetic: dict, follows: dict) -> list[str]:
     """Set aside, in place, every indicator whose verdict was judged in an arithmetic shown not to
     follow the state's orbit closely enough for that indicator (the faithfulness gauge,
     ``sleighsim.chaos.faithfulness``: G x rounding >= 1e-3 in a spike cycle; for the Loschmidt test
-    G x rounding >= 1e-4, ``chaos.orbits.LOSCHMIDT_GAIN_ROUNDING_MAX``, since its return error must
+    G x rounding >= 1e-4, ``chaos.loschmidt.LOSCHMIDT_GAIN_ROUNDING_MAX``, since its return error must
     stay two decades below saturation after a spike): a chaotic or regular verdict becomes
     undecided, naming the arithmetic. An indicator whose gauge is "unknown" (no complete cycle
     measured) is not set aside: the gauge shows nothing either way. ``arithmetic``: indicator -> the

@@ -244,7 +244,7 @@ def megno_integrator(sys, pars=(), tol=None, compact_mode=True, precision: Preci
     quadratures.
 
     State layout: [y (n), delta (n), I, J] with delta the variational vector (heyoka's
-    derivatives with respect to the first initial condition, overwritten by ``chaos.tangent.megno``),
+    derivatives with respect to the first initial condition, overwritten by ``chaos.megno.megno``),
     I' = t (delta_dot . delta) / (delta . delta) and J' = 2 I / t, so that
     Y(t) = 2 I / t and <Y>(t) = J / t (t = heyoka's time, which must start > 0), in the arithmetic
     ``precision``. Returns (ta, n).

@@ -27,13 +27,14 @@ VOLATILE = re.compile(r"wall|compile_time|created_utc|git_commit|^version_|pytho
                       r"|^history$|^source$|^cost_|_estimate_s$|^overhead_|speedup|fastest_at|^lambda_1_wall|^lyap_scipy_wall")
 
 
-#: A dotted name inside this package: its module path and its last name.
-MODULE_PATH = re.compile(r"sleighsim(?:\.\w+)*\.(\w+)")
+#: A dotted name inside this package, its module path and its last name: written out
+#: (sleighsim.engine.transient.phases) or in a docstring's double backquotes (``chaos.orbits.loschmidt``).
+MODULE_PATH = re.compile(r"sleighsim(?:\.\w+)*\.(\w+)|``(?:\w+\.)+(\w+)``")
 
 
 def _without_module_paths(a: np.ndarray) -> np.ndarray:
     """Text with every dotted sleighsim name cut to its last name (``--module-paths``)."""
-    cut = np.vectorize(lambda s: MODULE_PATH.sub(r"sleighsim..\1", str(s)), otypes=[object])
+    cut = np.vectorize(lambda s: MODULE_PATH.sub(lambda m: f"..{m.group(1) or m.group(2)}", str(s)), otypes=[object])
     return cut(a) if a.size else a
 
 

@@ -16,10 +16,8 @@ import time
 import numpy as np
 import xarray as xr
 
-from sleighsim.chaos.orbits import (
-    loschmidt_indicator,
-    two_trajectory_indicator,
-)
+from sleighsim.chaos.loschmidt import loschmidt_indicator
+from sleighsim.chaos.megno import megno_rate
 from sleighsim.chaos.rule import (
     INDICATORS,
     TANGENT_BASED,
@@ -29,6 +27,7 @@ from sleighsim.chaos.rule import (
     decide,
     faithful_gate,
 )
+from sleighsim.chaos.two_trajectory import two_trajectory_indicator
 from sleighsim.chaos.verdicts import CHAOTIC
 from sleighsim.engine import integrators
 from sleighsim.engine.integrate import orbit_samples
@@ -74,7 +73,8 @@ def one_state(params, y0, cfg: dict, scene: str) -> dict:
     res = replica_run(params, replicas, cfg, scene)
     gain = gain_run(params, replicas[0], cfg)
     values, errors, verdicts = {}, {}, {}
-    m, ld, megno_double, megno_precision = tangent_indicators(params, replicas, res, cfg, scene, values, errors, verdicts)
+    m, ld, megno_double, megno_precision = tangent_indicators(params, replicas, res, cfg, scene,
+                                                              values, errors, verdicts)
     freq = frequency_indicator(params, replicas[0], cfg, sigma)
     values["frequency"], errors["frequency"], verdicts["frequency"] = freq["value"], freq["error"], freq["verdict"]
     L = loschmidt_run(params, replicas[0], cfg)
@@ -83,7 +83,8 @@ def one_state(params, y0, cfg: dict, scene: str) -> dict:
     values["loschmidt"], errors["loschmidt"], verdicts["loschmidt"] = los["value"], los["error"], los["verdict"]
     flow, tts = two_trajectory_runs(params, replicas[-1], cfg)
     two = two_trajectory_indicator(tts, cfg["d0"], tau, sigma)
-    values["two_trajectory"], errors["two_trajectory"], verdicts["two_trajectory"] = two["value"], two["error"], two["verdict"]
+    values["two_trajectory"], errors["two_trajectory"] = two["value"], two["error"]
+    verdicts["two_trajectory"] = two["verdict"]
     arithmetic = {"benettin": "double", "ftle": "double", "megno": megno_precision, "two_trajectory": "double",
                   "loschmidt": "long double", "frequency": list(freq["runs"])[-1]}
     faithful_gate(verdicts, arithmetic, indicator_follows(gain["ln_gain_max"], arithmetic))
@@ -92,15 +93,18 @@ def one_state(params, y0, cfg: dict, scene: str) -> dict:
     verdict, reason = consistent(verdict, reason, values["benettin"], errors["benettin"], others, sigma)
     klass, s, s_err, image, image_dist = _class_facts(params, replicas[0], mean_u_omega, res, verdict, cfg, scene)
     lam, tt = res["exponents"], tts[len(tts) // 2]
-    return {"verdict": verdict, "reason": reason, "klass": klass, "values": values, "errors": errors, "verdicts": verdicts,
+    return {"verdict": verdict, "reason": reason, "klass": klass, "values": values, "errors": errors,
+            "verdicts": verdicts,
             "two_rates": [t["rate"] for t in tts], "two_stderrs": [t["stderr"] for t in tts],
             "megno_t": m["t"], "megno_Y_mean": m["Y_mean"], "megno_final": m["final"],
-            "megno_t_ld": _or_nan(ld["megno"], "t", m["t"].size), "megno_Y_mean_ld": _or_nan(ld["megno"], "Y_mean", m["t"].size),
-            "megno_rate_double": 2 * m["slope"], "megno_rate_double_err": 2 * m["slope_err"],
+            "megno_t_ld": _or_nan(ld["megno"], "t", m["t"].size),
+            "megno_Y_mean_ld": _or_nan(ld["megno"], "Y_mean", m["t"].size),
+            "megno_rate_double": megno_rate(m)[0], "megno_rate_double_err": megno_rate(m)[1],
             "megno_verdict_double": megno_double[0], "megno_precision": megno_precision,
             "loschmidt_error": L["rel_error"], "loschmidt_error_ld": L_ld["rel_error"],
             "loschmidt_power": L_ld["pow_exponent"], "loschmidt_power_err": L_ld["pow_exponent_err"],
-            "loschmidt_tail_power": L_ld["tail_pow_exponent"], "loschmidt_tail_power_err": L_ld["tail_pow_exponent_err"],
+            "loschmidt_tail_power": L_ld["tail_pow_exponent"],
+            "loschmidt_tail_power_err": L_ld["tail_pow_exponent_err"],
             "loschmidt_n_used": [L["n_used"], L_ld["n_used"]], "loschmidt_tail_n": [L["tail_n"], L_ld["tail_n"]],
             "loschmidt_floor": [L["floor"] / L["scale"], L_ld["floor"] / L_ld["scale"]],
             "loschmidt_verdict_double": los["verdict_double"], "frequency": freq, "ld_lambda_1": ld["lambda_1"],
@@ -153,7 +157,8 @@ def verdict(cfg: dict, scene: str = "") -> xr.Dataset:
         variables(per_state, out, ind, ft),
         coords={"state": names, "indicator": ind, "i": np.arange(1, 5), "d0": np.asarray(cfg["d0"], float),
                 "T_loschmidt": loschmidt_T(cfg), "precision": ["double", "long double"],
-                "split": np.asarray(fc["splits"], int), "frequency_precision": list(PRECISIONS), "arithmetic": [p.value for p in Precision],
+                "split": np.asarray(fc["splits"], int), "frequency_precision": list(PRECISIONS),
+                "arithmetic": [p.value for p in Precision],
                 "tangent_based": ("indicator", [int(i in TANGENT_BASED) for i in ind])},
     )
     set_attrs(ds, cfg, params, per_state, start)

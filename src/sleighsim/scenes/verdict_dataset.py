@@ -9,26 +9,23 @@ import time
 import numpy as np
 import xarray as xr
 
-from sleighsim.chaos import naff as frequencies
 from sleighsim.chaos.faithfulness import cycle_gains, follows
-from sleighsim.chaos.frequency import frequency_log_ratio, judge_frequency
-from sleighsim.chaos.orbits import (
-    d0_independent,
+from sleighsim.chaos.frequency import drift, frequency_log_ratio, judge_frequency
+from sleighsim.chaos.loschmidt import (
     judge_loschmidt,
     judge_loschmidt_run,
     loschmidt_fit,
     loschmidt_indicator,
 )
+from sleighsim.chaos.megno import judge_megno
 from sleighsim.chaos.rule import (
     DECISION_RULE,
     classify,
     consistent,
     faithful_gate,
 )
-from sleighsim.chaos.tangent import (
-    judge_benettin,
-    judge_megno,
-)
+from sleighsim.chaos.tangent import judge_benettin
+from sleighsim.chaos.two_trajectory import d0_independent
 from sleighsim.engine.precision import Precision
 from sleighsim.io import cf
 from sleighsim.scenes.common import nan_padded
@@ -174,7 +171,8 @@ def _gain_vars(out: list) -> dict:
         "spike_period": ("state", [spike_period(g["spike_times"]) for g in gains],
                          cf.attrs("median interval between the spikes of the gauge's run: which torus of the family "
                                   "the state reached (to about tau_gain)", "time")),
-        "log10_gain_rounding": (("state", "arithmetic"), [[g["log10_gain_rounding"][a] for a in Precision] for g in gains],
+        "log10_gain_rounding": (("state", "arithmetic"),
+                                [[g["log10_gain_rounding"][a] for a in Precision] for g in gains],
                                 cf.attrs("log10(G_max x unit roundoff of the arithmetic)")),
         "follows_orbit": (("state", "arithmetic"), np.array([[g["follows"][a] for a in Precision] for g in gains],
                                                             dtype=object),
@@ -187,7 +185,8 @@ def set_attrs(ds: xr.Dataset, cfg: dict, params, per_state, start: float) -> Non
     """The dataset's attributes: the rules (from the judges' docstrings), the settings and the wall time since start."""
     fc = cfg["frequency"]
     ds.attrs.update(
-        rule=DECISION_RULE + "; then " + " ".join(consistent.__doc__.split()), class_rule=" ".join(classify.__doc__.split()),
+        rule=DECISION_RULE + "; then " + " ".join(consistent.__doc__.split()),
+        class_rule=" ".join(classify.__doc__.split()),
         faithful_rule=" ".join(faithful_gate.__doc__.split()),
         precision_rule=" ".join(precision_check.__doc__.split()),
         d0_rule=" ".join(d0_independent.__doc__.split()), T_long_double=cfg["T_long_double"],
@@ -196,13 +195,14 @@ def set_attrs(ds: xr.Dataset, cfg: dict, params, per_state, start: float) -> Non
         uncertainty="Benettin: standard error over independent replicas along the settled orbit; FTLE: window "
                     "standard error; MEGNO: 2 x (slope of <Y> over the second half, least-squares error, "
                     "correlated residuals: understated); two-trajectory: consecutive blocks (value at the middle d0); "
-                    "Loschmidt: least-squares error of the exponential fit over the long-double run's tail; frequency: D's "
+                    "Loschmidt: least-squares error of the exponential fit over the long-double run's tail; "
+                    "frequency: D's "
                     "ln-error 1/sqrt(2 (K - 1)) for K windows (sample standard deviation of K values); long double: "
                     "consecutive blocks of one replica's MEGNO run",
         megno_rule=" ".join(judge_megno.__doc__.split()),
         frequency_rule=" ".join((frequency_indicator.__doc__ + " " + judge_frequency.__doc__ + " "
                                  + frequency_log_ratio.__doc__).split()),
-        frequency_method=" ".join(frequencies.drift.__doc__.split()), frequency_T=fc["T"], frequency_dt=fc["dt"],
+        frequency_method=" ".join(drift.__doc__.split()), frequency_T=fc["T"], frequency_dt=fc["dt"],
         frequency_component=fc["component"], frequency_min_cycles=fc["min_cycles"], frequency_quad_T=fc["quad_T"],
         frequency_tol_quad=fc["tol_quad"],
         loschmidt_rule=" ".join((loschmidt_indicator.__doc__ + " " + judge_loschmidt_run.__doc__ + " "

@@ -25,7 +25,8 @@ PRECISIONS = tuple(Precision)  # the frequency indicator's runs, in order
 
 def _frequency_tol(cfg: dict, precision: Precision) -> float:
     """The Taylor tolerance of the frequency run in ``precision`` (one of PRECISIONS)."""
-    return {"double": cfg["tol"], "long double": cfg["tol_long_double"], "quad": cfg["frequency"]["tol_quad"]}[precision]
+    tols = {"double": cfg["tol"], "long double": cfg["tol_long_double"], "quad": cfg["frequency"]["tol_quad"]}
+    return tols[precision]
 
 
 def frequency_run(params, y, cfg: dict, precision: Precision = Precision.DOUBLE) -> dict:
@@ -36,7 +37,8 @@ def frequency_run(params, y, cfg: dict, precision: Precision = Precision.DOUBLE)
     T = fc["quad_T"] if precision is Precision.QUAD else fc["T"]
     flow, _ = integrators.flow(False, _frequency_tol(cfg, precision), precision)
     integrators.set_pars(flow, params)
-    return frequency_drift(flow, stored_state(y), T=T, dt=fc["dt"], component=equations.STATE_NAMES.index(fc["component"]),
+    return frequency_drift(flow, stored_state(y), T=T, dt=fc["dt"],
+                           component=equations.STATE_NAMES.index(fc["component"]),
                            splits=fc["splits"], min_cycles=fc["min_cycles"], callback=integrators.bounded(flow))
 
 
@@ -55,7 +57,8 @@ def frequency_indicator(params, y, cfg: dict, sigma: float) -> dict:
         if prev is not None and (judgement[0] == REGULAR or made[prev]["splits"].size < 2):
             break
         if precision is Precision.QUAD and cfg["frequency"]["quad_T"] <= 0:
-            judgement = (judgement[0], judgement[1] + "; quad run not made (frequency.quad_T = 0; config/cluster.yaml makes it)")
+            judgement = (judgement[0], judgement[1] + "; quad run not made "
+                         "(frequency.quad_T = 0; config/cluster.yaml makes it)")
             break
         run = made[precision] = frequency_run(params, y, cfg, precision)
         ratio = {}

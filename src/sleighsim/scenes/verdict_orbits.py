@@ -9,18 +9,19 @@ import math
 
 import numpy as np
 
-from sleighsim.chaos.orbits import (
+from sleighsim.chaos.loschmidt import (
     loschmidt,
     loschmidt_fit,
-    two_trajectory,
 )
+from sleighsim.chaos.two_trajectory import two_trajectory
 from sleighsim.engine import integrators
 from sleighsim.engine.integrate import integrate, sample_grid
 from sleighsim.engine.precision import Precision
 from sleighsim.model import equations
 from sleighsim.scenes.common import stored_state
 
-R = np.array([-1.0, -1.0, -1.0, 1.0])  # the reversing involution: (u, Omega, omega, delta) -> (-u, -Omega, -omega, delta)
+# the reversing involution: (u, Omega, omega, delta) -> (-u, -Omega, -omega, delta)
+R = np.array([-1.0, -1.0, -1.0, 1.0])
 
 
 # the docstring is written into the chaos_verdict dataset (attribute R_rule)
@@ -37,7 +38,7 @@ def r_image(params, y, ref_mean, *, T: float, tol: float, rtol: float, scene: st
 
 
 def two_trajectory_runs(params, y, cfg: dict) -> tuple:
-    """``chaos.orbits.two_trajectory`` from y (model variables) at each separation d0, in double at
+    """``chaos.two_trajectory.two_trajectory`` from y (model variables) at each separation d0, in double at
     tol over T_two (renormalised every tau, after t_align), the partner kept on the reference's
     energy level. Returns (the flow integrator, the runs)."""
     flow, _ = integrators.flow(False, cfg["tol"])
@@ -50,7 +51,7 @@ def two_trajectory_runs(params, y, cfg: dict) -> tuple:
 
 
 def loschmidt_run(params, y, cfg: dict, *, precision: Precision = Precision.DOUBLE) -> dict:
-    """``chaos.orbits.loschmidt`` from y (model variables) with the involution R at loschmidt_n
+    """``chaos.loschmidt.loschmidt`` from y (model variables) with the involution R at loschmidt_n
     log-spaced T in loschmidt_T, relative to max |velocity|: in double at tol, or in long double at
     tol_long_double (rounding 2^11 smaller: the rounding floor is 3.3 decades lower)."""
     tol = cfg["tol_long_double"] if precision is Precision.LONG_DOUBLE else cfg["tol"]

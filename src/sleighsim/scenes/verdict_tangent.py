@@ -13,8 +13,14 @@ from sleighsim.chaos.faithfulness import (
     follows,
     spike_cycle_gains,
 )
-from sleighsim.chaos.orbits import (
+from sleighsim.chaos.loschmidt import (
     LOSCHMIDT_GAIN_ROUNDING_MAX,
+)
+from sleighsim.chaos.megno import (
+    judge_megno_run,
+    megno,
+    megno_in_long_double,
+    megno_rate,
 )
 from sleighsim.chaos.rule import (
     TANGENT_BASED,
@@ -25,9 +31,6 @@ from sleighsim.chaos.tangent import (
     growth_confirmed,
     judge_benettin,
     judge_ftle,
-    judge_megno_run,
-    megno,
-    megno_in_long_double,
 )
 from sleighsim.chaos.verdicts import CHAOTIC
 from sleighsim.engine import integrators
@@ -54,7 +57,8 @@ def replica_run(params, replicas, cfg: dict, scene: str) -> dict:
     at tol with tau, T_round, max_rounds, target_rel, t_align, regular_floor and sigma from cfg."""
     ta, _ = integrators.sleigh_tangent_batch(cfg["replicas"], cfg["tol"], cfg["compact_mode"], k=4)
     integrators.set_pars(ta, params)
-    return benettin.replica_exponents(ta, 4, 4, replicas, cfg["tau"], T_round=cfg["T_round"], max_rounds=cfg["max_rounds"],
+    return benettin.replica_exponents(ta, 4, 4, replicas, cfg["tau"], T_round=cfg["T_round"],
+                                      max_rounds=cfg["max_rounds"],
                                       target_rel=cfg["target_rel"], t_align=cfg["t_align"],
                                       regular_floor=cfg["regular_floor"], sigma=cfg["sigma"], label=scene)
 
@@ -76,14 +80,14 @@ def tangent_indicators(params, replicas, res: dict, cfg: dict, scene: str, value
     verdicts["ftle"] = judge_ftle(f["rate"], f["rate_err"], f["T"], tau, f["spread_slope"], f["spread_slope_err"],
                                   sigma=sigma)
     m = megno_run(params, replicas[0], cfg)
-    values["megno"], errors["megno"] = 2 * m["slope"], 2 * m["slope_err"]
+    values["megno"], errors["megno"] = megno_rate(m)
     verdicts["megno"] = megno_double = judge_megno_run(m, cfg["T_megno"], sigma)
     megno_precision = "double"
     ld = {"lambda_1": math.nan, "stderr": math.nan, "check": "not run", "megno": None}
     if any(verdicts[k][0] == CHAOTIC for k in TANGENT_BASED):
         ld = precision_check(params, replicas[0], cfg, scene)
         precision_gate(verdicts, ld)
-        values["megno"], errors["megno"] = 2 * ld["megno"]["slope"], 2 * ld["megno"]["slope_err"]
+        values["megno"], errors["megno"] = megno_rate(ld["megno"])
         megno_precision = "long double"
         verdicts["megno"] = megno_in_long_double(judge_megno_run(ld["megno"], cfg["T_long_double"], sigma), ld,
                                                  megno_double, cfg["T_long_double"], cfg["T_megno"])
@@ -100,13 +104,14 @@ def indicator_follows(ln_gain_max: float, arithmetic: dict) -> dict:
 
 def megno_run(params, y, cfg: dict, *, precision: Precision = Precision.DOUBLE) -> dict:
     """MEGNO from y (model variables), renormalised every tau, <Y> recorded at megno_samples times
-    (``chaos.tangent.megno``): over T_megno in double, or over T_long_double at tol_long_double in long
+    (``chaos.megno.megno``): over T_megno in double, or over T_long_double at tol_long_double in long
     double."""
     long_double = precision is Precision.LONG_DOUBLE
     tol, T = (cfg["tol_long_double"], cfg["T_long_double"]) if long_double else (cfg["tol"], cfg["T_megno"])
     ta, _ = integrators.sleigh_megno(tol, precision, cfg["compact_mode"])
     integrators.set_pars(ta, params)
-    return megno(ta, 4, stored_state(y), T=T, n_samples=cfg["megno_samples"], tau=cfg["tau"], callback=integrators.bounded(ta))
+    return megno(ta, 4, stored_state(y), T=T, n_samples=cfg["megno_samples"], tau=cfg["tau"],
+                 callback=integrators.bounded(ta))
 
 
 # the docstring is written into the chaos_verdict dataset (attribute precision_rule)
