@@ -56,6 +56,27 @@ def _running(growth, tau, n_points=60):
     return at * tau, (cum / (at * tau)[:, None, None]).mean(axis=2)
 
 
+def _spectrum_dataset(res: dict, div: np.ndarray, replicas: np.ndarray, T_grid: np.ndarray,
+                      running: np.ndarray) -> xr.Dataset:
+    """The spectrum's variables: exponents and standard errors (per i), each replica's exponents,
+    mean divergence and start state (per replica), and the running lambda_i(T) (per T); rates in
+    1/time unit."""
+    lam, err, per = res["exponents"], res["stderr"], res["per_replica"]
+    return xr.Dataset(
+        {
+            "exponent": ("i", lam, cf.attrs("Lyapunov exponent lambda_i (mean over replicas)", "rate")),
+            "stderr": ("i", err, cf.attrs("standard error over independent replicas", "rate")),
+            "replica_exponent": (("replica", "i"), per, cf.attrs("Lyapunov exponent lambda_i of each replica", "rate")),
+            "replica_divergence": ("replica", div, cf.attrs("mean trace of J over the replica's window", "rate")),
+            "replica_y0": (("replica", "component"), replicas),
+            "running": (("T", "i"), running, cf.attrs("finite-time estimate lambda_i(T), mean over replicas", "rate")),
+        },
+        coords={"i": np.arange(1, 5), "T": ("T", T_grid, cf.attrs("horizon T of the finite-time estimate", "time")),
+                "replica": np.arange(len(replicas)),
+                "component": list(equations.STATE_NAMES)},
+    )
+
+
 def spectrum(cfg: dict, scene: str = "") -> xr.Dataset:
     """All four exponents on the steady state reached from y0 after a checked transient, from
     independent replicas along the settled orbit (one SIMD lane each, run in rounds until lambda_1
@@ -83,19 +104,7 @@ def spectrum(cfg: dict, scene: str = "") -> xr.Dataset:
     T_grid, running = _running(res["log_growth"], cfg["tau"])
     lam, err, per = res["exponents"], res["stderr"], res["per_replica"]
     sums = per.sum(axis=1)
-    ds = xr.Dataset(
-        {
-            "exponent": ("i", lam, cf.attrs("Lyapunov exponent lambda_i (mean over replicas)", "rate")),
-            "stderr": ("i", err, cf.attrs("standard error over independent replicas", "rate")),
-            "replica_exponent": (("replica", "i"), per, cf.attrs("Lyapunov exponent lambda_i of each replica", "rate")),
-            "replica_divergence": ("replica", div, cf.attrs("mean trace of J over the replica's window", "rate")),
-            "replica_y0": (("replica", "component"), replicas),
-            "running": (("T", "i"), running, cf.attrs("finite-time estimate lambda_i(T), mean over replicas", "rate")),
-        },
-        coords={"i": np.arange(1, 5), "T": ("T", T_grid, cf.attrs("horizon T of the finite-time estimate", "time")),
-                "replica": np.arange(B),
-                "component": list(equations.STATE_NAMES)},
-    )
+    ds = _spectrum_dataset(res, div, replicas, T_grid, running)
     ds.attrs.update(_common_attrs(params, y0, cfg, scene))
     ds.attrs.update(transient_attrs)
     ds.attrs.update(

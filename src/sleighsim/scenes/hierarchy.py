@@ -241,6 +241,26 @@ def _growth_exponent(t, x, block, t_from):
     return fits.loglog(tb[sel], bm[sel], min_points=3)[0]
 
 
+def _audit_variables(rows: list[dict], classified: list[tuple], h: xr.Dataset) -> dict:
+    """The audit dataset's variables: every printed term that differs from the derived one (per
+    difference), the classified order-4 forcing terms (per term4), and u, Omega, omega at orders 2
+    and 4 along the solution (per time)."""
+    return {
+        "equation": ("difference", [r["equation"] for r in rows]),
+        "term": ("difference", [r["term"] for r in rows]),
+        "derived": ("difference", [r["derived"] for r in rows]),
+        "derived_with_kappa": ("difference", [r["derived_with_kappa"] for r in rows]),
+        "printed": ("difference", [r["printed"] for r in rows]),
+        "order4_equation": ("term4", [c[0] for c in classified]),
+        "order4_term": ("term4", [c[1] for c in classified]),
+        "order4_kind": ("term4", [c[2] for c in classified]),
+        "order4_mean_over_rms": ("term4", [c[3] for c in classified]),
+        "order4_rms_growth": ("term4", [c[4] for c in classified]),
+        "order4_late_rms": ("term4", [c[5] for c in classified]),
+        **{f"{v}{k}": ("time", h[f"{v}{k}"].values) for v in ("u", "Omega", "omega") for k in (2, 4)},
+    }
+
+
 def hierarchy_audit(cfg: dict, scene: str = "") -> xr.Dataset:
     """The derived hierarchy against the printed one (every differing term), and C12: order 3
     along the paper's data, and the secular forcing terms of order 4."""
@@ -263,23 +283,7 @@ def hierarchy_audit(cfg: dict, scene: str = "") -> xr.Dataset:
             continue
         vals = pert.lambdify_terms(terms, order)(*cols, b, K2, kap)
         classified += [(f"d{v}4/dt", *r) for r in _classify_terms(terms, vals, times, cfg["late_start"])]
-    ds = xr.Dataset(
-        {
-            "equation": ("difference", [r["equation"] for r in rows]),
-            "term": ("difference", [r["term"] for r in rows]),
-            "derived": ("difference", [r["derived"] for r in rows]),
-            "derived_with_kappa": ("difference", [r["derived_with_kappa"] for r in rows]),
-            "printed": ("difference", [r["printed"] for r in rows]),
-            "order4_equation": ("term4", [c[0] for c in classified]),
-            "order4_term": ("term4", [c[1] for c in classified]),
-            "order4_kind": ("term4", [c[2] for c in classified]),
-            "order4_mean_over_rms": ("term4", [c[3] for c in classified]),
-            "order4_rms_growth": ("term4", [c[4] for c in classified]),
-            "order4_late_rms": ("term4", [c[5] for c in classified]),
-            **{f"{v}{k}": ("time", h[f"{v}{k}"].values) for v in ("u", "Omega", "omega") for k in (2, 4)},
-        },
-        coords={"time": times},
-    )
+    ds = xr.Dataset(_audit_variables(rows, classified, h), coords={"time": times})
     n_sec = sum(c[2] == "secular" for c in classified)
     ds.attrs.update(params.attrs())
     ds.attrs.update(
