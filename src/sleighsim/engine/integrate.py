@@ -114,8 +114,10 @@ def _initial_state(y0, kinematics: bool) -> np.ndarray:
 
 
 def _fail(scene, t, state, why):
-    raise IntegrationError(f"scene {scene or '?'}: integration failed at t = {t:.6g}, "
-                           f"state = {np.asarray(state).tolist()}: {why}")
+    """Raise IntegrationError naming the scene, the time and state reached (shown as doubles: a
+    real128 time or state has no format of its own) and why."""
+    raise IntegrationError(f"scene {scene or '?'}: integration failed at t = {float(t):.6g}, "
+                           f"state = {np.asarray(state, dtype=float).tolist()}: {why}")
 
 
 def bound(y, kinematics: bool) -> tuple[np.ndarray, np.ndarray]:
