@@ -48,3 +48,10 @@ def test_module_paths_in_double_backquotes_compare_by_last_name_only(tmp_path):
     other = _tree(tmp_path / "other", 2.0, "the gate (``chaos.loschmidt.OTHER_MAX``)")
     assert resultdiff.main(["--module-paths", str(old), str(moved)]) == 0
     assert resultdiff.main(["--module-paths", str(old), str(other)]) == 1
+
+
+def test_nan_in_a_column_of_text_and_numbers_equals_nan():
+    mixed = np.array(["a", float("nan"), 1.5], dtype=object)
+    assert resultdiff._equal(mixed, mixed.copy())
+    assert not resultdiff._equal(mixed, np.array(["a", float("nan"), 2.5], dtype=object))
+    assert not resultdiff._equal(mixed, np.array(["a", "b", 1.5], dtype=object))

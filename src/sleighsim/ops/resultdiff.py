@@ -46,7 +46,13 @@ def _equal(a, b, module_paths: bool = False) -> bool:
         return bool(np.array_equal(a, b, equal_nan=True))
     if module_paths and a.dtype.kind in "USO":
         a, b = _without_module_paths(a), _without_module_paths(b)
+    if a.dtype.kind == "O":  # mixed text and numbers (a ledger column): NaN equal to NaN here too
+        return all(x == y or (_is_nan(x) and _is_nan(y)) for x, y in zip(a.ravel(), b.ravel()))
     return bool(np.array_equal(a, b))
+
+
+def _is_nan(x) -> bool:
+    return isinstance(x, float) and x != x
 
 
 def compare_datasets(old, new, module_paths: bool = False) -> list[str]:
