@@ -8,7 +8,7 @@ import pytest
 from sleighsim.engine.integrate import DEFAULT_TOL, integrate, sample_grid
 from sleighsim.engine.precision import Precision
 from sleighsim.model import equations, sleigh0
-from sleighsim.model.params import PARAM_NAMES, Params
+from sleighsim.model.params import PARAM_NAMES, Params, positive
 from sleighsim.model.symmetries import REFERENCE_LABEL, REFERENCE_STATE, energy_label, state_at_label
 
 REF = REFERENCE_STATE
@@ -235,3 +235,13 @@ def test_heyoka_polynomial_writes_numbers_units_and_powers():
     y, K0 = np.array([0.3, -1.2, 0.7, 0.9]), 2.5
     want = K0 * y[1] + 3 * y[2] * math.sin(y[3]) ** 3 + y[0]
     assert f(y, pars=[K0])[0] == pytest.approx(want, rel=1e-14)
+
+
+@pytest.mark.parametrize("value", [0.0, -1.0, math.nan, math.inf, "x", None])
+def test_positive_refuses_naming_the_argument(value):
+    with pytest.raises(ValueError, match=r"^tau must be"):
+        positive("tau", value)
+
+
+def test_positive_returns_a_float():
+    assert positive("tau", 2) == 2.0 and isinstance(positive("tau", 2), float)

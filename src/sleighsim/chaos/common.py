@@ -10,16 +10,6 @@ import math
 import numpy as np
 
 
-def _positive(name, value):
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a positive number, got {value!r}") from None
-    if not (math.isfinite(v) and v > 0):
-        raise ValueError(f"{name} must be positive and finite, got {value!r}")
-    return v
-
-
 def _state(name, y, n=None):
     y = np.array(y, dtype=float).ravel()
     if y.size == 0:

@@ -21,8 +21,9 @@ import math
 
 import numpy as np
 
-from sleighsim.chaos.common import _positive, _state
+from sleighsim.chaos.common import _state
 from sleighsim.chaos.verdicts import REGULAR, UNDECIDED, _g, _is_finite
+from sleighsim.model.params import positive
 
 # relative precision of a refined frequency: on a pure cosine sampled 28 times a period the error is
 # 4.5e-12 over 280 periods, 3e-14 over 1100 and 2e-16 over 4500 (tests/test_frequencies.py; the Hann
@@ -176,7 +177,7 @@ def frequency_drift(ta, y0, *, T, dt, component, splits=(2, 4, 8, 16), min_cycle
     that dict with ``T``, ``dt`` and ``final_state``."""
     dim = len(ta.state)
     y0 = _state("y0", y0, dim)
-    T, dt = _positive("T", T), _positive("dt", dt)
+    T, dt = positive("T", T), positive("dt", dt)
     splits = check_splits(splits)
     if not (isinstance(component, (int, np.integer)) and 0 <= component < dim):
         raise ValueError(f"component must be an index into the state (0..{dim - 1}), got {component!r}")

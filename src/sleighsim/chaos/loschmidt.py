@@ -15,7 +15,7 @@ import math
 
 import numpy as np
 
-from sleighsim.chaos.common import _positive, _state, linfit
+from sleighsim.chaos.common import _state, linfit
 from sleighsim.chaos.propagate import _propagate, _propagate_until
 from sleighsim.chaos.verdicts import (
     CHAOTIC,
@@ -25,6 +25,7 @@ from sleighsim.chaos.verdicts import (
     _g,
     _is_finite,
 )
+from sleighsim.model.params import positive
 
 _EPS = float(np.finfo(float).eps)
 
@@ -68,12 +69,12 @@ def loschmidt_fit(T_values, errors, scale, *, floor_factor=1e3, saturation=1e-2,
         raise ValueError("T_values is empty")
     if e.size != T.size:
         raise ValueError(f"errors has {e.size} entries, T_values {T.size}")
-    scale = _positive("scale", scale)
+    scale = positive("scale", scale)
     if not 0 < tail <= 1:
         raise ValueError(f"tail must be in (0, 1], got {tail!r}")
     if not (isinstance(tail_min, int) and tail_min >= 2):
         raise ValueError(f"tail_min must be an integer >= 2, got {tail_min!r}")
-    floor = floor_factor * _positive("rounding", rounding) * scale
+    floor = floor_factor * positive("rounding", rounding) * scale
     sat = saturation * scale
     saturated = np.isfinite(e) & (e >= sat)
     before = T < (T[saturated].min() if saturated.any() else np.inf)
@@ -113,14 +114,14 @@ def loschmidt(ta, y0, T_values, involution, callback=None, *, difference=None, s
     if T_arr.size == 0:
         raise ValueError("T_values is empty")
     for Tk in T_arr:
-        _positive("T_values entry", Tk)
+        positive("T_values entry", Tk)
     if not callable(involution):
         raise ValueError("involution must be callable")  # noqa: TRY004
     if scale is None:
         scale = float(np.max(np.abs(y0)))
         if scale == 0:
             raise ValueError("y0 is the zero state: pass scale explicitly")
-    scale = _positive("scale", scale)
+    scale = positive("scale", scale)
     diff = difference if difference is not None else (lambda a, b: a - b)
     target = np.asarray(involution(y0.copy()), float)
     fp = ta.state.dtype.type  # float, or np.longdouble for an extended-precision integrator

@@ -15,9 +15,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from sleighsim.chaos.common import _n_intervals, _positive, _state, linfit
+from sleighsim.chaos.common import _n_intervals, _state, linfit
 from sleighsim.chaos.propagate import _propagate_until
 from sleighsim.chaos.verdicts import CHAOTIC, REGULAR, UNDECIDED, _check_judge, _g
+from sleighsim.model.params import positive
 
 # ----------------------------------------------------------------------------- the series
 
@@ -76,11 +77,11 @@ def megno(ta, n, y0, *, T, n_samples, tau=None, callback=None, seed=0):
 
 def _megno_args(ta, n, y0, T, n_samples, tau):
     """The checked arguments of ``megno``: (T, n_samples, tau, n, y0, number of intervals tau in T)."""
-    T = _positive("T", T)
+    T = positive("T", T)
     if int(n_samples) != n_samples or n_samples < 4:
         raise ValueError(f"n_samples must be an integer >= 4, got {n_samples!r}")
     n_samples = int(n_samples)
-    tau = T / n_samples if tau is None else _positive("tau", tau)
+    tau = T / n_samples if tau is None else positive("tau", tau)
     n = int(n)
     if len(ta.state) != 2 * n + 2:
         raise ValueError(f"n = {n} does not match an integrator state of size {len(ta.state)} (expected 2 n + 2)")
@@ -116,7 +117,7 @@ def judge_megno(y_mean, y_err, slope, slope_err, T, *, sigma=3.0, y_chaotic_min=
                         ("T", T)], [("y_err", y_err), ("slope_err", slope_err)], sigma)
     if chk:
         return chk
-    T = _positive("T", T)
+    T = positive("T", T)
     nums = (f"<Y> = {_g(y_mean)} +- {_g(y_err)} at T = {_g(T)}, slope {_g(slope)} +- {_g(slope_err)} /time, "
             f"sigma {_g(sigma)}")
     if y_mean - sigma * y_err > y_chaotic_min and slope - sigma * slope_err > 0:

@@ -15,8 +15,9 @@ import math
 
 import numpy as np
 
-from sleighsim.chaos.common import _n_intervals, _positive, linfit
+from sleighsim.chaos.common import _n_intervals, linfit
 from sleighsim.chaos.verdicts import CHAOTIC, REGULAR, UNDECIDED, _check_judge, _g, polynomial_rate_bound
+from sleighsim.model.params import positive
 
 # ----------------------------------------------------------------------------- engines
 
@@ -45,12 +46,12 @@ def finite_time_exponents(log_growth, tau, windows, *, t_skip=0.0, min_windows=1
     cover, so ``mean_slope`` is close to 0 for both classes: mean ~ ln W / W holds only for
     FTLEs started afresh in each window.
     """
-    tau = _positive("tau", tau)
+    tau = positive("tau", tau)
     g = _skipped_log_growth(log_growth, tau, t_skip)
     W = np.atleast_1d(np.asarray(windows, dtype=float)).ravel()
     if W.size == 0:
         raise ValueError("windows is empty")
-    m = np.array([_n_intervals(_positive("windows", w), tau, "windows entry", "tau") for w in W])
+    m = np.array([_n_intervals(positive("windows", w), tau, "windows entry", "tau") for w in W])
     n_win = g.size // m
     mean, std = _window_statistics(g, W, m, n_win)
     sem = std / np.sqrt(np.maximum(n_win, 1))

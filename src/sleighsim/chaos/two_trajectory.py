@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 
-from sleighsim.chaos.common import _n_intervals, _positive, _state, linfit
+from sleighsim.chaos.common import _n_intervals, _state, linfit
 from sleighsim.chaos.propagate import _propagate
 from sleighsim.chaos.verdicts import (
     CHAOTIC,
@@ -24,6 +24,7 @@ from sleighsim.chaos.verdicts import (
     _g,
     polynomial_rate_bound,
 )
+from sleighsim.model.params import positive
 
 
 def two_trajectory(ta, y0, *, d0, tau, T, project=None, callback=None, seed=0, n_blocks=10,
@@ -76,9 +77,9 @@ def two_trajectory(ta, y0, *, d0, tau, T, project=None, callback=None, seed=0, n
 
 def _two_trajectory_args(d0, tau, T, n_blocks, t_align):
     """The checked settings of ``two_trajectory``: (d0, tau, n_blocks, intervals in T, intervals in t_align)."""
-    d0 = _positive("d0", d0)
-    tau = _positive("tau", tau)
-    T = _positive("T", T)
+    d0 = positive("d0", d0)
+    tau = positive("tau", tau)
+    T = positive("T", T)
     if int(n_blocks) != n_blocks or n_blocks < 2:
         raise ValueError(f"n_blocks must be an integer >= 2, got {n_blocks!r}")
     n_blocks = int(n_blocks)

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 
-from sleighsim.chaos.common import _positive
+from sleighsim.model.params import positive
 
 CHAOTIC, REGULAR, UNDECIDED = "chaotic", "regular", "undecided"
 VERDICTS = (CHAOTIC, REGULAR, UNDECIDED)
@@ -25,8 +25,8 @@ def polynomial_rate_bound(T, tau, degree=2.0):
     like (t / tau)^degree over a horizon T has log growth degree * ln(T / tau), i.e. an
     apparent rate degree * ln(T / tau) / T. Regular orbits (linear growth on a sheared
     torus) stay below it for degree >= 1; a chaotic verdict must exceed it."""
-    T = _positive("T", T)
-    tau = _positive("tau", tau)
+    T = positive("T", T)
+    tau = positive("tau", tau)
     if not (math.isfinite(degree) and degree > 0):
         raise ValueError(f"degree must be positive, got {degree!r}")
     return degree * math.log(max(T / tau, math.e)) / T

@@ -33,6 +33,7 @@ from collections.abc import Callable
 import numpy as np
 
 from sleighsim.engine.precision import Precision
+from sleighsim.model.params import positive
 
 #: The sleigh's angle as its compiled integrators store it: delta + DELTA_SHIFT, in [0, 2 pi).
 DELTA_SHIFT = math.pi
@@ -271,19 +272,9 @@ def megno_integrator(sys, pars=(), tol=None, compact_mode=True, precision: Preci
     eqs += [(qi, hy.time * num / den), (qj, 2.0 * qi / hy.time)]
     kw = {"pars": np.array(pars, dtype=fp_type), "compact_mode": compact_mode, "fp_type": fp_type}
     if tol is not None:
-        kw["tol"] = fp_type(_positive_tol(tol))
+        kw["tol"] = fp_type(positive("tol", tol))
     ta = hy.taylor_adaptive(eqs, np.array([0.1] * n + [1.0] * n + [0.0, 0.0], dtype=fp_type), **kw)
     return ta, n
-
-
-def _positive_tol(value) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"tol must be a positive number, got {value!r}") from None
-    if not (math.isfinite(v) and v > 0):
-        raise ValueError(f"tol must be positive and finite, got {value!r}")
-    return v
 
 
 def sleigh_megno(tol: float, precision: Precision = Precision.DOUBLE, compact: bool = True):

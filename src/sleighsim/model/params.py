@@ -29,6 +29,18 @@ def finite(name, value) -> float:
     return value
 
 
+def positive(name, value) -> float:
+    """``value`` as a float; ValueError naming ``name`` when it is not a number, not finite or not
+    above 0 (the engines' and the chaos indicators' argument check)."""
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a positive number, got {value!r}") from None
+    if not (math.isfinite(v) and v > 0):
+        raise ValueError(f"{name} must be positive and finite, got {value!r}")
+    return v
+
+
 @dataclass(frozen=True)
 class Params:
     """Physical parameters: masses m_c, m_r, inertias I_c (about C), I_r (rotor),
