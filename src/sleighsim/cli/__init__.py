@@ -40,8 +40,7 @@ def _parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     """Run ``sleighsim SUBCOMMAND [OPTIONS]``; returns the subcommand's exit status."""
     argv = sys.argv[1:] if argv is None else list(argv)
-    args, rest = _parser().parse_known_args(argv[:1])
-    run, _ = COMMANDS[args.command]
+    run, _ = COMMANDS[_parser().parse_args(argv[:1]).command]  # the subcommand parses the rest
     try:
         return int(run(argv[1:]) or 0)
     except SystemExit as stop:  # argparse's usage errors and --help inside a subcommand
