@@ -150,10 +150,30 @@ def test_the_loschmidt_test_needs_two_decades_below_saturation_where_other_indic
     """At ln G = 36 (the main state's torus) long double's G x rounding is 2.3e-4: it follows the orbit
     through a cycle (< 1e-3), but the Loschmidt return error would start within two decades of
     saturation; quad follows for both; without a measured cycle nothing is set aside."""
-    from sleighsim.scenes.verdict_tangent import indicator_follows
+    from sleighsim.chaos.faithfulness import indicator_follows
 
     arithmetic = {"megno": "long double", "loschmidt": "long double"}
     assert indicator_follows(36.0, arithmetic) == {"megno": "follows", "loschmidt": "does not follow"}
     assert indicator_follows(36.0, {"loschmidt": "quad"}) == {"loschmidt": "follows"}
     assert indicator_follows(31.0, {"loschmidt": "long double"}) == {"loschmidt": "follows"}  # G r = 1.6e-6
     assert indicator_follows(float("nan"), arithmetic) == {"megno": "unknown", "loschmidt": "unknown"}
+
+
+def test_an_indicator_that_resolves_a_small_quantity_needs_the_rounding_amplified_below_it():
+    """The frequency analysis (and the weighted Birkhoff average) are judged only where G x rounding
+    stays 100 times below the spread they resolve: at ln G = 36 long double (G r = 10^-3.6) does not
+    follow for a spread of 5.8e-5, quad does for 1.3e-8; a spread larger than 0.1 falls back to the
+    cycle gauge's 1e-3; no spread (NaN) or a zero one: the cycle gauge's limit; the tangent-based
+    indicators ignore a resolved quantity."""
+    from sleighsim.chaos.faithfulness import FAITHFUL_MAX, indicator_follows, indicator_limit
+
+    assert indicator_limit("frequency", 5.8e-5) == pytest.approx(5.8e-7)
+    assert indicator_limit("birkhoff", 1e-9) == pytest.approx(1e-11)
+    assert indicator_limit("frequency", 0.5) == FAITHFUL_MAX
+    assert indicator_limit("frequency", float("nan")) == FAITHFUL_MAX
+    assert indicator_limit("frequency", 0.0) == FAITHFUL_MAX
+    assert indicator_limit("megno", 1e-9) == FAITHFUL_MAX
+    assert indicator_follows(36.0, {"frequency": "long double"}, {"frequency": 5.8e-5}) == {
+        "frequency": "does not follow"}
+    assert indicator_follows(36.0, {"frequency": "quad"}, {"frequency": 1.3e-8}) == {"frequency": "follows"}
+    assert indicator_follows(36.0, {"frequency": "long double"}) == {"frequency": "follows"}  # cycle gauge only

@@ -119,6 +119,14 @@ def scene_inputs(wildcards):
     }
 
 
+def chunk_reads(wildcards):
+    """The chunk files of the same scene (or variant) that a later-stage chunk job reads (the kind's
+    ``chunk_reads``; none for most)."""
+    where = f"precision/{wildcards.tag}/" if "tag" in wildcards.keys() else ""
+    reads = scene_catalog.chunk_reads(SCENES[wildcards.scene], int(wildcards.chunk))
+    return expand(f"{R}/chunks/{where}{wildcards.scene}/{{k}}.nc", k=reads)
+
+
 def chunk_files(wildcards):
     """The chunk files of a chunked scene, or of its variant in a finer precision (wildcard ``tag``)."""
     n = scene_catalog.chunk_count(SCENES[wildcards.scene])

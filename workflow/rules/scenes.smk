@@ -101,6 +101,8 @@ use rule scene as scene_first with:
 
 # A chunked scene: independent chunk jobs (scaled out on a cluster), gathered into its dataset.
 rule chunk:
+    input:
+        chunk_reads,
     output:
         nc=f"{R}/chunks/{{scene}}/{{chunk}}.nc",
     log:

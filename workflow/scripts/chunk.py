@@ -6,5 +6,5 @@ from sleighsim.scenes import catalog
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logging_to(sm.log[0]):
-    netcdf.write_dataset(catalog.chunk(sm.wildcards.scene, sm.params.cfg, int(sm.wildcards.chunk)), sm.output.nc,
-                         precision=sm.params.cfg.get("precision", "double"))
+    ds = catalog.chunk(sm.wildcards.scene, sm.params.cfg, int(sm.wildcards.chunk), list(sm.input))
+    netcdf.write_dataset(ds, sm.output.nc, precision=sm.params.cfg.get("precision", "double"))

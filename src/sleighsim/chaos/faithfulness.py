@@ -22,6 +22,7 @@ import math
 
 import numpy as np
 
+from sleighsim.chaos.loschmidt import LOSCHMIDT_GAIN_ROUNDING_MAX
 from sleighsim.engine import integrators, transient
 from sleighsim.engine.precision import Precision
 
@@ -65,6 +66,42 @@ def follows(ln_gain: float, rounding: float, limit: float = FAITHFUL_MAX) -> str
     if not math.isfinite(ln_gain):
         return UNKNOWN
     return FOLLOWS if ln_gain + math.log(rounding) < math.log(limit) else DOES_NOT_FOLLOW
+
+
+#: How far below what an indicator resolves the amplified rounding must stay (G x rounding at most
+#: RESOLVED_MARGIN times the smallest relative quantity the indicator's verdict rests on).
+RESOLVED_MARGIN = 1e-2
+#: The indicators whose limit depends on the smallest relative quantity they resolve.
+RESOLVING = ("frequency", "birkhoff")
+
+
+# the docstring is written into the chaos_verdict dataset (attribute indicator_limit_rule)
+def indicator_limit(name: str, resolved: float = math.nan) -> float:
+    """The largest G x rounding at which indicator ``name`` is judged: an arithmetic must follow the
+    orbit more closely than the indicator resolves. The tangent-based indicators and the two nearby
+    orbits measure growth of perturbations from a followed orbit: FAITHFUL_MAX (1e-3). The Loschmidt
+    test: ``chaos.loschmidt.LOSCHMIDT_GAIN_ROUNDING_MAX`` (1e-4: its return error must stay two decades
+    below saturation after a spike). An indicator that resolves a small relative quantity (the
+    frequency analysis: the spread D of its window frequencies at the longest window; the weighted
+    Birkhoff average: 10^-digits) needs G x rounding below RESOLVED_MARGIN (1e-2) times that quantity:
+    the rounding, amplified by G, moves the frequencies by about G x rounding (measured on the
+    sleigh's main state: long double, G x rounding = 10^-3.5, left D flat at 5e-5 while quad's D fell
+    to 1e-8), so a smaller spread measures the arithmetic, not the orbit. Without a resolved quantity
+    (NaN, e.g. no window kept) such an indicator gets FAITHFUL_MAX."""
+    if name == "loschmidt":
+        return LOSCHMIDT_GAIN_ROUNDING_MAX
+    if name in RESOLVING and math.isfinite(resolved) and resolved > 0:
+        return min(FAITHFUL_MAX, RESOLVED_MARGIN * resolved)
+    return FAITHFUL_MAX
+
+
+def indicator_follows(ln_gain_max: float, arithmetic: dict, resolved: dict | None = None) -> dict:
+    """{indicator: does its arithmetic follow the orbit closely enough for it (``follows`` with
+    ``indicator_limit``)}. ``arithmetic``: indicator -> the arithmetic (a Precision or its name) its
+    verdict was judged in; ``resolved``: indicator -> the relative quantity it resolves (optional)."""
+    resolved = resolved or {}
+    return {name: follows(ln_gain_max, Precision.parse(a).rounding, indicator_limit(name, resolved.get(name, math.nan)))
+            for name, a in arithmetic.items()}
 
 
 def tangent_run(ta, y0, *, T: float, tau: float, component: int = 1) -> dict:

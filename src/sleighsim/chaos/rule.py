@@ -83,13 +83,13 @@ def precision_gate(verdicts: dict, ld: dict) -> None:
 def faithful_gate(verdicts: dict, arithmetic: dict, follows: dict) -> list[str]:
     """Set aside, in place, every indicator whose verdict was judged in an arithmetic shown not to
     follow the state's orbit closely enough for that indicator (the faithfulness gauge,
-    ``sleighsim.chaos.faithfulness``: G x rounding >= 1e-3 in a spike cycle; for the Loschmidt test
-    G x rounding >= 1e-4, ``chaos.loschmidt.LOSCHMIDT_GAIN_ROUNDING_MAX``, since its return error must
-    stay two decades below saturation after a spike): a chaotic or regular verdict becomes
-    undecided, naming the arithmetic. An indicator whose gauge is "unknown" (no complete cycle
-    measured) is not set aside: the gauge shows nothing either way. ``arithmetic``: indicator -> the
-    arithmetic its verdict was judged in; ``follows``: indicator -> the gauge's answer for it.
-    Returns the names set aside."""
+    ``sleighsim.chaos.faithfulness``: G x rounding in a spike cycle at or above the indicator's own
+    limit, ``faithfulness.indicator_limit``: 1e-3 for the tangent-based indicators and the two nearby
+    orbits, 1e-4 for the Loschmidt test, 1e-2 times the spread it resolves for the frequency analysis
+    and the weighted Birkhoff average): a chaotic or regular verdict becomes undecided, naming the
+    arithmetic. An indicator whose gauge is "unknown" (no complete cycle measured) is not set aside:
+    the gauge shows nothing either way. ``arithmetic``: indicator -> the arithmetic its verdict was
+    judged in; ``follows``: indicator -> the gauge's answer for it. Returns the names set aside."""
     aside = []
     for name, (v, reason) in list(verdicts.items()):
         a = arithmetic[name]

@@ -1,10 +1,12 @@
 """The arithmetics an integration can run in: one type, parsed once where a scene's config is read.
 
 A :class:`Precision` is a string enum whose value is its config name ("double", "long double",
-"quad"), so a dataset attribute or coordinate written from it holds that name. Each member carries
-its path tag, its machine epsilon (its Taylor tolerance when a run is to follow the exact orbit as
-far as that arithmetic can), its rounding unit (half the epsilon), heyoka's floating-point type and
-the NumPy dtype of its states.
+"double-double", "quad"), so a dataset attribute or coordinate written from it holds that name. Each
+member carries its path tag, its machine epsilon (its Taylor tolerance when a run is to follow the
+exact orbit as far as that arithmetic can), its rounding unit (half the epsilon), heyoka's
+floating-point type and the NumPy dtype of its states. Double-double (pairs of doubles, about 106
+bits) is not one of heyoka's types: only :mod:`sleighsim.engine.ddtaylor` integrates in it, so it has
+no ``fp_type``; its states are (hi, lo) pairs of doubles.
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ class Precision(enum.StrEnum):
 
     DOUBLE = ("double", "double", 2.0**-52, 2.0**-53)
     LONG_DOUBLE = ("long double", "long_double", 2.0**-63, 2.0**-64)  # 80-bit on x86-64
+    DOUBLE_DOUBLE = ("double-double", "double_double", 2.0**-105, 2.0**-106)  # sleighsim.engine.ddtaylor
     QUAD = ("quad", "quad", 2.0**-112, 2.0**-113)  # heyoka's real128
 
     def __new__(cls, name: str, tag: str, epsilon: float, rounding: float):
@@ -40,7 +43,9 @@ class Precision(enum.StrEnum):
     @property
     def fp_type(self):
         """heyoka's floating-point type of this arithmetic (real128 needs heyoka, imported on use for
-        start-up time)."""
+        start-up time); ValueError for double-double, which heyoka does not have."""
+        if self is Precision.DOUBLE_DOUBLE:
+            raise ValueError("double-double is not a heyoka type: it is integrated by sleighsim.engine.ddtaylor")
         if self is Precision.QUAD:
             import heyoka as hy
 
@@ -49,5 +54,5 @@ class Precision(enum.StrEnum):
 
     @property
     def dtype(self) -> np.dtype:
-        """The NumPy dtype of states in this arithmetic."""
-        return np.dtype(self.fp_type)
+        """The NumPy dtype of states in this arithmetic (double-double: of each of the pair's doubles)."""
+        return np.dtype(float) if self is Precision.DOUBLE_DOUBLE else np.dtype(self.fp_type)

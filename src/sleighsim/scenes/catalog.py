@@ -56,9 +56,18 @@ def compute(scene: str, cfg: dict, inputs: dict | None = None) -> xr.Dataset:
     return kind.compute(cfg, scene=scene)
 
 
-def chunk(scene: str, cfg: dict, index: int) -> xr.Dataset:
-    """Chunk ``index`` of a chunked scene (see the kind's module)."""
-    return KINDS[cfg["kind"]].chunk(cfg, index, scene=scene)
+def chunk(scene: str, cfg: dict, index: int, reads=()) -> xr.Dataset:
+    """Chunk ``index`` of a chunked scene (see the kind's module); ``reads``: the paths of the chunks
+    it reads (``chunk_reads``), for a kind that reads any."""
+    kind = KINDS[cfg["kind"]]
+    if kind.chunk_reads(cfg, index):
+        return kind.chunk(cfg, index, scene=scene, reads=list(reads))
+    return kind.chunk(cfg, index, scene=scene)
+
+
+def chunk_reads(cfg: dict, index: int) -> list[int]:
+    """The indices of the chunks of the same scene that chunk ``index`` reads."""
+    return KINDS[cfg["kind"]].chunk_reads(cfg, index)
 
 
 def gather(scene: str, cfg: dict, paths) -> xr.Dataset:

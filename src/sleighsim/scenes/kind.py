@@ -26,6 +26,11 @@ def equal_chunks(cfg: dict) -> list[float]:
     return [horizon_work(cfg) / n] * n
 
 
+def reads_none(cfg: dict, index: int) -> list[int]:
+    """A chunk job that reads no other chunk of its scene."""
+    return []
+
+
 def horizon_key(leaf: str) -> bool:
     """Whether the horizon work model (:func:`sleighsim.scenes.workload.horizon_work`) reads ``leaf``."""
     return leaf in HORIZON_KEYS
@@ -42,7 +47,9 @@ class SceneKind:
     - ``name``: the ``kind`` of a config block;
     - ``compute(cfg, [inputs,] scene=)``: its dataset (None for a chunked or dataset-free kind);
     - ``chunk(cfg, index, scene=)`` and ``gather(paths, cfg, scene=)``: a chunked kind's chunk jobs
-      and its dataset from their files; ``chunk_count(cfg)``: how many chunk jobs;
+      and its dataset from their files; ``chunk_count(cfg)``: how many chunk jobs; ``chunk_reads(cfg,
+      index)``: the indices of the scene's own chunks that chunk ``index`` reads (a later stage; its
+      ``chunk`` then takes their paths as ``reads=``);
     - ``inputs``: the roles of the datasets it reads (named in the block's ``inputs``);
     - ``dataset``: False for a kind drawn from its config block alone; ``integrates``: it takes the
       config's ``defaults`` (the tolerance) unless its block sets them; ``realizable``: its claims rest
@@ -61,6 +68,7 @@ class SceneKind:
     chunk: Callable | None = None
     gather: Callable | None = None
     chunk_count: Callable[[dict], int] = n_chunks
+    chunk_reads: Callable[[dict, int], list[int]] = reads_none
     inputs: tuple[str, ...] = ()
     dataset: bool = True
     integrates: bool = True

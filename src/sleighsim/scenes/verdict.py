@@ -16,6 +16,7 @@ import time
 import numpy as np
 import xarray as xr
 
+from sleighsim.chaos.faithfulness import indicator_follows
 from sleighsim.chaos.loschmidt import loschmidt_indicator
 from sleighsim.chaos.megno import megno_rate
 from sleighsim.chaos.rule import (
@@ -39,12 +40,15 @@ from sleighsim.model import equations
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import state_at_label
 from sleighsim.scenes import memory
+from sleighsim.scenes.checks import ConfigError
 from sleighsim.scenes.common import realization_states
 from sleighsim.scenes.kind import SceneKind
 from sleighsim.scenes.verdict_dataset import set_attrs, variables
+from sleighsim.scenes.verdict_decisive import decisive_spike_period, decisive_state, with_decisive
 from sleighsim.scenes.verdict_frequency import (
     PRECISIONS,
     frequency_indicator,
+    frequency_resolved,
     frequency_table,
 )
 from sleighsim.scenes.verdict_orbits import (
@@ -55,7 +59,6 @@ from sleighsim.scenes.verdict_orbits import (
 )
 from sleighsim.scenes.verdict_tangent import (
     gain_run,
-    indicator_follows,
     replica_run,
     tangent_indicators,
 )
@@ -87,13 +90,15 @@ def one_state(params, y0, cfg: dict, scene: str) -> dict:
     verdicts["two_trajectory"] = two["verdict"]
     arithmetic = {"benettin": "double", "ftle": "double", "megno": megno_precision, "two_trajectory": "double",
                   "loschmidt": "long double", "frequency": list(freq["runs"])[-1]}
-    faithful_gate(verdicts, arithmetic, indicator_follows(gain["ln_gain_max"], arithmetic))
+    faithful_gate(verdicts, arithmetic, indicator_follows(gain["ln_gain_max"], arithmetic,
+                                                          {"frequency": frequency_resolved(freq)}))
     verdict, reason, _ = decide(verdicts, TANGENT_BASED)
     others = {k: (values[k], errors[k]) for k in INDICATORS if k not in TANGENT_BASED and verdicts[k][0] == CHAOTIC}
     verdict, reason = consistent(verdict, reason, values["benettin"], errors["benettin"], others, sigma)
     klass, s, s_err, image, image_dist = _class_facts(params, replicas[0], mean_u_omega, res, verdict, cfg, scene)
     lam, tt = res["exponents"], tts[len(tts) // 2]
     return {"verdict": verdict, "reason": reason, "klass": klass, "values": values, "errors": errors,
+            "settled": np.asarray(replicas[0], float),
             "verdicts": verdicts,
             "two_rates": [t["rate"] for t in tts], "two_stderrs": [t["stderr"] for t in tts],
             "megno_t": m["t"], "megno_Y_mean": m["Y_mean"], "megno_final": m["final"],
@@ -158,24 +163,45 @@ def verdict(cfg: dict, scene: str = "") -> xr.Dataset:
         coords={"state": names, "indicator": ind, "i": np.arange(1, 5), "d0": np.asarray(cfg["d0"], float),
                 "T_loschmidt": loschmidt_T(cfg), "precision": ["double", "long double"],
                 "split": np.asarray(fc["splits"], int), "frequency_precision": list(PRECISIONS),
-                "arithmetic": [p.value for p in Precision],
+                "arithmetic": [p.value for p in Precision], "component": list(equations.STATE_NAMES),
                 "tangent_based": ("indicator", [int(i in TANGENT_BASED) for i in ind])},
     )
     set_attrs(ds, cfg, params, per_state, start)
     return ds
 
 
-def chunk(cfg: dict, index: int, scene: str = "") -> xr.Dataset:
-    """Job ``index`` of the verdict (one chunk job each): state index % n_states of realization
-    index // n_states, :func:`verdict` from that state of :func:`realization_states` at
-    realization_rel (the states of a realization are perturbed together, in order, so a state's
-    start does not depend on how the jobs are cut)."""
-    names = list(cfg["states"])
-    r, k = divmod(index, len(names))
-    start = realization_states(cfg["states"], cfg["realization_rel"], r)[names[k]]
-    ds = verdict({**cfg, "states": {names[k]: start}}, scene=f"{scene}#{r}")
+def chunk(cfg: dict, index: int, scene: str = "", reads=()) -> xr.Dataset:
+    """Job ``index`` of the verdict (one chunk job each). The first stage, index < n_chunks x n_states:
+    state index % n_states of realization index // n_states, :func:`verdict` from that state of
+    :func:`realization_states` at realization_rel (the states of a realization are perturbed together,
+    in order, so a state's start does not depend on how the jobs are cut). The decisive stage, one job
+    per realization and state of decisive.states after those: ``verdict_decisive.decisive_state`` on
+    the first stage's dataset of that state (``reads``: its path, :func:`_chunk_reads`)."""
+    names, base = list(cfg["states"]), _stage_one_count(cfg)
+    if index >= base:
+        r, j = divmod(index - base, len(cfg["decisive"]["states"]))
+        ds = decisive_state(cfg, read_dataset(reads[0]), scene=f"{scene}#{r}")
+    else:
+        r, k = divmod(index, len(names))
+        start = realization_states(cfg["states"], cfg["realization_rel"], r)[names[k]]
+        ds = verdict({**cfg, "states": {names[k]: start}}, scene=f"{scene}#{r}")
     ds.attrs.update(chunk=r, n_chunks=cfg["n_chunks"])
     return ds
+
+
+def _stage_one_count(cfg: dict) -> int:
+    """The first stage's chunk jobs: one per realization and state."""
+    return cfg["n_chunks"] * len(cfg["states"])
+
+
+def _chunk_reads(cfg: dict, index: int) -> list[int]:
+    """The first-stage chunk a decisive-stage chunk reads (that realization's job of its state); none
+    for a first-stage chunk."""
+    base = _stage_one_count(cfg)
+    if index < base:
+        return []
+    r, j = divmod(index - base, len(cfg["decisive"]["states"]))
+    return [r * len(cfg["states"]) + list(cfg["states"]).index(cfg["decisive"]["states"][j])]
 
 
 def _states_together(parts: list, names: list) -> xr.Dataset:
@@ -199,13 +225,15 @@ def gather(paths, cfg: dict, scene: str = "") -> xr.Dataset:
     (its indicators, runs and gauge), with
     each realization's verdict and class, and per state the answer they agree on
     (``chaos.rule.agree``: "fragile" when they do not) and how many give the most common one."""
-    by_realization = {}
+    by_realization, decisive = {}, {}
     for d in (read_dataset(p) for p in paths):
-        by_realization.setdefault(int(d.attrs["chunk"]), []).append(d)
+        into = decisive if d.attrs.get("stage") == "decisive" else by_realization
+        into.setdefault(int(d.attrs["chunk"]), []).append(d)
     if sorted(by_realization) != list(range(cfg["n_chunks"])):
         raise ValueError(f"realizations {sorted(by_realization)}, expected 0 ... {cfg['n_chunks'] - 1}")
     names = list(cfg["states"])
-    chunks = [_states_together(by_realization[r], names) for r in range(cfg["n_chunks"])]
+    chunks = [with_decisive(_states_together(by_realization[r], names), decisive.get(r, []))
+              for r in range(cfg["n_chunks"])]
     ds = chunks[0].copy()
     for var, out in (("verdict", "realization_verdict"), ("reason", "realization_reason"),
                      ("state_class", "realization_class")):
@@ -214,6 +242,9 @@ def gather(paths, cfg: dict, scene: str = "") -> xr.Dataset:
         ds["realization_spike_period"] = (("realization", "state"), [c.spike_period.values for c in chunks],
                                           cf.attrs("the torus each realization reached: its median spike interval",
                                                    "time"))
+    if all("decisive_spike_interval" in c for c in chunks):
+        ds["realization_decisive_spike_period"] = (("realization", "state"),
+                                                   [decisive_spike_period(c) for c in chunks])
     verdicts = [agree(ds.realization_verdict.values[:, i]) for i in range(ds.sizes["state"])]
     classes = [agree(ds.realization_class.values[:, i]) for i in range(ds.sizes["state"])]
     ds["verdict"] = ("state", np.array([v for v, _, _ in verdicts], dtype=object))
@@ -231,19 +262,31 @@ def gather(paths, cfg: dict, scene: str = "") -> xr.Dataset:
 
 
 def _chunk_count(cfg: dict) -> int:
-    """One chunk job per realization and state (:func:`chunk`)."""
-    return cfg["n_chunks"] * len(cfg["states"])
+    """One chunk job per realization and state (the first stage), then one per realization and state of
+    decisive.states (:func:`chunk`)."""
+    return _stage_one_count(cfg) + cfg["n_chunks"] * len(cfg["decisive"]["states"])
+
+
+def _checks(where: str, cfg: dict) -> None:
+    """The decisive stage's states are states of the block, each once."""
+    states, dec = list(cfg["states"]), list(cfg["decisive"]["states"])
+    if not set(dec) <= set(states) or len(set(dec)) != len(dec):
+        raise ConfigError(f"{where}.decisive.states: {dec} must name states of {where}.states ({states}), each once")
 
 
 def _chunk_work(cfg: dict) -> list[float]:
     """Work of each chunk job: one state of one realization, an equal share of the block's horizons
-    (a block without n_chunks, measured before the verdict ran realizations, is one realization)."""
+    outside the decisive stage; then each decisive-stage job, that stage's horizons (a block without
+    n_chunks or a decisive stage, measured before the verdict ran them, has none of those jobs)."""
     n, states = cfg.get("n_chunks", 1), len(cfg["states"])
-    return [horizon_work(cfg) / states] * (n * states)
+    decisive = cfg.get("decisive", {"states": []})
+    first = {k: v for k, v in cfg.items() if k != "decisive"}
+    return [horizon_work(first) / states] * (n * states) + [horizon_work(decisive)] * (n * len(decisive["states"]))
 
 
 CHAOS_VERDICT = SceneKind(
-    name="chaos_verdict", chunk=chunk, gather=gather, chunk_count=_chunk_count, pre_run="t_transient",
+    name="chaos_verdict", chunk=chunk, gather=gather, chunk_count=_chunk_count, chunk_reads=_chunk_reads,
+    checks=_checks, pre_run="t_transient",
     records=lambda c: [*memory.pre_run(c, "t_transient"), *memory.benettin(c, 8),
                        memory.span(c, "frequency.T", "frequency.dt", 4 * max(c["frequency"]["splits"])),
                        memory.span(c, "megno_samples", None, 2)],

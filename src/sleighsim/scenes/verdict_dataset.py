@@ -67,6 +67,7 @@ def _state_vars(per_state) -> dict:
         "sum_exponents_stderr": ("state", per_state("sum_err"), cf.attrs("standard error of the sum", "rate")),
         "R_image": ("state", per_state("r_image").astype(object)),
         "R_image_distance": ("state", per_state("r_image_distance")),
+        "settled_state": (("state", "component"), per_state("settled")),
         "mean_u": ("state", per_state("mean_u")), "mean_omega": ("state", per_state("mean_omega")),
         "transient_over": ("state", per_state("transient_over")),
         "T": ("state", per_state("T"), cf.attrs("Benettin horizon per replica", "time")),

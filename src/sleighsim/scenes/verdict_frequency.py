@@ -9,6 +9,7 @@ import math
 import numpy as np
 
 from sleighsim.chaos.frequency import (
+    PRECISION,
     frequency_drift,
     frequency_log_ratio,
     judge_frequency,
@@ -20,7 +21,8 @@ from sleighsim.engine.precision import Precision
 from sleighsim.model import equations
 from sleighsim.scenes.common import stored_state
 
-PRECISIONS = tuple(Precision)  # the frequency indicator's runs, in order
+# the frequency indicator's runs, in order (heyoka's arithmetics; double-double runs in the decisive stage)
+PRECISIONS = (Precision.DOUBLE, Precision.LONG_DOUBLE, Precision.QUAD)
 
 
 def _frequency_tol(cfg: dict, precision: Precision) -> float:
@@ -75,6 +77,14 @@ def frequency_indicator(params, y, cfg: dict, sigma: float) -> dict:
     else:
         value = error = math.nan
     return {"value": value, "error": error, "verdict": judgement, "runs": made}
+
+
+def frequency_resolved(freq: dict) -> float:
+    """The smallest relative quantity the frequency indicator's verdict rests on (for
+    ``chaos.faithfulness.indicator_limit``): the spread D at the longest window of its last run, at
+    least the refinement's precision (``chaos.frequency.PRECISION``); NaN without a window kept."""
+    last = freq["runs"][list(freq["runs"])[-1]]
+    return max(float(last["D"][0]), PRECISION) if last["D"].size else math.nan
 
 
 def frequency_table(runs: list, splits) -> dict:

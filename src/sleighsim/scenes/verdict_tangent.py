@@ -8,14 +8,7 @@ import logging
 import math
 
 from sleighsim.chaos import benettin
-from sleighsim.chaos.faithfulness import (
-    FAITHFUL_MAX,
-    follows,
-    spike_cycle_gains,
-)
-from sleighsim.chaos.loschmidt import (
-    LOSCHMIDT_GAIN_ROUNDING_MAX,
-)
+from sleighsim.chaos.faithfulness import spike_cycle_gains
 from sleighsim.chaos.megno import (
     judge_megno_run,
     megno,
@@ -92,14 +85,6 @@ def tangent_indicators(params, replicas, res: dict, cfg: dict, scene: str, value
         verdicts["megno"] = megno_in_long_double(judge_megno_run(ld["megno"], cfg["T_long_double"], sigma), ld,
                                                  megno_double, cfg["T_long_double"], cfg["T_megno"])
     return m, ld, megno_double, megno_precision
-
-
-def indicator_follows(ln_gain_max: float, arithmetic: dict) -> dict:
-    """{indicator: does its arithmetic follow the orbit (``faithfulness.follows``)}: G x rounding
-    below 1e-3, or below LOSCHMIDT_GAIN_ROUNDING_MAX for the Loschmidt test."""
-    limit = {"loschmidt": LOSCHMIDT_GAIN_ROUNDING_MAX}
-    return {name: follows(ln_gain_max, Precision.parse(a).rounding, limit.get(name, FAITHFUL_MAX))
-            for name, a in arithmetic.items()}
 
 
 def megno_run(params, y, cfg: dict, *, precision: Precision = Precision.DOUBLE) -> dict:

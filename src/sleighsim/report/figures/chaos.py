@@ -15,7 +15,7 @@ from sleighsim.report.page import CHAOS_COLOURS
 
 #: The chaotic classes of a state (chaos.rule.classify), drawn in the chaotic colour.
 CHAOTIC_CLASSES = ("strange attractor", "conservative-type chaos", "mixed dynamics")
-PRECISION_LINES = {"double": "o:", "long double": "s-", "quad": "^--"}
+PRECISION_LINES = {"double": "o:", "long double": "s-", "double-double": "d-.", "quad": "^--"}
 
 
 def _shade(word: str) -> str:

@@ -9,7 +9,7 @@ from sleighsim.io.netcdf import read_dataset
 from sleighsim.report.figures.common import PRECISION_STYLE, finish, subplots
 from sleighsim.report.figures.figure import Figure
 
-COLOURS = {"double": "tab:red", "long double": "tab:blue", "quad": "k"}
+COLOURS = {"double": "tab:red", "long double": "tab:blue", "double-double": "tab:green", "quad": "k"}
 
 
 def precision(sources):

@@ -1,0 +1,257 @@
+"""The chaos verdict's decisive stage: a state whose orbit double and long double do not follow (the
+faithfulness gauge), run again from its settled state in an arithmetic that does, one chunk job per
+realization (:mod:`sleighsim.scenes.verdict` cuts the jobs and reads the first stage's dataset in).
+
+From one orbit in the decisive arithmetic: MEGNO (tangent-based) and, without tangent dynamics, the
+frequency analysis of the velocity frequency.component sampled every dt and the spike train (the
+torus the realization is on: its spike intervals). The state's verdict is then decided again
+(``chaos.rule.decide``) from these and the first stage's indicators, every one gated by its own
+limit of G x rounding (``chaos.faithfulness.indicator_limit``). Times in the flow's time unit."""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+
+import numpy as np
+import xarray as xr
+
+from sleighsim.chaos.faithfulness import indicator_follows
+from sleighsim.chaos.frequency import PRECISION, drift, judge_frequency, judged_run
+from sleighsim.chaos.megno import judge_megno_run, megno, megno_from_log_norm, megno_rate
+from sleighsim.chaos.rule import TANGENT_BASED, classify, consistent, decide, faithful_gate
+from sleighsim.chaos.verdicts import CHAOTIC
+from sleighsim.engine import ddtaylor, integrators, transient
+from sleighsim.engine.ddtaylor import DDFlow
+from sleighsim.engine.precision import Precision
+from sleighsim.io import cf
+from sleighsim.model import equations
+from sleighsim.model.params import Params
+from sleighsim.scenes.common import stored_state
+
+log = logging.getLogger("sleighsim")
+
+#: The indicators the decisive stage judges again, in its arithmetic (the others keep the first stage's).
+DECISIVE = ("megno", "frequency")
+
+
+def orbit_and_megno(params, y, dc: dict) -> tuple[dict, dict]:
+    """The orbit from y (model variables) over dc["T"] sampled every dc["dt"] and MEGNO along it, in
+    dc["precision"] at dc["tol"]: in double-double one run of ``engine.ddtaylor.DDFlow`` with one
+    tangent vector (MEGNO from its log-norm, ``chaos.megno.megno_from_log_norm``); in heyoka's
+    arithmetics the orbit (``heyoka_orbit``) and a MEGNO run (``chaos.megno.megno``, renormalised every
+    dc["tau"]) over the same T. Returns (orbit: t, Y in the model's variables as doubles, drift
+    max |E/E0 - 1|, steps), (the MEGNO run)."""
+    if Precision.parse(dc["precision"]) is Precision.DOUBLE_DOUBLE:
+        return dd_orbit_and_megno(params, y, dc)
+    precision = Precision.parse(dc["precision"])
+    ta, _ = integrators.sleigh_megno(dc["tol"], precision, True)
+    integrators.set_pars(ta, params)
+    m = megno(ta, 4, stored_state(y), T=dc["T"], n_samples=dc["megno_samples"], tau=dc["tau"],
+              callback=integrators.bounded(ta))
+    return heyoka_orbit(params, y, dc, precision), m
+
+
+def dd_orbit_and_megno(params, y, dc: dict) -> tuple[dict, dict]:
+    """``orbit_and_megno`` in double-double: the tangent vector starts in a random unit direction
+    (seed 0, as ``chaos.megno.megno``); the energy drift is computed at 200 bits on at most 201 of the
+    samples."""
+    flow = DDFlow(params, dc["tol"])
+    grid = np.arange(round(dc["T"] / dc["dt"]) + 1) * dc["dt"]
+    v0 = np.random.default_rng(0).normal(size=4)
+    hi, lo, log_norm, _ = flow.propagate_tangent_grid(np.asarray(y, float), v0 / np.linalg.norm(v0), grid)
+    every = max(1, grid.size // 200)
+    orbit = {"t": grid, "Y": hi, "steps": flow.steps, "drift": ddtaylor.energy_drift(params, hi[::every], lo[::every])}
+    return orbit, megno_from_log_norm(grid, log_norm, dc["megno_samples"])
+
+
+def heyoka_orbit(params, y, dc: dict, precision: Precision) -> dict:
+    """The orbit from y in heyoka's ``precision`` at dc["tol"], sampled every dc["dt"] over dc["T"] (one
+    propagate_grid run): t, Y (the model's variables, as doubles), drift and steps."""
+    import heyoka as hy  # the outcome's enum (heyoka is loaded with the integrator)
+
+    ta, _ = integrators.flow(False, dc["tol"], precision)
+    integrators.set_pars(ta, params)
+    fp = ta.state.dtype.type
+    ta.time = fp(0)
+    integrators.load(ta, np.asarray(y, float))
+    grid = np.arange(round(dc["T"] / dc["dt"]) + 1).astype(ta.state.dtype) * fp(dc["dt"])
+    res = ta.propagate_grid(grid, callback=integrators.bounded(ta))
+    Y = integrators.samples(ta, res[-1]).astype(float)
+    if res[0] != hy.taylor_outcome.time_limit or not np.all(np.isfinite(Y)):
+        raise RuntimeError(f"decisive orbit in {precision}: stopped at t = {float(ta.time):.6g} of {dc['T']:.6g} "
+                           f"(heyoka outcome {res[0]})")
+    E = equations.energy(Y, params)
+    return {"t": grid.astype(float), "Y": Y, "steps": int(res[3]), "drift": float(np.max(np.abs(E / E[0] - 1)))}
+
+
+def megno_judged(m: dict, dc: dict, sigma: float) -> dict:
+    """The MEGNO indicator from the decisive run ``m`` over dc["T"] (``judge_megno_run``)."""
+    value, error = megno_rate(m)
+    return {"run": m, "value": value, "error": error, "verdict": judge_megno_run(m, dc["T"], sigma)}
+
+
+def frequency_stage(orbit: dict, dc: dict, sigma: float) -> dict:
+    """The frequency analysis (``chaos.frequency.drift`` and ``judge_frequency``) of the orbit's
+    component dc["component"] over windows dc["T"] / K, K in dc["splits"]. Value: the spread D at the
+    longest window kept (relative), error: D times its ln-error; resolved: D, at least the
+    refinement's precision (the quantity ``faithfulness.indicator_limit`` compares with)."""
+    x = orbit["Y"][:-1, equations.STATE_NAMES.index(dc["component"])]
+    run = drift(x, dc["dt"], dc["splits"], min_cycles=dc["min_cycles"])
+    verdict = judge_frequency([judged_run(dc["precision"], run)], sigma=sigma)
+    D = float(run["D"][0]) if run["D"].size else math.nan
+    return {"run": run, "value": D, "error": D * float(run["D_log_err"][0]) if run["D"].size else math.nan,
+            "verdict": verdict, "resolved": max(D, PRECISION) if math.isfinite(D) else math.nan}
+
+
+def spike_train(orbit: dict, dc: dict) -> np.ndarray:
+    """The spike intervals of the orbit (Omega's spikes, ``engine.transient.spike_times`` with
+    dc["spike_factor"]): which torus the realization is on, one interval per cycle."""
+    t, Omega = orbit["t"], orbit["Y"][:, 1]
+    spikes = transient.spike_times(t, Omega, factor=dc["spike_factor"])
+    return np.diff(spikes)
+
+
+def stage_one_verdicts(stage1: xr.Dataset) -> dict:
+    """{indicator: (verdict, reason)} of the first stage's one state, as it judged them (gated there)."""
+    return {str(k): (str(v), str(r)) for k, v, r in zip(stage1.indicator.values, stage1.indicator_verdict.values[0],
+                                                       stage1.indicator_reason.values[0])}
+
+
+# the docstring is written into the chaos_verdict dataset (attribute decisive_rule)
+def decide_again(stage1: xr.Dataset, judged: dict, precision: str, sigma: float) -> tuple[str, str, dict]:
+    """The state's verdict with the decisive stage: the first stage's indicator verdicts (each already
+    set aside there where its arithmetic did not follow closely enough for it), those of DECISIVE
+    replaced by the decisive stage's (``judged``: name -> dict with verdict and resolved), each of
+    which is set aside unless the decisive arithmetic follows the orbit closely enough for it (the
+    first stage's ln G per cycle, ``faithfulness.indicator_limit``); then ``chaos.rule.decide`` and
+    ``consistent``. Returns (verdict, reason, the verdicts decided from)."""
+    verdicts = stage_one_verdicts(stage1)
+    verdicts.update({k: judged[k]["verdict"] for k in judged})
+    ln_gain = float(stage1.ln_gain_max.values[0])
+    follows = indicator_follows(ln_gain, dict.fromkeys(judged, precision),
+                                {k: judged[k].get("resolved", math.nan) for k in judged})
+    faithful_gate(verdicts, {**dict.fromkeys(verdicts, "double"), **dict.fromkeys(judged, precision)}, follows)
+    verdict, reason, _ = decide(verdicts, TANGENT_BASED)
+    values = dict(zip(map(str, stage1.indicator.values), stage1.indicator_value.values[0]))
+    errors = dict(zip(map(str, stage1.indicator.values), stage1.indicator_uncertainty.values[0]))
+    others = {k: (values[k], errors[k]) for k in verdicts
+              if k not in TANGENT_BASED and k not in judged and verdicts[k][0] == CHAOTIC}
+    verdict, reason = consistent(verdict, reason, float(values["benettin"]), float(errors["benettin"]), others, sigma)
+    return verdict, f"decided with the {precision} stage: {reason}", verdicts
+
+
+def state_class(stage1: xr.Dataset, verdict: str, sigma: float) -> str:
+    """The state's class (``chaos.rule.classify``) from the new verdict and the first stage's exponents,
+    their sum and the R-image test."""
+    lam = stage1.exponent.values[0]
+    return classify(verdict, float(stage1.sum_exponents.values[0]), float(stage1.sum_exponents_stderr.values[0]),
+                    float(lam[0]), float(lam[3]), str(stage1.R_image.values[0]), sigma)
+
+
+def decisive_config(cfg: dict) -> dict:
+    """The decisive stage's settings: the block's ``decisive`` entries, with the frequency analysis'
+    component and min_cycles, the spike rule's factor and the MEGNO renormalisation interval tau."""
+    fc = cfg["frequency"]
+    return {"component": fc["component"], "min_cycles": fc["min_cycles"],
+            "spike_factor": cfg["transient"]["spike_factor"], "tau": cfg["tau"], **cfg["decisive"]}
+
+
+def decisive_state(cfg: dict, stage1: xr.Dataset, scene: str = "") -> xr.Dataset:
+    """The decisive stage of the first stage's one state ``stage1`` (its chunk dataset): the orbit and
+    MEGNO from its settled state in the decisive arithmetic, the indicators judged again and the state's
+    verdict and class decided again (``decide_again``, ``state_class``)."""
+    start = time.perf_counter()
+    params, dc, sigma = Params.from_config(cfg["params"]), decisive_config(cfg), cfg["sigma"]
+    y = stage1.settled_state.values[0]
+    orbit, m = orbit_and_megno(params, y, dc)
+    judged = {"megno": megno_judged(m, dc, sigma), "frequency": frequency_stage(orbit, dc, sigma)}
+    verdict, reason, _ = decide_again(stage1, judged, dc["precision"], sigma)
+    klass = state_class(stage1, verdict, sigma)
+    log.info("%s: decisive stage in %s: %s (%s); %s", scene, dc["precision"], verdict, klass, reason)
+    ds = xr.Dataset(_decisive_vars(stage1, judged, orbit, dc, verdict, reason, klass),
+                    coords={"state": stage1.state.values, "decisive_indicator": list(judged),
+                            "decisive_megno_sample": np.arange(judged["megno"]["run"]["t"].size)})
+    ds.attrs.update(decisive_precision=dc["precision"], decisive_tol=dc["tol"], decisive_T=dc["T"],
+                    decisive_dt=dc["dt"], decisive_megno_samples=dc["megno_samples"], decisive_steps=orbit["steps"],
+                    decisive_splits=list(dc["splits"]),
+                    decisive_rule=" ".join(decide_again.__doc__.split()), backend=_backend(dc["precision"]),
+                    wall_time_s=time.perf_counter() - start, stage="decisive")
+    return ds
+
+
+def _decisive_vars(stage1, judged: dict, orbit: dict, dc: dict, verdict: str, reason: str, klass: str) -> dict:
+    """The decisive stage's variables for its one state (names prefixed decisive_)."""
+    names = list(judged)
+    ln_gain = float(stage1.ln_gain_max.values[0])
+    log10_gr = (ln_gain + math.log(Precision.parse(dc["precision"]).rounding)) / math.log(10)
+    follows = indicator_follows(ln_gain, dict.fromkeys(names, dc["precision"]),
+                                {k: judged[k].get("resolved", math.nan) for k in names})
+    m = judged["megno"]["run"]
+    return {
+        "decisive_verdict": ("state", np.array([verdict], dtype=object)),
+        "decisive_reason": ("state", np.array([reason], dtype=object)),
+        "decisive_class": ("state", np.array([klass], dtype=object)),
+        "decisive_indicator_verdict": (("state", "decisive_indicator"),
+                                       np.array([[judged[k]["verdict"][0] for k in names]], dtype=object)),
+        "decisive_indicator_reason": (("state", "decisive_indicator"),
+                                      np.array([[judged[k]["verdict"][1] for k in names]], dtype=object)),
+        "decisive_indicator_value": (("state", "decisive_indicator"), [[judged[k]["value"] for k in names]],
+                                     cf.attrs("MEGNO: 2 x slope of <Y> (rate); frequency: the spread D at the "
+                                              "longest window (relative)")),
+        "decisive_indicator_uncertainty": (("state", "decisive_indicator"), [[judged[k]["error"] for k in names]],
+                                           cf.attrs("MEGNO: least-squares error; frequency: D x its ln-error")),
+        "decisive_follows": (("state", "decisive_indicator"), np.array([[follows[k] for k in names]], dtype=object),
+                             {"long_name": "does the decisive arithmetic follow the orbit closely enough for the "
+                                           "indicator (faithfulness.indicator_limit)"}),
+        "decisive_log10_gain_rounding": ("state", [log10_gr],
+                                         cf.attrs("log10(G_max x unit roundoff of the decisive arithmetic)")),
+        "decisive_spike_interval": (("state", "decisive_spike"), [spike_train(orbit, dc)],
+                                    cf.attrs("intervals between successive Omega spikes of the decisive orbit",
+                                             "time")),
+        "decisive_megno_t": (("state", "decisive_megno_sample"), [m["t"]],
+                             cf.attrs("time of the MEGNO sample", "time")),
+        "decisive_megno_Y_mean": (("state", "decisive_megno_sample"), [m["Y_mean"]],
+                                  cf.attrs("MEGNO <Y> in the decisive arithmetic")),
+        "decisive_energy_max_rel_drift": ("state", [orbit["drift"]],
+                                          cf.attrs("max |E/E0 - 1| along the decisive orbit")),
+    }
+
+
+def with_decisive(ds: xr.Dataset, parts: list) -> xr.Dataset:
+    """One realization's dataset (all its states) with its decisive-stage datasets ``parts`` (one per
+    state of the stage): their variables (NaN for the states without the stage) and, for those states,
+    the verdict, reason and class they decided. Unchanged without parts."""
+    if not parts:
+        return ds
+    width = max(p.sizes["decisive_spike"] for p in parts)
+    parts = [p.pad(decisive_spike=(0, width - p.sizes["decisive_spike"])) for p in parts]
+    dec = xr.concat(parts, dim="state", data_vars="minimal", coords="minimal", compat="override",
+                    combine_attrs="override")
+    dec = dec.reindex(state=ds.state.values)
+    done = np.array([isinstance(v, str) for v in dec.decisive_verdict.values])
+    out = ds.copy()
+    for name in dec.data_vars:
+        v = dec[name]
+        if v.dtype == object:  # text: "not run" for the states without the stage (netCDF holds no NaN text)
+            v = v.copy(data=np.vectorize(lambda x: x if isinstance(x, str) else "not run", otypes=[object])(v.values))
+        out[name] = v
+    for var, source in (("verdict", "decisive_verdict"), ("reason", "decisive_reason"),
+                        ("state_class", "decisive_class")):
+        out[var] = ("state", np.where(done, dec[source].values, out[var].values).astype(object))
+    out.attrs.update({k: v for k, v in parts[0].attrs.items() if k.startswith("decisive_")})
+    out.attrs["wall_time_s"] = float(ds.attrs["wall_time_s"] + sum(p.attrs["wall_time_s"] for p in parts))
+    return out
+
+
+def decisive_spike_period(ds: xr.Dataset) -> np.ndarray:
+    """Per state of a realization's dataset, the median spike interval of its decisive orbit (which
+    torus the realization is on, in the decisive arithmetic; NaN without the stage or two spikes)."""
+    x = np.asarray(ds.decisive_spike_interval.values, float)
+    return np.array([np.nanmedian(row) if np.isfinite(row).any() else math.nan for row in x])
+
+
+def _backend(precision: str) -> str:
+    """The integrator of the decisive arithmetic."""
+    return "sleighsim.engine.ddtaylor" if Precision.parse(precision) is Precision.DOUBLE_DOUBLE else "heyoka"
