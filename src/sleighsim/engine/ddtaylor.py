@@ -500,3 +500,12 @@ def energy_drift(params: Params, hi, lo) -> float:
     E = energy(params, hi, lo)
     with mpmath.workprec(200):
         return float(max(abs(e - E[0]) for e in E) / abs(E[0]))
+
+
+def separation(a, b) -> np.ndarray:
+    """Per row of the state pairs a = (hi, lo) and b: max |a - b| over (u, Omega, omega, delta, the angle
+    compared modulo 2 pi), relative to max |(u, Omega, omega)| of a; the pairs subtracted in double-double."""
+    (ah, al), (bh, bl) = (tuple(np.atleast_2d(np.asarray(x, dtype=float)) for x in p) for p in (a, b))
+    d = np.array(dd.sub(ah, al, bh, bl)[0])
+    d[:, 3] = (d[:, 3] + np.pi) % (2 * np.pi) - np.pi
+    return np.abs(d).max(axis=1) / np.abs(ah[:, :3]).max(axis=1)
