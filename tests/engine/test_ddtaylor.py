@@ -170,6 +170,11 @@ def test_a_zero_tangent_vector_and_too_many_steps_are_refused():
         DDFlow(P, max_steps=3).propagate(REFERENCE_STATE, 100.0)
 
 
+def test_an_overflowing_step_is_refused_naming_the_time():
+    with pytest.raises(RuntimeError, match=r"failed at t = 0: a non-finite step or state"):
+        DDFlow(P).propagate([1e300, 1e300, 1e300, 0.0], 1.0)
+
+
 def test_states_in_any_precision_become_the_same_pair():
     hy = pytest.importorskip("heyoka")
     third = Fraction(1, 3)
@@ -216,6 +221,23 @@ def test_agrees_with_real128_over_100_time_units(flow):
     assert sep.max() < 1e-28, sep
 
 
+def test_steps_are_heyokas_at_the_same_tolerance(flow):
+    """Same order (38) and step rule as heyoka's real128 flow at tol 1e-32: the same number of steps over 100
+    time units from the reference state, within one (a different safety factor or norm would move it by
+    several per cent)."""
+    hy = pytest.importorskip("heyoka")
+    from sleighsim.engine import integrators
+    from sleighsim.engine.precision import Precision
+
+    ta, _ = integrators.flow(False, 1e-32, Precision.QUAD)
+    integrators.set_pars(ta, P)
+    ta.time = hy.real128(0)
+    integrators.load(ta, np.array(REFERENCE_STATE).astype(hy.real128))
+    res = ta.propagate_until(hy.real128(100), callback=integrators.bounded(ta))
+    flow.propagate(REFERENCE_STATE, 100.0)
+    assert ta.order == flow.order and abs(flow.steps - res[3]) <= 1, (flow.steps, res[3])
+
+
 def test_energy_is_conserved_to_the_pairs_rounding(flow):
     """Over 1000 time units from the reference state (about 2500 steps), the energy (at 200 bits from the
     pairs) drifts by less than 1e-29 relative."""
@@ -244,3 +266,31 @@ def test_separation_subtracts_pairs_and_wraps_the_angle():
     a = (np.array([[1.0, 0.5, 2.0, 3.0]]), np.array([[1e-20, 0.0, 0.0, 0.0]]))
     b = (np.array([[1.0, 0.5, 2.0, 3.0 - 2 * np.pi]]), np.zeros((1, 4)))
     assert ddtaylor.separation(a, b)[0] == pytest.approx(1e-20 / 2.0, rel=1e-12)
+
+
+# ---------------------------------------------------------------- one spike cycle of the main steady state
+
+CYCLE = 2320.0  # one spike cycle of the main state (time units; benchmarks/doubledouble.yaml measures it)
+
+
+@pytest.fixture(scope="module")
+def settled():
+    """The main steady state: (0, 0.1, 1, 0) at the label 0.1127 (eps 0.1, b 1, K2 1.1) after 2e4 time units
+    in double (heyoka at its epsilon), a double state."""
+    hy = pytest.importorskip("heyoka")
+    from sleighsim.engine import integrators
+    from sleighsim.model.symmetries import REFERENCE_LABEL, state_at_label
+
+    ta, _ = integrators.flow(False, 2.0**-52)
+    integrators.set_pars(ta, P)
+    ta.time = 0.0
+    integrators.load(ta, state_at_label(REFERENCE_STATE, P, REFERENCE_LABEL))
+    assert ta.propagate_until(2e4, callback=integrators.bounded(ta))[0] == hy.taylor_outcome.time_limit
+    return integrators.read(ta, 4).astype(float)
+
+
+@pytest.fixture(scope="module")
+def cycle_runs(settled):
+    """The settled state over one cycle, sampled at 5 times, in double-double (tol 1e-32) and real128 (2^-112)."""
+    grid = np.linspace(0.0, CYCLE, 5)
+    return grid, DDFlow(P).propagate_grid(settled, grid), quad_grid(settled, grid)
