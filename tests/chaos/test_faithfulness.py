@@ -90,51 +90,63 @@ def test_the_report_names_the_arithmetic_that_follows_each_orbit(tmp_path):
     ds = xr.Dataset({"verdict": ("state", np.array(["undecided", "regular"], dtype=object)),
                      "reason": ("state", np.array(["r0", "r1"], dtype=object)),
                      "ln_gain_max": ("state", [36.2, math.nan]),
-                     "log10_gain_rounding": (("state", "arithmetic"), [[-0.2, -3.5, -18.3], [math.nan] * 3]),
+                     "log10_gain_rounding": (("state", "arithmetic"), [[-0.2, -3.5, -16.3, -18.3], [math.nan] * 4]),
                      "follows_orbit": (("state", "arithmetic"),
-                                       np.array([["does not follow", "follows", "follows"], ["unknown"] * 3],
-                                                dtype=object))},
+                                       np.array([["does not follow", "follows", "follows", "follows"],
+                                                 ["unknown"] * 4], dtype=object))},
                     coords={"state": ["main", "rotor"], "arithmetic": [p.value for p in Precision]})
     write_dataset(ds, tmp_path / "v.nc")
-    (main, v0, why0, decided, _), (_, _, why1, _, _) = chaos_answers({"chaos_verdict": tmp_path / "v.nc"})
-    assert main == "main" and decided == "follows the orbit: long double, quad"
+    first, second = chaos_answers({"chaos_verdict": tmp_path / "v.nc"})
+    main, v0, why0, decided, why1 = first.state, first.verdict, first.why, first.arithmetic, second.why
+    assert main == "main" and decided == "follows the orbit: long double, double-double, quad"
     assert v0 == "undecided" and why0.startswith("r0. Rounding amplified by ln G = 36.2")
     assert "double: does not follow (G x rounding = 10^-0.2); long double: follows" in why0
     assert why1 == ("r1. Faithfulness gauge: no complete spike cycle within T_gain, so which arithmetic follows "
                     "the orbit is unknown")
 
 
-def test_the_report_prices_the_decisive_run_only_where_a_verdict_left_it_undone(tmp_path):
-    """decisive_cost: quad_T from the cluster config times quad's measured cost per time unit; the
-    answers show it only when a state is neither chaotic nor regular and its quad run was not made."""
+def _decisive_dataset(verdicts, decisive, indicator_verdicts, decisive_verdicts):
+    """A verdict dataset of states with these verdicts, the decisive stage's verdict per state ("not run"
+    where it did not run), the first stage's indicator verdicts (benettin, megno, frequency) and the
+    decisive stage's (megno, frequency, birkhoff)."""
     import xarray as xr
-    import yaml
 
-    from sleighsim.io.netcdf import write_dataset
-    from sleighsim.report.build import answers, decisive_cost
+    n = len(verdicts)
+    return xr.Dataset({"verdict": ("state", np.array(verdicts, dtype=object)),
+                       "reason": ("state", np.array(["r"] * n, dtype=object)),
+                       "state_class": ("state", np.array(["regular"] * n, dtype=object)),
+                       "indicator_verdict": (("state", "indicator"), np.array(indicator_verdicts, dtype=object)),
+                       "decisive_verdict": ("state", np.array(decisive, dtype=object)),
+                       "decisive_indicator_verdict": (("state", "decisive_indicator"),
+                                                      np.array(decisive_verdicts, dtype=object)),
+                       "decisive_log10_gain_rounding": ("state", [-16.3] * n),
+                       "decisive_wall_time_s": ("state", [61.0] * n)},
+                      coords={"state": [f"s{i}" for i in range(n)], "indicator": ["benettin", "megno", "frequency"],
+                              "decisive_indicator": ["megno", "frequency", "birkhoff"]},
+                      attrs={"decisive_precision": "double-double", "decisive_T": 1e5})
 
-    cost = tmp_path / "cost.yaml"
-    rows = [{"system": s, "precision": p, "compact_mode": c, "high_accuracy": False, "cost_s_per_tu": v}
-            for s, p, c, v in (("flow", "quad", True, 6e-3), ("flow", "quad", False, 9e-3),
-                               ("tangent", "quad", True, 1.0))]
-    cost.write_text(yaml.safe_dump({"date": "2026-11-24T00:00", "machine": {"cpu_model": "cpu X"}, "rows": rows}))
-    cluster = tmp_path / "cluster.yaml"
-    cluster.write_text(yaml.safe_dump({"scenes": {"chaos_verdict": {"frequency": {"quad_T": 1e5}}}}))
-    text = decisive_cost(cost, cluster)
-    assert "quad_T = 100000" in text and "0.006 s per time unit" in text and "about 10 min per state" in text
-    assert "(cpu X, 2026-11-24; cost.yaml)" in text
-    unmeasured = tmp_path / "unmeasured.yaml"
-    unmeasured.write_text(yaml.safe_dump({"date": "2026-11-24", "machine": {"cpu_model": "cpu X"}, "rows": rows[2:]}))
-    with pytest.raises(ValueError, match="no measured cost of the flow in quad"):
-        decisive_cost(unmeasured, cluster)
-    for verdict, quad_T, shown in (("undecided", 0.0, True), ("fragile", 0.0, True), ("regular", 0.0, False),
-                                   ("undecided", 3e4, False)):
-        ds = xr.Dataset({"verdict": ("state", np.array([verdict], dtype=object)),
-                         "reason": ("state", np.array(["r"], dtype=object))}, coords={"state": ["main"]},
-                        attrs={"frequency_quad_T": quad_T})
-        write_dataset(ds, tmp_path / "v.nc")
-        a = answers([], {"chaos_verdict": tmp_path / "v.nc"}, {}, decisive=text)
-        assert a["decisive"] == (text if shown else ""), (verdict, quad_T)
+
+def test_the_first_screen_says_who_decided_and_what_would_decide_the_rest():
+    """_decided_by: the indicators that say the state's verdict, with the arithmetic each was judged in
+    (the decisive stage's for those it judged again); _to_decide: nothing for a decided state; for an
+    undecided one the decisive stage's measured cost and how it scales, or that no stage ran."""
+    from sleighsim.report.build import _decided_by, _decided_in, _to_decide
+
+    R, U = "regular", "undecided"
+    ds = _decisive_dataset([R, U, U], [R, U, "not run"], [[U, "chaotic", U], [U, U, U], [U, U, U]],
+                           [[R, U, R], [U, U, U], ["not run"] * 3])
+    assert _decided_by(ds, 0) == "birkhoff (double-double), megno (double-double)"
+    assert _decided_by(ds, 1) == ""
+    assert _to_decide(ds, 0, R) == ""
+    assert "(double-double, T = 100000, 61 s per realization" in _to_decide(ds, 1, U)
+    assert "a horizon of 200000 would take about 122 s per realization" in _to_decide(ds, 1, U)
+    assert _to_decide(ds, 2, U).startswith("no decisive stage ran for this state")
+    assert _to_decide(ds, 1, "fragile").startswith("the decisive stage")
+    assert _decided_in(ds, 0) == "double-double (G x rounding = 10^-16.3; decisive stage over T = 100000)"
+    ds_plain = ds.drop_vars([v for v in ds.data_vars if str(v).startswith("decisive_")])
+    assert _decided_by(ds_plain, 0) == ""  # no indicator says regular in the first stage
+    ds_plain["verdict"] = ("state", np.array(["chaotic", U, U], dtype=object))
+    assert _decided_by(ds_plain, 0) == "megno (double)"
 
 
 def test_the_first_screen_names_the_arithmetic_each_state_was_decided_in():
@@ -144,14 +156,14 @@ def test_the_first_screen_names_the_arithmetic_each_state_was_decided_in():
 
     from sleighsim.report.build import _decided_in
 
-    follows = np.array([["does not follow", "follows", "follows"], ["does not follow"] * 3, ["unknown"] * 3],
-                       dtype=object)
+    follows = np.array([["does not follow", "follows", "follows", "follows"], ["does not follow"] * 4,
+                        ["unknown"] * 4], dtype=object)
     ds = xr.Dataset({"megno_precision": ("state", np.array(["long double", "double", "double"], dtype=object)),
                      "follows_orbit": (("state", "arithmetic"), follows)},
                     coords={"state": ["a", "b", "c"], "arithmetic": [p.value for p in Precision],
                             "frequency_precision": ["double", "long double"]})
     assert _decided_in(ds, 0) == ("MEGNO: long double; frequency analysis: double, long double; "
-                                  "follows the orbit: long double, quad")
+                                  "follows the orbit: long double, double-double, quad")
     assert _decided_in(ds, 1).endswith("follows the orbit: none")
     assert _decided_in(ds, 2).endswith("follows the orbit: unknown")
     assert _decided_in(xr.Dataset(coords={"state": ["a"]}), 0) == ""

@@ -34,4 +34,4 @@ def test_each_member_carries_its_tag_epsilon_rounding_and_types():
 def test_double_double_has_no_heyoka_type():
     """Only sleighsim.engine.ddtaylor integrates in double-double: asking heyoka's type says so."""
     with pytest.raises(ValueError, match="ddtaylor"):
-        Precision.DOUBLE_DOUBLE.fp_type
+        _ = Precision.DOUBLE_DOUBLE.fp_type

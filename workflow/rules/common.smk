@@ -158,6 +158,3 @@ REPORT_BENCHMARKS = benchmark_files(REPORT_DATA + REALIZATION_DATA, FIGURES_BUIL
 ROOT = Path(workflow.basedir).parent
 PAPER_TEX = str(ROOT / "paper" / "fedonyuk-tallapragada-sleigh-rotor.tex")
 CLAIMS_MD = str(ROOT / "paper" / "CLAIMS.md")
-# The measured cost per time unit of each arithmetic, and the config that makes what the default run cannot afford.
-PRECISION_COST = str(ROOT / "benchmarks" / "precision_cost.yaml")
-CLUSTER_CONFIG = str(ROOT / "config" / "cluster.yaml")

@@ -28,8 +28,6 @@ rule report:
         benchmarks=[t for ts in REPORT_BENCHMARKS.values() for t in ts],
         tex=PAPER_TEX,
         claims_md=CLAIMS_MD,
-        precision_cost=PRECISION_COST,
-        cluster=CLUSTER_CONFIG,
     output:
         html=f"{R}/report/index.html",
         md=f"{R}/report/README.md",

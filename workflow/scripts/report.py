@@ -14,5 +14,4 @@ with logging_to(sm.log[0]):
               if c.id == FIGURES[f].paper}
     report.build(rows, out_dir=Path(sm.output.html).parent, tex_path=sm.input.tex, labels=labels,
                  figures=dict(zip(sm.params.figures, sm.input.figures)),
-                 datasets=dict(zip(sm.params.data, sm.input.data)), benchmarks=sm.params.benchmarks,
-                 precision_cost=sm.input.precision_cost, cluster_config=sm.input.cluster)
+                 datasets=dict(zip(sm.params.data, sm.input.data)), benchmarks=sm.params.benchmarks)

@@ -148,7 +148,6 @@ VOCABULARY: dict[str, tuple[str, str]] = {
     "log10_gain_rounding": ("log10(G_max x unit roundoff of the arithmetic)", "1"),
     "follows_orbit": ("does the arithmetic follow the exact orbit (G x rounding below 1e-3)", "text"),
     "settled_state": ("the settled state the indicators start from (u, Omega, omega, delta; model variables)", "1"),
-    "component": ("component of the state (u, Omega, omega, delta)", "text"),
     "decisive_verdict": ("verdict decided with the decisive stage", "text"),
     "decisive_reason": ("reason for the verdict decided with the decisive stage", "text"),
     "decisive_class": ("class of the steady state decided with the decisive stage", "text"),

@@ -20,7 +20,6 @@ from pathlib import Path
 from typing import NamedTuple
 
 import numpy as np
-import yaml
 
 from sleighsim.claims.ledger import Row
 from sleighsim.io.netcdf import read_dataset, write_text
@@ -39,18 +38,21 @@ GROUPS = {"F": "Figures", "C": "Claims", "D": "Model as printed"}
 #: The figure that shows why a chaos verdict is what it is, in order of preference.
 WHY_FIGURES = ("precision", "chaos")
 
-__all__ = ["build", "captions", "chaos_answers", "decisive_cost", "math_html"]
+__all__ = ["build", "captions", "chaos_answers", "math_html"]
 
 
 class ChaosAnswer(NamedTuple):
-    """One steady state's chaos verdict: its name, verdict, why, the arithmetic it was decided in, and
-    whether the quad frequency run that could decide it was left undone (frequency_quad_T = 0)."""
+    """One steady state's chaos verdict: its name, verdict, why, the arithmetic it was decided in (with
+    G x rounding there), its class, the indicators that decided it (with their arithmetic), and, when it
+    is not decided, what would decide it and at what measured cost."""
 
     state: str
     verdict: str
     why: str
     arithmetic: str = ""
-    quad_left: bool = False
+    klass: str = ""
+    decided_by: str = ""
+    to_decide: str = ""
 
 
 def captions(tex_path) -> dict[str, str]:
@@ -111,8 +113,9 @@ def dataset_table(ds, key, cols, colour_of=None) -> Table:
 
 def chaos_answers(datasets: dict) -> list[ChaosAnswer]:
     """Per state of every dataset with per-state chaos verdicts (a ``state`` dimension with
-    ``verdict``): its verdict, the arithmetic of its indicators and the orbit's faithfulness, and the
-    reason with the tori its realizations reached."""
+    ``verdict``): its verdict and class, the arithmetic it was decided in and the orbit's faithfulness,
+    the indicators that decided it, what would decide it when it is not decided, and the reason with
+    the tori its realizations reached."""
     out = []
     for path in datasets.values():
         ds = read_dataset(path)
@@ -121,15 +124,54 @@ def chaos_answers(datasets: dict) -> list[ChaosAnswer]:
         for i, st in enumerate(ds.state.values):
             reason = str(ds.reason.values[i]) if "reason" in ds.data_vars else ""
             verdict = str(ds.verdict.values[i])
+            klass = str(ds.state_class.values[i]) if "state_class" in ds.data_vars else ""
             out.append(ChaosAnswer(str(st), verdict, reason + _arithmetic_note(ds, i) + _tori_note(ds, i),
-                                   _decided_in(ds, i), verdict not in ("chaotic", "regular")
-                                   and ds.attrs.get("frequency_quad_T", 1.0) == 0))
+                                   _decided_in(ds, i), klass, _decided_by(ds, i), _to_decide(ds, i, verdict)))
     return out
 
 
+def _decisive_ran(ds, i: int) -> bool:
+    """Whether state i of a verdict dataset went through the decisive stage."""
+    return "decisive_verdict" in ds.data_vars and str(ds.decisive_verdict.values[i]) != "not run"
+
+
+def _decided_by(ds, i: int) -> str:
+    """The indicators whose verdict equals state i's (chaotic or regular), with the arithmetic each was
+    judged in; "" when the state is not decided."""
+    verdict = str(ds.verdict.values[i])
+    if verdict not in ("chaotic", "regular") or "indicator_verdict" not in ds.data_vars:
+        return ""
+    names = {str(k): "double" for k, v in zip(ds.indicator.values, ds.indicator_verdict.values[i]) if v == verdict}
+    if _decisive_ran(ds, i):
+        names = {k: a for k, a in names.items() if k not in set(map(str, ds.decisive_indicator.values))}
+        names.update({str(k): ds.attrs["decisive_precision"] for k, v in
+                      zip(ds.decisive_indicator.values, ds.decisive_indicator_verdict.values[i]) if v == verdict})
+    return ", ".join(f"{k} ({a})" for k, a in sorted(names.items()))
+
+
+def _to_decide(ds, i: int, verdict: str) -> str:
+    """For a state not decided (undecided or fragile): what would decide it and its measured cost (the
+    decisive stage's own wall time), or that no decisive stage ran for it."""
+    if verdict in ("chaotic", "regular"):
+        return ""
+    if not _decisive_ran(ds, i):
+        return ("no decisive stage ran for this state: name it in chaos_verdict.decisive.states to judge it again "
+                "in an arithmetic that follows its orbit")
+    wall, T = float(ds.decisive_wall_time_s.values[i]), float(ds.attrs["decisive_T"])
+    left = "; ".join(f"{k}: {v}" for k, v in zip(ds.decisive_indicator.values, ds.decisive_indicator_verdict.values[i]))
+    return (f"the decisive stage ({ds.attrs['decisive_precision']}, T = {T:g}, {wall:.0f} s per realization on one "
+            f"core, measured) left it {verdict} ({left}); its cost grows linearly with T: a horizon of {2 * T:g} "
+            f"would take about {2 * wall:.0f} s per realization")
+
+
 def _decided_in(ds, i: int) -> str:
-    """The arithmetic state i's indicators ran in (MEGNO's, the frequency analysis') and which
-    arithmetic follows its orbit by the faithfulness gauge; "" without them."""
+    """The arithmetic state i was decided in: the decisive stage's, with G x rounding there, when it ran;
+    else those of its indicators (MEGNO's, the frequency analysis') and which arithmetic follows its
+    orbit by the faithfulness gauge; "" without them."""
+    if _decisive_ran(ds, i):
+        log10_gr = float(ds.decisive_log10_gain_rounding.values[i])
+        return (f"{ds.attrs['decisive_precision']} (G x rounding = 10^{log10_gr:.1f}; decisive stage over "
+                f"T = {float(ds.attrs['decisive_T']):g})")
     parts = []
     if "megno_precision" in ds.data_vars:
         parts.append(f"MEGNO: {ds.megno_precision.values[i]}")
@@ -165,28 +207,10 @@ def _arithmetic_note(ds, i: int) -> str:
     return f". Rounding amplified by ln G = {float(ds.ln_gain_max.values[i]):.1f} per spike cycle: " + "; ".join(cells)
 
 
-def decisive_cost(precision_cost, cluster_config) -> str:
-    """What the quad frequency run the default config leaves to the cluster config costs: its horizon
-    there (chaos_verdict.frequency.quad_T) times quad's measured cost per time unit (the flow in
-    compact mode, benchmarks/precision_cost.yaml; one core), per state and realization."""
-    cost = yaml.safe_load(Path(precision_cost).read_text())
-    rows = [r["cost_s_per_tu"] for r in cost["rows"]
-            if (r["system"], r["precision"], r["compact_mode"], r["high_accuracy"]) == ("flow", "quad", True, False)]
-    if not rows:
-        raise ValueError(f"{precision_cost}: no measured cost of the flow in quad (compact mode)")
-    per_tu = rows[0]
-    quad_T = yaml.safe_load(Path(cluster_config).read_text())["scenes"]["chaos_verdict"]["frequency"]["quad_T"]
-    return (f"The decisive computation left to {Path(cluster_config).name}, frequency analysis in quad over quad_T = "
-            f"{quad_T:g} time units, costs {per_tu:.2g} s per time unit on one core of the measuring machine "
-            f"({cost['machine']['cpu_model']}, {str(cost['date'])[:10]}; {Path(precision_cost).name}): about "
-            f"{quad_T * per_tu / 60:.0f} min per state and realization.")
-
-
-def answers(rows: list[Row], datasets: dict, figures: dict, decisive: str = "", n_largest: int = 5) -> dict:
+def answers(rows: list[Row], datasets: dict, figures: dict, n_largest: int = 5) -> dict:
     """The first screen: the claims grid by group with the verdict counts (one denominator, every
-    row), the chaos answer per state with the figure that shows why (``decisive``, the cost of the
-    run that would decide, only when an undecided state's quad frequency run was not made), and the largest
-    differences with their tested causes."""
+    row), the chaos answer per state with the figure that shows why, and the largest differences with
+    their tested causes."""
     chaos = chaos_answers(datasets)
     counts = {v: sum(r.verdict == v for r in rows) for v in COLOURS}
     return {
@@ -196,25 +220,22 @@ def answers(rows: list[Row], datasets: dict, figures: dict, decisive: str = "", 
         "n_rows": len(rows),
         "chaos": chaos,
         "why_figure": next((f for f in WHY_FIGURES if f in figures), ""),
-        "decisive": decisive if any(a.quad_left for a in chaos) else "",
         "differs": sorted((r for r in rows if r.verdict == "differs" and np.isfinite(r.difference)),
                           key=lambda r: -r.difference)[:n_largest],
     }
 
 
 def build(rows: list[Row], *, out_dir, tex_path, labels: dict, figures: dict, datasets: dict,
-          benchmarks: dict, precision_cost=None, cluster_config=None) -> None:
+          benchmarks: dict) -> None:
     """Write index.html and README.md into ``out_dir`` with the figures copied beside them.
 
     labels: {figure: paper LaTeX label}; figures: {figure: PNG path} of the figures built;
     datasets: {dataset: netCDF path}; benchmarks: {"data/<dataset>" or "figure/<figure>": [Snakemake
-    benchmark files]}; precision_cost, cluster_config: benchmarks/precision_cost.yaml and
-    config/cluster.yaml, for the cost of the computation an undecided verdict leaves to the cluster."""
+    benchmark files]}."""
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    decisive = decisive_cost(precision_cost, cluster_config) if precision_cost and cluster_config else ""
     context = {
-        "answers": answers(rows, datasets, figures, decisive),
+        "answers": answers(rows, datasets, figures),
         "findings": precision_findings(rows, datasets),
         "paper_figures": paper_figures(rows, out_dir=out_dir, tex_path=tex_path, labels=labels, figures=figures,
                                        datasets=datasets, benchmarks=benchmarks),

@@ -170,7 +170,10 @@ def decisive_state(cfg: dict, stage1: xr.Dataset, scene: str = "") -> xr.Dataset
     verdict, reason, _ = decide_again(stage1, judged, dc["precision"], sigma)
     klass = state_class(stage1, verdict, sigma)
     log.info("%s: decisive stage in %s: %s (%s); %s", scene, dc["precision"], verdict, klass, reason)
-    ds = xr.Dataset(_decisive_vars(stage1, judged, orbit, dc, verdict, reason, klass),
+    variables = _decisive_vars(stage1, judged, orbit, dc, verdict, reason, klass)
+    variables["decisive_wall_time_s"] = ("state", [time.perf_counter() - start],
+                                         {"long_name": "wall-clock time of the decisive stage's job", "units": "s"})
+    ds = xr.Dataset(variables,
                     coords={"state": stage1.state.values, "decisive_indicator": list(judged),
                             "decisive_megno_sample": np.arange(judged["megno"]["run"]["t"].size)})
     ds.attrs.update(decisive_precision=dc["precision"], decisive_tol=dc["tol"], decisive_T=dc["T"],
