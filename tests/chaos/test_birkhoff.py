@@ -39,6 +39,142 @@ W1 = 1e-3  # the slow-fast torus's pendulum frequency
 STICKY_CHUNK, STICKY_RATE, STICKY_MIN, STICKY_CONFIRM = 100.0, 0.005, 1000.0, 1.0e5
 
 
+# ----------------------------------------------------------------------------- engine on known signals
+
+PHI = (1 + 5**0.5) / 2
+
+
+def _quasi_periodic(t):
+    """Three lines with incommensurate frequencies 1, phi, phi - 1 (mean 0)."""
+    return (np.cos(2 * math.pi * t) + 0.5 * np.cos(2 * math.pi * PHI * t + 1)
+            + 0.3 * np.cos(2 * math.pi * (PHI - 1) * t + 2))
+
+
+def test_bump_weights_are_normalised_symmetric_and_flat_at_the_ends():
+    w = birkhoff.bump(1000)
+    assert w.dtype == np.longdouble and float(w.sum()) == pytest.approx(1.0, abs=1e-18)
+    assert np.allclose(w.astype(float), w[::-1].astype(float), rtol=1e-15, atol=0)
+    assert float(w[0] / w.max()) < 1e-300  # exp(-1/(s (1 - s))): every derivative vanishes at the ends
+    with pytest.raises(ValueError, match="positive integer"):
+        birkhoff.bump(0)
+
+
+def test_the_bump_weighted_average_of_a_quasi_periodic_signal_converges_faster_than_any_power():
+    """Measured: |WB| = 8.6e-7, 8.6e-11, 6.9e-14 over W = 25, 50, 100 (dt = 0.1); the plain mean 7e-3 to 9e-4."""
+    err = {}
+    for W in (25.0, 50.0, 100.0):
+        t = np.arange(round(W / 0.1)) * 0.1
+        x = _quasi_periodic(t)[:, None]
+        err[W] = abs(float(birkhoff.window_averages(x, 1)[0, 0]))
+        assert abs(x.mean()) > 1e3 * err[W]  # the uniform weight converges like 1/W
+    assert err[25.0] < 1e-5 and err[100.0] < 1e-12
+    assert err[50.0] / err[25.0] < 2.0**-8 and err[100.0] / err[50.0] < 2.0**-8  # no power law W^-8 keeps up
+
+
+def test_the_sampled_average_is_the_space_average_unless_the_sampling_resonates():
+    """cos(t)^4 has space average 3/8; sampled every 0.25 the time-dt map is an irrational rotation and the
+    weighted average is 3/8, but sampled every pi/2 the map is periodic (four points) and it is 1/2."""
+    t = np.arange(4000) * 0.25
+    assert float(birkhoff.window_averages((np.cos(t) ** 4)[:, None], 1)[0, 0]) == pytest.approx(0.375, abs=1e-14)
+    t = np.arange(4000) * (math.pi / 2)
+    assert float(birkhoff.window_averages((np.cos(t) ** 4)[:, None], 1)[0, 0]) == pytest.approx(0.5, abs=1e-14)
+
+
+def test_digits_grow_half_a_digit_per_decade_on_noise_and_fast_on_a_torus():
+    """Independent normal samples (the central limit law of a chaotic average): growth 0.50 +- 0.21 digits per
+    decade over splits 2 to 32 (40 seeds, 3 observables, the worst one per split); the quasi-periodic signal
+    reaches DIGITS_MAX."""
+    rates = []
+    for seed in range(40):
+        d = birkhoff.digits(np.random.default_rng(seed).normal(size=(80000, 3)), 1.0, (2, 4, 8, 16, 32))
+        rates.append((d["dig"][0] - d["dig"][-1]) / math.log10(16))
+        assert d["dig"][0] < 3.0
+    assert 0.3 < np.mean(rates) < 0.7
+    q = birkhoff.digits(_quasi_periodic(np.arange(20000) * 0.1), 0.1, (2, 4, 8))
+    assert q["dig"][0] == birkhoff.DIGITS_MAX and list(q["W"]) == [1000.0, 500.0, 250.0]
+    assert q["digits"].shape == (3, 1) and q["T"] == pytest.approx(2000.0)
+
+
+def test_digits_checks_its_arguments():
+    x = np.random.default_rng(0).normal(size=(400, 2))
+    with pytest.raises(ValueError, match="constant"):
+        birkhoff.digits(np.column_stack([x[:, 0], np.ones(400)]), 1.0)
+    with pytest.raises(ValueError, match="finite"):
+        birkhoff.digits(np.where(x > 2, np.nan, x), 1.0)
+    with pytest.raises(ValueError, match="at least 16"):
+        birkhoff.digits(x, 1.0, (2, 4, 32))
+    for bad in ((2,), (2, 2, 4), (1, 2), ("a", 2)):
+        with pytest.raises(ValueError, match="splits"):
+            birkhoff.digits(x, 1.0, bad)
+    with pytest.raises(ValueError, match="dt"):
+        birkhoff.digits(x, 0.0)
+    with pytest.raises(ValueError, match="n_windows"):
+        birkhoff.window_averages(x, 0)
+
+
+def test_observables_replace_angles_by_cos_and_sin():
+    Y = np.array([[1.0, 2.0, 0.5], [3.0, 4.0, 7.0]])
+    X = birkhoff.observables(Y, angles=(2,))
+    assert np.allclose(X, np.column_stack([Y[:, :2], np.cos(Y[:, 2]), np.sin(Y[:, 2])]))
+    assert np.array_equal(birkhoff.observables(Y), Y)
+    with pytest.raises(ValueError, match="angles"):
+        birkhoff.observables(Y, angles=(3,))
+
+
+def test_sampled_observables_stops_on_an_integration_that_blows_up():
+    hy = pytest.importorskip("heyoka")
+    x = hy.make_vars("x")
+    ta = hy.taylor_adaptive([(x, x * x)], [1.0])  # x = 1 / (1 - t): infinite at t = 1
+    with pytest.raises(RuntimeError, match="integration stopped"):
+        birkhoff.sampled_observables(ta, [1.0], T=2.0, dt=0.01)
+
+
+# ----------------------------------------------------------------------------- judge
+
+def _run(dig, W=(4.0, 2.0, 1.0)):
+    return {"W": np.array(W), "dig": np.array(dig, float)}
+
+
+@pytest.mark.parametrize("dig, gr, want, says", [
+    ([8.0, 6.0, 4.0], 1e-13, REGULAR, "growing by 6.64"),  # 4 digits over log10(4) = 0.6 decades
+    ([5.0, 4.5, 3.7], 1e-13, REGULAR, "growing by 2.16"),  # just above dig_min, growth 1.3 / 0.6
+    ([13.0, 13.0, 12.5], 1e-13, REGULAR, "resolvable ceiling 13"),  # saturated: within a digit of -log10(G r)
+    ([15.0, 15.0, 14.2], 1e-20, REGULAR, "resolvable ceiling 15"),  # the sums' own ceiling, DIGITS_MAX
+    ([4.9, 3.0, 1.0], 1e-13, UNDECIDED, "below dig_min"),
+    ([6.0, 5.8, 5.6], 1e-13, UNDECIDED, "grow by 0.664"),  # high but flat, below the ceiling: stuck, or sticky
+    ([14.0, 13.8, 13.5], 1e-20, UNDECIDED, "grow by 0.83"),  # not saturated (ceiling 15): growth too slow
+    ([8.0, 6.0, 4.0], 1e-5, UNDECIDED, "certifies 4 digits, fewer than dig_min 5"),  # followed to 1e-5: 4 digits
+    ([8.0, 6.0, 4.0], 10**-5.9, UNDECIDED, "certifies 4.9 digits"),
+    ([8.0, 6.0, 4.0], math.nan, UNDECIDED, "G x rounding not known"),
+    ([8.0, math.nan, 4.0], 1e-13, UNDECIDED, "not finite: dig"),
+])
+def test_judge_birkhoff_on_each_branch(dig, gr, want, says):
+    v, reason = birkhoff.judge_birkhoff(_run(dig), gain_rounding=gr)
+    assert v == want and says in reason, reason
+    assert v != CHAOTIC
+
+
+def test_judge_birkhoff_at_its_thresholds():
+    """The arithmetic's link is inclusive: G r = 1e-6 certifies exactly 5 digits = DIG_MIN."""
+    assert birkhoff.judge_birkhoff(_run([8.0, 6.0, 4.0]), gain_rounding=1e-6)[0] == REGULAR
+    rate_at = birkhoff.RATE_MIN * math.log10(4.0)
+    assert birkhoff.judge_birkhoff(_run([6.0, 5.5, 6.0 - rate_at]), gain_rounding=1e-13)[0] == REGULAR
+    assert birkhoff.judge_birkhoff(_run([6.0, 5.5, 6.0 - 0.99 * rate_at]), gain_rounding=1e-13)[0] == UNDECIDED
+    assert birkhoff.judge_birkhoff(_run([8.0, 6.0, 4.0]), gain_rounding=1e-13, dig_min=9.0)[0] == UNDECIDED
+    assert birkhoff.judge_birkhoff(_run([8.0, 6.0, 4.0]), gain_rounding=1e-13, rate_min=7.0)[0] == UNDECIDED
+
+
+def test_judge_birkhoff_rejects_bad_input():
+    with pytest.raises(ValueError, match="longest first"):
+        birkhoff.judge_birkhoff(_run([8.0, 6.0, 4.0], W=(1.0, 2.0, 4.0)), gain_rounding=1e-13)
+    with pytest.raises(ValueError, match="longest first"):
+        birkhoff.judge_birkhoff(_run([8.0, 6.0]), gain_rounding=1e-13)
+    with pytest.raises(ValueError, match="longest first"):
+        birkhoff.judge_birkhoff(_run([8.0], W=(1.0,)), gain_rounding=1e-13)
+    with pytest.raises(ValueError, match="gain_rounding"):
+        birkhoff.judge_birkhoff(_run([8.0, 6.0, 4.0]), gain_rounding=0.0)
+
+
 # ----------------------------------------------------------------------------- systems
 
 def _pendulum_oscillator(hy):
