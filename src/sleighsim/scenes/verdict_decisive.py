@@ -17,6 +17,7 @@ import time
 import numpy as np
 import xarray as xr
 
+from sleighsim.chaos.birkhoff import digits, judge_birkhoff, observables
 from sleighsim.chaos.faithfulness import indicator_follows
 from sleighsim.chaos.frequency import PRECISION, drift, judge_frequency, judged_run
 from sleighsim.chaos.megno import judge_megno_run, megno, megno_from_log_norm, megno_rate
@@ -32,8 +33,8 @@ from sleighsim.scenes.common import stored_state
 
 log = logging.getLogger("sleighsim")
 
-#: The indicators the decisive stage judges again, in its arithmetic (the others keep the first stage's).
-DECISIVE = ("megno", "frequency")
+#: The indicators the decisive stage judges (again), in its arithmetic (the others keep the first stage's).
+DECISIVE = ("megno", "frequency", "birkhoff")
 
 
 def orbit_and_megno(params, y, dc: dict) -> tuple[dict, dict]:
@@ -105,6 +106,17 @@ def frequency_stage(orbit: dict, dc: dict, sigma: float) -> dict:
             "verdict": verdict, "resolved": max(D, PRECISION) if math.isfinite(D) else math.nan}
 
 
+def birkhoff_stage(orbit: dict, dc: dict, gain_rounding: float) -> dict:
+    """The weighted Birkhoff averages (``chaos.birkhoff.digits``) of the orbit's smooth observables (u,
+    Omega, omega, cos delta, sin delta) over windows dc["T"] / K, K in dc["splits"], judged by
+    ``judge_birkhoff`` with the decisive arithmetic's G x rounding. Value: the digits at the longest
+    window (the worst observable's), error: their spread over the observables; resolved: 10^-digits."""
+    run = digits(observables(orbit["Y"][:-1], angles=[equations.DELTA]), dc["dt"], dc["splits"])
+    dig = float(run["dig"][0])
+    return {"run": run, "value": dig, "error": float(run["dig_err"][0]),
+            "verdict": judge_birkhoff(run, gain_rounding=gain_rounding), "resolved": 10.0**-dig}
+
+
 def spike_train(orbit: dict, dc: dict) -> np.ndarray:
     """The spike intervals of the orbit (Omega's spikes, ``engine.transient.spike_times`` with
     dc["spike_factor"]): which torus the realization is on, one interval per cycle."""
@@ -166,7 +178,9 @@ def decisive_state(cfg: dict, stage1: xr.Dataset, scene: str = "") -> xr.Dataset
     params, dc, sigma = Params.from_config(cfg["params"]), decisive_config(cfg), cfg["sigma"]
     y = stage1.settled_state.values[0]
     orbit, m = orbit_and_megno(params, y, dc)
-    judged = {"megno": megno_judged(m, dc, sigma), "frequency": frequency_stage(orbit, dc, sigma)}
+    gain_rounding = math.exp(float(stage1.ln_gain_max.values[0])) * Precision.parse(dc["precision"]).rounding
+    judged = {"megno": megno_judged(m, dc, sigma), "frequency": frequency_stage(orbit, dc, sigma),
+              "birkhoff": birkhoff_stage(orbit, dc, gain_rounding)}
     verdict, reason, _ = decide_again(stage1, judged, dc["precision"], sigma)
     klass = state_class(stage1, verdict, sigma)
     log.info("%s: decisive stage in %s: %s (%s); %s", scene, dc["precision"], verdict, klass, reason)
@@ -175,13 +189,22 @@ def decisive_state(cfg: dict, stage1: xr.Dataset, scene: str = "") -> xr.Dataset
                                          {"long_name": "wall-clock time of the decisive stage's job", "units": "s"})
     ds = xr.Dataset(variables,
                     coords={"state": stage1.state.values, "decisive_indicator": list(judged),
-                            "decisive_megno_sample": np.arange(judged["megno"]["run"]["t"].size)})
+                            "decisive_megno_sample": np.arange(judged["megno"]["run"]["t"].size),
+                            "decisive_split": np.asarray(dc["splits"], int)})
     ds.attrs.update(decisive_precision=dc["precision"], decisive_tol=dc["tol"], decisive_T=dc["T"],
                     decisive_dt=dc["dt"], decisive_megno_samples=dc["megno_samples"], decisive_steps=orbit["steps"],
                     decisive_splits=list(dc["splits"]),
                     decisive_rule=" ".join(decide_again.__doc__.split()), backend=_backend(dc["precision"]),
                     wall_time_s=time.perf_counter() - start, stage="decisive")
     return ds
+
+
+def _per_split(run: dict, key: str, dc: dict) -> np.ndarray:
+    """run[key] (one value per split the run kept, run["splits"]) on dc["splits"], NaN where left out."""
+    out = np.full(len(dc["splits"]), math.nan)
+    for k, v in zip(run["splits"], run[key]):
+        out[list(dc["splits"]).index(int(k))] = v
+    return out
 
 
 def _decisive_vars(stage1, judged: dict, orbit: dict, dc: dict, verdict: str, reason: str, klass: str) -> dict:
@@ -202,9 +225,10 @@ def _decisive_vars(stage1, judged: dict, orbit: dict, dc: dict, verdict: str, re
                                       np.array([[judged[k]["verdict"][1] for k in names]], dtype=object)),
         "decisive_indicator_value": (("state", "decisive_indicator"), [[judged[k]["value"] for k in names]],
                                      cf.attrs("MEGNO: 2 x slope of <Y> (rate); frequency: the spread D at the "
-                                              "longest window (relative)")),
+                                              "longest window (relative); birkhoff: digits at the longest window")),
         "decisive_indicator_uncertainty": (("state", "decisive_indicator"), [[judged[k]["error"] for k in names]],
-                                           cf.attrs("MEGNO: least-squares error; frequency: D x its ln-error")),
+                                           cf.attrs("MEGNO: least-squares error; frequency: D x its ln-error; "
+                                                    "birkhoff: spread of the digits over the observables")),
         "decisive_follows": (("state", "decisive_indicator"), np.array([[follows[k] for k in names]], dtype=object),
                              {"long_name": "does the decisive arithmetic follow the orbit closely enough for the "
                                            "indicator (faithfulness.indicator_limit)"}),
@@ -217,6 +241,11 @@ def _decisive_vars(stage1, judged: dict, orbit: dict, dc: dict, verdict: str, re
                              cf.attrs("time of the MEGNO sample", "time")),
         "decisive_megno_Y_mean": (("state", "decisive_megno_sample"), [m["Y_mean"]],
                                   cf.attrs("MEGNO <Y> in the decisive arithmetic")),
+        "decisive_birkhoff_digits": (("state", "decisive_split"), [_per_split(judged["birkhoff"]["run"], "dig", dc)],
+                                     cf.attrs("digits of agreement of consecutive windows' weighted Birkhoff averages "
+                                              "(the worst observable's)")),
+        "decisive_frequency_D": (("state", "decisive_split"), [_per_split(judged["frequency"]["run"], "D", dc)],
+                                 cf.attrs("spread D of the window frequencies over their mean (NaN: split left out)")),
         "decisive_energy_max_rel_drift": ("state", [orbit["drift"]],
                                           cf.attrs("max |E/E0 - 1| along the decisive orbit")),
     }

@@ -1,0 +1,151 @@
+"""The chaos verdict's decisive stage (sleighsim.scenes.verdict_decisive and its jobs in
+sleighsim.scenes.verdict): which first-stage chunk each decisive job reads, how the state's verdict is
+decided again (each branch), how a realization's dataset takes the stage in, and MEGNO from a sampled
+log-norm (chaos.megno.megno_from_log_norm) on growth laws whose MEGNO is known."""
+
+import math
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from sleighsim.chaos.megno import megno_from_log_norm
+from sleighsim.chaos.verdicts import CHAOTIC, REGULAR, UNDECIDED
+from sleighsim.scenes import verdict, verdict_decisive
+from sleighsim.scenes.checks import ConfigError
+
+C, G, U = CHAOTIC, REGULAR, UNDECIDED
+INDICATORS = ("benettin", "ftle", "megno", "two_trajectory", "loschmidt", "frequency")
+
+
+def _cfg(states=("main", "rotor_a", "rotor_b"), decisive=("main",), n_chunks=3):
+    return {"states": dict.fromkeys(states, [0.0, 0.1, 1.0, 0.0]), "n_chunks": n_chunks,
+            "decisive": {"states": list(decisive)}}
+
+
+def test_each_decisive_job_reads_its_realizations_first_stage_job_of_its_state():
+    """3 realizations x 3 states = 9 first-stage jobs (reading nothing), then one decisive job per
+    realization and decisive state, each reading job r * 3 + index of its state."""
+    cfg = _cfg(decisive=("main", "rotor_b"))
+    assert verdict._chunk_count(cfg) == 9 + 6
+    assert all(verdict._chunk_reads(cfg, k) == [] for k in range(9))
+    assert [verdict._chunk_reads(cfg, k) for k in range(9, 15)] == [[0], [2], [3], [5], [6], [8]]
+    assert verdict._chunk_count(_cfg(decisive=())) == 9
+
+
+@pytest.mark.parametrize("decisive", [("nowhere",), ("main", "main")])
+def test_a_decisive_state_must_be_a_state_of_the_block_named_once(decisive):
+    with pytest.raises(ConfigError, match="decisive.states"):
+        verdict._checks("scenes.chaos_verdict", _cfg(decisive=decisive))
+    verdict._checks("scenes.chaos_verdict", _cfg())  # a valid block passes
+
+
+def _stage1(verdicts: dict, ln_gain=36.0):
+    """A first-stage chunk dataset of one state with these indicator verdicts (the others undecided)."""
+    v = [verdicts.get(k, U) for k in INDICATORS]
+    return xr.Dataset({
+        "indicator_verdict": (("state", "indicator"), np.array([v], dtype=object)),
+        "indicator_reason": (("state", "indicator"), np.array([[f"{k} said {x}" for k, x in zip(INDICATORS, v)]],
+                                                              dtype=object)),
+        "indicator_value": (("state", "indicator"), [[7e-4, 7e-4, 1.0, 1e-2, 1e-3, 1e-5]]),
+        "indicator_uncertainty": (("state", "indicator"), [[5e-5, 5e-5, 0.1, 1e-3, 1e-4, 1e-6]]),
+        "ln_gain_max": ("state", [ln_gain]),
+        "exponent": (("state", "i"), [[7e-4, 0.0, -1e-4, -6e-4]]),
+        "sum_exponents": ("state", [0.0]), "sum_exponents_stderr": ("state", [1e-5]),
+        "R_image": ("state", np.array(["stays"], dtype=object)),
+    }, coords={"state": ["main"], "indicator": list(INDICATORS)})
+
+
+def _judged(megno=U, frequency=U, birkhoff=U, digits=8.0, D=1e-8):
+    return {"megno": {"verdict": (megno, "m")}, "frequency": {"verdict": (frequency, "f"), "resolved": D},
+            "birkhoff": {"verdict": (birkhoff, "b"), "resolved": 10.0**-digits}}
+
+
+def test_the_decisive_stage_decides_regular_from_a_tangent_and_a_non_tangent_indicator_that_follow():
+    """MEGNO and the weighted Birkhoff averages regular in double-double (G x rounding = e^36 x 2^-106 =
+    5e-17, below both limits): regular; the first stage's chaotic double verdicts were set aside there
+    already (undecided in its dataset), so they do not vote."""
+    v, reason, used = verdict_decisive.decide_again(_stage1({}), _judged(megno=G, birkhoff=G), "double-double", 3.0)
+    assert v == G and reason.startswith("decided with the double-double stage: regular")
+    assert used["megno"] == (G, "m") and used["birkhoff"] == (G, "b")
+    assert verdict_decisive.state_class(_stage1({}), v, 3.0) == "regular"
+
+
+def test_a_regular_verdict_needs_both_kinds_of_indicator():
+    v, reason, _ = verdict_decisive.decide_again(_stage1({}), _judged(birkhoff=G), "double-double", 3.0)
+    assert v == U and "missing: a tangent-based indicator" in reason
+
+
+def test_an_indicator_judged_in_an_arithmetic_that_does_not_follow_closely_enough_is_set_aside():
+    """In long double (G x rounding = e^36 x 2^-64 = 2.3e-4) MEGNO follows (< 1e-3) but the Birkhoff
+    average resolving 1e-8 does not (its limit 1e-10): set aside, so no regular verdict."""
+    v, _, used = verdict_decisive.decide_again(_stage1({}), _judged(megno=G, birkhoff=G), "long double", 3.0)
+    assert v == U and used["birkhoff"][0] == U and used["birkhoff"][1].startswith("set aside: judged in long double")
+    assert used["megno"] == (G, "m")
+
+
+def test_indicators_that_disagree_leave_the_state_undecided():
+    """The first stage's Loschmidt test (kept: it is not judged again) says chaotic, the decisive
+    MEGNO and Birkhoff average regular: undecided, naming both sides."""
+    v, reason, _ = verdict_decisive.decide_again(_stage1({"loschmidt": C}), _judged(megno=G, birkhoff=G),
+                                                 "double-double", 3.0)
+    assert v == U and "indicators disagree" in reason and "loschmidt" in reason
+
+
+def test_a_chaotic_decision_is_checked_for_consistent_rates():
+    """Chaotic from the decisive MEGNO and the first stage's two nearby orbits, whose rate (1e-2) is far
+    from Benettin's lambda_1 (7e-4 +- 5e-5): undecided (``consistent``)."""
+    v, reason, _ = verdict_decisive.decide_again(_stage1({"two_trajectory": C}), _judged(megno=C),
+                                                 "double-double", 3.0)
+    assert v == U and "disagree on the rate" in reason
+
+
+def _realization(states=("main", "rotor_a")):
+    n = len(states)
+    return xr.Dataset({"verdict": ("state", np.array([U] * n, dtype=object)),
+                       "reason": ("state", np.array(["first"] * n, dtype=object)),
+                       "state_class": ("state", np.array(["undetermined"] * n, dtype=object))},
+                      coords={"state": list(states)}, attrs={"wall_time_s": 10.0})
+
+
+def _decisive_part(state="main", n_spikes=3):
+    return xr.Dataset({"decisive_verdict": ("state", np.array([G], dtype=object)),
+                       "decisive_reason": ("state", np.array(["second"], dtype=object)),
+                       "decisive_class": ("state", np.array(["regular"], dtype=object)),
+                       "decisive_spike_interval": (("state", "decisive_spike"), [np.full(n_spikes, 2337.5)])},
+                      coords={"state": [state]}, attrs={"wall_time_s": 5.0, "decisive_precision": "double-double"})
+
+
+def test_a_realization_takes_the_decisive_verdict_of_its_decisive_states_only():
+    ds = verdict_decisive.with_decisive(_realization(), [_decisive_part()])
+    assert list(ds.verdict.values) == [G, U] and list(ds.reason.values) == ["second", "first"]
+    assert list(ds.state_class.values) == ["regular", "undetermined"]
+    assert list(ds.decisive_verdict.values) == [G, "not run"]
+    assert np.isnan(ds.decisive_spike_interval.values[1]).all() and ds.attrs["wall_time_s"] == 15.0
+    assert ds.attrs["decisive_precision"] == "double-double"
+    assert list(verdict_decisive.decisive_spike_period(ds)[:1]) == [2337.5]
+    assert math.isnan(verdict_decisive.decisive_spike_period(ds)[1])
+    assert verdict_decisive.with_decisive(_realization(), []).identical(_realization())
+
+
+def test_megno_from_a_log_norm_on_known_growth_laws():
+    """l = lambda t (exponential growth): <Y> = lambda t / 2; l = ln(1 + t) (linear growth, a sheared
+    torus): Y = 2 - 2 ln(1 + t) / t, so <Y>(T) = 2 - (2 / T) int_0^T ln(1 + t) / t dt -> 2; a bounded
+    periodic l (isochronous): <Y> -> 0. Refused: too few samples, a non-finite log-norm, samples not
+    from t = 0."""
+    from scipy.integrate import quad
+
+    t = np.linspace(0.0, 2000.0, 40001)
+    lam = 0.01
+    m = megno_from_log_norm(t, lam * t, 50)
+    assert m["final"] == pytest.approx(lam * 2000.0 / 2, rel=1e-3)
+    assert 2 * m["slope"] == pytest.approx(lam, rel=1e-3)
+    sheared = 2.0 - 2.0 / 2000.0 * quad(lambda s: np.log1p(s) / s, 0.0, 2000.0, limit=200)[0]
+    assert megno_from_log_norm(t, np.log1p(t), 50)["final"] == pytest.approx(sheared, abs=1e-4)
+    assert abs(megno_from_log_norm(t, np.sin(t), 50)["final"]) < 0.01
+    with pytest.raises(ValueError, match="at least"):
+        megno_from_log_norm(t[:50], t[:50], 50)
+    with pytest.raises(ValueError, match="finite"):
+        megno_from_log_norm(t, np.where(t > 5, np.nan, t), 50)
+    with pytest.raises(ValueError, match="from t = 0"):
+        megno_from_log_norm(t + 1.0, t, 50)
