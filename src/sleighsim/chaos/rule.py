@@ -25,7 +25,7 @@ _ZERO_ONE_NAMES = {"0-1", "01", "0_1", "zero_one", "zero-one", "zeroone", "z01",
                    "zero_one_test", "0-1-test", "test01", "test_01"}
 
 INDICATORS = ("benettin", "ftle", "megno", "two_trajectory", "loschmidt", "frequency")
-TANGENT_BASED = ("benettin", "ftle", "megno")
+TANGENT_BASED = ("benettin", "ftle", "megno", "section_megno")
 
 
 def decide(verdicts, tangent_based):
@@ -75,7 +75,7 @@ def precision_gate(verdicts: dict, ld: dict) -> None:
     unless the long-double precision check ``ld`` confirmed exponential growth (``ld["check"]``)."""
     if ld["check"] != "confirmed":
         for k in TANGENT_BASED:
-            if verdicts[k][0] == CHAOTIC:
+            if k in verdicts and verdicts[k][0] == CHAOTIC:
                 verdicts[k] = (UNDECIDED, f"{ld['reason']}; in double precision: {verdicts[k][1]}")
 
 

@@ -22,7 +22,8 @@ from sleighsim.chaos.faithfulness import indicator_follows
 from sleighsim.chaos.frequency import PRECISION, drift, judge_frequency, judged_run
 from sleighsim.chaos.megno import judge_megno_run, megno, megno_from_log_norm, megno_rate
 from sleighsim.chaos.rule import TANGENT_BASED, classify, consistent, decide, faithful_gate
-from sleighsim.chaos.verdicts import CHAOTIC
+from sleighsim.chaos.section_megno import judge_section_megno, section_megno, section_rate
+from sleighsim.chaos.verdicts import CHAOTIC, UNDECIDED
 from sleighsim.engine import ddtaylor, integrators, transient
 from sleighsim.engine.ddtaylor import DDFlow
 from sleighsim.engine.precision import Precision
@@ -34,7 +35,7 @@ from sleighsim.scenes.common import stored_state
 log = logging.getLogger("sleighsim")
 
 #: The indicators the decisive stage judges (again), in its arithmetic (the others keep the first stage's).
-DECISIVE = ("megno", "frequency", "birkhoff")
+DECISIVE = ("megno", "section_megno", "frequency", "birkhoff")
 
 
 def orbit_and_megno(params, y, dc: dict) -> tuple[dict, dict]:
@@ -42,7 +43,8 @@ def orbit_and_megno(params, y, dc: dict) -> tuple[dict, dict]:
     dc["precision"] at dc["tol"]: in double-double one run of ``engine.ddtaylor.DDFlow`` with one
     tangent vector (MEGNO from its log-norm, ``chaos.megno.megno_from_log_norm``); in heyoka's
     arithmetics the orbit (``heyoka_orbit``) and a MEGNO run (``chaos.megno.megno``, renormalised every
-    dc["tau"]) over the same T. Returns (orbit: t, Y in the model's variables as doubles, drift
+    dc["tau"]) over the same T. Returns (orbit: t, Y in the model's variables as doubles, log_norm (the
+    tangent vector's, on t: interpolated between renormalisations in heyoka's arithmetics), drift
     max |E/E0 - 1|, steps), (the MEGNO run)."""
     if Precision.parse(dc["precision"]) is Precision.DOUBLE_DOUBLE:
         return dd_orbit_and_megno(params, y, dc)
@@ -51,7 +53,10 @@ def orbit_and_megno(params, y, dc: dict) -> tuple[dict, dict]:
     integrators.set_pars(ta, params)
     m = megno(ta, 4, stored_state(y), T=dc["T"], n_samples=dc["megno_samples"], tau=dc["tau"],
               callback=integrators.bounded(ta))
-    return heyoka_orbit(params, y, dc, precision), m
+    orbit = heyoka_orbit(params, y, dc, precision)
+    ell = np.concatenate([[0.0], np.cumsum(m["log_growth"])])
+    orbit["log_norm"] = np.interp(orbit["t"], m["tau"] * np.arange(ell.size), ell)
+    return orbit, m
 
 
 def dd_orbit_and_megno(params, y, dc: dict) -> tuple[dict, dict]:
@@ -63,7 +68,8 @@ def dd_orbit_and_megno(params, y, dc: dict) -> tuple[dict, dict]:
     v0 = np.random.default_rng(0).normal(size=4)
     hi, lo, log_norm, _ = flow.propagate_tangent_grid(np.asarray(y, float), v0 / np.linalg.norm(v0), grid)
     every = max(1, grid.size // 200)
-    orbit = {"t": grid, "Y": hi, "steps": flow.steps, "drift": ddtaylor.energy_drift(params, hi[::every], lo[::every])}
+    orbit = {"t": grid, "Y": hi, "steps": flow.steps, "log_norm": log_norm,
+             "drift": ddtaylor.energy_drift(params, hi[::every], lo[::every])}
     return orbit, megno_from_log_norm(grid, log_norm, dc["megno_samples"])
 
 
@@ -85,6 +91,22 @@ def heyoka_orbit(params, y, dc: dict, precision: Precision) -> dict:
                            f"(heyoka outcome {res[0]})")
     E = equations.energy(Y, params)
     return {"t": grid.astype(float), "Y": Y, "steps": int(res[3]), "drift": float(np.max(np.abs(E / E[0] - 1)))}
+
+
+def section_megno_judged(orbit: dict, dc: dict, sigma: float) -> dict:
+    """The return map's MEGNO at the spike section (``chaos.section_megno``: the tangent log-norm read at
+    the spikes of Omega, ``spike_train``'s section), judged by ``judge_section_megno``; value: the
+    exponent it implies (1/time) and its error."""
+    spikes = transient.spike_times(orbit["t"], orbit["Y"][:, 1], factor=dc["spike_factor"])
+    if spikes.size < 2:
+        return {"run": None, "value": math.nan, "error": math.nan,
+                "verdict": (UNDECIDED, f"{spikes.size} spikes within T = {dc['T']:g}: no return map")}
+    try:
+        m = section_megno(orbit["t"], orbit["log_norm"], spikes)
+    except ValueError as err:
+        return {"run": None, "value": math.nan, "error": math.nan, "verdict": (UNDECIDED, str(err))}
+    value, error = section_rate(m, spikes)
+    return {"run": m, "value": value, "error": error, "verdict": judge_section_megno(m, sigma)}
 
 
 def megno_judged(m: dict, dc: dict, sigma: float) -> dict:
@@ -179,8 +201,8 @@ def decisive_state(cfg: dict, stage1: xr.Dataset, scene: str = "") -> xr.Dataset
     y = stage1.settled_state.values[0]
     orbit, m = orbit_and_megno(params, y, dc)
     gain_rounding = math.exp(float(stage1.ln_gain_max.values[0])) * Precision.parse(dc["precision"]).rounding
-    judged = {"megno": megno_judged(m, dc, sigma), "frequency": frequency_stage(orbit, dc, sigma),
-              "birkhoff": birkhoff_stage(orbit, dc, gain_rounding)}
+    judged = {"megno": megno_judged(m, dc, sigma), "section_megno": section_megno_judged(orbit, dc, sigma),
+              "frequency": frequency_stage(orbit, dc, sigma), "birkhoff": birkhoff_stage(orbit, dc, gain_rounding)}
     verdict, reason, _ = decide_again(stage1, judged, dc["precision"], sigma)
     klass = state_class(stage1, verdict, sigma)
     log.info("%s: decisive stage in %s: %s (%s); %s", scene, dc["precision"], verdict, klass, reason)

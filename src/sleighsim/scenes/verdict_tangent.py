@@ -77,7 +77,7 @@ def tangent_indicators(params, replicas, res: dict, cfg: dict, scene: str, value
     verdicts["megno"] = megno_double = judge_megno_run(m, cfg["T_megno"], sigma)
     megno_precision = "double"
     ld = {"lambda_1": math.nan, "stderr": math.nan, "check": "not run", "megno": None}
-    if any(verdicts[k][0] == CHAOTIC for k in TANGENT_BASED):
+    if any(verdicts[k][0] == CHAOTIC for k in TANGENT_BASED if k in verdicts):
         ld = precision_check(params, replicas[0], cfg, scene)
         precision_gate(verdicts, ld)
         values["megno"], errors["megno"] = megno_rate(ld["megno"])
