@@ -44,7 +44,7 @@ def test_the_maps_megno_needs_enough_returns():
 
 
 @pytest.mark.parametrize("law, want", [(lambda k: 0.5 * k, CHAOTIC), (lambda k: np.log1p(k), REGULAR),
-                                       (lambda k: 1.5 * np.log1p(k), UNDECIDED)])  # polynomial growth of degree 1.5: <Y> -> 3
+                                       (lambda k: 1.5 * np.log1p(k), UNDECIDED)])  # degree 1.5: <Y> -> 3
 def test_the_judge_on_each_branch(law, want):
     k = _crossings(200)
     assert sm.judge_section_megno(sm.section_megno(k, law(k), k), 3.0)[0] == want
