@@ -170,8 +170,9 @@ def main(argv=None) -> int:
                       # no schedule on these cores can beat the longer of these two
                       "lower_bound_s": round(max(crit, sum_wall / args.cores), 3),
                       "job_wall_sum_s": round(sum_wall, 3)}
-    costsummary.write_summary(summary, args.out)
-    say(f"wrote {args.out}")
+    previous = costsummary.read_summary(args.out) if Path(args.out).exists() else None
+    costsummary.write_summary(costsummary.with_history(summary, previous), args.out)
+    say(f"wrote {args.out} (the run before it kept in its history)")
     if args.plot:
         png = Path(args.plot)
         plots.plot_costs(summary, png, png.with_suffix(".pdf"))

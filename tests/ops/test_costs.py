@@ -409,3 +409,27 @@ def test_jobs_the_measured_run_did_not_have_are_estimated_from_their_scene_or_na
     # no long-double measurement to scale from: named, not guessed
     assert ("scene/precision/quad/fig9_highE" in est["unmeasured"]
             and "scene/precision/long_double/fig9_highE" in est["unmeasured"])
+
+
+def test_a_rewritten_full_run_summary_keeps_the_earlier_runs_in_its_history(tmp_path):
+    """with_history: the first summary has an empty history; rewriting the file appends the run it
+    replaces (date, commit, wall, CPU, jobs, longest job, critical path), oldest first."""
+    from sleighsim.ops.summary import read_summary, with_history, write_summary
+
+    def run(day, wall, longest):
+        return {"date": f"2026-11-{day}", "git_commit": f"c{day}", "machine": {"cpu_model": "cpu"},
+                "config": {"label": None}, "wall_s": wall, "cpu_s": 2 * wall, "jobs_total": 3,
+                "run": {"job_wall_sum_s": 2 * wall}, "critical_path": {"wall_s": wall / 2},
+                "jobs": [{"job": "a", "wall_s": 1.0}, {"job": longest, "wall_s": wall / 3}]}
+
+    path = tmp_path / "full_run.yaml"
+    write_summary(with_history(run(24, 900.0, "x"), None), path)
+    assert read_summary(path)["history"] == []
+    write_summary(with_history(run(25, 600.0, "y"), read_summary(path)), path)
+    write_summary(with_history(run(26, 500.0, "z"), read_summary(path)), path)
+    history = read_summary(path)["history"]
+    assert [h["git_commit"] for h in history] == ["c24", "c25"]
+    assert history[0]["wall_s"] == 900.0 and history[0]["longest_job"] == "x"
+    assert history[0]["longest_job_wall_s"] == 300.0
+    assert history[1]["critical_path_wall_s"] == 300.0 and history[1]["job_wall_sum_s"] == 1200.0
+    assert read_summary(path)["wall_s"] == 500.0

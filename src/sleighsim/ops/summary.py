@@ -212,6 +212,29 @@ def summarize(workdir, wall_s: float, config_label, *, config: dict | None = Non
     }
 
 
+def history_entry(summary: dict) -> dict:
+    """One line of the history of full runs: date, commit, machine, config label, wall and CPU seconds,
+    jobs, the summed job wall seconds, the longest job and the critical path's wall seconds."""
+    jobs = summary.get("jobs", [])
+    longest = max(jobs, key=lambda j: j["wall_s"]) if jobs else {"job": None, "wall_s": None}
+    return {"date": summary.get("date"), "git_commit": summary.get("git_commit"),
+            "machine": (summary.get("machine") or {}).get("cpu_model"),
+            "config": (summary.get("config") or {}).get("label"), "wall_s": summary.get("wall_s"),
+            "cpu_s": summary.get("cpu_s"), "jobs_total": summary.get("jobs_total"),
+            "job_wall_sum_s": (summary.get("run") or {}).get("job_wall_sum_s"),
+            "longest_job": longest["job"], "longest_job_wall_s": longest["wall_s"],
+            "critical_path_wall_s": (summary.get("critical_path") or {}).get("wall_s")}
+
+
+def with_history(summary: dict, previous: dict | None) -> dict:
+    """The summary with ``history``: the previous summary's history, then the previous run itself
+    (``history_entry``), oldest first; so rewriting the file keeps every earlier run's totals."""
+    if previous is None:
+        return {**summary, "history": list(summary.get("history", []))}
+    earlier = list(previous.get("history", []))
+    return {**summary, "history": earlier + [history_entry(previous)]}
+
+
 def write_summary(summary: dict, path) -> Path:
     """Write the summary as YAML, atomically."""
     with atomic_path(path) as tmp:
