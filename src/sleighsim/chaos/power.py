@@ -268,10 +268,12 @@ def counts(rows, judges, systems, factors) -> xr.Dataset:
     return xr.Dataset(
         {"counts": (("judge", "orbit_class", "system", "horizon", "verdict"), n,
                     {"long_name": "number of realizations given each verdict", "units": "1"})},
-        coords={"judge": list(judges), "orbit_class": list(CLASSES), "system": list(systems),
+        coords={"judge": ("judge", list(judges), {"long_name": "judge (chaos.power.JUDGES)"}),
+                "orbit_class": ("orbit_class", list(CLASSES), {"long_name": "known class of the orbits"}),
+                "system": ("system", list(systems), {"long_name": "system (chaos.known_orbits.SYSTEMS)"}),
                 "horizon": ("horizon", np.asarray(factors, float),
                             {"long_name": "horizon factor on the scaled sleigh horizons", "units": "1"}),
-                "verdict": list(VERDICTS)})
+                "verdict": ("verdict", list(VERDICTS), {"long_name": "verdict"})})
 
 
 def upper_bound(wrong: int, N: int, level: float = 0.95) -> float:
