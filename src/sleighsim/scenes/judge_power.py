@@ -28,8 +28,11 @@ CONFIRM_FIELDS = ("lambda_1", "stderr", "bound", "confirmed", "sticky_fraction",
 
 
 def tasks(cfg: dict) -> list[tuple]:
-    """("judge", system, factor, index) for every realization, then ("confirm", system) per chaotic system."""
-    out = [("judge", s, float(h), k) for h in cfg["horizons"] for k in range(cfg["samples"]) for s in cfg["systems"]]
+    """("judge", system, factor, index) for every realization, longest horizon first, the systems
+    cycling fastest (with n_chunks coprime to the number of systems, every chunk holds a mix of
+    systems), then ("confirm", system) per chaotic system."""
+    out = [("judge", s, float(h), k) for h in sorted(cfg["horizons"], reverse=True) for k in range(cfg["samples"])
+           for s in cfg["systems"]]
     return out + [("confirm", s) for s in cfg["systems"] if SYSTEMS[s].cls == CHAOTIC_ORBITS]
 
 
