@@ -24,66 +24,20 @@ Systems and reference values:
 """
 
 import functools
-import math
 
 import numpy as np
 
-from sleighsim.chaos import megno, tangent, two_trajectory
+from sleighsim.chaos import known_orbits, megno, tangent, two_trajectory
 from sleighsim.chaos.verdicts import UNDECIDED
 from sleighsim.engine import integrators
 
-LORENZ_LAMBDA = 0.9056
-
-
-# ----------------------------------------------------------------------------- systems
-
-def _hh_sys(hy):
-    x, y, px, py = hy.make_vars("x", "y", "px", "py")
-    return [(x, px), (y, py), (px, -x - 2.0 * x * y), (py, -y - x * x + y * y)]
-
-
-def _hh_V(x, y):
-    return 0.5 * (x * x + y * y) + x * x * y - y**3 / 3.0
-
-
-def _hh_y0(x, y, px, E):
-    return [x, y, px, math.sqrt(2.0 * (E - _hh_V(x, y)) - px * px)]
-
-
-def _hh_energy(s):
-    return 0.5 * (s[2] ** 2 + s[3] ** 2) + _hh_V(s[0], s[1])
-
-
-def _hh_project(ref, partner):
-    """Rescale the partner's momenta onto the reference's energy surface."""
-    p = partner.copy()
-    p[2:] *= math.sqrt(2.0 * (_hh_energy(ref) - _hh_V(p[0], p[1])) / (p[2] ** 2 + p[3] ** 2))
-    return p
-
-
-def _flip_momenta(s):
-    """Time-reversal involution R(q, p) = (q, -p) of a natural Hamiltonian system."""
-    s = np.array(s, dtype=np.result_type(np.asarray(s).dtype, float))  # long double stays long double
-    s[len(s) // 2:] *= -1.0
-    return s
-
-
-def _oscillators(hy, quartic):
-    q1, q2, p1, p2 = hy.make_vars("q1", "q2", "p1", "p2")
-    w2 = math.sqrt(2.0)
-    c = 1.0 if quartic else 0.0
-    return [(q1, p1), (q2, p2), (p1, -q1 - c * q1**3), (p2, -(w2**2) * q2 - c * q2**3)]
-
-
-def _lorenz_sys(hy):
-    x, y, z = hy.make_vars("x", "y", "z")
-    return [(x, 10.0 * (y - x)), (y, x * (28.0 - z) - y), (z, x * y - 8.0 / 3.0 * z)]
-
-
-HH_CHAOS = _hh_y0(0.0, -0.016, 0.49974, 1.0 / 6.0)
-HH_REG = _hh_y0(0.0, -0.1, 0.1, 1.0 / 12.0)
-OSC0 = [1.0, 0.5, 0.0, 0.0]
-LORENZ0 = [1.0, 1.0, 20.0]
+# the systems live in sleighsim.chaos.known_orbits (the judge-power audit runs them too); their names here
+# are the ones the test modules import
+_hh_sys, _hh_V, _hh_y0, _hh_energy = known_orbits.hh_sys, known_orbits.hh_V, known_orbits.hh_y0, known_orbits.hh_energy
+_hh_project, _flip_momenta = known_orbits.hh_project, known_orbits.flip_momenta
+_oscillators, _lorenz_sys = known_orbits.oscillators, known_orbits.lorenz_sys
+LORENZ_LAMBDA, HH_CHAOS, HH_REG = known_orbits.LORENZ_LAMBDA, known_orbits.HH_CHAOS, known_orbits.HH_REG
+OSC0, LORENZ0 = known_orbits.OSC0, known_orbits.LORENZ0
 T_HAM, TAU_HAM = 1.0e4, 1.0  # Hamiltonian cases
 T_LOR, TAU_LOR = 1.0e3, 0.1  # Lorenz
 

@@ -39,6 +39,8 @@ TITLES: dict[str, str] = {
     "regimes": "the regime diagram: lambda_1, spike interval and P_2pi rotation number against eps (claim C27)",
     "chaos_verdict": "is the steady state chaotic? Indicators, their verdicts and the faithfulness gauge per "
                      "start state",
+    "judge_power": "the chaos judges' power and false rates on orbits of known class (sticky chaos, slow-fast tori, "
+                   "textbook orbits) and the judges that vote",
     "trigger_law": "the first spike against the size of the injected error (tolerance and arithmetic) (claim C04)",
     "precision_ladder": "spike times per arithmetic from one settled point and the orbits' separation",
     "main_drift": "the main state's slow drift: spike interval and lambda_1 per window of one long run",
