@@ -177,3 +177,17 @@ def test_an_indicator_that_resolves_a_small_quantity_needs_the_rounding_amplifie
         "frequency": "does not follow"}
     assert indicator_follows(36.0, {"frequency": "quad"}, {"frequency": 1.3e-8}) == {"frequency": "follows"}
     assert indicator_follows(36.0, {"frequency": "long double"}) == {"frequency": "follows"}  # cycle gauge only
+
+
+def test_only_judges_whose_measured_wrong_rate_is_at_most_one_in_a_hundred_vote():
+    """vote_gate: a chaotic or regular verdict of an indicator outside the voters becomes undecided,
+    naming why; voters keep theirs; an undecided verdict stays as it was."""
+    from sleighsim.chaos.rule import vote_gate
+
+    verdicts = {"megno": ("regular", "m"), "frequency": ("regular", "f"), "ftle": ("undecided", "u"),
+                "two_trajectory": ("chaotic", "t")}
+    assert vote_gate(verdicts, {"megno", "ftle"}) == ["frequency", "two_trajectory"]
+    assert verdicts["megno"] == ("regular", "m") and verdicts["ftle"] == ("undecided", "u")
+    assert verdicts["frequency"][0] == "undecided" and verdicts["frequency"][1].startswith("does not vote")
+    assert verdicts["frequency"][1].endswith("it said regular: f")
+    assert verdicts["two_trajectory"][0] == "undecided"

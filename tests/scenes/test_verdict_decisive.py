@@ -16,6 +16,7 @@ from sleighsim.scenes.checks import ConfigError
 
 C, G, U = CHAOTIC, REGULAR, UNDECIDED
 INDICATORS = ("benettin", "ftle", "megno", "two_trajectory", "loschmidt", "frequency")
+ALL = frozenset(INDICATORS) | {"section_megno", "birkhoff"}  # every indicator votes
 
 
 def _cfg(states=("main", "rotor_a", "rotor_b"), decisive=("main",), n_chunks=3):
@@ -65,21 +66,30 @@ def test_the_decisive_stage_decides_regular_from_a_tangent_and_a_non_tangent_ind
     """MEGNO and the weighted Birkhoff averages regular in double-double (G x rounding = e^36 x 2^-106 =
     5e-17, below both limits): regular; the first stage's chaotic double verdicts were set aside there
     already (undecided in its dataset), so they do not vote."""
-    v, reason, used = verdict_decisive.decide_again(_stage1({}), _judged(megno=G, birkhoff=G), "double-double", 3.0)
+    v, reason, used = verdict_decisive.decide_again(_stage1({}), _judged(megno=G, birkhoff=G), "double-double",
+                                                    3.0, ALL)
     assert v == G and reason.startswith("decided with the double-double stage: regular")
     assert used["megno"] == (G, "m") and used["birkhoff"] == (G, "b")
     assert verdict_decisive.state_class(_stage1({}), v, 3.0) == "regular"
 
 
+def test_an_indicator_that_does_not_vote_cannot_decide():
+    """The same decisive verdicts with the weighted Birkhoff average outside the voters (its measured
+    wrong rate too high): no indicator without tangent dynamics says regular, so undecided."""
+    v, reason, used = verdict_decisive.decide_again(_stage1({}), _judged(megno=G, birkhoff=G), "double-double", 3.0,
+                                                    ALL - {"birkhoff"})
+    assert v == U and used["birkhoff"][1].startswith("does not vote")
+
+
 def test_a_regular_verdict_needs_both_kinds_of_indicator():
-    v, reason, _ = verdict_decisive.decide_again(_stage1({}), _judged(birkhoff=G), "double-double", 3.0)
+    v, reason, _ = verdict_decisive.decide_again(_stage1({}), _judged(birkhoff=G), "double-double", 3.0, ALL)
     assert v == U and "missing: a tangent-based indicator" in reason
 
 
 def test_an_indicator_judged_in_an_arithmetic_that_does_not_follow_closely_enough_is_set_aside():
     """In long double (G x rounding = e^36 x 2^-64 = 2.3e-4) MEGNO follows (< 1e-3) but the Birkhoff
     average resolving 1e-8 does not (its limit 1e-10): set aside, so no regular verdict."""
-    v, _, used = verdict_decisive.decide_again(_stage1({}), _judged(megno=G, birkhoff=G), "long double", 3.0)
+    v, _, used = verdict_decisive.decide_again(_stage1({}), _judged(megno=G, birkhoff=G), "long double", 3.0, ALL)
     assert v == U and used["birkhoff"][0] == U and used["birkhoff"][1].startswith("set aside: judged in long double")
     assert used["megno"] == (G, "m")
 
@@ -88,7 +98,7 @@ def test_indicators_that_disagree_leave_the_state_undecided():
     """The first stage's Loschmidt test (kept: it is not judged again) says chaotic, the decisive
     MEGNO and Birkhoff average regular: undecided, naming both sides."""
     v, reason, _ = verdict_decisive.decide_again(_stage1({"loschmidt": C}), _judged(megno=G, birkhoff=G),
-                                                 "double-double", 3.0)
+                                                 "double-double", 3.0, ALL)
     assert v == U and "indicators disagree" in reason and "loschmidt" in reason
 
 
@@ -96,7 +106,7 @@ def test_a_chaotic_decision_is_checked_for_consistent_rates():
     """Chaotic from the decisive MEGNO and the first stage's two nearby orbits, whose rate (1e-2) is far
     from Benettin's lambda_1 (7e-4 +- 5e-5): undecided (``consistent``)."""
     v, reason, _ = verdict_decisive.decide_again(_stage1({"two_trajectory": C}), _judged(megno=C),
-                                                 "double-double", 3.0)
+                                                 "double-double", 3.0, ALL)
     assert v == U and "disagree on the rate" in reason
 
 

@@ -127,6 +127,12 @@ def chunk_reads(wildcards):
     return expand(f"{R}/chunks/{where}{wildcards.scene}/{{k}}.nc", k=reads)
 
 
+def chunk_inputs(wildcards):
+    """A chunk job's inputs: the chunks of its scene it reads (``reads``) and the datasets its block
+    names (``inputs``: role -> dataset)."""
+    return {"reads": chunk_reads(wildcards), **scene_inputs(wildcards)}
+
+
 def chunk_files(wildcards):
     """The chunk files of a chunked scene, or of its variant in a finer precision (wildcard ``tag``)."""
     n = scene_catalog.chunk_count(SCENES[wildcards.scene])

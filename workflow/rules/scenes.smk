@@ -102,7 +102,7 @@ use rule scene as scene_first with:
 # A chunked scene: independent chunk jobs (scaled out on a cluster), gathered into its dataset.
 rule chunk:
     input:
-        chunk_reads,
+        unpack(chunk_inputs),
     output:
         nc=f"{R}/chunks/{{scene}}/{{chunk}}.nc",
     log:

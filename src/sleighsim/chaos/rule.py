@@ -100,6 +100,22 @@ def faithful_gate(verdicts: dict, arithmetic: dict, follows: dict) -> list[str]:
     return aside
 
 
+# the docstring is written into the chaos_verdict dataset (attribute vote_rule)
+def vote_gate(verdicts: dict, voters: set) -> list[str]:
+    """Set aside, in place, the verdict of every indicator that does not vote: only a judge whose
+    wrong-verdict rate, measured on orbits of known class (the judge-power audit,
+    ``sleighsim.chaos.power.voting``), is at most 1 in 100 on tori and on chaotic orbits alike votes; a
+    chaotic or regular verdict of any other indicator (one the audit did not measure included) becomes
+    undecided, naming why. Returns the names set aside."""
+    aside = []
+    for name, (v, reason) in list(verdicts.items()):
+        if v != UNDECIDED and name not in voters:
+            verdicts[name] = (UNDECIDED, f"does not vote (its measured wrong-verdict rate exceeds 1 in 100 on a class "
+                                         f"of known orbits, or was not measured); it said {v}: {reason}")
+            aside.append(name)
+    return aside
+
+
 # the docstring is written into the chaos_verdict dataset (attribute rule)
 def consistent(verdict: str, reason: str, rate_a: float, err_a: float, others: dict, sigma: float) -> tuple[str, str]:
     """Indicators that agree on "chaotic" must also agree on the rate: when the tangent-based lambda_1

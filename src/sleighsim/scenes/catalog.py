@@ -58,13 +58,15 @@ def compute(scene: str, cfg: dict, inputs: dict | None = None) -> xr.Dataset:
     return kind.compute(cfg, scene=scene)
 
 
-def chunk(scene: str, cfg: dict, index: int, reads=()) -> xr.Dataset:
+def chunk(scene: str, cfg: dict, index: int, reads=(), inputs: dict | None = None) -> xr.Dataset:
     """Chunk ``index`` of a chunked scene (see the kind's module); ``reads``: the paths of the chunks
-    it reads (``chunk_reads``), for a kind that reads any."""
+    it reads (``chunk_reads``), for a kind that reads any; ``inputs``: the kind's roles -> dataset paths,
+    for a kind that reads datasets."""
     kind = KINDS[cfg["kind"]]
-    if kind.chunk_reads(cfg, index):
-        return kind.chunk(cfg, index, scene=scene, reads=list(reads))
-    return kind.chunk(cfg, index, scene=scene)
+    extra = {"reads": list(reads)} if kind.chunk_reads(cfg, index) else {}
+    if kind.inputs:
+        extra["inputs"] = {role: inputs[role] for role in kind.inputs}
+    return kind.chunk(cfg, index, scene=scene, **extra)
 
 
 def chunk_reads(cfg: dict, index: int) -> list[int]:

@@ -19,6 +19,7 @@ import xarray as xr
 from sleighsim.chaos.faithfulness import indicator_follows
 from sleighsim.chaos.loschmidt import loschmidt_indicator
 from sleighsim.chaos.megno import megno_rate
+from sleighsim.chaos.power import voting
 from sleighsim.chaos.rule import (
     INDICATORS,
     TANGENT_BASED,
@@ -27,6 +28,7 @@ from sleighsim.chaos.rule import (
     consistent,
     decide,
     faithful_gate,
+    vote_gate,
 )
 from sleighsim.chaos.two_trajectory import two_trajectory_indicator
 from sleighsim.chaos.verdicts import CHAOTIC
@@ -67,8 +69,9 @@ from sleighsim.scenes.workload import HORIZON_KEYS, horizon_work
 log = logging.getLogger("sleighsim")
 
 
-def one_state(params, y0, cfg: dict, scene: str) -> dict:
-    """Every indicator, the classification and the settling facts for the state reached from y0."""
+def one_state(params, y0, cfg: dict, scene: str, voters: set) -> dict:
+    """Every indicator, the classification and the settling facts for the state reached from y0; only
+    the indicators in ``voters`` (``chaos.rule.vote_gate``) vote."""
     tol, tau, sigma = cfg["tol"], cfg["tau"], cfg["sigma"]
     y, pre = settle(params, y0, cfg["t_transient"], **cfg["transient"], tol=tol, label=scene, progress=1)
     replicas, record = orbit_samples(params, y, cfg["replicas"], cfg["replica_spacing"], tol=tol, scene=scene)
@@ -92,6 +95,7 @@ def one_state(params, y0, cfg: dict, scene: str) -> dict:
                   "loschmidt": "long double", "frequency": list(freq["runs"])[-1]}
     faithful_gate(verdicts, arithmetic, indicator_follows(gain["ln_gain_max"], arithmetic,
                                                           {"frequency": frequency_resolved(freq)}))
+    vote_gate(verdicts, voters)
     verdict, reason, _ = decide(verdicts, TANGENT_BASED)
     others = {k: (values[k], errors[k]) for k in INDICATORS if k not in TANGENT_BASED and verdicts[k][0] == CHAOTIC}
     verdict, reason = consistent(verdict, reason, values["benettin"], errors["benettin"], others, sigma)
@@ -137,7 +141,7 @@ def _or_nan(run, key, n):
     return np.full(n, math.nan) if run is None else run[key]
 
 
-def verdict(cfg: dict, scene: str = "") -> xr.Dataset:
+def verdict(cfg: dict, scene: str = "", *, voters: frozenset) -> xr.Dataset:
     """The chaos verdict per steady state of cfg["states"] (name -> start state, scaled to the
     energy label): indicators (Benettin over independent replicas, the finite-time-exponent
     spread, MEGNO; two nearby orbits, the Loschmidt return error and frequency analysis without
@@ -149,7 +153,7 @@ def verdict(cfg: dict, scene: str = "") -> xr.Dataset:
     out = []
     for name in names:
         y0 = state_at_label(cfg["states"][name], params, cfg["energy_label"])
-        out.append(one_state(params, y0, cfg, f"{scene}[{name}]"))
+        out.append(one_state(params, y0, cfg, f"{scene}[{name}]", set(voters)))
         log.info("%s: %s: %s (%s); %s", scene, name, out[-1]["verdict"], out[-1]["klass"], out[-1]["reason"])
     ind = list(INDICATORS)
     fc = cfg["frequency"]
@@ -170,22 +174,26 @@ def verdict(cfg: dict, scene: str = "") -> xr.Dataset:
     return ds
 
 
-def chunk(cfg: dict, index: int, scene: str = "", reads=()) -> xr.Dataset:
+def chunk(cfg: dict, index: int, scene: str = "", reads=(), inputs=None) -> xr.Dataset:
     """Job ``index`` of the verdict (one chunk job each). The first stage, index < n_chunks x n_states:
     state index % n_states of realization index // n_states, :func:`verdict` from that state of
     :func:`realization_states` at realization_rel (the states of a realization are perturbed together,
     in order, so a state's start does not depend on how the jobs are cut). The decisive stage, one job
     per realization and state of decisive.states after those: ``verdict_decisive.decisive_state`` on
-    the first stage's dataset of that state (``reads``: its path, :func:`_chunk_reads`)."""
+    the first stage's dataset of that state (``reads``: its path, :func:`_chunk_reads`). In both, the
+    indicators that vote are those the judge-power audit (``inputs["power"]``) lets vote
+    (``chaos.power.voting``)."""
     names, base = list(cfg["states"]), _stage_one_count(cfg)
+    voters = frozenset(voting(read_dataset(inputs["power"])))
     if index >= base:
         r, j = divmod(index - base, len(cfg["decisive"]["states"]))
-        ds = decisive_state(cfg, read_dataset(reads[0]), scene=f"{scene}#{r}")
+        ds = decisive_state(cfg, read_dataset(reads[0]), scene=f"{scene}#{r}", voters=voters)
     else:
         r, k = divmod(index, len(names))
         start = realization_states(cfg["states"], cfg["realization_rel"], r)[names[k]]
-        ds = verdict({**cfg, "states": {names[k]: start}}, scene=f"{scene}#{r}")
-    ds.attrs.update(chunk=r, n_chunks=cfg["n_chunks"])
+        ds = verdict({**cfg, "states": {names[k]: start}}, scene=f"{scene}#{r}", voters=voters)
+    ds.attrs.update(chunk=r, n_chunks=cfg["n_chunks"], voters=sorted(voters),
+                    vote_rule=" ".join(vote_gate.__doc__.split()))
     return ds
 
 
@@ -286,6 +294,7 @@ def _chunk_work(cfg: dict) -> list[float]:
 
 CHAOS_VERDICT = SceneKind(
     name="chaos_verdict", chunk=chunk, gather=gather, chunk_count=_chunk_count, chunk_reads=_chunk_reads,
+    inputs=("power",),
     checks=_checks, pre_run="t_transient",
     records=lambda c: [*memory.pre_run(c, "t_transient"), *memory.benettin(c, 8),
                        memory.span(c, "frequency.T", "frequency.dt", 4 * max(c["frequency"]["splits"])),

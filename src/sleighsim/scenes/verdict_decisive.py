@@ -21,7 +21,7 @@ from sleighsim.chaos.birkhoff import digits, judge_birkhoff, observables
 from sleighsim.chaos.faithfulness import indicator_follows
 from sleighsim.chaos.frequency import PRECISION, drift, judge_frequency, judged_run
 from sleighsim.chaos.megno import judge_megno_run, megno, megno_from_log_norm, megno_rate
-from sleighsim.chaos.rule import TANGENT_BASED, classify, consistent, decide, faithful_gate
+from sleighsim.chaos.rule import TANGENT_BASED, classify, consistent, decide, faithful_gate, vote_gate
 from sleighsim.chaos.section_megno import judge_section_megno, section_megno, section_rate
 from sleighsim.chaos.verdicts import CHAOTIC, UNDECIDED
 from sleighsim.engine import ddtaylor, integrators, transient
@@ -154,19 +154,22 @@ def stage_one_verdicts(stage1: xr.Dataset) -> dict:
 
 
 # the docstring is written into the chaos_verdict dataset (attribute decisive_rule)
-def decide_again(stage1: xr.Dataset, judged: dict, precision: str, sigma: float) -> tuple[str, str, dict]:
+def decide_again(stage1: xr.Dataset, judged: dict, precision: str, sigma: float,
+                 voters: frozenset) -> tuple[str, str, dict]:
     """The state's verdict with the decisive stage: the first stage's indicator verdicts (each already
     set aside there where its arithmetic did not follow closely enough for it), those of DECISIVE
     replaced by the decisive stage's (``judged``: name -> dict with verdict and resolved), each of
     which is set aside unless the decisive arithmetic follows the orbit closely enough for it (the
-    first stage's ln G per cycle, ``faithfulness.indicator_limit``); then ``chaos.rule.decide`` and
-    ``consistent``. Returns (verdict, reason, the verdicts decided from)."""
+    first stage's ln G per cycle, ``faithfulness.indicator_limit``), and set aside unless it votes
+    (``voters``, ``chaos.rule.vote_gate``); then ``chaos.rule.decide`` and ``consistent``. Returns
+    (verdict, reason, the verdicts decided from)."""
     verdicts = stage_one_verdicts(stage1)
     verdicts.update({k: judged[k]["verdict"] for k in judged})
     ln_gain = float(stage1.ln_gain_max.values[0])
     follows = indicator_follows(ln_gain, dict.fromkeys(judged, precision),
                                 {k: judged[k].get("resolved", math.nan) for k in judged})
     faithful_gate(verdicts, {**dict.fromkeys(verdicts, "double"), **dict.fromkeys(judged, precision)}, follows)
+    vote_gate(verdicts, voters)
     verdict, reason, _ = decide(verdicts, TANGENT_BASED)
     values = dict(zip(map(str, stage1.indicator.values), stage1.indicator_value.values[0]))
     errors = dict(zip(map(str, stage1.indicator.values), stage1.indicator_uncertainty.values[0]))
@@ -192,7 +195,7 @@ def decisive_config(cfg: dict) -> dict:
             "spike_factor": cfg["transient"]["spike_factor"], "tau": cfg["tau"], **cfg["decisive"]}
 
 
-def decisive_state(cfg: dict, stage1: xr.Dataset, scene: str = "") -> xr.Dataset:
+def decisive_state(cfg: dict, stage1: xr.Dataset, scene: str = "", *, voters: frozenset) -> xr.Dataset:
     """The decisive stage of the first stage's one state ``stage1`` (its chunk dataset): the orbit and
     MEGNO from its settled state in the decisive arithmetic, the indicators judged again and the state's
     verdict and class decided again (``decide_again``, ``state_class``)."""
@@ -203,7 +206,7 @@ def decisive_state(cfg: dict, stage1: xr.Dataset, scene: str = "") -> xr.Dataset
     gain_rounding = math.exp(float(stage1.ln_gain_max.values[0])) * Precision.parse(dc["precision"]).rounding
     judged = {"megno": megno_judged(m, dc, sigma), "section_megno": section_megno_judged(orbit, dc, sigma),
               "frequency": frequency_stage(orbit, dc, sigma), "birkhoff": birkhoff_stage(orbit, dc, gain_rounding)}
-    verdict, reason, _ = decide_again(stage1, judged, dc["precision"], sigma)
+    verdict, reason, _ = decide_again(stage1, judged, dc["precision"], sigma, voters)
     klass = state_class(stage1, verdict, sigma)
     log.info("%s: decisive stage in %s: %s (%s); %s", scene, dc["precision"], verdict, klass, reason)
     variables = _decisive_vars(stage1, judged, orbit, dc, verdict, reason, klass)
