@@ -132,6 +132,44 @@ def test_frequency_indicator_runs_each_precision_only_when_needed(monkeypatch, c
     assert [p for p, m in zip(names, made) if m] == [p for p in expected if not math.isnan(specs[names.index(p)][0])]
 
 
+def test_a_state_judged_again_in_the_decisive_stage_gets_only_the_double_frequency_run(monkeypatch):
+    """frequency_indicator(long_double=False): the double run alone, its verdict kept with the reason why
+    no finer run was made (the long-double run would have been made otherwise)."""
+    from sleighsim.model.params import Params
+    from sleighsim.scenes import verdict_frequency
+
+    calls = []
+
+    def run(params, y, cfg, precision="double"):
+        calls.append(precision)
+        splits = np.array([2, 4, 8])
+        return dict(splits=splits, D=np.full(3, 1e-3), W=2e5 / splits, D_log_err=1 / np.sqrt(2 * (splits - 1.0)),
+                    slope=0.0, slope_err=0.55, T=2e5, f=4e-4)
+
+    monkeypatch.setattr(verdict_frequency, "frequency_run", run)
+    cfg = dict(tol=2.220446049250313e-16, tol_long_double=1.0842021724855044e-19,
+               frequency={"quad_T": 0.0, "tol_quad": 1.925929944387235853e-34})
+    out = verdict_frequency.frequency_indicator(Params.paper(eps=0.1), [0.0, 0.1, 1.0, 0.0], cfg, 3.0,
+                                                long_double=False)
+    assert calls == ["double"] and out["verdict"][0] == U
+    assert "the decisive stage judges this state" in out["verdict"][1]
+    calls.clear()
+    verdict_frequency.frequency_indicator(Params.paper(eps=0.1), [0.0, 0.1, 1.0, 0.0], cfg, 3.0)
+    assert calls == ["double", "long double"]
+
+
+def test_a_state_judged_again_gets_no_long_double_loschmidt_run(monkeypatch):
+    """loschmidt_not_run: the long-double fields NaN (none used), the indicator undecided naming why and
+    the double run's verdict (the judge of the double run replaced: its own tests are in test_loschmidt)."""
+    from sleighsim.scenes import verdict_orbits
+
+    monkeypatch.setattr(verdict_orbits, "judge_loschmidt_run", lambda L, sigma: (C, "grows"))
+    run, los = verdict_orbits.loschmidt_not_run({"rel_error": np.geomspace(1e-15, 1e-3, 10)}, 3.0)
+    assert np.isnan(run["rel_error"]).all() and run["rel_error"].shape == (10,) and run["n_used"] == 0
+    assert los["verdict"] == (U, "long-double run not made: the decisive stage judges this state; in double: chaotic")
+    assert math.isnan(los["value"]) and los["verdict_double"] == C
+
+
 def test_the_sleighs_flow_runs_in_quad_precision():
     pytest.importorskip("heyoka")
     from sleighsim.engine import integrators

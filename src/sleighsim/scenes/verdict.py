@@ -54,6 +54,7 @@ from sleighsim.scenes.verdict_frequency import (
     frequency_table,
 )
 from sleighsim.scenes.verdict_orbits import (
+    loschmidt_not_run,
     loschmidt_run,
     loschmidt_T,
     r_image,
@@ -69,9 +70,12 @@ from sleighsim.scenes.workload import HORIZON_KEYS, horizon_work
 log = logging.getLogger("sleighsim")
 
 
-def one_state(params, y0, cfg: dict, scene: str, voters: set) -> dict:
+def one_state(params, y0, cfg: dict, scene: str, voters: set, *, decisive: bool) -> dict:
     """Every indicator, the classification and the settling facts for the state reached from y0; only
-    the indicators in ``voters`` (``chaos.rule.vote_gate``) vote."""
+    the indicators in ``voters`` (``chaos.rule.vote_gate``) vote. A state the decisive stage judges
+    again (``decisive``) gets no long-double runs (the precision check, the frequency and Loschmidt
+    runs): where that stage runs, the gauge has shown that long double does not follow the orbit
+    closely enough for them (``verdict_decisive``), so they would decide nothing."""
     tol, tau, sigma = cfg["tol"], cfg["tau"], cfg["sigma"]
     y, pre = settle(params, y0, cfg["t_transient"], **cfg["transient"], tol=tol, label=scene, progress=1)
     replicas, record = orbit_samples(params, y, cfg["replicas"], cfg["replica_spacing"], tol=tol, scene=scene)
@@ -80,12 +84,15 @@ def one_state(params, y0, cfg: dict, scene: str, voters: set) -> dict:
     gain = gain_run(params, replicas[0], cfg)
     values, errors, verdicts = {}, {}, {}
     m, ld, megno_double, megno_precision = tangent_indicators(params, replicas, res, cfg, scene,
-                                                              values, errors, verdicts)
-    freq = frequency_indicator(params, replicas[0], cfg, sigma)
+                                                              values, errors, verdicts, long_double=not decisive)
+    freq = frequency_indicator(params, replicas[0], cfg, sigma, long_double=not decisive)
     values["frequency"], errors["frequency"], verdicts["frequency"] = freq["value"], freq["error"], freq["verdict"]
     L = loschmidt_run(params, replicas[0], cfg)
-    L_ld = loschmidt_run(params, replicas[0], cfg, precision=Precision.LONG_DOUBLE)
-    los = loschmidt_indicator(L, L_ld, sigma)
+    if decisive:
+        L_ld, los = loschmidt_not_run(L, sigma)
+    else:
+        L_ld = loschmidt_run(params, replicas[0], cfg, precision=Precision.LONG_DOUBLE)
+        los = loschmidt_indicator(L, L_ld, sigma)
     values["loschmidt"], errors["loschmidt"], verdicts["loschmidt"] = los["value"], los["error"], los["verdict"]
     flow, tts = two_trajectory_runs(params, replicas[-1], cfg)
     two = two_trajectory_indicator(tts, cfg["d0"], tau, sigma)
@@ -153,7 +160,8 @@ def verdict(cfg: dict, scene: str = "", *, voters: frozenset) -> xr.Dataset:
     out = []
     for name in names:
         y0 = state_at_label(cfg["states"][name], params, cfg["energy_label"])
-        out.append(one_state(params, y0, cfg, f"{scene}[{name}]", set(voters)))
+        out.append(one_state(params, y0, cfg, f"{scene}[{name}]", set(voters),
+                             decisive=name in cfg["decisive"]["states"]))
         log.info("%s: %s: %s (%s); %s", scene, name, out[-1]["verdict"], out[-1]["klass"], out[-1]["reason"])
     ind = list(INDICATORS)
     fc = cfg["frequency"]

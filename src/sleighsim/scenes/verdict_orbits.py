@@ -10,10 +10,12 @@ import math
 import numpy as np
 
 from sleighsim.chaos.loschmidt import (
+    judge_loschmidt_run,
     loschmidt,
     loschmidt_fit,
 )
 from sleighsim.chaos.two_trajectory import two_trajectory
+from sleighsim.chaos.verdicts import UNDECIDED
 from sleighsim.engine import integrators
 from sleighsim.engine.integrate import integrate, sample_grid
 from sleighsim.engine.precision import Precision
@@ -59,6 +61,19 @@ def loschmidt_run(params, y, cfg: dict, *, precision: Precision = Precision.DOUB
     integrators.set_pars(flow, params)
     return loschmidt(flow, stored_state(y), loschmidt_T(cfg), lambda z: R * z, callback=integrators.bounded(flow),
                      difference=equations.state_difference, scale=float(np.max(np.abs(np.asarray(y)[:3]))))
+
+
+def loschmidt_not_run(L: dict, sigma: float) -> tuple[dict, dict]:
+    """For a state the decisive stage judges again: the long-double Loschmidt run's fields, not made (NaN,
+    none used), and the indicator undecided for that reason with the double run's verdict named (as
+    ``chaos.loschmidt.loschmidt_indicator`` names it). Returns (that run, the indicator)."""
+    double = judge_loschmidt_run(L, sigma=sigma)
+    run = {"rel_error": np.full_like(np.asarray(L["rel_error"], float), math.nan), "n_used": 0, "tail_n": 0,
+           "floor": math.nan, "scale": 1.0, **dict.fromkeys(("pow_exponent", "pow_exponent_err", "tail_pow_exponent",
+                                                             "tail_pow_exponent_err"), math.nan)}
+    why = "long-double run not made: the decisive stage judges this state"
+    return run, {"value": math.nan, "error": math.nan, "verdict": (UNDECIDED, f"{why}; in double: {double[0]}"),
+                 "verdict_double": double[0]}
 
 
 def loschmidt_settings() -> dict:

@@ -57,12 +57,14 @@ def replica_run(params, replicas, cfg: dict, scene: str) -> dict:
 
 
 def tangent_indicators(params, replicas, res: dict, cfg: dict, scene: str, values: dict, errors: dict,
-                        verdicts: dict) -> tuple:
+                        verdicts: dict, *, long_double: bool) -> tuple:
     """The tangent-based indicators into values, errors and verdicts: Benettin from the replica run
     res, the finite-time exponents of its first vector, MEGNO from the first replica; when one of
     them says chaotic in double, the long-double precision check, which gates them and whose MEGNO
-    run is judged instead. Returns the double MEGNO run, the check (``precision_check``; "not run"
-    and no MEGNO run when not made), the double run's MEGNO verdict and the precision judged."""
+    run is judged instead (only with ``long_double``: without, a chaotic tangent-based verdict is
+    left undecided, the check not made). Returns the double MEGNO run, the check
+    (``precision_check``; "not run" and no MEGNO run when not made), the double run's MEGNO verdict
+    and the precision judged."""
     tau, sigma = cfg["tau"], cfg["sigma"]
     values["benettin"], errors["benettin"] = float(res["exponents"][0]), float(res["stderr"][0])
     verdicts["benettin"] = judge_benettin(res, tau, sigma)
@@ -76,8 +78,11 @@ def tangent_indicators(params, replicas, res: dict, cfg: dict, scene: str, value
     values["megno"], errors["megno"] = megno_rate(m)
     verdicts["megno"] = megno_double = judge_megno_run(m, cfg["T_megno"], sigma)
     megno_precision = "double"
-    ld = {"lambda_1": math.nan, "stderr": math.nan, "check": "not run", "megno": None}
-    if any(verdicts[k][0] == CHAOTIC for k in TANGENT_BASED if k in verdicts):
+    ld = {"lambda_1": math.nan, "stderr": math.nan, "check": "not run", "megno": None,
+          "reason": "long-double check not made: the decisive stage judges this state"}
+    if not long_double:
+        precision_gate(verdicts, ld)
+    elif any(verdicts[k][0] == CHAOTIC for k in TANGENT_BASED if k in verdicts):
         ld = precision_check(params, replicas[0], cfg, scene)
         precision_gate(verdicts, ld)
         values["megno"], errors["megno"] = megno_rate(ld["megno"])
