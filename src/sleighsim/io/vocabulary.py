@@ -157,6 +157,7 @@ VOCABULARY: dict[str, tuple[str, str]] = {
     "decisive_megno_sample": ("index of the decisive stage's MEGNO sample", "1"),
     "decisive_spike": ("index of the spike interval of the decisive orbit", "1"),
     "decisive_split": ("number of windows the decisive orbit is split into", "1"),
+    "decisive_return": ("index of the return to the spike section", "1"),
     "realization_decisive_spike_period": ("median spike interval of each realization's decisive orbit", "time"),
     "converged_precision": ("the coarsest arithmetic from which on the observables agree", "text"),
     "converged_precision_of": ("the coarsest arithmetic from which on the observable agrees", "text"),

@@ -224,6 +224,11 @@ def decisive_state(cfg: dict, stage1: xr.Dataset, scene: str = "", *, voters: fr
     return ds
 
 
+def _section_curve(judged: dict) -> np.ndarray:
+    """The map's <Y> per return (one NaN when the section gave no map)."""
+    return np.full(1, math.nan) if judged["run"] is None else np.asarray(judged["run"]["Y_mean"], float)
+
+
 def _per_split(run: dict, key: str, dc: dict) -> np.ndarray:
     """run[key] (one value per split the run kept, run["splits"]) on dc["splits"], NaN where left out."""
     out = np.full(len(dc["splits"]), math.nan)
@@ -271,6 +276,8 @@ def _decisive_vars(stage1, judged: dict, orbit: dict, dc: dict, verdict: str, re
                                               "(the worst observable's)")),
         "decisive_frequency_D": (("state", "decisive_split"), [_per_split(judged["frequency"]["run"], "D", dc)],
                                  cf.attrs("spread D of the window frequencies over their mean (NaN: split left out)")),
+        "decisive_section_Y_mean": (("state", "decisive_return"), [_section_curve(judged["section_megno"])],
+                                    cf.attrs("the return map's MEGNO <Y> after each return to the spike section")),
         "decisive_energy_max_rel_drift": ("state", [orbit["drift"]],
                                           cf.attrs("max |E/E0 - 1| along the decisive orbit")),
     }
@@ -282,8 +289,9 @@ def with_decisive(ds: xr.Dataset, parts: list) -> xr.Dataset:
     the verdict, reason and class they decided. Unchanged without parts."""
     if not parts:
         return ds
-    width = max(p.sizes["decisive_spike"] for p in parts)
-    parts = [p.pad(decisive_spike=(0, width - p.sizes["decisive_spike"])) for p in parts]
+    for dim in ("decisive_spike", "decisive_return"):
+        width = max(p.sizes.get(dim, 0) for p in parts)
+        parts = [p.pad({dim: (0, width - p.sizes[dim])}) if dim in p.dims else p for p in parts]
     dec = xr.concat(parts, dim="state", data_vars="minimal", coords="minimal", compat="override",
                     combine_attrs="override")
     dec = dec.reindex(state=ds.state.values)

@@ -144,20 +144,72 @@ def _frequency(ax, ds) -> None:
         ax.legend(handles=list(handles.values()))
 
 
+def _decisive_states(ds) -> list[int]:
+    """The states the decisive stage ran for."""
+    if "decisive_verdict" not in ds.data_vars:
+        return []
+    return [k for k, v in enumerate(ds.decisive_verdict.values) if str(v) != "not run"]
+
+
+def _section_megno(ax, ds) -> None:
+    """The decisive stage: the return map's MEGNO <Y> after each return to the spike section, per state."""
+    for k in _decisive_states(ds):
+        y = np.asarray(ds.decisive_section_Y_mean.values[k], float)
+        ax.plot(np.arange(1, y.size + 1), y, "-", color=f"C{k}", label=str(ds.state.values[k]))
+    ax.axhline(2.0, color="0.5", lw=0.8, ls=":")
+    ax.set_xlabel("returns to the spike section")
+    ax.set_ylabel("map's MEGNO <Y> (unitless)")
+    ax.set_title(f"decisive stage ({ds.attrs.get('decisive_precision', '')}): the return map's MEGNO,
+"
+                 "2 on a torus with shear (dotted)", loc="left")
+
+
+def _birkhoff(ax, ds) -> None:
+    """The decisive stage: digits of the weighted Birkhoff averages against the window length."""
+    for k in _decisive_states(ds):
+        W = ds.attrs["decisive_T"] / ds.decisive_split.values
+        ax.semilogx(W, ds.decisive_birkhoff_digits.values[k], "o-", ms=4, color=f"C{k}",
+                    label=str(ds.state.values[k]))
+    ax.set_xlabel("window W (time units)")
+    ax.set_ylabel("digits of agreement of consecutive windows")
+    ax.set_title("weighted Birkhoff averages: digits grow faster\nthan any power of W on a torus, "
+                 "by 0.5 per decade under chaos", loc="left")
+
+
+def _spike_train(ax, ds) -> None:
+    """The decisive stage: the spike intervals of the decisive orbit (which torus the state is on)."""
+    for k in _decisive_states(ds):
+        iv = np.asarray(ds.decisive_spike_interval.values[k], float)
+        iv = iv[np.isfinite(iv)]
+        ax.plot(np.arange(1, iv.size + 1), iv, ".-", ms=3, color=f"C{k}", label=str(ds.state.values[k]))
+    ax.set_xlabel("spike cycle")
+    ax.set_ylabel("spike interval (time units)")
+    ax.set_title("the spike train of the decisive orbit", loc="left")
+
+
 def chaos(sources):
     """Per steady state (one colour each): the verdict table, the rates with their uncertainties,
-    MEGNO's running mean, the Loschmidt return error and the spread of the leading frequency.
+    MEGNO's running mean, the Loschmidt return error and the spread of the leading frequency; for the
+    states of the decisive stage, its return map's MEGNO, Birkhoff digits and spike train.
     ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     (ds,) = (read_dataset(s) for s in sources)
     table_h = 0.5 * (ds.sizes["state"] + 1)
-    fig, axd = plt.subplot_mosaic([["table"] * 3, ["rates"] * 3, ["megno", "loschmidt", "frequency"]],
-                                  figsize=(WIDTH, table_h + 7.5), height_ratios=(table_h, 3.0, 3.6),
+    rows = [["table"] * 3, ["rates"] * 3, ["megno", "loschmidt", "frequency"]]
+    heights = [table_h, 3.0, 3.6]
+    if _decisive_states(ds):
+        rows.append(["section_megno", "birkhoff", "spike_train"])
+        heights.append(3.6)
+    fig, axd = plt.subplot_mosaic(rows, figsize=(WIDTH, sum(heights) + 0.4), height_ratios=heights,
                                   layout="constrained")
     _verdict_table(axd["table"], ds)
     _rates(axd["rates"], ds)
     _megno(axd["megno"], ds)
     _loschmidt(axd["loschmidt"], ds)
     _frequency(axd["frequency"], ds)
+    if _decisive_states(ds):
+        _section_megno(axd["section_megno"], ds)
+        _birkhoff(axd["birkhoff"], ds)
+        _spike_train(axd["spike_train"], ds)
     return finish(fig, ds.attrs)
 
 
