@@ -159,8 +159,7 @@ def _section_megno(ax, ds) -> None:
     ax.axhline(2.0, color="0.5", lw=0.8, ls=":")
     ax.set_xlabel("returns to the spike section")
     ax.set_ylabel("map's MEGNO <Y> (unitless)")
-    ax.set_title(f"decisive stage ({ds.attrs.get('decisive_precision', '')}): the return map's MEGNO,
-"
+    ax.set_title(f"decisive stage ({ds.attrs.get('decisive_precision', '')}): the return map's MEGNO,\n"
                  "2 on a torus with shear (dotted)", loc="left")
 
 
