@@ -170,7 +170,8 @@ def _decided_in(ds, i: int) -> str:
     orbit by the faithfulness gauge; "" without them."""
     if _decisive_ran(ds, i):
         log10_gr = float(ds.decisive_log10_gain_rounding.values[i])
-        return (f"{ds.attrs['decisive_precision']} (G x rounding = 10^{log10_gr:.1f}; decisive stage over "
+        gr = f"10^{log10_gr:.1f}" if np.isfinite(log10_gr) else "unknown (no complete spike cycle)"
+        return (f"{ds.attrs['decisive_precision']} (G x rounding = {gr}; decisive stage over "
                 f"T = {float(ds.attrs['decisive_T']):g})")
     parts = []
     if "megno_precision" in ds.data_vars:

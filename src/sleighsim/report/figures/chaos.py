@@ -159,8 +159,8 @@ def _section_megno(ax, ds) -> None:
     ax.axhline(2.0, color="0.5", lw=0.8, ls=":")
     ax.set_xlabel("returns to the spike section")
     ax.set_ylabel("map's MEGNO <Y> (unitless)")
-    ax.set_title(f"decisive stage ({ds.attrs.get('decisive_precision', '')}): the return map's MEGNO,\n"
-                 "2 on a torus with shear (dotted)", loc="left")
+    ax.set_title(f"decisive stage ({ds.attrs.get('decisive_precision', '')}):\nthe return map's MEGNO "
+                 "(2 on a torus, dotted)", loc="left")
 
 
 def _birkhoff(ax, ds) -> None:
@@ -171,8 +171,7 @@ def _birkhoff(ax, ds) -> None:
                     label=str(ds.state.values[k]))
     ax.set_xlabel("window W (time units)")
     ax.set_ylabel("digits of agreement of consecutive windows")
-    ax.set_title("weighted Birkhoff averages: digits grow faster\nthan any power of W on a torus, "
-                 "by 0.5 per decade under chaos", loc="left")
+    ax.set_title("Birkhoff averages: digits rise fast\non a torus, 0.5 per decade if chaotic", loc="left")
 
 
 def _spike_train(ax, ds) -> None:
@@ -183,7 +182,7 @@ def _spike_train(ax, ds) -> None:
         ax.plot(np.arange(1, iv.size + 1), iv, ".-", ms=3, color=f"C{k}", label=str(ds.state.values[k]))
     ax.set_xlabel("spike cycle")
     ax.set_ylabel("spike interval (time units)")
-    ax.set_title("the spike train of the decisive orbit", loc="left")
+    ax.set_title("spike train of the decisive orbit", loc="left")
 
 
 def chaos(sources):
