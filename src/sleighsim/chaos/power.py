@@ -29,7 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
-from sleighsim.chaos import benettin, frequency, loschmidt, megno, tangent, two_trajectory
+from sleighsim.chaos import benettin, birkhoff, frequency, loschmidt, megno, section_megno, tangent, two_trajectory
 from sleighsim.chaos.known_orbits import CHAOTIC_ORBITS, SYSTEMS, TORI, System, draw, rng_for
 from sleighsim.chaos.verdicts import CHAOTIC, REGULAR, UNDECIDED, VERDICTS, polynomial_rate_bound
 from sleighsim.engine import integrators
@@ -67,6 +67,8 @@ class Horizon:
     splits: tuple
     min_cycles: float
     sigma: float
+    decisive_T: float
+    decisive_splits: tuple
 
     @classmethod
     def from_config(cls, cfg: dict, factor: float) -> Horizon:
@@ -80,7 +82,8 @@ class Horizon:
                    T_round=c["T_round"] * factor, max_rounds=c["max_rounds"], target_rel=c["target_rel"],
                    loschmidt_T=(c["loschmidt_T"][0], c["loschmidt_T"][1] * factor), loschmidt_n=c["loschmidt_n"],
                    frequency_T=fc["T"] * factor, frequency_dt=fc["dt"], splits=tuple(fc["splits"]),
-                   min_cycles=fc["min_cycles"], sigma=c["sigma"])
+                   min_cycles=fc["min_cycles"], sigma=c["sigma"], decisive_T=c["decisive"]["T"] * factor,
+                   decisive_splits=tuple(c["decisive"]["splits"]))
 
     def scale(self, system: System) -> float:
         """s = the system's characteristic period / the sleigh's spike period."""
@@ -237,9 +240,44 @@ def judge_frequency(orbit: Orbit, hz: Horizon, seed: int) -> tuple[str, str]:
     return frequency.judge_frequency(runs, sigma=hz.sigma)
 
 
+#: Samples per characteristic period of the decisive judges' orbit (the section's maxima and the Birkhoff
+#: sums; the sleigh's decisive stage samples 0.5 in a spike period of ~2320, far finer than needed there).
+DECISIVE_SAMPLES_PER_PERIOD = 50
+
+
+@functools.lru_cache(maxsize=2)
+def _decisive_run(orbit: Orbit, hz: Horizon, seed: int) -> dict:
+    """The decisive stage's orbit: one tangent vector's log-norm and the state every P / 50 over decisive T x s
+    (``section_megno.log_norm_series``, in double: the audit's orbits are followed by double)."""
+    s = orbit.known
+    tm, dim = _megno_ta(orbit.system)
+    return section_megno.log_norm_series(tm, dim, np.array(orbit.y0), T=hz.decisive_T * hz.scale(s),
+                                         dt=s.period / DECISIVE_SAMPLES_PER_PERIOD, seed=seed)
+
+
+def judge_section_megno(orbit: Orbit, hz: Horizon, seed: int) -> tuple[str, str]:
+    """``section_megno.judge_section_megno`` on the return map to the maxima of the system's component (the
+    sleigh's: Omega's spikes) over decisive T x s."""
+    r = _decisive_run(orbit, hz, seed)
+    crossings = section_megno.section_times(r["t"], r["X"][:, orbit.known.component])
+    if crossings.size < section_megno.MIN_RETURNS + 1:
+        return UNDECIDED, f"{crossings.size} crossings of the section"
+    return section_megno.judge_section_megno(section_megno.section_megno(r["t"], r["log_norm"], crossings), hz.sigma)
+
+
+def judge_birkhoff(orbit: Orbit, hz: Horizon, seed: int) -> tuple[str, str]:
+    """``birkhoff.judge_birkhoff`` on the weighted Birkhoff averages of the orbit's components over decisive
+    T x s (windows T / K, K in decisive splits), followed in double: G x rounding taken as double's
+    rounding (the audit's orbits need no gauge; the digits are capped at what double's sums resolve)."""
+    r = _decisive_run(orbit, hz, seed)
+    run = birkhoff.digits(birkhoff.observables(r["X"][:-1]), float(r["t"][1]), hz.decisive_splits)
+    return birkhoff.judge_birkhoff(run, gain_rounding=2.0**-53)
+
+
 #: name -> callable(orbit, horizon, seed) -> (verdict, reason)
 JUDGES = {"ftle": judge_ftle, "megno": judge_megno, "benettin": judge_benettin,
-          "two-trajectory": judge_two_trajectory, "loschmidt": judge_loschmidt, "frequency": judge_frequency}
+          "two_trajectory": judge_two_trajectory, "loschmidt": judge_loschmidt, "frequency": judge_frequency,
+          "section_megno": judge_section_megno, "birkhoff": judge_birkhoff}
 #: name -> which systems the judge applies to (absent: all)
 APPLIES = {"loschmidt": lambda system: system.involution is not None}
 
