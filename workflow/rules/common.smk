@@ -128,9 +128,11 @@ def chunk_reads(wildcards):
 
 
 def chunk_inputs(wildcards):
-    """A chunk job's inputs: the chunks of its scene it reads (``reads``) and the datasets its block
-    names (``inputs``: role -> dataset)."""
-    return {"reads": chunk_reads(wildcards), **scene_inputs(wildcards)}
+    """A chunk job's inputs: the chunks of its scene it reads (``reads``), the datasets its block names
+    (``inputs``: role -> dataset) and the judge-power record it votes by (``vote_record``: role power)."""
+    block = SCENES[wildcards.scene]
+    record = {"power": str(ROOT / block["vote_record"])} if "vote_record" in block else {}
+    return {"reads": chunk_reads(wildcards), **scene_inputs(wildcards), **record}
 
 
 def chunk_files(wildcards):

@@ -364,6 +364,65 @@ def voting(ds: xr.Dataset, max_rate: float = MAX_WRONG_RATE) -> set[str]:
 
 
 
+# ----------------------------------------------------------------------------- the committed record
+
+def record(ds: xr.Dataset) -> dict:
+    """The audit's measured record: per horizon factor, judge and class the counts N, correct, wrong and
+    undecided (``rates`` at that horizon), with where they came from (the dataset's commit, date and
+    cost)."""
+    keep = ("N", "correct", "wrong", "undecided")
+    counts = {}
+    for h in ds.horizon.values:
+        rows = rates(ds.sel(horizon=[h]))
+        counts[float(h)] = {str(j).replace("-", "_"): {r["class"]: {k: int(r[k]) for k in keep} for r in rows
+                                                       if r["judge"] == j}
+                            for j in ds.judge.values}  # "two-trajectory": the name the first audits used
+    return {"counts": counts, "source": {"git_commit": str(ds.attrs.get("git_commit", "?")),
+                                         "created_utc": str(ds.attrs.get("created_utc", "?")),
+                                         "cost_total_s": float(ds.attrs.get("cost_total_s", math.nan))}}
+
+
+def merged_records(records: list[dict]) -> dict:
+    """Records of audits of different judges as one: the counts side by side (a judge in two records is
+    refused), the sources listed."""
+    out = {"counts": {}, "sources": []}
+    for rec in records:
+        for h, judges in rec["counts"].items():
+            mine = out["counts"].setdefault(float(h), {})
+            if set(mine) & set(judges):
+                raise ValueError(f"judges {sorted(set(mine) & set(judges))} are in two records")
+            mine.update(judges)
+        out["sources"].append(rec["source"])
+    return out
+
+
+def record_rates(rec: dict) -> list[dict]:
+    """Per judge and class of a record (counts summed over its horizons): N, correct, wrong, undecided,
+    their shares and the 95% upper bound on the wrong rate, as ``rates`` gives them."""
+    total = {}
+    for judges in rec["counts"].values():
+        for judge, by_class in judges.items():
+            for cls, c in by_class.items():
+                t = total.setdefault((judge, cls), dict.fromkeys(("N", "correct", "wrong", "undecided"), 0))
+                for k in t:
+                    t[k] += int(c[k])
+    out = []
+    for (judge, cls), c in sorted(total.items()):
+        p = (lambda k, n=c["N"]: k / n) if c["N"] else (lambda k: math.nan)
+        out.append({"judge": judge, "class": cls, **c, "p_correct": p(c["correct"]), "p_wrong": p(c["wrong"]),
+                    "p_undecided": p(c["undecided"]), "wrong_upper95": upper_bound(c["wrong"], c["N"])})
+    return out
+
+
+def record_voting(rec: dict, max_rate: float = MAX_WRONG_RATE) -> set[str]:
+    """The judges that vote by a record: measured on both classes, wrong at most ``max_rate`` of the time
+    on each (the rule of ``voting``)."""
+    rows = record_rates(rec)
+    return {j for j in {r["judge"] for r in rows}
+            if sum(r["judge"] == j for r in rows) == len(CLASSES)
+            and all(r["N"] > 0 and r["wrong"] <= max_rate * r["N"] for r in rows if r["judge"] == j)}
+
+
 # ----------------------------------------------------------------------------- the chaotic orbits' class
 
 STICKY_EFOLDS, STICKY_SHARE = 20.0, 0.25  # a window of 20 / lambda_1 is sticky when its FTLE < lambda_1 / 4

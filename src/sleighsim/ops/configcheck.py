@@ -22,6 +22,7 @@ from __future__ import annotations
 import math
 import os
 
+from sleighsim.ops.config import REPO
 from sleighsim.ops.workmodel import chunk_work, work
 from sleighsim.scenes.catalog import KINDS, scene_config
 from sleighsim.scenes.checks import ConfigError, within
@@ -160,6 +161,9 @@ def _scene(name: str, cfg: dict, scenes: dict) -> None:
     for role, source in cfg.get("inputs", {}).items():
         if source not in scenes or not KINDS[scenes[source]["kind"]].dataset:
             raise ConfigError(f"{w}.inputs.{role} = {source!r} is not a scene of the config that makes a dataset")
+    if "vote_record" in cfg and not (REPO / cfg["vote_record"]).is_file():
+        raise ConfigError(f"{w}.vote_record = {cfg['vote_record']!r}: no such file in the repository (write it with "
+                          "python -m sleighsim.ops.powerrecord)")
     check_jobs(name, kind.name, cfg)
     kind.checks(w, cfg)
     _precisions(w, cfg)

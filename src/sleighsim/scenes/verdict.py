@@ -12,14 +12,16 @@ from __future__ import annotations
 import logging
 import math
 import time
+from pathlib import Path
 
 import numpy as np
 import xarray as xr
+import yaml
 
 from sleighsim.chaos.faithfulness import indicator_follows
 from sleighsim.chaos.loschmidt import loschmidt_indicator
 from sleighsim.chaos.megno import megno_rate
-from sleighsim.chaos.power import voting
+from sleighsim.chaos.power import record_voting
 from sleighsim.chaos.rule import (
     INDICATORS,
     TANGENT_BASED,
@@ -189,10 +191,10 @@ def chunk(cfg: dict, index: int, scene: str = "", reads=(), inputs=None) -> xr.D
     in order, so a state's start does not depend on how the jobs are cut). The decisive stage, one job
     per realization and state of decisive.states after those: ``verdict_decisive.decisive_state`` on
     the first stage's dataset of that state (``reads``: its path, :func:`_chunk_reads`). In both, the
-    indicators that vote are those the judge-power audit (``inputs["power"]``) lets vote
-    (``chaos.power.voting``)."""
+    indicators that vote are those the judge-power audit's record (``inputs["power"]``, the block's
+    vote_record) lets vote (``chaos.power.record_voting``)."""
     names, base = list(cfg["states"]), _stage_one_count(cfg)
-    voters = frozenset(voting(read_dataset(inputs["power"])))
+    voters = frozenset(record_voting(yaml.safe_load(Path(inputs["power"]).read_text())))
     if index >= base:
         r, j = divmod(index - base, len(cfg["decisive"]["states"]))
         ds = decisive_state(cfg, read_dataset(reads[0]), scene=f"{scene}#{r}", voters=voters)
