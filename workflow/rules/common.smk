@@ -129,9 +129,12 @@ def chunk_reads(wildcards):
 
 def chunk_inputs(wildcards):
     """A chunk job's inputs: the chunks of its scene it reads (``reads``), the datasets its block names
-    (``inputs``: role -> dataset) and the judge-power record it votes by (``vote_record``: role power)."""
+    (``inputs``: role -> dataset) and the judge-power record it votes by (``vote_record``: role power).
+    """
     block = SCENES[wildcards.scene]
-    record = {"power": str(ROOT / block["vote_record"])} if "vote_record" in block else {}
+    record = (
+        {"power": str(ROOT / block["vote_record"])} if "vote_record" in block else {}
+    )
     return {"reads": chunk_reads(wildcards), **scene_inputs(wildcards), **record}
 
 
@@ -166,3 +169,9 @@ REPORT_BENCHMARKS = benchmark_files(REPORT_DATA + REALIZATION_DATA, FIGURES_BUIL
 ROOT = Path(workflow.basedir).parent
 PAPER_TEX = str(ROOT / "paper" / "fedonyuk-tallapragada-sleigh-rotor.tex")
 CLAIMS_MD = str(ROOT / "paper" / "CLAIMS.md")
+# The judge-power record the chaos verdict votes by (its table and the deciding judges' power in the report).
+POWER_RECORD = {
+    "power_record": str(ROOT / b["vote_record"])
+    for b in SCENES.values()
+    if b.get("kind") == "chaos_verdict" and "vote_record" in b
+}

@@ -14,4 +14,5 @@ with logging_to(sm.log[0]):
               if c.id == FIGURES[f].paper}
     report.build(rows, out_dir=Path(sm.output.html).parent, tex_path=sm.input.tex, labels=labels,
                  figures=dict(zip(sm.params.figures, sm.input.figures)),
-                 datasets=dict(zip(sm.params.data, sm.input.data)), benchmarks=sm.params.benchmarks)
+                 datasets=dict(zip(sm.params.data, sm.input.data)), benchmarks=sm.params.benchmarks,
+                 power_record=sm.input.get("power_record"))

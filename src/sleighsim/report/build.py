@@ -20,7 +20,10 @@ from pathlib import Path
 from typing import NamedTuple
 
 import numpy as np
+import yaml
 
+from sleighsim.chaos.known_orbits import CHAOTIC_ORBITS, TORI
+from sleighsim.chaos.power import record_rates, record_voting
 from sleighsim.claims.ledger import Row
 from sleighsim.io.netcdf import read_dataset, write_text
 from sleighsim.report.figures import costs as plots
@@ -111,11 +114,12 @@ def dataset_table(ds, key, cols, colour_of=None) -> Table:
     return Table([key, *cols], rows, colours)
 
 
-def chaos_answers(datasets: dict) -> list[ChaosAnswer]:
+def chaos_answers(datasets: dict, power: dict | None = None) -> list[ChaosAnswer]:
     """Per state of every dataset with per-state chaos verdicts (a ``state`` dimension with
     ``verdict``): its verdict and class, the arithmetic it was decided in and the orbit's faithfulness,
-    the indicators that decided it, what would decide it when it is not decided, and the reason with
-    the tori its realizations reached."""
+    the indicators that decided it (with their measured power when the judge-power record ``power`` is
+    given), what would decide it when it is not decided, and the reason with the tori its realizations
+    reached."""
     out = []
     for path in datasets.values():
         ds = read_dataset(path)
@@ -126,7 +130,7 @@ def chaos_answers(datasets: dict) -> list[ChaosAnswer]:
             verdict = str(ds.verdict.values[i])
             klass = str(ds.state_class.values[i]) if "state_class" in ds.data_vars else ""
             out.append(ChaosAnswer(str(st), verdict, reason + _arithmetic_note(ds, i) + _tori_note(ds, i),
-                                   _decided_in(ds, i), klass, _decided_by(ds, i), _to_decide(ds, i, verdict)))
+                                   _decided_in(ds, i), klass, _decided_by(ds, i, power), _to_decide(ds, i, verdict)))
     return out
 
 
@@ -135,9 +139,23 @@ def _decisive_ran(ds, i: int) -> bool:
     return "decisive_verdict" in ds.data_vars and str(ds.decisive_verdict.values[i]) != "not run"
 
 
-def _decided_by(ds, i: int) -> str:
+def _power_note(power: dict | None, judge: str, verdict: str) -> str:
+    """A judge's measured power for a verdict, from the judge-power record: right on n of N orbits of the
+    class the verdict names, wrong on m of M of the other; "" without the record or the judge in it."""
+    if power is None:
+        return ""
+    rows = {r["class"]: r for r in record_rates(power) if r["judge"] == judge}
+    right, other = (TORI, CHAOTIC_ORBITS) if verdict == "regular" else (CHAOTIC_ORBITS, TORI)
+    if right not in rows or other not in rows:
+        return "; not audited"
+    a, b = rows[right], rows[other]
+    return (f"; says {verdict} on {a['correct']} of {a['N']} {right}, wrongly on {b['wrong']} of {b['N']} {other} "
+            f"(95% bound {b['wrong_upper95']:.2g})")
+
+
+def _decided_by(ds, i: int, power: dict | None = None) -> str:
     """The indicators whose verdict equals state i's (chaotic or regular), with the arithmetic each was
-    judged in; "" when the state is not decided."""
+    judged in and its measured power (``_power_note``); "" when the state is not decided."""
     verdict = str(ds.verdict.values[i])
     if verdict not in ("chaotic", "regular") or "indicator_verdict" not in ds.data_vars:
         return ""
@@ -146,7 +164,7 @@ def _decided_by(ds, i: int) -> str:
         names = {k: a for k, a in names.items() if k not in set(map(str, ds.decisive_indicator.values))}
         names.update({str(k): ds.attrs["decisive_precision"] for k, v in
                       zip(ds.decisive_indicator.values, ds.decisive_indicator_verdict.values[i]) if v == verdict})
-    return ", ".join(f"{k} ({a})" for k, a in sorted(names.items()))
+    return ", ".join(f"{k} ({a}{_power_note(power, k, verdict)})" for k, a in sorted(names.items()))
 
 
 def _to_decide(ds, i: int, verdict: str) -> str:
@@ -208,11 +226,11 @@ def _arithmetic_note(ds, i: int) -> str:
     return f". Rounding amplified by ln G = {float(ds.ln_gain_max.values[i]):.1f} per spike cycle: " + "; ".join(cells)
 
 
-def answers(rows: list[Row], datasets: dict, figures: dict, n_largest: int = 5) -> dict:
+def answers(rows: list[Row], datasets: dict, figures: dict, power: dict | None = None, n_largest: int = 5) -> dict:
     """The first screen: the claims grid by group with the verdict counts (one denominator, every
     row), the chaos answer per state with the figure that shows why, and the largest differences with
     their tested causes."""
-    chaos = chaos_answers(datasets)
+    chaos = chaos_answers(datasets, power)
     counts = {v: sum(r.verdict == v for r in rows) for v in COLOURS}
     return {
         "groups": [(name, [r for r in rows if r.id[0] == g]) for g, name in GROUPS.items()
@@ -227,22 +245,24 @@ def answers(rows: list[Row], datasets: dict, figures: dict, n_largest: int = 5) 
 
 
 def build(rows: list[Row], *, out_dir, tex_path, labels: dict, figures: dict, datasets: dict,
-          benchmarks: dict) -> None:
+          benchmarks: dict, power_record=None) -> None:
     """Write index.html and README.md into ``out_dir`` with the figures copied beside them.
 
     labels: {figure: paper LaTeX label}; figures: {figure: PNG path} of the figures built;
     datasets: {dataset: netCDF path}; benchmarks: {"data/<dataset>" or "figure/<figure>": [Snakemake
-    benchmark files]}."""
+    benchmark files]}; power_record: the judge-power record the chaos verdict voted by (its table and the
+    deciding judges' power)."""
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
+    power = yaml.safe_load(Path(power_record).read_text()) if power_record else None
     context = {
-        "answers": answers(rows, datasets, figures),
+        "answers": answers(rows, datasets, figures, power),
         "findings": precision_findings(rows, datasets),
         "paper_figures": paper_figures(rows, out_dir=out_dir, tex_path=tex_path, labels=labels, figures=figures,
                                        datasets=datasets, benchmarks=benchmarks),
         "ledger": rows,
         "other_figures": other_figures(out_dir, figures, datasets),
-        "tables": tables(datasets),
+        "tables": tables(datasets, power, power_record or ""),
         "costs_image": run_cost(benchmarks, out_dir),
     }
     write_text(out_dir / "index.html", render("report.html.j2", **context))
@@ -283,9 +303,26 @@ def _outcome_colour(k: int, vals) -> str:
     return OUTCOME_COLOURS.get(str(vals[k]), "")
 
 
-def tables(datasets) -> list[dict]:
-    """The report's tables (:data:`sleighsim.report.tables.TABLES`), or the dataset that would hold each."""
-    out = []
+def power_table(power: dict, path) -> Table:
+    """The judge-power record as a table: per judge and class of known orbits, N and the counts and shares
+    of correct, wrong (with the 95% upper bound) and undecided verdicts, and whether the judge votes."""
+    votes = record_voting(power)
+    rows = [[r["judge"], r["class"], str(r["N"]), f"{r['correct']} ({r['p_correct']:.2f})",
+             f"{r['wrong']} ({r['p_wrong']:.3f}; <= {r['wrong_upper95']:.3f})",
+             f"{r['undecided']} ({r['p_undecided']:.2f})", "yes" if r["judge"] in votes else "no"]
+            for r in record_rates(power)]
+    sources = "; ".join(f"commit {str(s['git_commit'])[:12]}, {s['created_utc']}" for s in power.get("sources", []))
+    return Table(["judge", "orbits", "N", "correct", "wrong (95% bound)", "undecided", "votes"], rows,
+                 note=f"Measured on orbits of known class by the judge-power audit (scene judge_power; {sources}); "
+                      f"record {Path(path).name}. A judge votes only when it is wrong at most 1 time in 100 on "
+                      "each class.")
+
+
+def tables(datasets, power: dict | None = None, power_path="") -> list[dict]:
+    """The report's tables (:data:`sleighsim.report.tables.TABLES`), or the dataset that would hold each;
+    then the judge-power record's (``power_table``) when given."""
+    out = [] if power is None else [{"title": "Judges' power and false rates (who votes on chaos)",
+                                     "data": "judge_power", "table": power_table(power, power_path)}]
     for title, table in TABLES.items():
         content = None
         if table.data in datasets:
