@@ -11,13 +11,16 @@ cycle's length is measured on the settled orbit (double, 12000 time units sample
 with the project's settings, mean interval), and the faithfulness gauge (chaos.faithfulness.spike_cycle_gains, the
 4 x 4 tangent map in double, tau 5) gives ln G max over the cycles of that stretch.
 
-Rows: (engine, arithmetic, tol): heyoka double (2^-52), long double (2^-63), real128 (2^-112, 1e-33, 1e-32),
+Rows: (engine, arithmetic, tol): heyoka double (2^-52), long double (2^-63), real128 (2^-112, 1e-33 .. 1e-30),
 double-double (1e-20, 1e-24, 1e-28, 1e-32, 1e-34). Each propagates one spike cycle T from the settled state,
 sampled at 9 times; cost = median CPU seconds (process time) per time unit over the repeats (5; 3 for real128),
 after one untimed warm-up (over T; 100 time units for real128); steps per time unit. Error = ddtaylor.separation
 (max |difference| over u, Omega, omega, delta mod 2 pi, over max |(u, Omega, omega)|) from the reference,
 real128 at tol 2^-112, at each sample time; the reference's own error is bounded by its separation from real128
 at 1e-33 and from double-double at 1e-34. Energy drift of the double-double rows over the cycle at 200 bits.
+Error replicas: for dd (1e-32, 1e-34) and real128 (1e-32, 1e-31) the error after one cycle again from 3 start
+states a third of a cycle apart along the settled orbit (the first the settled state), each against its own
+real128 reference: the spread of the error over independent stretches of the orbit.
 
 Compile time of double-double: in a child process with NUMBA_CACHE_DIR an empty directory (numba compiles) and
 again with that directory filled (numba loads): the first propagation's extra CPU seconds over a second one, and
@@ -58,13 +61,16 @@ SPIKES = {"factor": 1.8, "block": 50.0, "min_separation": 300.0}  # transient.sp
 SAMPLES = 9
 REFERENCE = ("heyoka", "quad", 2.0**-112)
 ROWS = (("heyoka", "double", 2.0**-52), ("heyoka", "long double", 2.0**-63), REFERENCE,
-        ("heyoka", "quad", 1e-33), ("heyoka", "quad", 1e-32),
+        ("heyoka", "quad", 1e-33), ("heyoka", "quad", 1e-32), ("heyoka", "quad", 1e-31), ("heyoka", "quad", 1e-30),
         ("dd", "double-double", 1e-20), ("dd", "double-double", 1e-24), ("dd", "double-double", 1e-28),
         ("dd", "double-double", 1e-32), ("dd", "double-double", 1e-34))
+#: Rows whose error after one cycle is also measured from other start states along the settled orbit.
+REPLICA_ROWS = (("dd", "double-double", 1e-32), ("dd", "double-double", 1e-34), ("heyoka", "quad", 1e-32),
+                ("heyoka", "quad", 1e-31))
 FULL = {"t_transient": 2e4, "t_gauge": 12000.0, "cycle": None, "repeats": 5, "repeats_quad": 3, "warmup_quad": 100.0,
-        "rows": ROWS}
+        "rows": ROWS, "replicas": 3}
 QUICK = {"t_transient": 2e4, "t_gauge": 3000.0, "cycle": 50.0, "repeats": 1, "repeats_quad": 1, "warmup_quad": 5.0,
-         "rows": ROWS[:3] + ROWS[8:9]}
+         "rows": ROWS[:3] + ROWS[10:11], "replicas": 2}
 
 
 def settled(params, y0, T):
@@ -111,6 +117,7 @@ def heyoka_runner(params, precision, tol):
         pairs = [ddtaylor.as_pair(r) for r in integrators.samples(ta, res[5])]
         return (np.array([a for a, _ in pairs]), np.array([b for _, b in pairs])), int(res[3])
 
+    run.order = int(ta.order)
     return run
 
 
@@ -122,6 +129,7 @@ def dd_runner(params, tol):
         out = flow.propagate_grid(y0, grid)
         return out, flow.steps
 
+    run.order = flow.order
     return run
 
 
@@ -144,13 +152,13 @@ def measure_rows(params, s, T, opts):
     rows = []
     for engine, arith, tol in opts["rows"]:
         quad = arith == "quad"
-        run = dd_runner(params, tol) if engine == "dd" else heyoka_runner(params, arith, tol)
+        run = runner(params, engine, arith, tol)
         warm = np.array([0.0, opts["warmup_quad"]]) if quad else grid
         reps = opts["repeats_quad"] if quad else opts["repeats"]
         say(f"{engine} {arith} tol {tol:g}: {reps} runs over {T:g}")
         out, steps, cpu, wall = timed(run, s, grid, reps, warm)
         rows.append({"engine": engine, "arithmetic": arith, "tol": tol,
-                     "order": ddtaylor.taylor_order(tol), "repeats": reps,
+                     "order": run.order, "repeats": reps,
                      "cpu_s_per_tu": statistics.median(cpu) / T, "wall_s_per_tu": statistics.median(wall) / T,
                      "steps_per_tu": steps / T, "cpu_s": [round(c, 6) for c in cpu], "_out": out})
         say(f"  {rows[-1]['cpu_s_per_tu']:.3e} s per time unit, {steps / T:.3f} steps per time unit")
@@ -167,6 +175,32 @@ def errors(rows, params):
         r["error_after_cycle"] = float(sep[-1])
         if r["engine"] == "dd":
             r["energy_drift"] = ddtaylor.energy_drift(params, *out)
+
+
+def runner(params, engine, arith, tol):
+    """The run(y0, grid) of a row."""
+    return dd_runner(params, tol) if engine == "dd" else heyoka_runner(params, arith, tol)
+
+
+def error_replicas(params, s, T, n):
+    """Separation after one cycle of REPLICA_ROWS from the reference, from n start states spread over a cycle
+    of the settled orbit (s and the double orbit's states at T k / n, k = 1 .. n - 1): independent replicas of
+    the error (each a different stretch of the orbit)."""
+    starts = [s]
+    if n > 1:
+        out, _ = heyoka_runner(params, "double", 2.0**-52)(s, T / n * np.arange(n))
+        starts = [out[0][k] for k in range(n)]
+    grid = np.array([0.0, T])
+    runs = {key: runner(params, *key) for key in (REFERENCE, *REPLICA_ROWS)}
+    result = {f"{e} {a} {t:g}": [] for e, a, t in REPLICA_ROWS}
+    for k, y0 in enumerate(starts):
+        say(f"error replica {k}: start {np.asarray(y0).tolist()}")
+        ref = runs[REFERENCE](y0, grid)[0]
+        for (e, a, t) in REPLICA_ROWS:
+            result[f"{e} {a} {t:g}"].append(float(ddtaylor.separation(ref, runs[(e, a, t)](y0, grid)[0])[-1]))
+    return {"starts": [np.asarray(y).tolist() for y in starts], "error_after_cycle": result,
+            "median": {k: statistics.median(v) for k, v in result.items()},
+            "max": {k: max(v) for k, v in result.items()}}
 
 
 def compile_times() -> dict:
@@ -203,6 +237,7 @@ def run(opts) -> dict:
     rows, grid = measure_rows(params, s, T, opts)
     load["after_timing"] = benchio.loadavg()
     errors(rows, params)
+    replicas = error_replicas(params, s, T, opts["replicas"])
     ref_cost = {r["arithmetic"]: r["cpu_s_per_tu"] for r in rows if r["tol"] in (2.0**-52, 2.0**-63, 2.0**-112)}
     for r in rows:
         r["ratio_to_double"] = r["cpu_s_per_tu"] / ref_cost["double"]
@@ -227,6 +262,7 @@ def run(opts) -> dict:
         "gauge": gauge,
         "compile_dd": compiled,
         "rows": rows,
+        "error_replicas": replicas,
     }
 
 
