@@ -465,10 +465,12 @@ def test_no_chaotic_record_is_called_regular(small_audit):
 
 def test_the_sticky_records_are_chaotic_and_start_near_an_island(small_audit):
     """The setup's confirmation: each sticky start's exponent over STICKY_CONFIRM is that of the chaotic sea
-    (> 0.01), and its first 86 periods are spent mostly in windows of small local exponent."""
+    (> 0.01), and the records spend more of their first 86 periods in windows of small local exponent than
+    of their 1376 (full audit: medians 0.40 and 0.19)."""
     sticky = [r for r in small_audit if r["case"] == "sticky henon-heiles E=1/8"]
     assert all(r["lambda"] > 0.01 for r in sticky)
-    assert np.median([r["sticky"] for r in sticky if r["m"] == 86.0]) >= 0.5
+    share = {m: np.median([r["sticky"] for r in sticky if r["m"] == m]) for m in (86.0, 1376.0)}
+    assert share[86.0] >= 0.3 and share[86.0] > share[1376.0]
 
 
 def test_the_judge_has_power_on_tori(small_audit):
@@ -497,12 +499,49 @@ def test_birkhoff_indicator_on_a_henon_heiles_torus():
     assert list(out["W"]) == [5000.0, 2500.0, 1250.0]
 
 
-if __name__ == "__main__":  # the audit behind docs/birkhoff.md: python tests/chaos/test_birkhoff.py N [case ...]
+def sleigh_digits(precision, T, dt=0.5):
+    """The sleigh's main state (eps 0.1, b 1, K2 1.1, label 0.1127 from (0, 0.1, 1, 0)), settled in double over
+    2e4 (the chaos_verdict transient settings), its spike-cycle gain G (the faithfulness gauge over 1.2e4 in
+    double) and its observables (u, Omega, omega, cos delta, sin delta) sampled every dt over T in
+    ``precision`` (a Precision; tolerance its epsilon). Prints the digits and verdict of the records' first
+    T / 4, T / 2 and T."""
+    from sleighsim.chaos import faithfulness
+    from sleighsim.engine import integrators, transient
+    from sleighsim.model.params import Params
+    from sleighsim.model.symmetries import state_at_label
+
+    params = Params.from_config({"eps": 0.1, "b": 1.0, "K2": 1.1})
+    y, _ = transient.settle(params, state_at_label((0.0, 0.1, 1.0, 0.0), params, 0.1127), 2e4, dt=10.0,
+                            window=2500.0, rtol=0.02, spike_factor=1.8, t_min=200.0, tol=2.0**-52, progress=0)
+    tangent, _ = integrators.sleigh_tangent(4, 2.0**-52, False)
+    integrators.set_pars(tangent, params)
+    gauge = faithfulness.spike_cycle_gains(tangent, y, T=12000.0, tau=5.0)
+    ta, _ = integrators.flow(False, precision.epsilon, precision)
+    integrators.set_pars(ta, params)
+    integrators.load(ta, y)
+    X = birkhoff.sampled_observables(ta, ta.state.copy(), T=T, dt=dt, angles=(3,), callback=integrators.bounded(ta))
+    gr = 10 ** gauge["log10_gain_rounding"][precision]
+    print(f"settled state {y.tolist()}; ln G per cycle {np.round(gauge['ln_gain'], 2).tolist()}; {precision.value}: "
+          f"G x rounding {gr:.3g}")
+    for part in (0.25, 0.5, 1.0):
+        run = birkhoff.digits(X[: round(part * T / dt)], dt, SPLITS)
+        print(f"T {part * T:g}: W {run['W'].tolist()} dig {np.round(run['dig'], 2).tolist()} per observable at T/2 "
+              f"{np.round(run['digits'][0], 2).tolist()}: {birkhoff.judge_birkhoff(run, gain_rounding=gr)}")
+
+
+if __name__ == "__main__":
+    # python tests/chaos/test_birkhoff.py audit N [case ...]   (the audit table of docs/birkhoff.md)
+    # python tests/chaos/test_birkhoff.py sleigh PRECISION T   (PRECISION: double, "long double" or quad)
     import pickle
     import sys
 
     sys.path.insert(0, str(__import__("pathlib").Path(__file__).resolve().parents[1]))
-    rows, rejected = audit(int(sys.argv[1]), sys.argv[2:] or None)
-    print("\n".join(table(rows)), "\nMEGNO rejections:", rejected)
-    with open("birkhoff_audit.pkl", "wb") as f:
-        pickle.dump(rows, f)
+    if sys.argv[1] == "sleigh":
+        from sleighsim.engine.precision import Precision
+
+        sleigh_digits(Precision(sys.argv[2]), float(sys.argv[3]))
+    else:
+        rows, rejected = audit(int(sys.argv[2]), sys.argv[3:] or None)
+        print("\n".join(table(rows)), "\nMEGNO rejections:", rejected)
+        with open("birkhoff_audit.pkl", "wb") as f:
+            pickle.dump(rows, f)
