@@ -95,6 +95,19 @@ def test_digits_grow_half_a_digit_per_decade_on_noise_and_fast_on_a_torus():
     assert q["digits"].shape == (3, 1) and q["T"] == pytest.approx(2000.0)
 
 
+def test_a_momentum_converges_on_a_chaotic_orbit_so_the_worst_observable_decides():
+    """p = dq/dt with q bounded: its weighted average converges super-polynomially on any orbit. Henon-Heiles
+    E = 1/6 orbit C over 1.6e4 (dt = 0.25), digits at W = 8e3: x, y 0.8, 1.4; px, py 4.5, 4.8."""
+    hy = pytest.importorskip("heyoka")
+    from chaos_textbook import HH_CHAOS, _hh_sys
+
+    ta = hy.taylor_adaptive(_hh_sys(hy), HH_CHAOS, compact_mode=True)
+    run = birkhoff.digits(birkhoff.sampled_observables(ta, HH_CHAOS, T=1.6e4, dt=0.25), 0.25, SPLITS)
+    positions, momenta = run["digits"][0, :2], run["digits"][0, 2:]
+    assert momenta.min() > positions.max() + 2.0
+    assert run["dig"][0] == positions.min() < 2.0
+
+
 def test_digits_checks_its_arguments():
     x = np.random.default_rng(0).normal(size=(400, 2))
     with pytest.raises(ValueError, match="constant"):
