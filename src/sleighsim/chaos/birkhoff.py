@@ -39,9 +39,10 @@ from sleighsim.model.params import positive
 
 MIN_SAMPLES = 16  # samples a window needs at least
 #: Digits a regular verdict needs at the longest window. Set from the audit (docs/birkhoff.md, 50 seeded records per
-#: case at 86, 344 and 1376 periods): 450 chaotic records (Henon-Heiles E = 1/6, Lorenz, Nose-Hoover) reached at
-#: most 2.9 digits, 150 sticky Henon-Heiles E = 1/8 records (starting near an island) 5.2; tori at 86 periods 1.4 to
-#: 12. The arithmetic must follow the orbit to 10^-(DIG_MIN + 1): G x rounding <= 1e-7, or the verdict is undecided.
+#: case at 86, 344 and 1376 periods, and 188 more sticky starts): 450 chaotic records (Henon-Heiles E = 1/6, Lorenz,
+#: Nose-Hoover) reached at most 2.9 digits, 714 sticky Henon-Heiles E = 1/8 records (starting near an island) 5.4;
+#: tori at 86 periods 1.4 to 12. The arithmetic must follow the orbit to 10^-(DIG_MIN + 1): G x rounding <= 1e-7,
+#: or the verdict is undecided.
 DIG_MIN = 6.0
 #: Growth of the digits a regular verdict needs, in digits per decade of window length, between the shortest and
 #: the longest window (a chaotic orbit's averages converge like W^-1/2: 0.5 digits per decade).
