@@ -32,20 +32,21 @@ def test_the_record_counts_per_horizon_judge_and_class():
 
 
 def test_the_vote_by_a_record_on_each_branch():
-    """megno: 1 wrong in 100 tori (at most 1 in 100: votes); with one more wrong it does not; a judge
-    measured on one class only does not vote; records of the same judge cannot be merged."""
+    """The vote at a run's horizon factor uses the counts at the largest audited factor not above it:
+    megno, 1 wrong in 50 tori at factor 4 (over 1 in 100), votes at factors 1 to 3.99 but not from 4 on;
+    below every audited factor no judge votes; a judge measured on one class only does not vote; records
+    of the same judge cannot be merged."""
     rec = power.merged_records([power.record(_dataset())])
     rows = {(r["judge"], r["class"]): r for r in power.record_rates(rec)}
     assert rows[("megno", TORI)]["wrong"] == 1 and rows[("megno", TORI)]["N"] == 100
     assert rows[("megno", TORI)]["wrong_upper95"] == pytest.approx(0.0466, abs=1e-3)
-    assert power.record_voting(rec) == {"megno", "two_trajectory"}
-    worse = yaml.safe_load(yaml.safe_dump(rec))
-    worse["counts"][1.0]["megno"][TORI].update(correct=49, wrong=1)
-    assert power.record_voting(worse) == {"two_trajectory"}
+    assert power.record_voting(rec, 1.0) == power.record_voting(rec, 3.99) == {"megno", "two_trajectory"}
+    assert power.record_voting(rec, 4.0) == power.record_voting(rec, 10.0) == {"two_trajectory"}
+    assert power.record_voting(rec, 0.5) == set()
     one_class = yaml.safe_load(yaml.safe_dump(rec))
     for h in one_class["counts"]:
         one_class["counts"][h]["megno"].pop(TORI)
-    assert power.record_voting(one_class) == {"two_trajectory"}
+    assert power.record_voting(one_class, 1.0) == {"two_trajectory"}
     with pytest.raises(ValueError, match="in two records"):
         power.merged_records([power.record(_dataset()), power.record(_dataset(("megno",)))])
     both = power.merged_records([power.record(_dataset(("megno",))), power.record(_dataset(("birkhoff",)))])
@@ -62,5 +63,6 @@ def test_the_record_writer(tmp_path):
     out = tmp_path / "rec.yaml"
     assert powerrecord.main([str(tmp_path / "a.nc"), "--out", str(out)]) == 0
     rec = yaml.safe_load(out.read_text())
-    assert rec["voting"] == ["megno", "two_trajectory"] and np.isclose(rec["sources"][0]["cost_total_s"], 1.0)
-    assert "| megno | tori | 100 | 99 (0.99) | 1 (0.010" in powerrecord.markdown(rec)
+    assert rec["voting"] == {1.0: ["megno", "two_trajectory"], 4.0: ["two_trajectory"]}
+    assert np.isclose(rec["sources"][0]["cost_total_s"], 1.0)
+    assert "| x4 | megno | tori | 50 | 49 (0.98) | 1 (0.020" in powerrecord.markdown(rec)

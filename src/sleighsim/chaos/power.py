@@ -396,11 +396,14 @@ def merged_records(records: list[dict]) -> dict:
     return out
 
 
-def record_rates(rec: dict) -> list[dict]:
-    """Per judge and class of a record (counts summed over its horizons): N, correct, wrong, undecided,
-    their shares and the 95% upper bound on the wrong rate, as ``rates`` gives them."""
+def record_rates(rec: dict, horizon: float | None = None) -> list[dict]:
+    """Per judge and class of a record: N, correct, wrong, undecided, their shares and the 95% upper bound on
+    the wrong rate, as ``rates`` gives them; at the audited horizon factor ``horizon``, or summed over the
+    record's horizons (None)."""
     total = {}
-    for judges in rec["counts"].values():
+    for h, judges in rec["counts"].items():
+        if horizon is not None and float(h) != horizon:
+            continue
         for judge, by_class in judges.items():
             for cls, c in by_class.items():
                 t = total.setdefault((judge, cls), dict.fromkeys(("N", "correct", "wrong", "undecided"), 0))
@@ -414,10 +417,14 @@ def record_rates(rec: dict) -> list[dict]:
     return out
 
 
-def record_voting(rec: dict, max_rate: float = MAX_WRONG_RATE) -> set[str]:
-    """The judges that vote by a record: measured on both classes, wrong at most ``max_rate`` of the time
-    on each (the rule of ``voting``)."""
-    rows = record_rates(rec)
+def record_voting(rec: dict, horizon: float, max_rate: float = MAX_WRONG_RATE) -> set[str]:
+    """The judges that vote at a run's horizon factor ``horizon`` (its horizon over the audit's at factor 1):
+    by the counts at the largest audited factor not above it (none: no judge votes), measured on both
+    classes and wrong at most ``max_rate`` of the time on each (the rule of ``voting``)."""
+    below = [float(h) for h in rec["counts"] if float(h) <= horizon]
+    if not below:
+        return set()
+    rows = record_rates(rec, max(below))
     return {j for j in {r["judge"] for r in rows}
             if sum(r["judge"] == j for r in rows) == len(CLASSES)
             and all(r["N"] > 0 and r["wrong"] <= max_rate * r["N"] for r in rows if r["judge"] == j)}

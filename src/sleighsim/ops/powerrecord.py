@@ -20,16 +20,21 @@ from sleighsim.ops.config import REPO
 
 
 def markdown(rec: dict) -> str:
-    """The record's table: per judge and class, N and the counts and shares of correct, wrong (with the 95%
-    upper bound) and undecided verdicts, and whether the judge votes."""
-    votes = power.record_voting(rec)
-    lines = ["| judge | orbits | N | correct | wrong (95% bound) | undecided | votes |",
-             "|---|---|---|---|---|---|---|"]
-    for r in power.record_rates(rec):
-        lines.append(f"| {r['judge']} | {r['class']} | {r['N']} | {r['correct']} ({r['p_correct']:.2f}) | "
-                     f"{r['wrong']} ({r['p_wrong']:.3f}, <= {r['wrong_upper95']:.3f}) | {r['undecided']} "
-                     f"({r['p_undecided']:.2f}) | {'yes' if r['judge'] in votes else 'no'} |")
+    """The record's table: per audited horizon factor, judge and class, N and the counts and shares of
+    correct, wrong (with the 95% upper bound) and undecided verdicts, and whether the judge votes there."""
+    lines = ["| horizon | judge | orbits | N | correct | wrong (95% bound) | undecided | votes |",
+             "|---|---|---|---|---|---|---|---|"]
+    for h in sorted(float(h) for h in rec["counts"]):
+        votes = power.record_voting(rec, h)
+        lines += [_row(h, r, votes) for r in power.record_rates(rec, h)]
     return "\n".join(lines)
+
+
+def _row(h: float, r: dict, votes: set) -> str:
+    """One line of the table."""
+    return (f"| x{h:g} | {r['judge']} | {r['class']} | {r['N']} | {r['correct']} ({r['p_correct']:.2f}) | "
+            f"{r['wrong']} ({r['p_wrong']:.3f}, <= {r['wrong_upper95']:.3f}) | {r['undecided']} "
+            f"({r['p_undecided']:.2f}) | {'yes' if r['judge'] in votes else 'no'} |")
 
 
 def main(argv=None) -> int:
@@ -39,7 +44,7 @@ def main(argv=None) -> int:
     parser.add_argument("--out", default=str(REPO / "benchmarks" / "judge_power.yaml"))
     args = parser.parse_args(argv)
     rec = power.merged_records([power.record(read_dataset(p)) for p in args.datasets])
-    rec["voting"] = sorted(power.record_voting(rec))
+    rec["voting"] = {float(h): sorted(power.record_voting(rec, float(h))) for h in rec["counts"]}
     Path(args.out).write_text(yaml.safe_dump(rec, sort_keys=False))
     print(markdown(rec))
     return 0

@@ -144,7 +144,7 @@ def _power_note(power: dict | None, judge: str, verdict: str) -> str:
     class the verdict names, wrong on m of M of the other; "" without the record or the judge in it."""
     if power is None:
         return ""
-    rows = {r["class"]: r for r in record_rates(power) if r["judge"] == judge}
+    rows = {r["class"]: r for r in record_rates(power, 1.0) if r["judge"] == judge}
     right, other = (TORI, CHAOTIC_ORBITS) if verdict == "regular" else (CHAOTIC_ORBITS, TORI)
     if right not in rows or other not in rows:
         return "; not audited"
@@ -304,18 +304,21 @@ def _outcome_colour(k: int, vals) -> str:
 
 
 def power_table(power: dict, path) -> Table:
-    """The judge-power record as a table: per judge and class of known orbits, N and the counts and shares
-    of correct, wrong (with the 95% upper bound) and undecided verdicts, and whether the judge votes."""
-    votes = record_voting(power)
-    rows = [[r["judge"], r["class"], str(r["N"]), f"{r['correct']} ({r['p_correct']:.2f})",
-             f"{r['wrong']} ({r['p_wrong']:.3f}; <= {r['wrong_upper95']:.3f})",
-             f"{r['undecided']} ({r['p_undecided']:.2f})", "yes" if r["judge"] in votes else "no"]
-            for r in record_rates(power)]
+    """The judge-power record as a table: per audited horizon factor, judge and class of known orbits, N and
+    the counts and shares of correct, wrong (with the 95% upper bound) and undecided verdicts, and whether
+    the judge votes at that horizon."""
+    rows = []
+    for h in sorted(float(h) for h in power["counts"]):
+        votes = record_voting(power, h)
+        rows += [[f"x{h:g}", r["judge"], r["class"], str(r["N"]), f"{r['correct']} ({r['p_correct']:.2f})",
+                  f"{r['wrong']} ({r['p_wrong']:.3f}; <= {r['wrong_upper95']:.3f})",
+                  f"{r['undecided']} ({r['p_undecided']:.2f})", "yes" if r["judge"] in votes else "no"]
+                 for r in record_rates(power, h)]
     sources = "; ".join(f"commit {str(s['git_commit'])[:12]}, {s['created_utc']}" for s in power.get("sources", []))
-    return Table(["judge", "orbits", "N", "correct", "wrong (95% bound)", "undecided", "votes"], rows,
+    return Table(["horizon", "judge", "orbits", "N", "correct", "wrong (95% bound)", "undecided", "votes"], rows,
                  note=f"Measured on orbits of known class by the judge-power audit (scene judge_power; {sources}); "
                       f"record {Path(path).name}. A judge votes only when it is wrong at most 1 time in 100 on "
-                      "each class.")
+                      "each class, at the audited horizon (a factor on the chaos verdict's horizons) of the run.")
 
 
 def tables(datasets, power: dict | None = None, power_path="") -> list[dict]:

@@ -192,13 +192,16 @@ def chunk(cfg: dict, index: int, scene: str = "", reads=(), inputs=None) -> xr.D
     per realization and state of decisive.states after those: ``verdict_decisive.decisive_state`` on
     the first stage's dataset of that state (``reads``: its path, :func:`_chunk_reads`). In both, the
     indicators that vote are those the judge-power audit's record (``inputs["power"]``, the block's
-    vote_record) lets vote (``chaos.power.record_voting``)."""
+    vote_record) lets vote (``chaos.power.record_voting``) at the stage's horizon: the audit's own (factor
+    1) in the first stage, decisive.vote_horizon in the decisive stage."""
     names, base = list(cfg["states"]), _stage_one_count(cfg)
-    voters = frozenset(record_voting(yaml.safe_load(Path(inputs["power"]).read_text())))
+    record = yaml.safe_load(Path(inputs["power"]).read_text())
     if index >= base:
         r, j = divmod(index - base, len(cfg["decisive"]["states"]))
+        voters = frozenset(record_voting(record, cfg["decisive"]["vote_horizon"]))
         ds = decisive_state(cfg, read_dataset(reads[0]), scene=f"{scene}#{r}", voters=voters)
     else:
+        voters = frozenset(record_voting(record, 1.0))
         r, k = divmod(index, len(names))
         start = realization_states(cfg["states"], cfg["realization_rel"], r)[names[k]]
         ds = verdict({**cfg, "states": {names[k]: start}}, scene=f"{scene}#{r}", voters=voters)
