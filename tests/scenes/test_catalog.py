@@ -19,7 +19,15 @@ def test_every_kind_with_a_dataset_has_its_function(kind):
     params = inspect.signature(declared.compute).parameters
     assert callable(declared.compute) and "scene" in params
     assert ("inputs" in params or len(params) == 3) if declared.inputs else len(params) == 2
-    assert declared.gather is None
+    assert (declared.gather is None) == (declared.chunk is None) == (not declared.variants_chunked)
+
+
+@pytest.mark.parametrize("kind", [k for k, v in catalog.KINDS.items() if v.variants_chunked and not v.chunked])
+def test_a_kind_chunked_in_finer_precisions_only_is_laddered_with_its_chunks_beside_its_function(kind):
+    """One job in double (its SIMD lanes), chunk jobs in a finer precision (lanes one after another)."""
+    declared = catalog.KINDS[kind]
+    assert declared.observables
+    assert declared.chunk.__module__ == declared.gather.__module__ == declared.compute.__module__
 
 
 @pytest.mark.parametrize("kind", [k for k, v in catalog.KINDS.items() if v.chunked])

@@ -31,7 +31,7 @@ rule scene_in_precision:
     benchmark:
         f"{R}/benchmarks/scene/precision/{{tag}}/{{scene}}.tsv"
     wildcard_constraints:
-        scene=alternatives([s for s in LADDERED if s not in CHUNKED]),
+        scene=alternatives([s for s in LADDERED if s not in LADDERED_CHUNKED]),
         tag=alternatives(TAG_PRECISION),
     conda:
         "../envs/sleighsim.yaml"
@@ -143,7 +143,7 @@ rule gather:
         "../scripts/gather.py"
 
 
-# A chunked laddered scene in a finer precision: its chunks' steady-state parts in that arithmetic.
+# A laddered scene chunked in a finer precision: its chunks' steady-state parts in that arithmetic.
 use rule chunk as chunk_in_precision with:
     output:
         nc=f"{R}/chunks/precision/{{tag}}/{{scene}}/{{chunk}}.nc",
