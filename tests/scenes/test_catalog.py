@@ -2,6 +2,8 @@
 catalog collects them: each has what the workflow, the config checks and the cost estimate need."""
 
 import inspect
+import subprocess
+import sys
 
 import pytest
 import yaml
@@ -59,3 +61,12 @@ def test_the_schema_names_exactly_the_catalog_kinds():
 def test_only_laddered_kinds_declare_observables():
     assert {k for k, v in catalog.KINDS.items() if v.observables} == {
         "poincare", "trajectory", "lyapunov_spectrum", "lyapunov_protocol", "lyapunov_energy", "lyapunov_grid", "psd"}
+
+
+def test_importing_the_catalog_leaves_scipy_signal_stats_and_optimize_to_the_scenes_that_use_them():
+    """Every job imports the catalog, so every scene module: these packages (about 1.3 CPU-s of a job's
+    start-up, measured with farm-bench) are imported inside the functions that use them."""
+    heavy = ("scipy.signal", "scipy.stats", "scipy.optimize")
+    code = f"import sys, sleighsim.scenes.catalog; print([m for m in {heavy!r} if m in sys.modules])"
+    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, timeout=60)
+    assert res.stdout.strip() == "[]"
