@@ -12,7 +12,7 @@ from sleighsim.scenes import exponents
 SWEEP = {"kind": "lyapunov_energy", "params": {"eps": 0.1, "b": 1.0, "K2": 1.1}, "y0": [0.0, 0.1, 1.0, 0.0],
          "labels": [0.01, 0.1127, 10.0], "reference_label": 0.1127, "t_transient": 100.0,
          "transient": {"dt": 0.5, "window": 20.0, "rtol": 0.05, "spike_factor": 1.8, "t_min": 20.0},
-         "t_align": 10.0, "T": 200.0, "tau": 10.0, "n_blocks": 4, "compact_mode": True, "lane_chunks": 2,
+         "t_align": 10.0, "T": 200.0, "tau": 10.0, "n_blocks": 4, "compact_mode": True, "precision_chunks": 2,
          "tol": 2.220446049250313e-16, "precision": "long double"}
 
 
@@ -44,6 +44,6 @@ def test_the_gather_refuses_chunks_from_different_settled_states_or_missing_labe
         exponents.energy_gather(paths, SWEEP, scene="sweep")
 
 
-@pytest.mark.parametrize(("lane_chunks", "jobs"), [(2, 2), (3, 3), (8, 3)])
-def test_at_most_one_chunk_per_label(lane_chunks, jobs):
-    assert exponents.LYAPUNOV_ENERGY.chunk_count(dict(SWEEP, lane_chunks=lane_chunks)) == jobs
+@pytest.mark.parametrize(("precision_chunks", "jobs"), [(2, 2), (3, 3), (8, 3)])
+def test_at_most_one_chunk_per_label(precision_chunks, jobs):
+    assert exponents.LYAPUNOV_ENERGY.chunk_count(dict(SWEEP, precision_chunks=precision_chunks)) == jobs

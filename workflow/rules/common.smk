@@ -22,10 +22,17 @@ PLAIN = [n for n in ALL_DATASETS if n not in CHUNKED and n not in FIRST]
 # Scenes run in several precisions from one settled point ({scene: precisions}), the datasets of
 # their finer precisions and their ladders (sleighsim.analysis.observables), by name under data/.
 LADDERED = scene_catalog.laddered(config, on_request=True)
-# Those whose finer-precision variants run as chunk jobs: the chunked scenes', and a kind's whose SIMD
-# lanes in double run one after another in a finer precision (sleighsim.scenes.kind.SceneKind.variants_chunked).
+# Those whose finer-precision variants run as chunk jobs: the chunked scenes', and those of a kind
+# computed in one job in double whose block asks for more than one job in a finer precision
+# (sleighsim.scenes.kind.SceneKind.variants_chunked).
 LADDERED_CHUNKED = [
-    s for s in LADDERED if scene_catalog.KINDS[SCENES[s]["kind"]].variants_chunked
+    s
+    for s in LADDERED
+    if s in CHUNKED
+    or (
+        scene_catalog.KINDS[SCENES[s]["kind"]].variants_chunked
+        and scene_catalog.chunk_count(SCENES[s]) > 1
+    )
 ]
 TAG_PRECISION = {
     scene_catalog.precision_tag(p): p

@@ -116,7 +116,9 @@ rule chunk:
         "../envs/sleighsim.yaml"
     threads: 1
     resources:
-        runtime=lambda w: SCENES[w.scene]["chunk_runtime_min"],
+        runtime=lambda w: SCENES[w.scene].get(
+            "chunk_runtime_min", SCENES[w.scene].get("runtime_min", SCENE_RUNTIME_MIN)
+        ),
         mem_mb=1500,
     params:
         cfg=lambda w: SCENE_CFG[w.scene],

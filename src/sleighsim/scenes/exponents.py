@@ -302,9 +302,9 @@ def energy_sweep(cfg: dict, scene: str = "") -> xr.Dataset:
     return _sweep_dataset(_lanes_dataset(lanes, labels), cfg, lanes, scene, time.perf_counter() - start)
 
 
-def _lane_chunks(cfg: dict) -> int:
-    """Chunk jobs of the sweep in a finer precision: ``lane_chunks``, at most one per label."""
-    return min(cfg["lane_chunks"], len(cfg["labels"]))
+def _precision_chunks(cfg: dict) -> int:
+    """Jobs of the sweep in a finer precision: ``precision_chunks`` (1 when unset), at most one per label."""
+    return min(cfg.get("precision_chunks", 1), len(cfg["labels"]))
 
 
 def energy_chunk(cfg: dict, index: int, scene: str = "") -> xr.Dataset:
@@ -313,7 +313,7 @@ def energy_chunk(cfg: dict, index: int, scene: str = "") -> xr.Dataset:
     and runs its own labels' lanes, which give the numbers they give in one job (a lane depends on
     its label alone). Per-label variables only; :func:`energy_gather` makes the dataset."""
     start = time.perf_counter()
-    labels = np.asarray(cfg["labels"], float)[index::_lane_chunks(cfg)]
+    labels = np.asarray(cfg["labels"], float)[index::_precision_chunks(cfg)]
     lanes = _sweep_lanes(cfg, labels, f"{scene}[chunk {index}]")
     ds = _lanes_dataset(lanes, labels)
     ds.attrs.update(chunk=index, settled_state=lanes["settled_state"], compile_time_s=lanes["compile_time_s"],
@@ -343,8 +343,8 @@ def energy_gather(paths, cfg: dict, scene: str = "") -> xr.Dataset:
 
 
 LYAPUNOV_ENERGY = SceneKind(
-    name="lyapunov_energy", compute=energy_sweep, chunk=energy_chunk, gather=energy_gather, chunk_count=_lane_chunks,
-    realizable=True, observables=("lambda_1_reference", "lambda_1_lowest_label"),
+    name="lyapunov_energy", compute=energy_sweep, chunk=energy_chunk, gather=energy_gather,
+    chunk_count=_precision_chunks, realizable=True, observables=("lambda_1_reference", "lambda_1_lowest_label"),
     records=lambda c: [*memory.pre_run(c, "t_transient"), memory.span(c, "T", "tau", 5, memory.count(c, "labels"))],
     checks=lambda w, cfg: blocks(w, cfg, "T"), pre_run="t_transient")
 
