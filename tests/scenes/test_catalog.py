@@ -64,7 +64,7 @@ def test_only_laddered_kinds_declare_observables():
 
 
 def test_importing_the_catalog_leaves_scipy_signal_stats_and_optimize_to_the_scenes_that_use_them():
-    """Every job imports the catalog, so every scene module: these packages (about 1.3 CPU-s of a job's
+    """Every job imports the catalog, so every scene module: these packages (0.8 CPU-s of a job's
     start-up, measured with farm-bench) are imported inside the functions that use them."""
     heavy = ("scipy.signal", "scipy.stats", "scipy.optimize")
     code = f"import sys, sleighsim.scenes.catalog; print([m for m in {heavy!r} if m in sys.modules])"

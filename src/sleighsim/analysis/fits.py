@@ -28,7 +28,7 @@ def refine_frequency(t, x, w_guess: float) -> float:
     of w_guess: scipy.signal.periodogram, linear trend removed, Hann window, zero-padded 16 times
     (samples uniform in t); w_guess when no padded bin lies in that band. A start the nonlinear
     fit cannot miss."""
-    from scipy.signal import periodogram  # here: scipy.signal imports scipy.stats, ~1 CPU-s of every job's start-up
+    from scipy.signal import periodogram  # here: at the top it costs every job start-up (scenes.catalog)
 
     f, power = periodogram(x, fs=1.0 / (t[1] - t[0]), window="hann", nfft=16 * t.size, detrend="linear")
     w = 2 * np.pi * f
@@ -37,7 +37,7 @@ def refine_frequency(t, x, w_guess: float) -> float:
 
 
 def _fit(t, x, w_guess):
-    from scipy.optimize import curve_fit  # here: scipy.optimize is ~0.3 CPU-s of every job's start-up
+    from scipy.optimize import curve_fit  # here: at the top it costs every job start-up (scenes.catalog)
 
     A0 = 0.5 * (np.max(x) - np.min(x))
     w_guess = refine_frequency(t, x, w_guess)

@@ -69,7 +69,7 @@ def fit(log10_tol, first) -> dict:
     (scipy.stats.linregress): slope (time units per decade) and intercept with their standard
     errors from the residual scatter of the independent runs; NaN with fewer than 3 runs whose
     first spike came."""
-    from scipy import stats  # here, not at the top: scipy.stats is ~0.5 CPU-s of every job's start-up
+    from scipy import stats  # here: at the top it costs every job start-up (scenes.catalog)
 
     x, y = np.asarray(log10_tol, float), np.asarray(first, float)
     ok = np.isfinite(y)
