@@ -395,9 +395,12 @@ def test_jobs_the_measured_run_did_not_have_are_estimated_from_their_scene_or_na
     target["scenes"]["lyap_energy"].update(realizations=4)
     target["scenes"]["fig9_ref"]["precisions"] = ["double", "long double", "quad"]
     target["scenes"]["fig9_highE"]["precisions"] = ["double", "long double", "quad"]
+    target["scenes"]["lyap_energy"]["precisions"] = ["double", "long double", "quad"]
     mjobs = [{"job": "scene/lyap_energy", "cpu_s": 10.0, "wall_s": 11.0},
              {"job": "scene/realization/1/lyap_energy", "cpu_s": 10.5, "wall_s": 11.0},
-             {"job": "scene/precision/long_double/fig9_ref", "cpu_s": 4.0, "wall_s": 4.5}]
+             {"job": "scene/precision/long_double/fig9_ref", "cpu_s": 4.0, "wall_s": 4.5},
+             *({"job": f"chunk/precision/long_double/lyap_energy/{k}", "cpu_s": 3.0, "wall_s": 3.5} for k in range(2)),
+             {"job": "gather/precision/long_double/lyap_energy", "cpu_s": 1.0, "wall_s": 1.5}]
     est = {"jobs": [], "unmeasured": []}
     est_mod._new_jobs(target, mjobs, est)
     jobs = {j["job"]: j for j in est["jobs"]}
@@ -406,6 +409,9 @@ def test_jobs_the_measured_run_did_not_have_are_estimated_from_their_scene_or_na
     cost = est_mod._precision_cost()
     quad = jobs["scene/precision/quad/fig9_ref"]
     assert quad["cpu_s"] == pytest.approx(4.0 * cost["quad"] / cost["long double"]) and quad["cpu_s"] > 100 * 4.0
+    # a long-double variant run as chunks: measured by its chunks and their gather, scaled from their sum
+    assert jobs["scene/precision/quad/lyap_energy"]["cpu_s"] == pytest.approx(7.0 * cost["quad"] / cost["long double"])
+    assert "scene/precision/long_double/lyap_energy" not in est["unmeasured"] + list(jobs)
     # no long-double measurement to scale from: named, not guessed
     assert ("scene/precision/quad/fig9_highE" in est["unmeasured"]
             and "scene/precision/long_double/fig9_highE" in est["unmeasured"])

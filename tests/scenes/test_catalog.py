@@ -2,6 +2,8 @@
 catalog collects them: each has what the workflow, the config checks and the cost estimate need."""
 
 import inspect
+import subprocess
+import sys
 
 import pytest
 import yaml
@@ -19,7 +21,15 @@ def test_every_kind_with_a_dataset_has_its_function(kind):
     params = inspect.signature(declared.compute).parameters
     assert callable(declared.compute) and "scene" in params
     assert ("inputs" in params or len(params) == 3) if declared.inputs else len(params) == 2
-    assert declared.gather is None
+    assert (declared.gather is None) == (declared.chunk is None) == (not declared.variants_chunked)
+
+
+@pytest.mark.parametrize("kind", [k for k, v in catalog.KINDS.items() if v.variants_chunked and not v.chunked])
+def test_a_kind_chunked_in_finer_precisions_only_is_laddered_with_its_chunks_beside_its_function(kind):
+    """One job in double (its SIMD lanes), chunk jobs in a finer precision (lanes one after another)."""
+    declared = catalog.KINDS[kind]
+    assert declared.observables
+    assert declared.chunk.__module__ == declared.gather.__module__ == declared.compute.__module__
 
 
 @pytest.mark.parametrize("kind", [k for k, v in catalog.KINDS.items() if v.chunked])
@@ -51,3 +61,12 @@ def test_the_schema_names_exactly_the_catalog_kinds():
 def test_only_laddered_kinds_declare_observables():
     assert {k for k, v in catalog.KINDS.items() if v.observables} == {
         "poincare", "trajectory", "lyapunov_spectrum", "lyapunov_protocol", "lyapunov_energy", "lyapunov_grid", "psd"}
+
+
+def test_importing_the_catalog_leaves_scipy_signal_stats_and_optimize_to_the_scenes_that_use_them():
+    """Every job imports the catalog, so every scene module: these packages (0.8 CPU-s of a job's
+    start-up, measured with farm-bench) are imported inside the functions that use them."""
+    heavy = ("scipy.signal", "scipy.stats", "scipy.optimize")
+    code = f"import sys, sleighsim.scenes.catalog; print([m for m in {heavy!r} if m in sys.modules])"
+    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, timeout=60)
+    assert res.stdout.strip() == "[]"

@@ -7,9 +7,12 @@ import pytest
 
 from sleighsim.analysis import spectra
 from sleighsim.engine import poincare, transient
+from sleighsim.io.netcdf import read_dataset, write_dataset
 from sleighsim.model import equations
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import REFERENCE_STATE
+from sleighsim.ops.resultdiff import compare_datasets
+from sleighsim.scenes import steady_state
 
 
 def test_crossings_complete_and_on_the_section_for_uniform_rotation():
@@ -143,3 +146,42 @@ def test_transient_detector_finds_known_change_points():
 def test_settling_time_is_nan_when_still_drifting():
     t = np.arange(0, 10000, 1.0)
     assert math.isnan(transient.settling_time(t, 1 + t / 1000, window=500.0, rtol=0.01))
+
+
+# the reference orbit's maps in long double, tiny: about a second
+MAPS = {"kind": "poincare", "params": {"eps": 0.1, "b": 1.0, "K2": 1.1}, "y0": [0.0, 0.1, 1.0, 0.0],
+        "energy_label": 0.1127, "t_settle": 300.0, "t_map": 100.0, "attractor_span": 20.0, "attractor_dt": 0.1,
+        "max_stored_pi2": 1000, "loop_knn": 10, "return_time_tie_tol": 1.0e-7,
+        "transient": {"dt": 0.5, "window": 100.0, "rtol": 0.02, "spike_factor": 1.8, "t_min": 50.0},
+        "tol": 2.220446049250313e-16, "precision": "long double", "precision_chunks": 2}
+
+
+def _parts(tmp_path):
+    return [write_dataset(steady_state.poincare_chunk(MAPS, k, scene="maps"), tmp_path / f"{k}.nc",
+                          precision="long double") for k in range(steady_state.POINCARE.chunk_count(MAPS))]
+
+
+def test_the_maps_and_attractor_run_as_two_jobs_give_the_dataset_of_one(tmp_path, hy):
+    """Numbers, texts and variable attributes equal (resultdiff's comparison: all but wall and compile times)."""
+    one = read_dataset(write_dataset(steady_state.poincare_maps(MAPS, scene="maps"), tmp_path / "one" / "maps.nc",
+                                     precision="long double"))
+    two = read_dataset(write_dataset(steady_state.poincare_gather(_parts(tmp_path), MAPS, scene="maps"),
+                                     tmp_path / "two" / "maps.nc", precision="long double"))
+    assert list(two.data_vars) == list(one.data_vars) and "attractor_u" in one
+    assert compare_datasets(one, two) == []
+    assert all(two[v].attrs == one[v].attrs for v in one.variables)
+
+
+def test_the_gather_refuses_parts_from_different_settled_states(tmp_path, hy):
+    paths = _parts(tmp_path)
+    moved = read_dataset(paths[1])
+    moved.attrs["settled_state"] = moved.attrs["settled_state"] + 1e-15
+    write_dataset(moved, paths[1], precision="long double")
+    with pytest.raises(ValueError, match="settled states"):
+        steady_state.poincare_gather(paths, MAPS, scene="maps")
+
+
+@pytest.mark.parametrize(("asked", "jobs"), [(None, 1), (1, 1), (2, 2), (5, 2)])
+def test_a_finer_precision_runs_in_one_job_or_two(asked, jobs):
+    cfg = {k: v for k, v in MAPS.items() if k != "precision_chunks"}
+    assert steady_state.POINCARE.chunk_count(cfg if asked is None else dict(cfg, precision_chunks=asked)) == jobs

@@ -148,6 +148,21 @@ def test_dry_run_of_the_paper_config_fans_the_grid_out(tmp_path):
     assert int(re.search(r"^total\s+(\d+)", out, flags=re.M).group(1)) == n_chunks + 1
 
 
+def test_dry_run_of_the_paper_config_runs_two_long_double_variants_as_chunks(tmp_path):
+    """The long-double energy sweep in precision_chunks jobs (its labels) and F9's eps = 0.01 maps in two,
+    each gathered; their double runs stay one job each."""
+    scenes = PAPER_CFG["scenes"]
+    n = {s: catalog.chunk_count(scenes[s]) for s in ("lyap_energy", "fig9_eps001")}
+    assert n == {"lyap_energy": scenes["lyap_energy"]["precision_chunks"], "fig9_eps001": 2}
+    res = snakemake(tmp_path, ROOT / "config" / "config.yaml", "-n", "results/data/lyap_energy.nc",
+                    "results/data/fig9_eps001.nc", *(f"results/data/{catalog.variant(s, 'long double')}.nc" for s in n),
+                    timeout=120)
+    assert res.returncode == 0, res.stderr[-2000:]
+    counts = dict(re.findall(r"^(\w+)\s+(\d+)\s*$", res.stdout + res.stderr, flags=re.M))
+    assert {k: int(v) for k, v in counts.items()} == {"chunk_in_precision": sum(n.values()), "gather_in_precision": 2,
+                                                      "scene": 2, "total": sum(n.values()) + 4}
+
+
 def test_atlas_builds_the_regime_diagram_and_the_basin_fractions(tmp_path):
     """`snakemake atlas` (on request): every atlas figure, and a basins dataset that accounts for
     every sample once."""

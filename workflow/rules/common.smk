@@ -22,9 +22,18 @@ PLAIN = [n for n in ALL_DATASETS if n not in CHUNKED and n not in FIRST]
 # Scenes run in several precisions from one settled point ({scene: precisions}), the datasets of
 # their finer precisions and their ladders (sleighsim.analysis.observables), by name under data/.
 LADDERED = scene_catalog.laddered(config, on_request=True)
+# Those whose finer-precision variants run as chunk jobs: the chunked scenes', and those of a kind
+# computed in one job in double whose block asks for more than one job in a finer precision
+# (sleighsim.scenes.kind.SceneKind.variants_chunked).
 LADDERED_CHUNKED = [
-    s for s in LADDERED if s in CHUNKED
-]  # their variants are chunked too
+    s
+    for s in LADDERED
+    if s in CHUNKED
+    or (
+        scene_catalog.KINDS[SCENES[s]["kind"]].variants_chunked
+        and scene_catalog.chunk_count(SCENES[s]) > 1
+    )
+]
 TAG_PRECISION = {
     scene_catalog.precision_tag(p): p
     for ps in LADDERED.values()
@@ -149,9 +158,11 @@ def benchmark_files(datasets, figures):
     """{"data/<name>" or "figure/<name>": the Snakemake benchmark files of the jobs that made it}."""
     out = {}
     for name in datasets:
-        # a chunked scene, or its variant precision/<tag>/<scene> (not its ladder)
+        # a chunked scene, or a chunked variant precision/<tag>/<scene> (not its ladder)
         scene = name.rsplit("/", 1)[-1]
-        if scene in CHUNKED and (name == scene or name.startswith("precision/")):
+        if (scene in CHUNKED and name == scene) or (
+            scene in LADDERED_CHUNKED and name.startswith("precision/")
+        ):
             chunks = expand(
                 f"{R}/benchmarks/chunk/{name}/{{k}}.tsv",
                 k=range(scene_catalog.chunk_count(SCENES[scene])),

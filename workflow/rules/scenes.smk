@@ -31,7 +31,7 @@ rule scene_in_precision:
     benchmark:
         f"{R}/benchmarks/scene/precision/{{tag}}/{{scene}}.tsv"
     wildcard_constraints:
-        scene=alternatives([s for s in LADDERED if s not in CHUNKED]),
+        scene=alternatives([s for s in LADDERED if s not in LADDERED_CHUNKED]),
         tag=alternatives(TAG_PRECISION),
     conda:
         "../envs/sleighsim.yaml"
@@ -118,7 +118,9 @@ rule chunk:
         "../envs/sleighsim.yaml"
     threads: 1
     resources:
-        runtime=lambda w: SCENES[w.scene]["chunk_runtime_min"],
+        runtime=lambda w: SCENES[w.scene].get(
+            "chunk_runtime_min", SCENES[w.scene].get("runtime_min", SCENE_RUNTIME_MIN)
+        ),
         mem_mb=1500,
     params:
         cfg=lambda w: SCENE_CFG[w.scene],
@@ -145,7 +147,7 @@ rule gather:
         "../scripts/gather.py"
 
 
-# A chunked laddered scene in a finer precision: its chunks' steady-state parts in that arithmetic.
+# A laddered scene chunked in a finer precision: its chunks' steady-state parts in that arithmetic.
 use rule chunk as chunk_in_precision with:
     output:
         nc=f"{R}/chunks/precision/{{tag}}/{{scene}}/{{chunk}}.nc",

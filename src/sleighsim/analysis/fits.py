@@ -12,8 +12,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.optimize import curve_fit
-from scipy.signal import periodogram
 
 from sleighsim.chaos.common import linfit
 
@@ -30,6 +28,8 @@ def refine_frequency(t, x, w_guess: float) -> float:
     of w_guess: scipy.signal.periodogram, linear trend removed, Hann window, zero-padded 16 times
     (samples uniform in t); w_guess when no padded bin lies in that band. A start the nonlinear
     fit cannot miss."""
+    from scipy.signal import periodogram  # here: at the top it costs every job start-up (scenes.catalog)
+
     f, power = periodogram(x, fs=1.0 / (t[1] - t[0]), window="hann", nfft=16 * t.size, detrend="linear")
     w = 2 * np.pi * f
     band = (w > w_guess / 1.5) & (w < w_guess * 1.5)
@@ -37,6 +37,8 @@ def refine_frequency(t, x, w_guess: float) -> float:
 
 
 def _fit(t, x, w_guess):
+    from scipy.optimize import curve_fit  # here: at the top it costs every job start-up (scenes.catalog)
+
     A0 = 0.5 * (np.max(x) - np.min(x))
     w_guess = refine_frequency(t, x, w_guess)
     p, cov = curve_fit(_model, t, x, p0=[float(np.mean(x)), 0.0, A0, A0, w_guess], maxfev=20000)

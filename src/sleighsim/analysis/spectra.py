@@ -13,13 +13,14 @@ Frequency f is in cycles per unit time (angular frequency 2 pi f). Rules:
 from __future__ import annotations
 
 import numpy as np
-from scipy import signal
 
 
 def psd(x, dt: float, *, segment: float, window: str = "hann", detrend: str = "constant"):
     """Welch PSD of x sampled every dt; segments of ``segment`` time units, 50% overlap.
 
     Returns (f [cycles/time], S [units^2 * time])."""
+    from scipy import signal  # here: at the top it costs every job start-up (scenes.catalog)
+
     nperseg = min(len(x), int(round(segment / dt)))
     return signal.welch(np.asarray(x, float), fs=1.0 / dt, window=window, nperseg=nperseg,
                         detrend=detrend, scaling="density")
@@ -38,6 +39,8 @@ def band_edges(f, S, *, f_split: float, rel_threshold: float) -> tuple[float, fl
 
 def peaks_near_zero(f, S, *, f_split: float, prominence_decades: float, floor_rel: float) -> np.ndarray:
     """Frequencies of the distinct peaks below f_split (see module rule)."""
+    from scipy import signal  # here: at the top it costs every job start-up (scenes.catalog)
+
     f, S = np.asarray(f), np.asarray(S)
     sel = (f > 0) & (f < f_split)
     logS = np.log10(np.maximum(S[sel], 1e-300))

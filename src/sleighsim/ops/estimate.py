@@ -162,11 +162,22 @@ def _precision_cost() -> dict:
             if r["system"] == "flow" and not r["high_accuracy"] and r["compact_mode"] == (r["precision"] == "quad")}
 
 
+def _variant_cpu(cpu: dict, name: str) -> float | None:
+    """CPU seconds of the measured jobs of a scene's variant ``name`` (precision/<tag>/<scene>): its
+    scene job, or its chunk jobs and their gather; None when it was not measured."""
+    if f"scene/{name}" in cpu:
+        return cpu[f"scene/{name}"]
+    if f"gather/{name}" in cpu:
+        return sum(c for j, c in cpu.items() if j == f"gather/{name}" or j.startswith(f"chunk/{name}/"))
+    return None
+
+
 def _new_jobs(target: dict, mjobs: list, est: dict) -> None:
     """Jobs of the target that the measured run did not have: a realization costs what its scene's
-    own job cost; a scene in a finer precision what it cost in long double times the ratio of the
-    flow's cost per time unit (benchmarks/precision_cost.yaml; the variant's double transient is
-    counted at that rate too, so this errs high). Anything else: unmeasured."""
+    own job cost; a scene in a finer precision what it cost in long double (its one job, or its chunks
+    and their gather) times the ratio of the flow's cost per time unit (benchmarks/precision_cost.yaml;
+    the variant's double transient is counted at that rate too, so this errs high), as one job named
+    scene/<variant> for a variant that runs as chunks too. Anything else: unmeasured."""
     cpu = {j["job"]: _job_cpu(j) for j in mjobs}
     cost = _precision_cost()
     for scene, n in catalog.realized(target).items():
@@ -176,14 +187,14 @@ def _new_jobs(target: dict, mjobs: list, est: dict) -> None:
                 est["jobs"].append({"job": name, "rule": "scene_realization", "kind": target["scenes"][scene]["kind"],
                                     "scene": scene, "cpu_s": cpu[f"scene/{scene}"], "ratio": 1.0})
     for scene, precisions in catalog.laddered(target).items():
-        ld = f"scene/{catalog.variant(scene, 'long double')}"
+        ld = _variant_cpu(cpu, catalog.variant(scene, "long double"))
         for p in precisions[1:]:
-            name = f"scene/{catalog.variant(scene, p)}"
-            if name in cpu:
+            if _variant_cpu(cpu, catalog.variant(scene, p)) is not None:
                 continue
-            if ld in cpu and p in cost and "long double" in cost:
+            name = f"scene/{catalog.variant(scene, p)}"
+            if ld is not None and p in cost and "long double" in cost:
                 est["jobs"].append({"job": name, "rule": "scene_in_precision", "kind": target["scenes"][scene]["kind"],
-                                    "scene": scene, "cpu_s": cpu[ld] * cost[p] / cost["long double"],
+                                    "scene": scene, "cpu_s": ld * cost[p] / cost["long double"],
                                     "ratio": cost[p] / cost["long double"]})
             else:
                 est["unmeasured"].append(name)

@@ -22,7 +22,6 @@ import time
 
 import numpy as np
 import xarray as xr
-from scipy.stats import binomtest
 
 from sleighsim.engine import transient
 from sleighsim.engine.integrate import integrate, sample_grid
@@ -121,6 +120,8 @@ def fractions(groups, omega_sign, confidence: float = 0.95, always=()) -> dict:
     independent by construction) and the share of mirror images (mean omega < 0; NaN for an empty
     group). The groups named in ``always`` (the reference states) are listed even when no run
     reached them: their interval then bounds the basin from above."""
+    from scipy.stats import binomtest  # here: at the top it costs every job start-up (scenes.catalog)
+
     groups, n = np.asarray(groups, dtype=object), len(groups)
     names = sorted(set(groups) | set(always), key=lambda g: (g in (UNSETTLED, NO_INTERVAL), -np.sum(groups == g), g))
     out = {k: [] for k in ("count", "fraction", "ci_low", "ci_high", "mirrored")}

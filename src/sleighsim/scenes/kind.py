@@ -47,9 +47,10 @@ class SceneKind:
     - ``name``: the ``kind`` of a config block;
     - ``compute(cfg, [inputs,] scene=)``: its dataset (None for a chunked or dataset-free kind);
     - ``chunk(cfg, index, scene=)`` and ``gather(paths, cfg, scene=)``: a chunked kind's chunk jobs
-      and its dataset from their files; ``chunk_count(cfg)``: how many chunk jobs; ``chunk_reads(cfg,
-      index)``: the indices of the scene's own chunks that chunk ``index`` reads (a later stage; its
-      ``chunk`` then takes their paths as ``reads=``);
+      and its dataset from their files; ``chunk_count(cfg)``: how many chunk jobs (a kind with both
+      ``compute`` and ``chunk`` is computed in one job in double and chunked in a finer precision);
+      ``chunk_reads(cfg, index)``: the indices of the scene's own chunks that chunk ``index`` reads (a
+      later stage; its ``chunk`` then takes their paths as ``reads=``);
     - ``inputs``: the roles of the datasets it reads (named in the block's ``inputs``);
     - ``dataset``: False for a kind drawn from its config block alone; ``integrates``: it takes the
       config's ``defaults`` (the tolerance) unless its block sets them; ``realizable``: its claims rest
@@ -83,5 +84,12 @@ class SceneKind:
 
     @property
     def chunked(self) -> bool:
-        """Whether it runs as independent chunk jobs gathered by one job."""
+        """Whether it runs as independent chunk jobs gathered by one job, in every precision."""
+        return self.chunk is not None and self.compute is None
+
+    @property
+    def variants_chunked(self) -> bool:
+        """Whether its finer-precision variants run as chunk jobs gathered by one job: a chunked
+        kind's, and those of a kind computed in one job in double (SIMD lanes) whose lanes a finer
+        precision runs one after another."""
         return self.chunk is not None

@@ -28,9 +28,9 @@ from sleighsim.scenes.kind import SceneKind
 log = logging.getLogger("sleighsim")
 
 
-def _map_variables(c: dict, is2pi, rt, stride: int, loops: dict, att: xr.Dataset) -> dict:
-    """The Poincare maps' variables: the P_2pi iterates and their times, the return times, the thinned
-    P_pi/2 iterates with their class and loop cluster, and the sampled stretch of the attractor."""
+def _map_variables(c: dict, is2pi, rt, stride: int, loops: dict) -> dict:
+    """The Poincare maps' variables: the P_2pi iterates and their times, the return times, and the
+    thinned P_pi/2 iterates with their class and loop cluster."""
     kind, vel = STATE_KINDS, ("u", "Omega", "omega")
     data = {f"p2pi_{v}": ("n2pi", c[v][is2pi], cf.attrs(f"{v} at the P_2pi iterates (delta = 0 mod 2 pi)", kind[v]))
             for v in vel}
@@ -41,8 +41,6 @@ def _map_variables(c: dict, is2pi, rt, stride: int, loops: dict, att: xr.Dataset
     data["ppi2_class"] = ("npi2", (c["k"][::stride] % 4).astype(np.int8), cf.attrs("k mod 4, delta = k pi/2"))
     data["ppi2_cluster"] = ("npi2", loops["labels"].astype(np.int32),
                             cf.attrs("k-NN graph component in the (u, Omega, omega) projection"))
-    data.update({f"attractor_{v}": ("natt", att[v].values, cf.attrs(f"{v} along a sampled stretch of the attractor",
-                                                                    kind[v])) for v in vel})
     return data
 
 
@@ -60,18 +58,22 @@ def _return_times(rt, t1: float, tie_tol: float) -> dict:
     }
 
 
-def poincare_maps(cfg: dict, scene: str = "") -> xr.Dataset:
-    """P_2pi and P_pi/2 iterates after a checked transient, return times, rotation
-    number, loop count, and a sampled stretch of the attractor (F9, F12)."""
-    start = time.perf_counter()
+def _settled(cfg: dict, scene: str) -> dict:
+    """The scene's parameters, start state y0 and the state settled from it (the checked pre-run in
+    double, deterministic) with the pre-run's attributes."""
     params = Params.from_config(cfg["params"])
     y0 = initial_state(cfg, params)
     y_settled, attrs = settle(params, y0, cfg["t_settle"], **cfg["transient"], tol=cfg["tol"], label=scene)
+    return {"params": params, "y0": y0, "y": y_settled, "attrs": attrs}
+
+
+def _maps(cfg: dict, s: dict, scene: str) -> xr.Dataset:
+    """P_2pi and P_pi/2 iterates over t_map from the settled state ``s`` (:func:`_settled`) in the
+    block's steady-state arithmetic, return times, rotation number and loop count."""
+    params, y0, y_settled = s["params"], s["y0"], s["y"]
     arith = steady_arithmetic(cfg)
     t0, t1 = cfg["t_settle"], cfg["t_settle"] + cfg["t_map"]
     c = poincare.crossings(params, y_settled, t0, t1, **arith, scene=scene)
-    att = integrate(params, y_settled, sample_grid(t0, t0 + cfg["attractor_span"], cfg["attractor_dt"]),
-                    **arith, scene=f"{scene}.attractor", progress=1)
     pts = np.c_[c["u"], c["Omega"], c["omega"]]
     is2pi = c["k"] % 4 == 0
     rt = np.diff(c["time"][is2pi])
@@ -81,9 +83,9 @@ def poincare_maps(cfg: dict, scene: str = "") -> xr.Dataset:
     rot = poincare.rotation_number(pts[is2pi])
     E = equations.energy(np.c_[pts, c["k"] * (np.pi / 2)], params)
     E0 = float(equations.energy(y0, params))
-    ds = xr.Dataset(_map_variables(c, is2pi, rt, stride, loops, att))
+    ds = xr.Dataset(_map_variables(c, is2pi, rt, stride, loops))
     ds.attrs.update(state_attrs(params, y0))
-    ds.attrs.update(attrs)
+    ds.attrs.update(s["attrs"])
     ds.attrs.update(rot)
     ds.attrs.update(
         scene=scene, backend="heyoka", method="taylor_adaptive + nt_event sin(2 delta)", **arith,
@@ -97,21 +99,81 @@ def poincare_maps(cfg: dict, scene: str = "") -> xr.Dataset:
         p2pi_recurrence=poincare.recurrence(pts[is2pi]),
         p2pi_recurrence_rule="smallest over q = 1..50 of the median |x_(n+q) - x_n| of the P_2pi iterates, in units of "
                              "their RMS size: about 0 for a periodic orbit",
-        attractor_flatness=poincare.flatness(np.c_[att.u.values, att.Omega.values, att.omega.values]),
-        attractor_flatness_rule="smallest over largest singular value of the centred (u, Omega, omega) samples",
         n_loops=loops["n_loops"], n_components_projected=loops["n_components_projected"],
         loops_per_class=np.array([loops["loops_per_class"].get(k, 0) for k in range(4)], dtype=np.int32),
         loop_rule=f"per class k mod 4: connected components (>= 1% of the class) of the symmetric "
         f"{cfg['loop_knn']}-nearest-neighbour graph of standardised (u, Omega, omega); n_loops sums over classes",
-        steps=int(c["steps"]), compile_time_s=c["compile_time_s"], wall_time_s=time.perf_counter() - start,
+        steps=int(c["steps"]), compile_time_s=c["compile_time_s"],
     )
     log.info("%s: %d P_2pi, %d P_pi/2 iterates, %d loops, rotation number %.6g, max residual %.2g", scene,
              is2pi.sum(), len(pts), loops["n_loops"], rot["rotation_number"], ds.attrs["max_crossing_residual"])
     return ds
 
 
+def _attractor(cfg: dict, s: dict, scene: str) -> xr.Dataset:
+    """A stretch of the attractor (attractor_span, sampled every attractor_dt) from the settled state
+    ``s`` (:func:`_settled`) in the block's steady-state arithmetic, and its flatness."""
+    t0 = cfg["t_settle"]
+    att = integrate(s["params"], s["y"], sample_grid(t0, t0 + cfg["attractor_span"], cfg["attractor_dt"]),
+                    **steady_arithmetic(cfg), scene=f"{scene}.attractor", progress=1)
+    ds = xr.Dataset({f"attractor_{v}": ("natt", att[v].values,
+                                        cf.attrs(f"{v} along a sampled stretch of the attractor", STATE_KINDS[v]))
+                     for v in ("u", "Omega", "omega")})
+    ds.attrs.update(
+        attractor_flatness=poincare.flatness(np.c_[att.u.values, att.Omega.values, att.omega.values]),
+        attractor_flatness_rule="smallest over largest singular value of the centred (u, Omega, omega) samples")
+    return ds
+
+
+def _with_attractor(maps: xr.Dataset, att: xr.Dataset, wall_s: float) -> xr.Dataset:
+    """The scene's dataset: the maps' variables and attributes, the attractor stretch's beside them."""
+    ds = maps.assign(att.data_vars)
+    ds.attrs.update(att.attrs, wall_time_s=wall_s)
+    return ds
+
+
+def poincare_maps(cfg: dict, scene: str = "") -> xr.Dataset:
+    """P_2pi and P_pi/2 iterates after a checked transient, return times, rotation
+    number, loop count, and a sampled stretch of the attractor (F9, F12)."""
+    start = time.perf_counter()
+    s = _settled(cfg, scene)
+    maps, att = _maps(cfg, s, scene), _attractor(cfg, s, scene)
+    return _with_attractor(maps, att, time.perf_counter() - start)
+
+
+def _precision_jobs(cfg: dict) -> int:
+    """Jobs of the scene in a finer precision: ``precision_chunks`` (1 when unset), at most 2."""
+    return min(cfg.get("precision_chunks", 1), 2)
+
+
+def poincare_chunk(cfg: dict, index: int, scene: str = "") -> xr.Dataset:
+    """Part ``index`` of the scene in a finer precision run as two jobs: 0 the maps, 1 the attractor
+    stretch (two integrations from the settled state that share nothing but it); each job settles the
+    same state (the pre-run in double, deterministic). :func:`poincare_gather` makes the dataset."""
+    start = time.perf_counter()
+    s = _settled(cfg, scene)
+    ds = (_maps, _attractor)[index](cfg, s, scene)
+    ds.attrs.update(chunk=index, settled_state=np.asarray(s["y"], float), wall_time_s=time.perf_counter() - start)
+    return ds
+
+
+def poincare_gather(paths, cfg: dict, scene: str = "") -> xr.Dataset:
+    """The scene's dataset (as :func:`poincare_maps` makes it) from its two parts, wall times summed.
+    Raises when the parts did not start from one settled state."""
+    maps, att = sorted((read_dataset(p) for p in paths), key=lambda d: int(d.attrs["chunk"]))
+    if not np.array_equal(maps.attrs["settled_state"], att.attrs["settled_state"]):
+        raise ValueError(f"{scene}: the parts start from different settled states {maps.attrs['settled_state']}, "
+                         f"{att.attrs['settled_state']}")
+    wall = maps.attrs["wall_time_s"] + att.attrs["wall_time_s"]
+    for d in (maps, att):
+        d.attrs.pop("chunk")
+    att.attrs = {k: v for k, v in att.attrs.items() if k.startswith("attractor_flatness")}
+    return _with_attractor(maps, att, wall)
+
+
 POINCARE = SceneKind(
-    name="poincare", compute=poincare_maps, observables=("rotation_number", "return_time_mean", "n_loops"),
+    name="poincare", compute=poincare_maps, chunk=poincare_chunk, gather=poincare_gather, chunk_count=_precision_jobs,
+    observables=("rotation_number", "return_time_mean", "n_loops"),
     records=lambda c: [*memory.pre_run(c, "t_settle"), memory.span(c, "attractor_span", "attractor_dt")],
     pre_run="t_settle")
 

@@ -21,7 +21,6 @@ import time
 
 import numpy as np
 import xarray as xr
-from scipy import stats
 
 from sleighsim.engine.integrate import integrate, sample_grid
 from sleighsim.engine.precision import Precision
@@ -70,6 +69,8 @@ def fit(log10_tol, first) -> dict:
     (scipy.stats.linregress): slope (time units per decade) and intercept with their standard
     errors from the residual scatter of the independent runs; NaN with fewer than 3 runs whose
     first spike came."""
+    from scipy import stats  # here: at the top it costs every job start-up (scenes.catalog)
+
     x, y = np.asarray(log10_tol, float), np.asarray(first, float)
     ok = np.isfinite(y)
     if ok.sum() < 3:
