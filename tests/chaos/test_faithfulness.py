@@ -139,10 +139,21 @@ def test_the_first_screen_says_who_decided_and_what_would_decide_the_rest():
     assert _decided_by(ds, 1) == ""
     assert _to_decide(ds, 0, R) == ""
     assert "(double-double, T = 100000, 61 s per realization" in _to_decide(ds, 1, U)
-    assert "a horizon of 200000 would take about 122 s per realization" in _to_decide(ds, 1, U)
+    assert "200000 would take about 122 s per realization" in _to_decide(ds, 1, U)
     assert _to_decide(ds, 2, U).startswith("no decisive stage ran for this state")
     assert _to_decide(ds, 1, "fragile").startswith("the decisive stage")
     assert _decided_in(ds, 0) == "double-double (G x rounding = 10^-16.3; decisive stage over T = 100000)"
+    power = {"counts": {h: {j: {"chaotic": {"N": 10, "correct": 9, "wrong": int(h == 1.0 and j == "section_megno"),
+                                            "undecided": 1 - int(h == 1.0 and j == "section_megno")},
+                                "tori": {"N": 10, "correct": 10, "wrong": 0, "undecided": 0}}
+                            for j in ("birkhoff", "section_megno")} for h in (1.0, 4.0)}}
+    ds.attrs["decisive_vote_horizon"] = 1.0
+    text = _to_decide(ds, 1, U, power)
+    assert "at 4 times the horizon the judge-power audit lets section_megno vote as well" in text
+    assert "T = 400000 (vote_horizon 4; config/cluster.yaml) would take about 244 s" in text
+    ds.attrs["decisive_vote_horizon"] = 4.0
+    assert _to_decide(ds, 1, U, power).endswith("its cost grows linearly with T: 200000 would take about 122 s "
+                                                 "per realization")  # no longer audited horizon
     ds_plain = ds.drop_vars([v for v in ds.data_vars if str(v).startswith("decisive_")])
     assert _decided_by(ds_plain, 0) == ""  # no indicator says regular in the first stage
     ds_plain["verdict"] = ("state", np.array(["chaotic", U, U], dtype=object))

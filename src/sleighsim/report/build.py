@@ -130,7 +130,8 @@ def chaos_answers(datasets: dict, power: dict | None = None) -> list[ChaosAnswer
             verdict = str(ds.verdict.values[i])
             klass = str(ds.state_class.values[i]) if "state_class" in ds.data_vars else ""
             out.append(ChaosAnswer(str(st), verdict, reason + _arithmetic_note(ds, i) + _tori_note(ds, i),
-                                   _decided_in(ds, i), klass, _decided_by(ds, i, power), _to_decide(ds, i, verdict)))
+                                   _decided_in(ds, i), klass, _decided_by(ds, i, power),
+                                   _to_decide(ds, i, verdict, power)))
     return out
 
 
@@ -167,9 +168,10 @@ def _decided_by(ds, i: int, power: dict | None = None) -> str:
     return ", ".join(f"{k} ({a}{_power_note(power, k, verdict)})" for k, a in sorted(names.items()))
 
 
-def _to_decide(ds, i: int, verdict: str) -> str:
+def _to_decide(ds, i: int, verdict: str, power: dict | None = None) -> str:
     """For a state not decided (undecided or fragile): what would decide it and its measured cost (the
-    decisive stage's own wall time), or that no decisive stage ran for it."""
+    decisive stage's own wall time, scaled by the horizon), or that no decisive stage ran for it. With the
+    judge-power record, the next audited horizon factor and the judges it would let vote besides."""
     if verdict in ("chaotic", "regular"):
         return ""
     if not _decisive_ran(ds, i):
@@ -177,9 +179,18 @@ def _to_decide(ds, i: int, verdict: str) -> str:
                 "in an arithmetic that follows its orbit")
     wall, T = float(ds.decisive_wall_time_s.values[i]), float(ds.attrs["decisive_T"])
     left = "; ".join(f"{k}: {v}" for k, v in zip(ds.decisive_indicator.values, ds.decisive_indicator_verdict.values[i]))
-    return (f"the decisive stage ({ds.attrs['decisive_precision']}, T = {T:g}, {wall:.0f} s per realization on one "
-            f"core, measured) left it {verdict} ({left}); its cost grows linearly with T: a horizon of {2 * T:g} "
-            f"would take about {2 * wall:.0f} s per realization")
+    text = (f"the decisive stage ({ds.attrs['decisive_precision']}, T = {T:g}, {wall:.0f} s per realization on one "
+            f"core, measured) left it {verdict} ({left})")
+    now = float(ds.attrs.get("decisive_vote_horizon", 1.0))
+    later = sorted(float(h) for h in (power or {}).get("counts", {}) if float(h) > now)
+    if not later:
+        return text + f"; its cost grows linearly with T: {2 * T:g} would take about {2 * wall:.0f} s per realization"
+    h = later[0]
+    gained = sorted(record_voting(power, h) - record_voting(power, now))
+    who = ", ".join(gained) or "no other judge"
+    return (text + f"; at {h / now:g} times the horizon the judge-power audit lets {who} vote as well: "
+            f"T = {T * h / now:g} (vote_horizon {h:g}; config/cluster.yaml) would take about "
+            f"{wall * h / now:.0f} s per realization")
 
 
 def _decided_in(ds, i: int) -> str:

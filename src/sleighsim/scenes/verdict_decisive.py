@@ -218,7 +218,8 @@ def decisive_state(cfg: dict, stage1: xr.Dataset, scene: str = "", *, voters: fr
                             "decisive_split": np.asarray(dc["splits"], int)})
     ds.attrs.update(decisive_precision=dc["precision"], decisive_tol=dc["tol"], decisive_T=dc["T"],
                     decisive_dt=dc["dt"], decisive_megno_samples=dc["megno_samples"], decisive_steps=orbit["steps"],
-                    decisive_splits=list(dc["splits"]),
+                    decisive_splits=list(dc["splits"]), decisive_vote_horizon=float(dc["vote_horizon"]),
+                    decisive_voters=sorted(voters),
                     decisive_rule=" ".join(decide_again.__doc__.split()), backend=_backend(dc["precision"]),
                     wall_time_s=time.perf_counter() - start, stage="decisive")
     return ds
