@@ -85,15 +85,16 @@ def quarters(D) -> tuple[float, float]:
 
 # the docstring is written into the torus_stability dataset (attribute classification_rule)
 def classify(D, n_spikes: int, dT: float, dT_err: float, floor: float, *, min_spikes: int, leave: float,
-             change: float, same: float, sigma: float) -> tuple[str, str]:
+             change: float, same: float, sigma: float, period_floor: float) -> tuple[str, str]:
     """The class of a perturbed orbit from its distances D_n to the reference's spike-section curve
     (relative), its spike count and its mean spike interval's difference dT +- dT_err from the
-    reference's. D_early, D_late: medians over the first and last quarter of the spikes. "leaves" when
-    fewer than min_spikes spikes came, or D_late >= leave, or D grew (D_late / D_early >= change); else
-    "same torus" when it came back onto the curve (D_late <= same x floor, the reference curve's own
-    relative thickness, or D_late / D_early <= 1 / change) and its period agrees (|dT| <= sigma dT_err,
-    dT_err the standard errors of both mean intervals combined); else "neighbouring torus" (regular, at
-    an offset that neither grows nor decays by the factor change, or at a measurably different period)."""
+    reference's (dT_err: both standard errors combined). D_early, D_late: medians over the first and
+    last quarter of the spikes. "leaves" when fewer than min_spikes spikes came, or D_late >= leave, or
+    D grew (D_late / D_early >= change); "same torus" when D decayed (D_late / D_early <= 1 / change),
+    or when D_late is within same x floor (the reference curve's own relative thickness) and the periods
+    agree (|dT| <= max(sigma dT_err, period_floor), the latter the resolution of the integration's spike
+    times); else "neighbouring torus" (regular, at an offset that neither grows
+    nor decays by the factor change, or on the curve to its resolution at a measurably different period)."""
     if n_spikes < min_spikes:
         return "leaves", f"{n_spikes} spikes (fewer than {min_spikes}): the spike train stopped"
     early, late = quarters(D)
@@ -103,9 +104,11 @@ def classify(D, n_spikes: int, dT: float, dT_err: float, floor: float, *, min_sp
         return "leaves", f"{facts}: D late >= {leave:g}"
     if ratio >= change:
         return "leaves", f"{facts}: D grew by {change:g} or more"
-    back = late <= same * floor or ratio <= 1.0 / change
-    period_agrees = bool(abs(dT) <= sigma * dT_err)
-    if back and period_agrees:
-        return "same torus", f"{facts}: back on the reference curve (floor {floor:.3g}), same period"
-    why = "period differs" if back else "offset neither grows nor decays"
+    if ratio <= 1.0 / change:
+        return "same torus", f"{facts}: D decayed by {change:g} or more, back onto the reference curve"
+    on_curve = late <= same * floor
+    if on_curve and abs(dT) <= max(sigma * dT_err, period_floor):
+        return "same torus", f"{facts}: on the reference curve (floor {floor:.3g}) at the same period"
+    why = f"on the curve to its resolution (floor {floor:.3g}) but the period differs" if on_curve else \
+        "offset neither grows nor decays"
     return "neighbouring torus", f"{facts}: {why}"

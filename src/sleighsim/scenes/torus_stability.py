@@ -181,7 +181,8 @@ def _judged(ds: xr.Dataset, cfg: dict) -> dict:
         dT, dT_err = T - T_ref, math.hypot(err, err_ref)
         klass, why = ("reference", "the reference orbit") if i == 0 else torus.classify(
             D[i, ok[i]], n, dT, dT_err, floor, min_spikes=cfg["min_spikes"], leave=cfg["leave_distance"],
-            change=cfg["change_factor"], same=cfg["same_factor"], sigma=cfg["sigma"])
+            change=cfg["change_factor"], same=cfg["same_factor"], sigma=cfg["sigma"],
+            period_floor=cfg["period_rtol"] * T_ref)
         early, late = torus.quarters(D[i, ok[i]]) if n else (math.nan, math.nan)
         for k, v in zip(rows, (n, T, err, early, late, dT, dT_err, klass, why)):
             rows[k].append(v)
@@ -213,14 +214,19 @@ def gather(paths, cfg: dict, scene: str = "") -> xr.Dataset:
         spike_half_width=cfg["spike_half_width"], curve_order=j["order"], curve_floor=j["floor"],
         velocity_scale=j["scale"], reference_interval=j["T_ref"], min_spikes=cfg["min_spikes"],
         leave_distance=cfg["leave_distance"], change_factor=cfg["change_factor"], same_factor=cfg["same_factor"],
-        sigma=cfg["sigma"], classification_rule=" ".join(torus.classify.__doc__.split()),
-        perturbation_rule=" ".join(perturbed_start.__doc__.split()), spike_rule=" ".join(
-            torus.refine_spikes.__doc__.split()), curve_rule=" ".join(torus.section_curve.__doc__.split()),
+        sigma=cfg["sigma"], period_rtol=cfg["period_rtol"], classification_rule=_doc(torus.classify),
+        perturbation_rule=_doc(perturbed_start), spike_rule=_doc(torus.refine_spikes),
+        curve_rule=_doc(torus.section_curve),
         energy_max_rel_drift=float(np.nanmax(ds.energy_max_rel_drift.values)),
         wall_time_s=float(ds.wall_time_s.values.sum()), n_perturbed=int(classes.size),
         **{f"n_{c.replace(' ', '_')}": int(np.sum(classes == c)) for c in torus.CLASSES},
         summary=_summary(ds))
     return ds
+
+
+def _doc(f) -> str:
+    """A function's docstring on one line (a rule written into the dataset)."""
+    return " ".join(f.__doc__.split())
 
 
 def _summary(ds: xr.Dataset) -> str:
