@@ -19,23 +19,31 @@ import numpy as np
 CLASSES = ("same torus", "neighbouring torus", "leaves")
 
 
-def refine_spikes(t, signal, coarse, half_width: float) -> np.ndarray:
-    """Spike times refined to the peak of a smooth envelope: for each coarse spike time, the sample of
-    ``signal`` (e.g. |Omega| on the delta = 0 section, one sample per fast turn, at times ``t``) largest
-    within half_width of it, and the vertex of the parabola through it and its two neighbours. A spike
-    whose largest sample has no neighbour on both sides (at a record's end) is dropped."""
-    t, signal = np.asarray(t, float), np.asarray(signal, float)
-    out = []
+def spike_peaks(t, X, coarse, half_width: float, half_points: int = 3, degree: int = 4):
+    """Spike times refined to the peak of a smooth envelope, and the section's state there: for each
+    coarse spike time, the section crossing (rows of X, times t; one per fast turn) whose |X[:, 1]| is
+    largest within half_width of it; polynomials of ``degree`` in t through it and its ``half_points``
+    neighbours on each side, per column of X; the spike time is the largest maximum of the fitted
+    |X[:, 1]| among the fit window's critical points, and the spike point the fitted X there. A spike
+    whose window runs past the record's ends is dropped. Returns (times (m,), points (m, columns))."""
+    t, X = np.asarray(t, float), np.atleast_2d(np.asarray(X, float))
+    signal, h = np.abs(X[:, 1]), half_points
+    times, points = [], []
     for c in np.asarray(coarse, float):
         near = np.flatnonzero(np.abs(t - c) <= half_width)
         if near.size == 0:
             continue
         i = near[np.argmax(signal[near])]
-        if i == 0 or i == t.size - 1:
+        if i < h or i + h >= t.size:
             continue
-        a, b, _ = np.polyfit(t[i - 1: i + 2] - t[i], signal[i - 1: i + 2], 2)
-        out.append(t[i] - b / (2 * a) if a < 0 else t[i])
-    return np.array(out)
+        tau = t[i - h: i + h + 1] - t[i]
+        fit = np.polynomial.Polynomial.fit(tau, signal[i - h: i + h + 1], degree, domain=[tau[0], tau[-1]])
+        crit = [r.real for r in fit.deriv().roots() if abs(r.imag) < 1e-9 and tau[0] <= r.real <= tau[-1]]
+        best = max(crit + [0.0], key=fit)
+        times.append(t[i] + best)
+        points.append([np.polynomial.Polynomial.fit(tau, X[i - h: i + h + 1, k], degree,
+                                                    domain=[tau[0], tau[-1]])(best) for k in range(X.shape[1])])
+    return np.array(times), np.array(points).reshape(len(times), X.shape[1])
 
 
 def _design(phase, order: int) -> np.ndarray:
@@ -47,13 +55,17 @@ def _design(phase, order: int) -> np.ndarray:
 
 def section_curve(phase, points, max_order: int) -> dict:
     """The closed curve x(phi) through the spike-section points: per coordinate a Fourier series of
-    order min(max_order, (n - 2) // 4) fitted by least squares (so at least twice as many points as
-    coefficients). ``floor``: the median over the points of the leave-one-out residual's norm (each
-    point against the fit without it), the curve's own thickness in the points' units."""
+    order min(max_order, (n - 2) // 4, pi / (the largest gap between the points' phases)) fitted by least
+    squares (at least twice as many points as coefficients, and no harmonic finer than the coverage
+    resolves: points on a short arc give order 0, their mean). ``floor``: the median over the points of
+    the leave-one-out residual's norm (each point against the fit without it), the curve's own
+    thickness in the points' units."""
     phase, points = np.asarray(phase, float), np.atleast_2d(np.asarray(points, float))
-    order = min(max_order, (phase.size - 2) // 4)
-    if order < 1:
-        raise ValueError(f"a closed curve needs at least 6 section points, got {phase.size}")
+    if phase.size < 3:
+        raise ValueError(f"a section curve needs at least 3 points, got {phase.size}")
+    ordered = np.sort(np.mod(phase, 2 * math.pi))
+    gap = max(np.max(np.diff(ordered), initial=0.0), ordered[0] + 2 * math.pi - ordered[-1])
+    order = max(0, min(max_order, (phase.size - 2) // 4, int(math.pi / gap)))
     A = _design(phase, order)
     coef, *_ = np.linalg.lstsq(A, points, rcond=None)
     hat = np.einsum("ij,ji->i", A, np.linalg.pinv(A))
@@ -83,32 +95,39 @@ def quarters(D) -> tuple[float, float]:
     return float(np.median(D[:q])), float(np.median(D[-q:]))
 
 
+def late_interval(spikes) -> tuple[float, float]:
+    """:func:`mean_interval` over the second half of the spikes (where a returning orbit has converged)."""
+    spikes = np.asarray(spikes, float)
+    return mean_interval(spikes[spikes.size // 2:])
+
+
 # the docstring is written into the torus_stability dataset (attribute classification_rule)
 def classify(D, n_spikes: int, dT: float, dT_err: float, floor: float, *, min_spikes: int, leave: float,
              change: float, same: float, sigma: float, period_floor: float) -> tuple[str, str]:
     """The class of a perturbed orbit from its distances D_n to the reference's spike-section curve
-    (relative), its spike count and its mean spike interval's difference dT +- dT_err from the
-    reference's (dT_err: both standard errors combined). D_early, D_late: medians over the first and
-    last quarter of the spikes. "leaves" when fewer than min_spikes spikes came, or D_late >= leave, or
-    D grew (D_late / D_early >= change); "same torus" when D decayed (D_late / D_early <= 1 / change),
-    or when D_late is within same x floor (the reference curve's own relative thickness) and the periods
-    agree (|dT| <= max(sigma dT_err, period_floor), the latter the resolution of the integration's spike
-    times); else "neighbouring torus" (regular, at an offset that neither grows
-    nor decays by the factor change, or on the curve to its resolution at a measurably different period)."""
+    (relative), its spike count and the difference dT +- dT_err of its late mean spike interval (second
+    half of its spikes) from the reference's mean (dT_err: both standard errors combined). D_early,
+    D_late: medians over the first and last quarter of the spikes; the periods agree when |dT| <=
+    max(sigma dT_err, period_floor), the latter the resolution of the spike times. "leaves" when fewer
+    than min_spikes spikes came, or D_late >= leave, or D grew (D_late / D_early >= change); "same torus"
+    when the periods agree and D came back: it decayed (D_late / D_early <= 1 / change, from D_early
+    above same x floor) or it lies within same x floor (the reference curve's own relative thickness);
+    else "neighbouring torus" (regular, at an offset that neither grows nor decays by the factor change,
+    or at a measurably different period)."""
     if n_spikes < min_spikes:
         return "leaves", f"{n_spikes} spikes (fewer than {min_spikes}): the spike train stopped"
     early, late = quarters(D)
     ratio = late / early if early > 0 else math.inf
-    facts = f"D early {early:.3g}, late {late:.3g} (x{ratio:.3g}); period difference {dT:.4g} +- {dT_err:.2g}"
+    facts = (f"D early {early:.3g}, late {late:.3g} (x{ratio:.3g}), floor {floor:.3g}; late period difference "
+             f"{dT:.4g} +- {dT_err:.2g}")
     if late >= leave:
         return "leaves", f"{facts}: D late >= {leave:g}"
     if ratio >= change:
         return "leaves", f"{facts}: D grew by {change:g} or more"
-    if ratio <= 1.0 / change:
-        return "same torus", f"{facts}: D decayed by {change:g} or more, back onto the reference curve"
+    agrees = abs(dT) <= max(sigma * dT_err, period_floor)
+    decayed = ratio <= 1.0 / change and early > same * floor
     on_curve = late <= same * floor
-    if on_curve and abs(dT) <= max(sigma * dT_err, period_floor):
-        return "same torus", f"{facts}: on the reference curve (floor {floor:.3g}) at the same period"
-    why = f"on the curve to its resolution (floor {floor:.3g}) but the period differs" if on_curve else \
-        "offset neither grows nor decays"
+    if agrees and (decayed or on_curve):
+        return "same torus", f"{facts}: {'D decayed' if decayed else 'on the reference curve'}, same period"
+    why = "the period differs" if decayed or on_curve else "offset neither grows nor decays"
     return "neighbouring torus", f"{facts}: {why}"

@@ -244,7 +244,7 @@ VOCABULARY: dict[str, tuple[str, str]] = {
                        "reference's max |(u, Omega, omega)|", "1"),
     "distance_early": ("median distance to the reference's spike-section curve over the first quarter of spikes", "1"),
     "distance_late": ("median distance to the reference's spike-section curve over the last quarter of spikes", "1"),
-    "period_difference": ("mean spike interval minus the reference's", "time"),
+    "period_difference": ("mean spike interval over the second half of the spikes minus the reference's mean", "time"),
     "period_difference_err": ("standard error of the period difference (both orbits' combined)", "time"),
     "torus_class": ("class of the orbit: same torus, neighbouring torus or leaves (reference: the reference)", "text"),
     "class_reason": ("reason for the orbit's class", "text"),

@@ -9,8 +9,12 @@ of ``amplitudes``, times max |(u, Omega, omega)| of y*) in ``directions`` seeded
 projected onto the tangent plane of the energy level, then put on the level exactly by rescaling the
 velocities (the time-scaling symmetry). Each orbit is sampled every dt; its spikes are found by the
 transient rule on Omega (``spike_factor``) and refined to the peak of |Omega| on the delta = 0 section
-(crossings from the samples' Taylor jets, one per fast turn; sleighsim.analysis.torus.refine_spikes);
-its spike section is (delta mod 2 pi; u, Omega, omega) at the refined spike times. The gather fits the
+(crossings from the samples' Taylor jets, one per fast turn; sleighsim.analysis.torus.spike_peaks);
+its spike section is (delta mod 2 pi; u, Omega, omega) at the refined spike times, the state taken on
+the delta = 0 section (interpolated to the spike time), so that on a torus it is one point (the
+section's slow phase fixed by the peak) whatever the fast phase at the spike: a fast-phase-dependent
+state would need the reference to cover every fast phase, which a near-resonant torus does not do in
+any affordable horizon. The gather fits the
 reference's spike-section curve, measures every perturbed orbit's distance to it and its period
 difference, and classifies it (sleighsim.analysis.torus.classify). Chunk jobs hold whole orbits.
 """
@@ -106,26 +110,26 @@ def section(flow: DDFlow, hi, lo, grid) -> tuple[np.ndarray, np.ndarray]:
     return grid[rows] + tau, np.stack([_horner(J[:, c], tau) for c in range(3)], axis=1)
 
 
-def spike_section(flow: DDFlow, hi, lo, grid, t_spike) -> tuple[np.ndarray, np.ndarray]:
-    """(delta mod 2 pi, (u, Omega, omega)) at the times t_spike, from the jets of the nearest samples."""
+def fast_phase(flow: DDFlow, hi, lo, grid, t_spike) -> np.ndarray:
+    """delta mod 2 pi at the times t_spike, from the jets of the nearest samples."""
     rows = np.clip(np.rint((t_spike - grid[0]) / (grid[1] - grid[0])).astype(int), 0, grid.size - 1)
-    J, tau = jets_at(flow, hi, lo, rows), t_spike - grid[rows]
-    x = np.stack([_horner(J[:, c], tau) for c in range(4)], axis=1) if rows.size else np.empty((0, 4))
-    return np.mod(x[:, 3], TWO_PI), x[:, :3]
+    J = jets_at(flow, hi, lo, rows)
+    return np.mod(_horner(J[:, 3], t_spike - grid[rows]), TWO_PI) if rows.size else np.empty(0)
 
 
 def orbit(flow: DDFlow, y0, T: float, cfg: dict, label: str) -> dict:
     """One orbit from y0 over T in double-double, sampled every dt: spike times (coarse by the transient
-    rule, refined on the delta = 0 section), its spike section, the energy drift over the samples
-    (every 1000th, at 200 bits) and the wall time."""
+    rule, refined on the delta = 0 section), its spike section (the section's state interpolated to the
+    spike time, and the fast phase delta mod 2 pi there), the energy drift over the samples (every
+    1000th, at 200 bits) and the wall time."""
     start = time.perf_counter()
     grid = np.arange(0.0, T + 0.5 * cfg["dt"], cfg["dt"])
     hi, lo = flow.propagate_grid(y0, grid)
     steps = flow.steps
     coarse = spike_times(grid, hi[:, 1], factor=cfg["spike_factor"])
     t_sec, x_sec = section(flow, hi, lo, grid)
-    spikes = torus.refine_spikes(t_sec, np.abs(x_sec[:, 1]), coarse, cfg["spike_half_width"])
-    phase, x = spike_section(flow, hi, lo, grid, spikes)
+    spikes, x = torus.spike_peaks(t_sec, x_sec, coarse, cfg["spike_half_width"])
+    phase = fast_phase(flow, hi, lo, grid, spikes)
     sub = np.r_[0:grid.size:1000, grid.size - 1]
     drift = ddtaylor.energy_drift(flow.params, hi[sub], lo[sub])
     out = {"spike_time": spikes, "spike_phase": phase, "spike_u": x[:, 0], "spike_Omega": x[:, 1],
@@ -162,7 +166,8 @@ def chunk(cfg: dict, index: int, scene: str = "") -> xr.Dataset:
 
 
 def _judged(ds: xr.Dataset, cfg: dict) -> dict:
-    """Per orbit: spike count, mean interval +- standard error, distance of each spike-section point to
+    """Per orbit: spike count, mean interval +- standard error, the late mean interval's difference from the
+    reference's mean (:func:`sleighsim.analysis.torus.late_interval`), distance of each spike-section point to
     the reference's curve (relative to the reference's max |(u, Omega, omega)|), its early and late
     medians, and the class with its reason; and the reference curve's order and relative floor."""
     x = np.stack([ds[v].values for v in ("spike_u", "spike_Omega", "spike_omega")], axis=-1)
@@ -178,7 +183,8 @@ def _judged(ds: xr.Dataset, cfg: dict) -> dict:
         n = int(ok[i].sum())
         D[i, ok[i]] = torus.curve_distance(curve, phase[i, ok[i]], x[i, ok[i]]) / scale if n else []
         T, err = torus.mean_interval(ds.spike_time.values[i, ok[i]])
-        dT, dT_err = T - T_ref, math.hypot(err, err_ref)
+        T_late, err_late = torus.late_interval(ds.spike_time.values[i, ok[i]])
+        dT, dT_err = T_late - T_ref, math.hypot(err_late, err_ref)
         klass, why = ("reference", "the reference orbit") if i == 0 else torus.classify(
             D[i, ok[i]], n, dT, dT_err, floor, min_spikes=cfg["min_spikes"], leave=cfg["leave_distance"],
             change=cfg["change_factor"], same=cfg["same_factor"], sigma=cfg["sigma"],
@@ -215,7 +221,7 @@ def gather(paths, cfg: dict, scene: str = "") -> xr.Dataset:
         velocity_scale=j["scale"], reference_interval=j["T_ref"], min_spikes=cfg["min_spikes"],
         leave_distance=cfg["leave_distance"], change_factor=cfg["change_factor"], same_factor=cfg["same_factor"],
         sigma=cfg["sigma"], period_rtol=cfg["period_rtol"], classification_rule=_doc(torus.classify),
-        perturbation_rule=_doc(perturbed_start), spike_rule=_doc(torus.refine_spikes),
+        perturbation_rule=_doc(perturbed_start), spike_rule=_doc(torus.spike_peaks),
         curve_rule=_doc(torus.section_curve),
         energy_max_rel_drift=float(np.nanmax(ds.energy_max_rel_drift.values)),
         wall_time_s=float(ds.wall_time_s.values.sum()), n_perturbed=int(classes.size),
