@@ -86,10 +86,20 @@ def _fig4(n_groups, reached=1):
     return ds
 
 
+def _torus():
+    """A torus-stability dataset: the reference and two perturbed orbits on neighbouring tori."""
+    return xr.Dataset({"amplitude": ("orbit", [0.0, 1e-6, 1e-3]), "mean_interval": ("orbit", [2337.6, 2422.2, 2155.3]),
+                       "distance_early": ("orbit", [NAN, 0.02, 0.05]), "distance_late": ("orbit", [NAN, 0.02, 0.049])},
+                      attrs=dict(n_perturbed=2, n_same_torus=0, n_neighbouring_torus=2, n_leaves=0, T=5e4,
+                                 reference_interval=2337.58))
+
+
 @pytest.mark.parametrize("n_groups, reached, want", [(1, 1, REPRODUCED), (2, 1, DIFFERS), (1, 0, NOT_YET)])
 def test_c06(n_groups, reached, want):
-    j = transients.c06(PAPER["C06"], _fig4(n_groups, reached))
+    j = transients.c06(PAPER["C06"], _fig4(n_groups, reached), _torus())
     assert j.verdict == want and (want != DIFFERS or "extra steady state" in j.reason)
+    assert "0 back on its torus, 2 on neighbouring tori, 0 left" in j.measured and "2155.3 to 2422.2" in j.measured
+    assert "late over early 0.98 to 1" in j.measured
 
 
 def _fig6(**over):

@@ -10,7 +10,7 @@ EVIDENCE: dict[str, tuple[str, ...]] = {
     "C03": ("fig3",),
     "C04": ("fig3", "transients"),
     "C05": ("fig3",),
-    "C06": ("fig4",),
+    "C06": ("fig4", "torus_stability"),
     "C07": ("fig6",),
     "C08": ("fig6",),
     "C09": ("fig6",),

@@ -45,6 +45,8 @@ TITLES: dict[str, str] = {
     "precision_ladder": "spike times per arithmetic from one settled point and the orbits' separation",
     "main_drift": "the main state's slow drift: spike interval and lambda_1 per window of one long run",
     "basins": "basin fractions of the steady states on one energy level (claim C06 made quantitative)",
+    "torus_stability": "what the steady state is: orbits started near the main torus in double-double, each on its "
+                       "torus, a neighbouring one, or gone (issue 39 item 4, claim C06)",
     "audit": "the model as printed: energy drift of the printed udot, and the paper's other slips (D1-D6)",
     "k2_sweep": "the observables the unstated K bears on, against K2 (likely causes of C04, C05, C09-C11, C13, "
                 "C23)",

@@ -29,6 +29,7 @@ from sleighsim.scenes import (
     ladder,
     schematic,
     steady_state,
+    torus_stability,
     trajectories,
     transients,
     trigger,
@@ -45,6 +46,7 @@ KINDS: dict[str, SceneKind] = {k.name: k for k in (
     grid.LYAPUNOV_GRID, verdict.CHAOS_VERDICT, ladder.PRECISION_LADDER, trigger.TRIGGER_LAW, drift.DRIFT_WINDOWS,
     basins.BASINS, audit.PRINTED_MODEL, causes.K2_SWEEP, causes.INTEGRATION_ERROR, hardcases.HARDCASES, bench.BENCH,
     judge_power.JUDGE_POWER,
+    torus_stability.TORUS_STABILITY,
 )}
 
 #: Keys of a scene block that schedule its jobs and do not change what it computes.

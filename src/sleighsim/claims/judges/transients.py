@@ -68,9 +68,24 @@ def c05(paper, fig3) -> Judgement:
         note="(spike intervals, sleighsim.engine.transient.phases)")
 
 
-def c06(paper, fig4) -> Judgement:
+def torus_facts(torus) -> str:
+    """What the torus-stability scene measured around the main torus (sleighsim.scenes.torus_stability):
+    the classes of the perturbed orbits, their sizes, periods and late/early distance ratios, as text."""
+    a, sel = torus.attrs, torus.amplitude.values > 0
+    ratio = torus.distance_late.values[sel] / torus.distance_early.values[sel]
+    periods = torus.mean_interval.values[sel]
+    return (f"torus stability ({a['n_perturbed']} orbits started {np.min(torus.amplitude.values[sel]):.0e} to "
+            f"{np.max(torus.amplitude.values[sel]):.0e} from the settled main state on its energy level, double-double "
+            f"over {a['T']:g}): {a['n_same_torus']} back on its torus, {a['n_neighbouring_torus']} on neighbouring "
+            f"tori, {a['n_leaves']} left; mean spike intervals {np.nanmin(periods):.6g} to {np.nanmax(periods):.6g} "
+            f"against the reference's {a['reference_interval']:.7g}; distance to the reference's spike-section curve "
+            f"late over early {np.nanmin(ratio):.3g} to {np.nanmax(ratio):.3g}")
+
+
+def c06(paper, fig4, torus) -> Judgement:
     """C06, "same energy -> same attractor; different energy -> different attractor": judged from the paper's
-    values ``paper`` and ``fig4``; returns its Judgement."""
+    values ``paper`` and ``fig4``; ``torus`` (the torus-stability scene) is reported beside it; returns its
+    Judgement."""
     a = fig4.attrs
     levels = sorted(set(fig4.level.values.tolist()))
     ok_runs = fig4.reached.values == 1
@@ -96,7 +111,8 @@ def c06(paper, fig4) -> Judgement:
         measured=f"interval groups per level {n_groups} ({'; '.join(groups)}); omega distance within the main group "
                  f"{max(a[f'level{li}_distance_main_group'] for li in levels):.3g}, across levels after the time "
                  f"scaling {a.get('across_levels_distance_main_group_scaled', math.nan):.3g}, unscaled "
-                 f"{a.get('across_levels_distance_main_group_unscaled', math.nan):.3g}; long runs: " + "; ".join(long),
+                 f"{a.get('across_levels_distance_main_group_unscaled', math.nan):.3g}; long runs: " + "; ".join(long)
+                 + "; " + torus_facts(torus),
         rule=f"one attractor per level: every run on a level falls in one steady spike-interval group (within "
              f"{a['group_rel_tol']:g})",
         reason="" if one else f"{sum(n - 1 for n in n_groups)} extra steady state(s) on the levels: runs keep "
