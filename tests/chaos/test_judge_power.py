@@ -26,7 +26,8 @@ RECORD = Path(__file__).with_name("judge_power_record.yaml")
 SLEIGH = {"tau": 10.0, "T_megno": 50000.0, "megno_samples": 500, "ftle_windows": [100.0, 300.0, 1000.0, 3000.0],
           "T_two": 50000.0, "d0_rel": 1e-8, "replicas": 4, "replica_spacing": 20000.0, "t_align": 1000.0,
           "T_round": 25000.0, "max_rounds": 4, "target_rel": 0.1, "loschmidt_T": [100.0, 20000.0], "loschmidt_n": 30,
-          "sigma": 3.0, "frequency": {"T": 200000.0, "dt": 0.5, "splits": [2, 4, 8, 16], "min_cycles": 8.0}}
+          "sigma": 3.0, "frequency": {"T": 200000.0, "dt": 0.5, "splits": [2, 4, 8, 16], "min_cycles": 8.0},
+          "decisive": {"T": 100000.0, "splits": [2, 4, 8]}}
 CFG = {"spike_period": 2320.0, "sleigh": SLEIGH}
 C, T = known_orbits.CHAOTIC_ORBITS, known_orbits.TORI
 
@@ -86,6 +87,7 @@ def test_horizons_scale_with_the_period_and_the_factor():
     tau, n = hz.steps(lorenz, "T_megno")
     assert tau == pytest.approx(10.0 * 0.75 / 2320) and n == 4 * 5000
     assert hz.T_round == 1e5 and hz.loschmidt_T == (100.0, 8e4) and hz.frequency_T == 8e5 and hz.tau == 10.0
+    assert hz.decisive_T == 4e5 and hz.decisive_splits == (2, 4, 8)
 
 
 # ----------------------------------------------------------------------------- the audit set

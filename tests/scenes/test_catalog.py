@@ -37,7 +37,8 @@ def test_chunked_kinds_have_chunk_gather_and_a_count(kind):
     declared = catalog.KINDS[kind]
     assert declared.chunk.__name__ == "chunk" and declared.gather.__name__ == "gather"
     assert declared.chunk.__module__ == declared.gather.__module__
-    assert declared.compute is None and declared.chunk_count({"kind": kind, "n_chunks": 2, "states": {"a": []}}) >= 2
+    assert declared.compute is None and declared.chunk_count({"kind": kind, "n_chunks": 2, "states": {"a": []},
+                                                                        "decisive": {"states": []}}) >= 2
 
 
 @pytest.mark.parametrize("kind", list(catalog.KINDS))

@@ -180,7 +180,7 @@ def test_the_sleighs_flow_runs_in_quad_precision():
                frequency={"T": 200.0, "quad_T": 200.0, "dt": 0.5, "component": "u", "splits": [2, 4],
                           "min_cycles": 4.0, "tol_quad": 1.925929944387235853e-34})
     y = np.array([0.05, 0.02, 0.8, 0.4])
-    runs = {p: verdict_frequency.frequency_run(Params.paper(eps=0.1), y, cfg, p) for p in Precision}
+    runs = {p: verdict_frequency.frequency_run(Params.paper(eps=0.1), y, cfg, p) for p in verdict_frequency.PRECISIONS}
     flow, _ = integrators.flow(False, 1.925929944387235853e-34, Precision.QUAD)
     assert "real128" in str(flow.state.dtype)
     # the same orbit (end states agree to 1e-13 here): window frequencies agree to the refinement's
@@ -221,7 +221,8 @@ def test_gather_keeps_an_answer_only_when_every_realization_gives_it(tmp_path):
     from sleighsim.io.netcdf import read_dataset, write_dataset
     from sleighsim.scenes.verdict import CHAOS_VERDICT, gather
 
-    cfg = {"kind": "chaos_verdict", "n_chunks": 3, "realization_rel": 1e-12, "states": {"main": [], "rotor_a": []}}
+    cfg = {"kind": "chaos_verdict", "n_chunks": 3, "realization_rel": 1e-12, "states": {"main": [], "rotor_a": []},
+           "decisive": {"states": []}}
     assert CHAOS_VERDICT.chunk_count(cfg) == 6
     per = [["undecided", "regular"], ["chaotic", "regular"], ["undecided", "regular"]]
     paths = []
