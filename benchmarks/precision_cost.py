@@ -63,7 +63,8 @@ from sleighsim.ops import benchio
 say = partial(benchio.say, "precision_cost")
 
 SCHEMA = "sleighsim.precision_cost/1"
-PRECISIONS = tuple(p.value for p in Precision if p is not Precision.DOUBLE_DOUBLE)  # heyoka's: double, long double, quad
+# heyoka's: double, long double, quad (double-double: benchmarks/doubledouble.py)
+PRECISIONS = tuple(p.value for p in Precision if p is not Precision.DOUBLE_DOUBLE)
 SYSTEMS = ("flow", "tangent")
 PARAMS = {"eps": 0.1, "b": 1.0, "K2": 1.1}
 TAU = 10.0  # renormalisation interval of the tangent vector (config: lyapunov tau)

@@ -178,3 +178,23 @@ def test_the_first_screen_names_the_arithmetic_each_state_was_decided_in():
     assert _decided_in(ds, 1).endswith("follows the orbit: none")
     assert _decided_in(ds, 2).endswith("follows the orbit: unknown")
     assert _decided_in(xr.Dataset(coords={"state": ["a"]}), 0) == ""
+
+
+def test_the_first_screen_cites_a_verdict_measured_with_another_config():
+    """elsewhere: per state of the record, how many realizations gave each verdict, the indicators that said
+    it, G x rounding, the tori, the wall times and the commit; nothing without a record."""
+    from sleighsim.report.build import elsewhere
+
+    def row(k, v, period):
+        return {"realization": k, "state": "main", "verdict": v, "indicators": {"megno": v, "birkhoff": "regular"},
+                "log10_gain_rounding": -16.2, "spike_period": period, "wall_time_s": 600.0,
+                "precision": "double-double", "T": 5e5, "git_commit": "abcdef1234567890", "created_utc": "2026-11-26T18:00"}
+
+    (line,) = elsewhere({"config": "config/cluster.yaml", "realizations": [row(0, "regular", 2337.5),
+                                                                             row(1, "undecided", 2335.5)]})
+    assert line.startswith("main, with config/cluster.yaml (decisive stage in double-double over T = 500000): "
+                           "regular in 1 of 2 realizations, undecided in 1 of 2 realizations")
+    assert "indicators saying so: birkhoff, megno" in line
+    assert "tori reached (median spike interval) 2337.5, 2335.5" in line
+    assert "commit abcdef123456, 2026-11-26" in line
+    assert elsewhere(None) == []

@@ -181,6 +181,8 @@ ROOT = Path(workflow.basedir).parent
 PAPER_TEX = str(ROOT / "paper" / "fedonyuk-tallapragada-sleigh-rotor.tex")
 CLAIMS_MD = str(ROOT / "paper" / "CLAIMS.md")
 # The judge-power record the chaos verdict votes by (its table and the deciding judges' power in the report).
+# A chaos verdict measured with config/cluster.yaml (ops.verdictrecord), cited on the report's first screen.
+CLUSTER_RECORD = {"cluster_record": str(ROOT / "benchmarks" / "cluster_verdict.yaml")}
 POWER_RECORD = {
     "power_record": str(ROOT / b["vote_record"])
     for b in SCENES.values()

@@ -23,6 +23,7 @@ rule claims:
 rule report:
     input:
         **POWER_RECORD,
+        **CLUSTER_RECORD,
         claims=f"{R}/claims.nc",
         figures=expand(f"{R}/figures/{{fig}}.png", fig=FIGURES_BUILT),
         data=expand(f"{R}/data/{{name}}.nc", name=REPORT_DATA),

@@ -237,7 +237,30 @@ def _arithmetic_note(ds, i: int) -> str:
     return f". Rounding amplified by ln G = {float(ds.ln_gain_max.values[i]):.1f} per spike cycle: " + "; ".join(cells)
 
 
-def answers(rows: list[Row], datasets: dict, figures: dict, power: dict | None = None, n_largest: int = 5) -> dict:
+def elsewhere(record: dict | None) -> list[str]:
+    """The first screen's lines on a chaos verdict measured with another config (its record: per state, how
+    many realizations gave each verdict, the arithmetic and horizon, the indicators that decided, the tori
+    reached, the measured wall time and the commit)."""
+    if not record:
+        return []
+    out = []
+    for state in dict.fromkeys(r["state"] for r in record["realizations"]):
+        rs = [r for r in record["realizations"] if r["state"] == state]
+        counts = {v: sum(r["verdict"] == v for r in rs) for v in dict.fromkeys(r["verdict"] for r in rs)}
+        said = sorted({k for r in rs for k, v in r["indicators"].items() if v == r["verdict"]})
+        out.append(f"{state}, with {record['config']} (decisive stage in {rs[0]['precision']} over "
+                   f"T = {rs[0]['T']:g}): "
+                   + ", ".join(f"{v} in {n} of {len(rs)} realizations" for v, n in counts.items())
+                   + f"; indicators saying so: {', '.join(said)}; G x rounding 10^"
+                   + "/".join(f"{r['log10_gain_rounding']:.1f}" for r in rs) + "; tori reached (median spike interval) "
+                   + ", ".join(f"{r['spike_period']:g}" for r in rs) + "; wall "
+                   + ", ".join(f"{r['wall_time_s']:.0f}" for r in rs) + " s per realization; commit "
+                   + ", ".join(sorted({r["git_commit"][:12] for r in rs})) + f", {rs[0]['created_utc'][:10]}")
+    return out
+
+
+def answers(rows: list[Row], datasets: dict, figures: dict, power: dict | None = None, n_largest: int = 5,
+            cluster: dict | None = None) -> dict:
     """The first screen: the claims grid by group with the verdict counts (one denominator, every
     row), the chaos answer per state with the figure that shows why, and the largest differences with
     their tested causes."""
@@ -249,6 +272,7 @@ def answers(rows: list[Row], datasets: dict, figures: dict, power: dict | None =
         "counts": [(v, n) for v, n in counts.items() if n],
         "n_rows": len(rows),
         "chaos": chaos,
+        "elsewhere": elsewhere(cluster),
         "why_figure": next((f for f in WHY_FIGURES if f in figures), ""),
         "differs": sorted((r for r in rows if r.verdict == "differs" and np.isfinite(r.difference)),
                           key=lambda r: -r.difference)[:n_largest],
@@ -256,18 +280,20 @@ def answers(rows: list[Row], datasets: dict, figures: dict, power: dict | None =
 
 
 def build(rows: list[Row], *, out_dir, tex_path, labels: dict, figures: dict, datasets: dict,
-          benchmarks: dict, power_record=None) -> None:
+          benchmarks: dict, power_record=None, cluster_record=None) -> None:
     """Write index.html and README.md into ``out_dir`` with the figures copied beside them.
 
     labels: {figure: paper LaTeX label}; figures: {figure: PNG path} of the figures built;
     datasets: {dataset: netCDF path}; benchmarks: {"data/<dataset>" or "figure/<figure>": [Snakemake
     benchmark files]}; power_record: the judge-power record the chaos verdict voted by (its table and the
-    deciding judges' power)."""
+    deciding judges' power); cluster_record: a chaos verdict measured with another config, cited on the
+    first screen (``elsewhere``)."""
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     power = yaml.safe_load(Path(power_record).read_text()) if power_record else None
     context = {
-        "answers": answers(rows, datasets, figures, power),
+        "answers": answers(rows, datasets, figures, power,
+                           cluster=yaml.safe_load(Path(cluster_record).read_text()) if cluster_record else None),
         "findings": precision_findings(rows, datasets),
         "paper_figures": paper_figures(rows, out_dir=out_dir, tex_path=tex_path, labels=labels, figures=figures,
                                        datasets=datasets, benchmarks=benchmarks),
