@@ -190,8 +190,8 @@ def test_the_first_screen_cites_a_verdict_measured_with_another_config():
                 "log10_gain_rounding": -16.2, "spike_period": period, "wall_time_s": 600.0,
                 "precision": "double-double", "T": 5e5, "git_commit": "abcdef1234567890", "created_utc": "2026-11-26T18:00"}
 
-    (line,) = elsewhere({"config": "config/cluster.yaml", "realizations": [row(0, "regular", 2337.5),
-                                                                             row(1, "undecided", 2335.5)]})
+    rows = [row(0, "regular", 2337.5), row(1, "undecided", 2335.5)]
+    (line,) = elsewhere({"config": "config/cluster.yaml", "realizations": rows})
     assert line.startswith("main, with config/cluster.yaml (decisive stage in double-double over T = 500000): "
                            "regular in 1 of 2 realizations, undecided in 1 of 2 realizations")
     assert "indicators saying so: birkhoff, megno" in line
