@@ -188,7 +188,8 @@ def test_the_first_screen_cites_a_verdict_measured_with_another_config():
     def row(k, v, period):
         return {"realization": k, "state": "main", "verdict": v, "indicators": {"megno": v, "birkhoff": "regular"},
                 "log10_gain_rounding": -16.2, "spike_period": period, "wall_time_s": 600.0,
-                "precision": "double-double", "T": 5e5, "git_commit": "abcdef1234567890", "created_utc": "2026-11-26T18:00"}
+                "precision": "double-double", "T": 5e5, "git_commit": "abcdef1234567890",
+                "created_utc": "2026-11-26T18:00"}
 
     rows = [row(0, "regular", 2337.5), row(1, "undecided", 2335.5)]
     (line,) = elsewhere({"config": "config/cluster.yaml", "realizations": rows})
