@@ -175,8 +175,8 @@ def _to_decide(ds, i: int, verdict: str, power: dict | None = None) -> str:
     if verdict in ("chaotic", "regular"):
         return ""
     if not _decisive_ran(ds, i):
-        return ("no decisive stage ran for this state: name it in chaos_verdict.decisive.states to judge it again "
-                "in an arithmetic that follows its orbit")
+        return ("no decisive stage ran for this state: name it among the decisive stage's states (decisive.states) "
+                "to judge it again in an arithmetic that follows its orbit")
     wall, T = float(ds.decisive_wall_time_s.values[i]), float(ds.attrs["decisive_T"])
     left = "; ".join(f"{k}: {v}" for k, v in zip(ds.decisive_indicator.values, ds.decisive_indicator_verdict.values[i]))
     text = (f"the decisive stage ({ds.attrs['decisive_precision']}, T = {T:g}, {wall:.0f} s per realization on one "

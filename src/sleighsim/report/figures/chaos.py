@@ -157,7 +157,7 @@ def _section_megno(ax, ds) -> None:
         y = np.asarray(ds.decisive_section_Y_mean.values[k], float)
         ax.plot(np.arange(1, y.size + 1), y, "-", color=f"C{k}", label=str(ds.state.values[k]))
     ax.axhline(2.0, color="0.5", lw=0.8, ls=":")
-    ax.set_xlabel("returns to the spike section")
+    ax.set_xlabel("returns to the spike section (count)")
     ax.set_ylabel("map's MEGNO <Y> (unitless)")
     ax.set_title(f"decisive stage ({ds.attrs.get('decisive_precision', '')}):\nthe return map's MEGNO "
                  "(2 on a torus, dotted)", loc="left")
@@ -170,7 +170,7 @@ def _birkhoff(ax, ds) -> None:
         ax.semilogx(W, ds.decisive_birkhoff_digits.values[k], "o-", ms=4, color=f"C{k}",
                     label=str(ds.state.values[k]))
     ax.set_xlabel("window W (time units)")
-    ax.set_ylabel("digits of agreement of consecutive windows")
+    ax.set_ylabel("agreement of consecutive windows (decimal digits)")
     ax.set_title("Birkhoff averages: digits rise fast\non a torus, 0.5 per decade if chaotic", loc="left")
 
 
@@ -180,7 +180,7 @@ def _spike_train(ax, ds) -> None:
         iv = np.asarray(ds.decisive_spike_interval.values[k], float)
         iv = iv[np.isfinite(iv)]
         ax.plot(np.arange(1, iv.size + 1), iv, ".-", ms=3, color=f"C{k}", label=str(ds.state.values[k]))
-    ax.set_xlabel("spike cycle")
+    ax.set_xlabel("spike cycle (count)")
     ax.set_ylabel("spike interval (time units)")
     ax.set_title("spike train of the decisive orbit", loc="left")
 
