@@ -151,6 +151,11 @@ def test_the_first_screen_says_who_decided_and_what_would_decide_the_rest():
     text = _to_decide(ds, 1, U, power)
     assert "at 4 times the horizon the judge-power audit lets section_megno vote as well" in text
     assert "T = 400000 (vote_horizon 4; config/cluster.yaml) would take about 244 s" in text
+    assert text.endswith("244 s per realization")  # this stage had the tangent vector (no attribute: it did)
+    ds.attrs["decisive_tangent"] = 0  # the orbit alone: the cost scaled from it leaves the tangent vector out
+    assert _to_decide(ds, 1, U, power).endswith("244 s per realization for the orbit alone, more with the tangent "
+                                                "vector MEGNO needs (not integrated at this horizon, where no "
+                                                "tangent-based judge of the stage votes)")
     ds.attrs["decisive_vote_horizon"] = 4.0
     assert _to_decide(ds, 1, U, power).endswith("its cost grows linearly with T: 200000 would take about 122 s "
                                                  "per realization")  # no longer audited horizon

@@ -159,3 +159,33 @@ def test_megno_from_a_log_norm_on_known_growth_laws():
         megno_from_log_norm(t, np.where(t > 5, np.nan, t), 50)
     with pytest.raises(ValueError, match="from t = 0"):
         megno_from_log_norm(t + 1.0, t, 50)
+
+
+def test_the_stage_integrates_a_tangent_vector_only_when_a_tangent_based_judge_of_it_votes():
+    assert verdict_decisive.needs_tangent({"megno", "birkhoff"})
+    assert verdict_decisive.needs_tangent({"section_megno"})
+    assert not verdict_decisive.needs_tangent({"birkhoff", "ftle", "two_trajectory"})  # the audit's factor-1 voters
+
+
+def _decisive_cfg():
+    return {"params": {"eps": 0.1, "b": 1.0, "K2": 1.1}, "sigma": 3.0, "tau": 10.0,
+            "frequency": {"component": "omega", "min_cycles": 2.0}, "transient": {"spike_factor": 1.8},
+            "decisive": {"states": ["main"], "precision": "double-double", "tol": 1e-20, "T": 200.0, "dt": 0.5,
+                         "splits": [2, 4], "megno_samples": 4, "vote_horizon": 1.0}}
+
+
+@pytest.mark.parametrize("voters", [ALL, frozenset({"birkhoff", "ftle", "two_trajectory"})])
+def test_without_a_voting_tangent_judge_the_stage_runs_the_orbit_alone(voters):
+    """The stage over T = 200 in double-double: with MEGNO among the voters it integrates the tangent
+    vector and judges MEGNO; with the audit's factor-1 voters it does not (MEGNO and the return map's
+    MEGNO "not run", NaN) and the orbit's own judges still run on the same orbit."""
+    stage1 = _stage1({}).assign(settled_state=(("state", "var"), [[0.02, 0.02, 3.3, 2.5]]))
+    ds = verdict_decisive.decisive_state(_decisive_cfg(), stage1, voters=voters)
+    reasons = dict(zip(ds.decisive_indicator.values, ds.decisive_indicator_reason.values[0]))
+    tangent = "megno" in voters
+    assert ds.attrs["decisive_tangent"] == int(tangent)
+    for k in ("megno", "section_megno"):
+        assert reasons[k].startswith("not run") != tangent
+    assert np.isfinite(ds.decisive_megno_Y_mean.values[0]).all() == tangent
+    assert ds.decisive_energy_max_rel_drift.values[0] < 1e-18  # NaN fails too
+    assert not reasons["birkhoff"].startswith("not run")

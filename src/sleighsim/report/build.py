@@ -188,9 +188,12 @@ def _to_decide(ds, i: int, verdict: str, power: dict | None = None) -> str:
     h = later[0]
     gained = sorted(record_voting(power, h) - record_voting(power, now))
     who = ", ".join(gained) or "no other judge"
+    orbit_only = not int(ds.attrs.get("decisive_tangent", 1)) and set(gained) & {"megno", "section_megno"}
+    more = (" for the orbit alone, more with the tangent vector MEGNO needs (not integrated at this horizon, "
+            "where no tangent-based judge of the stage votes)") if orbit_only else ""
     return (text + f"; at {h / now:g} times the horizon the judge-power audit lets {who} vote as well: "
             f"T = {T * h / now:g} (vote_horizon {h:g}; config/cluster.yaml) would take about "
-            f"{wall * h / now:.0f} s per realization")
+            f"{wall * h / now:.0f} s per realization{more}")
 
 
 def _decided_in(ds, i: int) -> str:

@@ -2,9 +2,11 @@
 faithfulness gauge), run again from its settled state in an arithmetic that does, one chunk job per
 realization (:mod:`sleighsim.scenes.verdict` cuts the jobs and reads the first stage's dataset in).
 
-From one orbit in the decisive arithmetic: MEGNO (tangent-based) and, without tangent dynamics, the
-frequency analysis of the velocity frequency.component sampled every dt and the spike train (the
-torus the realization is on: its spike intervals). The state's verdict is then decided again
+From one orbit in the decisive arithmetic: MEGNO and the return map's MEGNO (tangent-based; only
+when one of them votes at the stage's horizon, ``needs_tangent``, else the orbit alone, about a
+third of the work), and without tangent dynamics the frequency analysis of the velocity
+frequency.component sampled every dt, the weighted Birkhoff averages and the spike train (the torus
+the realization is on: its spike intervals). The state's verdict is then decided again
 (``chaos.rule.decide``) from these and the first stage's indicators, every one gated by its own
 limit of G x rounding (``chaos.faithfulness.indicator_limit``). Times in the flow's time unit."""
 
@@ -36,40 +38,67 @@ log = logging.getLogger("sleighsim")
 
 #: The indicators the decisive stage judges (again), in its arithmetic (the others keep the first stage's).
 DECISIVE = ("megno", "section_megno", "frequency", "birkhoff")
+#: Those of them that read the tangent vector.
+TANGENT_JUDGED = ("megno", "section_megno")
 
 
-def orbit_and_megno(params, y, dc: dict) -> tuple[dict, dict]:
-    """The orbit from y (model variables) over dc["T"] sampled every dc["dt"] and MEGNO along it, in
-    dc["precision"] at dc["tol"]: in double-double one run of ``engine.ddtaylor.DDFlow`` with one
-    tangent vector (MEGNO from its log-norm, ``chaos.megno.megno_from_log_norm``); in heyoka's
-    arithmetics the orbit (``heyoka_orbit``) and a MEGNO run (``chaos.megno.megno``, renormalised every
-    dc["tau"]) over the same T. Returns (orbit: t, Y in the model's variables as doubles, log_norm (the
-    tangent vector's, on t: interpolated between renormalisations in heyoka's arithmetics), drift
-    max |E/E0 - 1|, steps), (the MEGNO run)."""
-    if Precision.parse(dc["precision"]) is Precision.DOUBLE_DOUBLE:
-        return dd_orbit_and_megno(params, y, dc)
+def needs_tangent(voters) -> bool:
+    """Whether the stage integrates a tangent vector: only when one of its tangent-based judges
+    (TANGENT_JUDGED) votes at its horizon; otherwise their verdicts could not count (``vote_gate``)."""
+    return any(k in voters for k in TANGENT_JUDGED)
+
+
+def orbit_and_megno(params, y, dc: dict, *, tangent: bool = True) -> tuple[dict, dict | None]:
+    """The orbit from y (model variables) over dc["T"] sampled every dc["dt"] and, with ``tangent``,
+    MEGNO along it, in dc["precision"] at dc["tol"]: in double-double one run of
+    ``engine.ddtaylor.DDFlow`` (with one tangent vector: MEGNO from its log-norm,
+    ``chaos.megno.megno_from_log_norm``); in heyoka's arithmetics the orbit (``heyoka_orbit``) and a
+    MEGNO run (``chaos.megno.megno``, renormalised every dc["tau"]) over the same T. Returns (orbit:
+    t, Y in the model's variables as doubles, drift max |E/E0 - 1|, steps, and with the tangent
+    log_norm, the tangent vector's on t: interpolated between renormalisations in heyoka's
+    arithmetics), (the MEGNO run, None without the tangent)."""
     precision = Precision.parse(dc["precision"])
+    if precision is Precision.DOUBLE_DOUBLE:
+        return dd_orbit_and_megno(params, y, dc) if tangent else (dd_orbit(params, y, dc), None)
+    orbit = heyoka_orbit(params, y, dc, precision)
+    if not tangent:
+        return orbit, None
     ta, _ = integrators.sleigh_megno(dc["tol"], precision, True)
     integrators.set_pars(ta, params)
     m = megno(ta, 4, stored_state(y), T=dc["T"], n_samples=dc["megno_samples"], tau=dc["tau"],
               callback=integrators.bounded(ta))
-    orbit = heyoka_orbit(params, y, dc, precision)
     ell = np.concatenate([[0.0], np.cumsum(m["log_growth"])])
     orbit["log_norm"] = np.interp(orbit["t"], m["tau"] * np.arange(ell.size), ell)
     return orbit, m
 
 
+def _dd_grid(dc: dict) -> np.ndarray:
+    """The decisive orbit's sample times: 0, dt, ..., T."""
+    return np.arange(round(dc["T"] / dc["dt"]) + 1) * dc["dt"]
+
+
+def _dd_drift(params, hi, lo) -> float:
+    """The energy drift of a double-double orbit at 200 bits on at most 201 of its samples."""
+    every = max(1, hi.shape[0] // 200)
+    return ddtaylor.energy_drift(params, hi[::every], lo[::every])
+
+
+def dd_orbit(params, y, dc: dict) -> dict:
+    """``orbit_and_megno``'s orbit in double-double without a tangent vector."""
+    flow = DDFlow(params, dc["tol"])
+    grid = _dd_grid(dc)
+    hi, lo = flow.propagate_grid(np.asarray(y, float), grid)
+    return {"t": grid, "Y": hi, "steps": flow.steps, "drift": _dd_drift(params, hi, lo)}
+
+
 def dd_orbit_and_megno(params, y, dc: dict) -> tuple[dict, dict]:
     """``orbit_and_megno`` in double-double: the tangent vector starts in a random unit direction
-    (seed 0, as ``chaos.megno.megno``); the energy drift is computed at 200 bits on at most 201 of the
-    samples."""
+    (seed 0, as ``chaos.megno.megno``)."""
     flow = DDFlow(params, dc["tol"])
-    grid = np.arange(round(dc["T"] / dc["dt"]) + 1) * dc["dt"]
+    grid = _dd_grid(dc)
     v0 = np.random.default_rng(0).normal(size=4)
     hi, lo, log_norm, _ = flow.propagate_tangent_grid(np.asarray(y, float), v0 / np.linalg.norm(v0), grid)
-    every = max(1, grid.size // 200)
-    orbit = {"t": grid, "Y": hi, "steps": flow.steps, "log_norm": log_norm,
-             "drift": ddtaylor.energy_drift(params, hi[::every], lo[::every])}
+    orbit = {"t": grid, "Y": hi, "steps": flow.steps, "log_norm": log_norm, "drift": _dd_drift(params, hi, lo)}
     return orbit, megno_from_log_norm(grid, log_norm, dc["megno_samples"])
 
 
@@ -107,6 +136,13 @@ def section_megno_judged(orbit: dict, dc: dict, sigma: float) -> dict:
         return {"run": None, "value": math.nan, "error": math.nan, "verdict": (UNDECIDED, str(err))}
     value, error = section_rate(m, spikes)
     return {"run": m, "value": value, "error": error, "verdict": judge_section_megno(m, sigma)}
+
+
+def not_run(name: str, dc: dict) -> dict:
+    """A tangent-based indicator the stage did not compute: it does not vote at the stage's horizon."""
+    return {"run": None, "value": math.nan, "error": math.nan,
+            "verdict": (UNDECIDED, f"not run: {name} does not vote at vote_horizon {dc['vote_horizon']:g} (the "
+                                   "judge-power record), so the stage integrates no tangent vector")}
 
 
 def megno_judged(m: dict, dc: dict, sigma: float) -> dict:
@@ -201,10 +237,11 @@ def decisive_state(cfg: dict, stage1: xr.Dataset, scene: str = "", *, voters: fr
     verdict and class decided again (``decide_again``, ``state_class``)."""
     start = time.perf_counter()
     params, dc, sigma = Params.from_config(cfg["params"]), decisive_config(cfg), cfg["sigma"]
-    y = stage1.settled_state.values[0]
-    orbit, m = orbit_and_megno(params, y, dc)
+    y, tangent = stage1.settled_state.values[0], needs_tangent(voters)
+    orbit, m = orbit_and_megno(params, y, dc, tangent=tangent)
     gain_rounding = math.exp(float(stage1.ln_gain_max.values[0])) * Precision.parse(dc["precision"]).rounding
-    judged = {"megno": megno_judged(m, dc, sigma), "section_megno": section_megno_judged(orbit, dc, sigma),
+    judged = {"megno": megno_judged(m, dc, sigma) if tangent else not_run("megno", dc),
+              "section_megno": section_megno_judged(orbit, dc, sigma) if tangent else not_run("section_megno", dc),
               "frequency": frequency_stage(orbit, dc, sigma), "birkhoff": birkhoff_stage(orbit, dc, gain_rounding)}
     verdict, reason, _ = decide_again(stage1, judged, dc["precision"], sigma, voters)
     klass = state_class(stage1, verdict, sigma)
@@ -214,12 +251,12 @@ def decisive_state(cfg: dict, stage1: xr.Dataset, scene: str = "", *, voters: fr
                                          {"long_name": "wall-clock time of the decisive stage's job", "units": "s"})
     ds = xr.Dataset(variables,
                     coords={"state": stage1.state.values, "decisive_indicator": list(judged),
-                            "decisive_megno_sample": np.arange(judged["megno"]["run"]["t"].size),
+                            "decisive_megno_sample": np.arange(variables["decisive_megno_t"][1][0].size),
                             "decisive_split": np.asarray(dc["splits"], int)})
     ds.attrs.update(decisive_precision=dc["precision"], decisive_tol=dc["tol"], decisive_T=dc["T"],
                     decisive_dt=dc["dt"], decisive_megno_samples=dc["megno_samples"], decisive_steps=orbit["steps"],
                     decisive_splits=list(dc["splits"]), decisive_vote_horizon=float(dc["vote_horizon"]),
-                    decisive_voters=sorted(voters),
+                    decisive_voters=sorted(voters), decisive_tangent=int(tangent),
                     decisive_rule=" ".join(decide_again.__doc__.split()), backend=_backend(dc["precision"]),
                     wall_time_s=time.perf_counter() - start, stage="decisive")
     return ds
@@ -245,7 +282,7 @@ def _decisive_vars(stage1, judged: dict, orbit: dict, dc: dict, verdict: str, re
     log10_gr = (ln_gain + math.log(Precision.parse(dc["precision"]).rounding)) / math.log(10)
     follows = indicator_follows(ln_gain, dict.fromkeys(names, dc["precision"]),
                                 {k: judged[k].get("resolved", math.nan) for k in names})
-    m = judged["megno"]["run"]
+    m = judged["megno"]["run"] or {"t": np.full(1, math.nan), "Y_mean": np.full(1, math.nan)}
     return {
         "decisive_verdict": ("state", np.array([verdict], dtype=object)),
         "decisive_reason": ("state", np.array([reason], dtype=object)),

@@ -156,6 +156,10 @@ def _section_megno(ax, ds) -> None:
     for k in _decisive_states(ds):
         y = np.asarray(ds.decisive_section_Y_mean.values[k], float)
         ax.plot(np.arange(1, y.size + 1), y, "-", color=f"C{k}", label=str(ds.state.values[k]))
+    if not int(ds.attrs.get("decisive_tangent", 1)):
+        ax.text(0.5, 0.5, f"not run: no tangent-based judge of the stage votes\nat vote_horizon "
+                f"{float(ds.attrs.get('decisive_vote_horizon', 1.0)):g} (the judge-power record)",
+                transform=ax.transAxes, ha="center", va="center", fontsize=8)
     ax.axhline(2.0, color="0.5", lw=0.8, ls=":")
     ax.set_xlabel("returns to the spike section (count)")
     ax.set_ylabel("map's MEGNO <Y> (unitless)")
