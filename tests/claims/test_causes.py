@@ -124,3 +124,27 @@ def test_the_injected_error_explains_the_first_spike_only_at_a_level_some_arithm
                       _law(slope=slope, intercept=5000.0))
     assert text.startswith("explained by the injected error") == explained, text
     assert f"8700 would need an error of 10^{level}" in text
+
+
+def _torus_family(classes=("neighbouring torus", "neighbouring torus"), intervals=(2300.0, 2010.0)):
+    """A torus-stability dataset: the reference (interval 2337.6) and perturbed orbits of these classes."""
+    return xr.Dataset({"torus_class": ("orbit", ["reference", *classes]), "amplitude": ("orbit", [0.0, 1e-6, 1e-3]),
+                       "mean_interval": ("orbit", [2337.6, *intervals])}, attrs={"reference_interval": 2337.6})
+
+
+def _fig4_groups(extra):
+    """fig4 runs: four in the main group (2300) and one extra group at ``extra``."""
+    return xr.Dataset({"reached": ("run", [1] * 5), "group": ("run", [0, 0, 0, 0, 1]),
+                       "spike_interval_level0_units": ("run", [2300.0, 2310.0, 2290.0, 2320.0, extra])})
+
+
+@pytest.mark.parametrize(("classes", "extra", "explained"), [
+    (("neighbouring torus", "neighbouring torus"), 2100.0, True),  # the extra group inside the family's span
+    (("neighbouring torus", "neighbouring torus"), 1295.0, False),  # outside it
+    (("neighbouring torus", "leaves"), 2100.0, False),  # an orbit leaves: no family of neutrally stable tori
+])
+def test_c06_a_family_of_tori_explains_extra_groups_only_within_its_span(classes, extra, explained):
+    text = causes.c06(J, {}, _torus_family(classes), _fig4_groups(extra))
+    assert text.startswith("explained by a family of neutrally stable tori") == explained
+    assert text.startswith(causes.NONE) != explained
+    assert f"the extra groups' {extra:.5g} " + ("within that span" if extra > 2000 else "outside it") in text

@@ -6,6 +6,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 import xarray as xr
 from conftest import write_fixture
@@ -82,14 +83,25 @@ def test_figure_rows_count_a_missing_transient_check_as_not_checked(tmp_path, mo
     (figs / f"{name}.png").write_bytes(b"png")
     _steady(data / f"{ds_name}.nc")
     assert {r.id: r for r in claims.ledger(CLAIMS_MD, data, figs, PLAIN, FIGURES)}[fid].verdict == "not yet computed"
-    _steady(data / f"{ds_name}.nc", transient_over=0)
+    _steady(data / f"{ds_name}.nc", transient_over=0, transient_n_spikes=2, transient_first_spike=5580.5)
     row = {r.id: r for r in claims.ledger(CLAIMS_MD, data, figs, PLAIN, FIGURES)}[fid]
     assert row.verdict == "differs" and "not shown to be over" in row.reason
+    assert row.cause.startswith("this run's pre-run, not the paper: ")
+    assert "holds 2 spikes (first at 5580.5)" in row.cause
     _steady(data / f"{ds_name}.nc", transient_over=1)
     row = {r.id: r for r in claims.ledger(CLAIMS_MD, data, figs, PLAIN, FIGURES)}[fid]
     assert row.verdict == "reproduced" and "settled" in row.measured
     (figs / f"{name}.png").unlink()
     assert {r.id: r for r in claims.ledger(CLAIMS_MD, data, figs, PLAIN, FIGURES)}[fid].verdict == "not yet computed"
+
+
+def test_a_per_row_transient_check_names_the_rows_not_settled_and_those_computed_elsewhere():
+    """The cause of a figure row whose per-row transient check failed (the Lyapunov grid's rows)."""
+    ds = xr.Dataset({"transient_over": ("eps", [np.nan, 1.0, 0.0]), "t_pre": ("eps", [np.nan, 2e4, 2e4])},
+                    coords={"eps": [0.02, 0.1, 0.5]}, attrs={"elsewhere_config": "config/cluster.yaml"})
+    assert claims.transient_cause("fig11_grid", ds) == (
+        "fig11_grid: eps 0.5 not settled within its pre-run of 2e+04; eps 0.02 not computed in this run "
+        "(config/cluster.yaml computes it)")
 
 
 def _fig9(path, n_loops, pairs):

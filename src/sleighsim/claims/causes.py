@@ -115,6 +115,35 @@ def c05(judgement, paper, k2, err, audit):
                       f"interval {printed:.5g}" if finite(printed) else "no steady spike interval")])
 
 
+def _groups(fig4) -> dict[int, np.ndarray]:
+    """The spike intervals (level-0 units) of fig4's runs that reached a steady state, per interval group."""
+    ok = fig4.reached.values == 1
+    iv, g = fig4.spike_interval_level0_units.values[ok], fig4.group.values[ok]
+    return {int(k): iv[g == k] for k in np.unique(g)}
+
+
+def c06(judgement, paper, torus, fig4):
+    """A family of neutrally stable tori as the cause of a differing C06 (extra interval groups on a
+    level): explained when every perturbed orbit of the torus-stability scene stays on a neighbouring
+    torus (none returns, none leaves) and every extra group's intervals lie within the span of spike
+    intervals that family was measured over (its perturbed orbits' and the reference's)."""
+    cls = torus.torus_class.values[1:]
+    family = bool(cls.size) and bool(np.all(cls == "neighbouring torus"))
+    span = np.r_[torus.mean_interval.values[1:], torus.attrs["reference_interval"]]
+    lo, hi = float(np.nanmin(span)), float(np.nanmax(span))
+    groups = _groups(fig4)
+    main = max(groups, key=lambda k: groups[k].size)
+    extra = np.concatenate([v for k, v in groups.items() if k != main] or [np.array([])])
+    inside = bool(extra.size) and bool(np.all((extra >= lo) & (extra <= hi)))
+    amps = torus.amplitude.values[1:]
+    text = (f"{int(np.sum(cls == 'neighbouring torus'))} of {cls.size} orbits perturbed by {amps.min():.0e} to "
+            f"{amps.max():.0e} stay on neighbouring tori, spike intervals {lo:.5g} to {hi:.5g}; the main group's "
+            f"intervals {groups[main].min():.5g} to {groups[main].max():.5g}, the extra groups' "
+            + (", ".join(f"{v:.5g}" for v in extra) or "none")
+            + (" within that span" if inside else " outside it"))
+    return _verdict([("a family of neutrally stable tori", family and inside, text)])
+
+
 def c09(judgement, paper, k2):
     """The likely causes of a differing C09 (``judgement``: its judge's, ``paper``: the claim's values) tested
     on ``k2``; returns the ledger's cause text."""
@@ -244,5 +273,5 @@ def d5(judgement, paper, audit):
 
 
 #: Claim id -> cause test (called only for rows that differ).
-CAUSE_TESTS = {"C04": c04, "C05": c05, "C09": c09, "C10": c10, "C11": c11, "C13": c13, "C18": c18, "C19": c19,
-               "C20": c20, "C21": c21, "C22": c22, "C23": c23, "C24": c24, "D5": d5}
+CAUSE_TESTS = {"C04": c04, "C05": c05, "C06": c06, "C09": c09, "C10": c10, "C11": c11, "C13": c13, "C18": c18,
+               "C19": c19, "C20": c20, "C21": c21, "C22": c22, "C23": c23, "C24": c24, "D5": d5}

@@ -45,6 +45,7 @@ EVIDENCE: dict[str, tuple[str, ...]] = {
 CAUSES: dict[str, tuple[str, ...]] = {
     "C04": ("k2_sweep", "integration_error", "audit", "trigger_law"),
     "C05": ("k2_sweep", "integration_error", "audit"),
+    "C06": ("torus_stability", "fig4"),
     "C09": ("k2_sweep",),
     "C10": ("k2_sweep",),
     "C11": ("k2_sweep", "integration_error"),

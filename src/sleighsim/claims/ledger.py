@@ -201,6 +201,37 @@ def transient_checked(ds) -> tuple[bool, str]:
     return False, "no transient check"
 
 
+def transient_cause(name: str, ds) -> str:
+    """Why the transient check failed in dataset ``name`` (the cause of a figure row that differs for
+    it): our run's pre-run, not the paper. Per row: the rows not settled with their pre-run length and
+    those another config computes; else the pre-run's spike count, first spike and spike intervals."""
+    if "transient_over" in ds.data_vars:
+        return f"{name}: " + "; ".join(_unsettled_rows(ds))
+    a = {k: ds.attrs.get(f"transient_{k}", math.nan) for k in
+         ("n_spikes", "first_spike", "spike_interval_mean_first_half", "spike_interval_mean_second_half",
+          "settling_time")}
+    return (f"{name}: the pre-run holds {a['n_spikes']:.0f} spikes (first at {a['first_spike']:.6g}), spike "
+            f"intervals {a['spike_interval_mean_first_half']:.5g} (first half) and "
+            f"{a['spike_interval_mean_second_half']:.5g} (second half), settling time {a['settling_time']:.5g}: "
+            "too short to show the transient over")
+
+
+def _unsettled_rows(ds) -> list[str]:
+    """The rows of a per-row transient check not settled (with their pre-run length t_pre) and those
+    not computed in this run (NaN; the config that computes them when the dataset names it)."""
+    over = np.asarray(ds.transient_over.values, float)
+    axis = ds.transient_over.dims[0]
+    x = ds[axis].values
+    t_pre = ds["t_pre"].values if "t_pre" in ds else np.full(over.size, np.nan)
+    parts = [f"{axis} {v:.3g} not settled within its pre-run of {t:.3g}" for v, o, t in zip(x, over, t_pre) if o == 0]
+    away = [f"{v:.3g}" for v, o in zip(x, over) if not np.isfinite(o)]
+    if away:
+        where = ds.attrs.get("elsewhere_config", "")
+        parts.append(f"{axis} {', '.join(away)} not computed in this run"
+                     + (f" ({where} computes it)" if where else ""))
+    return parts
+
+
 def judge_figure(row: Row, fig, load: _Datasets, figures_dir: Path) -> None:
     """A figure row: the figure ``fig`` (a :class:`sleighsim.report.figures.figure.Figure`: its
     ``name``, ``data`` and ``steady`` datasets) built in ``figures_dir`` from its datasets, and every
@@ -212,7 +243,8 @@ def judge_figure(row: Row, fig, load: _Datasets, figures_dir: Path) -> None:
     if not png.exists():
         row.verdict, row.reason = NOT_YET, f"figure {png.name} not built"
         return
-    checks = {n: transient_checked(ds) for n, ds in zip(fig.steady, load(fig.steady))}
+    steady = dict(zip(fig.steady, load(fig.steady)))
+    checks = {n: transient_checked(ds) for n, ds in steady.items()}
     row.measured = f"figure {png.name}" + "".join(f"; {n}: {text}" for n, (_, text) in checks.items())
     failed = [n for n, (ok, _) in checks.items() if not ok]
     missing = [n for n in failed if checks[n][1] == "no transient check"]
@@ -220,6 +252,7 @@ def judge_figure(row: Row, fig, load: _Datasets, figures_dir: Path) -> None:
         row.verdict, row.reason = NOT_YET, f"no transient check in {_files(missing)}"
     elif failed:
         row.verdict, row.reason = DIFFERS, f"the transient is not shown to be over in {_files(failed)}"
+        row.cause = "this run's pre-run, not the paper: " + "; ".join(transient_cause(n, steady[n]) for n in failed)
     else:
         row.verdict = REPRODUCED
 
