@@ -1,5 +1,7 @@
 # Names the rules share, all derived from the config, the scene kinds (sleighsim.scenes.catalog), the
 # figures (sleighsim.report.figures.catalog) and the report's tables (nothing listed here).
+import re
+
 from sleighsim.report.figures import catalog as figure_catalog
 from sleighsim.report.tables import TABLES
 from sleighsim.scenes import catalog as scene_catalog
@@ -72,8 +74,9 @@ SCENE_CFG = {
 
 
 def alternatives(names):
-    """A wildcard constraint matching exactly these names (nothing when there are none)."""
-    return "|".join(names) or "(?!)"
+    """A wildcard constraint matching exactly these names, each taken literally (nothing when there
+    are none)."""
+    return "|".join(re.escape(n) for n in names) or "(?!)"
 
 
 def figure_files(figs):
@@ -175,6 +178,44 @@ def benchmark_files(datasets, figures):
     return out
 
 
+def chunk_products(scene):
+    """The chunk files of a chunked scene and of its chunked finer-precision variants."""
+    tags = [
+        scene_catalog.precision_tag(p)
+        for p in LADDERED.get(scene, ())
+        if p != "double" and scene in LADDERED_CHUNKED
+    ]
+    where = [""] * (scene in CHUNKED) + [f"precision/{t}/" for t in tags]
+    n = scene_catalog.chunk_count(SCENES[scene])
+    return [f"{R}/chunks/{w}{scene}/{k}.nc" for w in where for k in range(n)]
+
+
+# Every netCDF file the config's rules write (on-request ones too): the datasets, their variants,
+# ladders and realizations, the chunks and the ledgers. The set-aside step looks at these only.
+PRODUCTS = sorted(
+    {
+        *(
+            f"{R}/data/{n}.nc"
+            for n in [
+                *ALL_DATASETS,
+                *(
+                    scene_catalog.variant(s, p)
+                    for s, ps in LADDERED.items()
+                    for p in ps
+                ),
+                *(scene_catalog.ladder_name(s) for s in LADDERED),
+                *(
+                    scene_catalog.realization_name(s, k)
+                    for s, count in REALIZED.items()
+                    for k in range(1, count)
+                ),
+            ]
+        ),
+        *(f for s in {*CHUNKED, *LADDERED_CHUNKED} for f in chunk_products(s)),
+        f"{R}/claims.nc",
+        f"{R}/stability/verdicts.nc",
+    }
+)
 REPORT_BENCHMARKS = benchmark_files(REPORT_DATA + REALIZATION_DATA, FIGURES_BUILT)
 # The repository: the workflow's parent directory (workflow.basedir is where workflow/Snakefile lies).
 ROOT = Path(workflow.basedir).parent

@@ -21,13 +21,16 @@ def _plain(value):
 def merged_config(configfiles=(), base=BASE_CONFIG) -> dict:
     """The config a run reads: ``base`` (a path) with each of ``configfiles`` (paths, in order) merged
     onto it, the way Snakemake merges ``--configfile`` onto the Snakefile's ``configfile:``
-    (snakemake.utils.update_config on load_configfile). Returns plain dicts and lists."""
-    # Imported here for start-up time: snakemake.utils and its config loader take 0.1 s to import
-    # (python -X importtime), which the modules reading only REPO or BASE_CONFIG need not pay.
-    from snakemake.common.configfile import load_configfile
+    (snakemake.utils.update_config), each file read with the strict loader
+    (:func:`sleighsim.ops.strictyaml.load`: no repeated key, no alias bomb, no YTE). Returns plain
+    dicts and lists."""
+    # Imported here for start-up time: snakemake.utils takes 0.1 s to import (python -X importtime),
+    # which the modules reading only REPO or BASE_CONFIG need not pay.
     from snakemake.utils import update_config
 
-    config = _plain(load_configfile(str(base)))
+    from sleighsim.ops.strictyaml import load
+
+    config = _plain(load(base))
     for f in configfiles:
-        update_config(config, _plain(load_configfile(str(f))))
+        update_config(config, _plain(load(f)))
     return _plain(config)

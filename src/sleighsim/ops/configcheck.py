@@ -6,6 +6,9 @@
 - every integer field is written as an integer (JSON schema counts 3.0 as an integer);
 - cross-field constraints of each kind (a window inside its span, increasing ranges, ...), as the
   kind declares them (:class:`sleighsim.scenes.kind.SceneKind`), and each declared pre-run's window;
+- scene names match the documented pattern and are not reserved (sleighsim.ops.names);
+- labelled start states can be rescaled, sweeps list each eps once, pre-runs hold two spike-rule
+  blocks (sleighsim.ops.plancheck);
 - every sampling step is shorter than the horizon it samples;
 - the datasets a scene reads (``inputs``) are scenes of the config;
 - the records a scene holds in memory fit in this machine's memory (an estimate per kind,
@@ -23,6 +26,8 @@ import math
 import os
 
 from sleighsim.ops.config import REPO
+from sleighsim.ops.names import check_scene_names
+from sleighsim.ops.plancheck import check_distinct_eps, check_labelled_states, check_pre_run
 from sleighsim.ops.workmodel import chunk_work, work
 from sleighsim.scenes.catalog import KINDS, scene_config
 from sleighsim.scenes.checks import ConfigError, within
@@ -167,6 +172,8 @@ def _scene(name: str, cfg: dict, scenes: dict) -> None:
                           "python -m sleighsim.ops.powerrecord)")
     check_jobs(name, kind.name, cfg)
     kind.checks(w, cfg)
+    check_distinct_eps(w, cfg)
+    check_pre_run(w, cfg)
     _precisions(w, cfg)
     if kind.pre_run and "transient" in cfg and cfg.get(kind.pre_run, 0) > 0:
         t = cfg[kind.pre_run]
@@ -175,6 +182,7 @@ def _scene(name: str, cfg: dict, scenes: dict) -> None:
 
 def check(config: dict, available_memory: float | None = None) -> None:
     """Raise :class:`ConfigError` naming the first offending key."""
+    check_scene_names(config)
     check_numbers(config)
     available = machine_memory() if available_memory is None else available_memory
     scenes = config["scenes"]
@@ -182,5 +190,6 @@ def check(config: dict, available_memory: float | None = None) -> None:
         block = scene_config(config, name)
         check_memory(name, cfg["kind"], block, available)
         _scene(name, cfg, scenes)
+        check_labelled_states(f"scenes.{name}", block)
         check_sampling(name, cfg["kind"], block)
         check_runtime(name, cfg["kind"], block)

@@ -4,6 +4,10 @@ the admissible range."""
 
 from __future__ import annotations
 
+#: The block length (time units) of the spike rule (sleighsim.engine.transient.spike_times' default
+#: ``block``): a record it judges holds two blocks at least.
+SPIKE_BLOCK = 50.0
+
 
 class ConfigError(ValueError):
     """A config value is out of its admissible range."""

@@ -18,7 +18,7 @@ from sleighsim.model.params import Params
 from sleighsim.model.sleigh0 import closed_form
 from sleighsim.model.sleigh0 import rhs as sleigh0_rhs
 from sleighsim.scenes import memory
-from sleighsim.scenes.checks import ConfigError, increasing
+from sleighsim.scenes.checks import SPIKE_BLOCK, ConfigError, increasing
 from sleighsim.scenes.common import initial_state, steady_arithmetic
 from sleighsim.scenes.kind import SceneKind
 
@@ -59,6 +59,9 @@ def _trajectory_checks(w, cfg):
     start, end = cfg.get("t_sample_start", 0.0), cfg["t_end"]
     if start >= end:
         raise ConfigError(f"{w}.t_sample_start = {start} must lie in [0, t_end = {end})")
+    if "transient" in cfg and start > 0 and end - start < 2 * SPIKE_BLOCK:
+        raise ConfigError(f"{w}.t_end = {end} must be at least t_sample_start + {2 * SPIKE_BLOCK:g} = "
+                          f"{start + 2 * SPIKE_BLOCK:g}: the window's spikes are found in blocks of {SPIKE_BLOCK:g}")
 
 
 TRAJECTORY = SceneKind(

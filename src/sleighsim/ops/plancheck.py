@@ -1,0 +1,104 @@
+"""Plan-time checks of scene blocks whose failure would otherwise surface only inside a job:
+
+- a labelled start state (a block's ``energy_label`` or ``reference_label`` with its ``y0``,
+  ``states`` or ``references``) has finite, non-zero kinetic energy that does not overflow, and
+  something that turns (Omega = omega = 0 is a straight-line motion, an equilibrium: no spikes);
+- the eps values a sweep lists (a key ``eps`` or ``*_eps`` holding a list) are distinct;
+- a pre-run judged by the transient rules (sleighsim.engine.transient.settle) holds two of the
+  spike rule's blocks (sleighsim.scenes.checks.SPIKE_BLOCK time units each).
+
+Each error (:class:`sleighsim.scenes.checks.ConfigError`) names the key.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from sleighsim.model.params import Params
+from sleighsim.model.symmetries import energy_label
+from sleighsim.scenes.catalog import KINDS
+from sleighsim.scenes.checks import SPIKE_BLOCK, ConfigError
+
+#: Keys of a block holding the label its start states are rescaled to.
+LABEL_KEYS = ("energy_label", "reference_label")
+#: Keys of a block holding start states: one state, or a list or mapping of states.
+STATE_KEYS = ("y0", "states", "references")
+
+
+def _states(cfg: dict):
+    """(dotted key, state) of every start state of a block."""
+    for key in STATE_KEYS:
+        value = cfg.get(key)
+        if isinstance(value, dict):
+            yield from ((f"{key}.{k}", v) for k, v in value.items())
+        elif isinstance(value, list) and value and isinstance(value[0], list):
+            yield from ((f"{key}[{i}]", v) for i, v in enumerate(value))
+        elif isinstance(value, list):
+            yield key, value
+
+
+def _params(cfg: dict) -> Params:
+    """The block's parameters, else the paper's at eps = 0.1 (the reference state's)."""
+    return Params.from_config(cfg["params"]) if isinstance(cfg.get("params"), dict) else Params.paper(eps=0.1)
+
+
+def check_state(where: str, y, label_key: str, label: float, params: Params) -> None:
+    """The state ``y`` at ``where`` can be rescaled to ``label``: finite, non-zero kinetic energy
+    that does not overflow, a rescaled state that neither overflows nor vanishes, and Omega or omega
+    non-zero."""
+    y = np.asarray(y, dtype=float)
+    if y.shape[-1] < 4 or not np.all(np.isfinite(y[:4])):
+        return  # the schema and the kind's own checks report these
+    if y[1] == 0 and y[2] == 0:
+        raise ConfigError(f"{where} = {y.tolist()}: Omega = omega = 0 is a straight-line motion (an equilibrium), "
+                          f"nothing to rescale to {label_key} = {label}")
+    with np.errstate(all="ignore"):
+        current = float(energy_label(y[:4], params))
+        scaled = y[:3] * math.sqrt(label / current) if math.isfinite(current) and current > 0 else None
+    if scaled is None:
+        what = "zero" if current == 0 else "non-finite (it overflows)"
+        raise ConfigError(f"{where} = {y.tolist()}: its kinetic energy is {what}; cannot rescale it to "
+                          f"{label_key} = {label}")
+    if not np.all(np.isfinite(scaled)) or not np.any(scaled):
+        fault = "overflow" if not np.all(np.isfinite(scaled)) else "vanish"
+        raise ConfigError(f"{where} = {y.tolist()}: rescaled to {label_key} = {label} its velocities {fault}; "
+                          "use a state of ordinary size")
+
+
+def check_labelled_states(w: str, cfg: dict) -> None:
+    """Every start state of the block ``w`` (``scenes.<name>``) with a positive label (:func:`check_state`)."""
+    labels = [(k, cfg[k]) for k in LABEL_KEYS if isinstance(cfg.get(k), (int, float)) and cfg[k] > 0]
+    if not labels:
+        return
+    try:
+        params = _params(cfg)
+    except (TypeError, ValueError):
+        return  # the params check names the key
+    for key, y in _states(cfg):
+        for label_key, label in labels:
+            check_state(f"{w}.{key}", y, label_key, float(label), params)
+
+
+def check_distinct_eps(w: str, node, path: str = "") -> None:
+    """No list under a key ``eps`` or ``*_eps`` in the block ``w`` repeats a value (a sweep would
+    fit a slope through the same point twice)."""
+    if isinstance(node, dict):
+        for k, v in node.items():
+            key = f"{path}.{k}" if path else str(k)
+            if (k == "eps" or str(k).endswith("_eps")) and isinstance(v, list):
+                seen = [x for i, x in enumerate(v) if x in v[:i]]
+                if seen:
+                    raise ConfigError(f"{w}.{key} = {v} lists eps = {seen[0]} more than once; list each eps once")
+            check_distinct_eps(w, v, key)
+
+
+def check_pre_run(w: str, cfg: dict) -> None:
+    """A pre-run judged by the transient rules (the kind's ``pre_run`` key, with a ``transient``
+    block) holds two spike-rule blocks of ``SPIKE_BLOCK`` time units."""
+    key = KINDS[cfg["kind"]].pre_run
+    length = cfg.get(key, 0) if key and "transient" in cfg else 0
+    if 0 < length < 2 * SPIKE_BLOCK:
+        raise ConfigError(f"{w}.{key} = {length} is shorter than the two blocks of {SPIKE_BLOCK:g} time units the "
+                          f"transient check cuts it into; make it at least {2 * SPIKE_BLOCK:g}")
