@@ -7,8 +7,10 @@ import datetime as _dt
 import logging
 import os
 import platform
+import signal
 import subprocess
 import tempfile
+import threading
 from functools import cache
 from importlib import metadata
 from pathlib import Path
@@ -56,22 +58,43 @@ def _umask() -> int:
     return current
 
 
+def _exit_on_sigterm(signum, frame):
+    raise SystemExit(128 + signum)
+
+
+@contextlib.contextmanager
+def _sigterm_as_exit():
+    """While the block runs, SIGTERM raises SystemExit (exit status 143) instead of ending the process
+    on the spot, so that cleanup runs; only in the main thread and only when the program installed no
+    SIGTERM handler of its own (which is then left as it is)."""
+    if threading.current_thread() is not threading.main_thread() or signal.getsignal(signal.SIGTERM) != signal.SIG_DFL:
+        yield
+        return
+    signal.signal(signal.SIGTERM, _exit_on_sigterm)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)
+
+
 @contextlib.contextmanager
 def atomic_path(path):
     """Yield a temporary path beside ``path``; on success rename it onto ``path`` with the
-    permissions a plain ``open`` would give (0666 minus the umask), on failure delete it.
-    An interrupted write therefore never leaves a partial file under the final name."""
+    permissions a plain ``open`` would give (0666 minus the umask), on any failure (an exception, a
+    full disk, Ctrl-C, SIGTERM: :func:`_sigterm_as_exit`) delete it. An interrupted write therefore
+    never leaves a partial file under the final name, nor a temporary one (SIGKILL aside)."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=f"{path.suffix}.tmp", dir=path.parent)
-    os.close(fd)
-    try:
-        yield Path(tmp)
-        os.chmod(tmp, 0o666 & ~_umask())
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+    with _sigterm_as_exit():
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=f"{path.suffix}.tmp", dir=path.parent)
+        os.close(fd)
+        try:
+            yield Path(tmp)
+            os.chmod(tmp, 0o666 & ~_umask())
+            os.replace(tmp, path)
+        except BaseException:
+            Path(tmp).unlink(missing_ok=True)
+            raise
 
 
 def write_dataset(ds: xr.Dataset, path, precision: str = "double") -> Path:
