@@ -1,4 +1,5 @@
-"""Reading and writing results: atomic files with the umask's permissions, provenance on every dataset."""
+"""Reading and writing results: atomic files with the umask's permissions, provenance and a checksum
+of the values on every dataset (:mod:`sleighsim.io.checksum`), checked on every read."""
 
 from __future__ import annotations
 
@@ -18,6 +19,8 @@ from pathlib import Path
 import xarray as xr
 
 from sleighsim.io import cf
+from sleighsim.io.checksum import ATTR as CHECKSUM_ATTR
+from sleighsim.io.checksum import stamp, verify
 
 log = logging.getLogger("sleighsim")
 
@@ -103,7 +106,8 @@ def write_dataset(ds: xr.Dataset, path, precision: str = "double") -> Path:
     Conventions, title from the path and ``precision`` (the config name of the arithmetic ``ds`` was
     computed in), history, source, references; long_name and units of every
     variable the vocabulary knows; a variable still without them is logged, and the tests fail on it;
-    no _FillValue on coordinate variables).
+    no _FillValue on coordinate variables) and, computed from the written file, the checksum of its
+    values (``sleighsim_checksum``, :mod:`sleighsim.io.checksum`).
     Text is written at its own width: a fixed text width kept in the encoding of a variable read from
     a file (or joined from such variables) would truncate longer texts put there since."""
     ds = cf.complete(ds)
@@ -113,19 +117,28 @@ def write_dataset(ds: xr.Dataset, path, precision: str = "double") -> Path:
         if v.dims == (name,):  # a coordinate variable: CF 2.5.1 forbids it a _FillValue
             v.encoding = {**v.encoding, "_FillValue": None}
     provenance = provenance_attrs()
+    ds.attrs.pop(CHECKSUM_ATTR, None)  # a stale one, of a file this dataset was read from
     ds.attrs.update(provenance)
     ds.attrs.update(cf.global_attrs(path, provenance, history=ds.attrs.get("history", ""), precision=precision))
     if lacking := cf.missing(ds):
         log.warning("%s: no CF attributes known for: %s", path, "; ".join(lacking))
     with atomic_path(path) as tmp:
         ds.to_netcdf(tmp, engine="netcdf4")
+        stamp(tmp)
     return Path(path)
 
 
-def read_dataset(path) -> xr.Dataset:
-    """Load a dataset fully into memory and close the file."""
+def read_dataset(path, verified: bool = True) -> xr.Dataset:
+    """Load a dataset fully into memory and close the file; first, when ``verified``, check its values
+    against the checksum recorded when it was written (:func:`sleighsim.io.checksum.verify`:
+    ChecksumError naming the file when they differ or it records none). The checksum attribute
+    describes the file, so it is not among the returned dataset's attributes."""
+    if verified:
+        verify(path)
     with xr.open_dataset(path, engine="netcdf4") as ds:
-        return ds.load()
+        ds = ds.load()
+    ds.attrs.pop(CHECKSUM_ATTR, None)
+    return ds
 
 
 def write_text(path, text: str) -> Path:
