@@ -1,5 +1,7 @@
 """Every dataset records a checksum of its values; reading and `sleighsim verify` catch a flipped byte."""
 
+import re
+
 import numpy as np
 import pandas as pd
 import pytest
@@ -80,3 +82,14 @@ def test_verify_passes_a_clean_tree_and_names_an_unreadable_file(tmp_path, capsy
     assert cli.main(["verify", str(tmp_path)]) == 1
     assert f"FAILED {tmp_path / 'data' / 'half.nc'}: cannot be read" in capsys.readouterr().out
     assert cli.main(["verify", str(tmp_path / "absent")]) == 2
+
+
+def test_every_dataset_read_goes_through_the_checked_reader(root):
+    """Only sleighsim.io opens netCDF files (integrity only to see whether one opens at all): every rule
+    and library read is read_dataset's, which checks the checksum."""
+    io = root / "src" / "sleighsim" / "io"
+    allowed = {io / "netcdf.py", io / "checksum.py", io / "integrity.py"}
+    sources = [*(root / "src").rglob("*.py"), *(root / "workflow").rglob("*.py"), *(root / "workflow").rglob("*.smk"),
+               root / "workflow" / "Snakefile"]
+    opening = re.compile(r"open_dataset|open_mfdataset|load_dataset|netCDF4\.Dataset\(|h5py|open_datatree")
+    assert [str(p.relative_to(root)) for p in sources if p not in allowed and opening.search(p.read_text())] == []
