@@ -114,6 +114,7 @@ def test_written_files_get_the_permissions_the_umask_allows(tmp_path, umask):
 
 
 def test_the_jit_cache_goes_where_the_environment_says(tmp_path):
+    import stat
     import subprocess
     import sys
 
@@ -123,6 +124,31 @@ def test_the_jit_cache_goes_where_the_environment_says(tmp_path):
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=300)
     assert out.returncode == 0, out.stderr
     assert out.stdout.strip() == str(tmp_path / "jit") and any((tmp_path / "jit").iterdir())
+    assert stat.S_IMODE((tmp_path / "jit").stat().st_mode) == 0o700  # created private
+
+
+@pytest.mark.parametrize("owner_other", [False, True])
+def test_a_jit_cache_another_user_controls_is_refused_before_heyoka_uses_it(tmp_path, monkeypatch, owner_other):
+    """heyoka runs the code it finds in its cache: a directory others can write, or that another user
+    owns (as /tmp/$USER can be, created first by someone else), is refused naming the setting."""
+    import os
+
+    import heyoka as hy
+
+    from sleighsim.engine import integrators
+    from sleighsim.io.cachedir import UnsafeDirectory
+
+    cache = tmp_path / "jit"
+    cache.mkdir(mode=0o700 if owner_other else 0o777)
+    cache.chmod(0o700 if owner_other else 0o777)
+    if owner_other:
+        monkeypatch.setattr(os, "geteuid", lambda: cache.stat().st_uid + 4242)
+    monkeypatch.setenv("SLEIGHSIM_JIT_CACHE", str(cache))
+    before = hy.llvm_state.get_diskcache_path()
+    why = "is owned by uid" if owner_other else "is writable by its group or by others"
+    with pytest.raises(UnsafeDirectory, match=rf"^SLEIGHSIM_JIT_CACHE {cache}: refused as a cache, since .*{why}"):
+        integrators._jit_cache_path()
+    assert hy.llvm_state.get_diskcache_path() == before
 
 
 @pytest.mark.parametrize("precision, tol", [(Precision.LONG_DOUBLE, 2.0**-63), (Precision.QUAD, 2.0**-112)])

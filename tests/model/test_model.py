@@ -36,6 +36,44 @@ def test_physical_params_reject_singular_inertia_and_negative_values():
         Params.physical(m_c=1.0, m_r=0.1, I_c=0.1, I_r=-0.1, a=0.1, b=1.0)
 
 
+def test_the_constructor_checks_as_the_physical_form_does_naming_the_argument():
+    with pytest.raises(TypeError, match=r"^m_r = 'x' must be a real number"):
+        Params(-1, "x", None, 0, 0, 0)
+    with pytest.raises(ValueError, match=r"^m_c = -1.0 is outside the admissible range \(0, inf\)"):
+        Params(-1.0, 0.1, 0.1, 0.1, 0.1, 1.0)
+    with pytest.raises(ValueError, match=r"^b = 0.0 is outside"):
+        Params(1.0, 0.1, 0.1, 0.1, 0.1, 0.0)
+    with pytest.raises(ValueError, match="not positive definite"):
+        Params(1.0, 0.1, 0.1, 0.0, 0.0, 1.0)
+    assert Params(2, 0, 1, 1, 0, 1).m_c == 2.0 and isinstance(Params(2, 0, 1, 1, 0, 1).m_c, float)
+
+
+def test_only_the_formal_system_admits_a_non_positive_sleigh_mass():
+    formal = Params.paper(eps=2.0, formal=True)
+    assert formal.m_c == -1.0 and Params(*formal.values, formal=True) == formal
+    with pytest.raises(ValueError, match=r"^m_c = -1.0 is outside the admissible range \(0, inf\)"):
+        Params(*formal.values)
+    with pytest.raises(ValueError, match=r"^m_c = -3.0 .*the total mass m_c \+ m_r must be positive"):
+        Params(-3.0, 2.0, 0.1, 8.0, 2.0, 1.0, formal=True)
+
+
+@pytest.mark.parametrize("make, name", [
+    (lambda: Params(1e308, 1.0, 1.0, 1.0, 0.1, 1.0), "m_c"),
+    (lambda: Params.physical(m_c=1.0, m_r=1.0, I_c=1.0, I_r=1e308, a=0.1, b=1.0), "I_r"),
+    (lambda: Params.physical(m_c=1.0, m_r=1e200, I_c=1.0, I_r=1.0, a=0.1, b=1.0), "m_r"),
+    (lambda: Params.paper(eps=0.1, b=1e200), "b"),
+    (lambda: Params.paper(eps=1e120, formal=True), "eps"),
+])
+def test_parameters_that_overflow_are_refused_naming_the_largest(make, name):
+    with pytest.raises(ValueError, match=rf"^{name} = [0-9.e+]+ is too large: .* overflow"):
+        make()
+
+
+def test_integrate_refuses_a_negative_mass_system_naming_it():
+    with pytest.raises(ValueError, match=r"^m_c = -1.0 is outside"):
+        integrate(Params(-1.0, 0.1, 0.1, 0.1, 0.1, 1.0), REF, [0.0, 1.0])
+
+
 def test_paper_form_round_trips_through_physical_parameters():
     p = Params.paper(eps=0.1, b=2.0, K2=1.3)
     assert p.is_paper_form

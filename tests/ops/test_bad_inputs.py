@@ -7,6 +7,7 @@ import re
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 import yaml
 from test_config import PLENTY, ROOT, SCHEMA, SMOKE, refused, with_value
@@ -162,6 +163,16 @@ LIBRARY_CALLS = [
     ("integrate", dict(y0=None), TypeError, r"y0 = None must be a sequence of numbers"),
     ("integrate", dict(y0="abcd"), TypeError, r"y0 = 'abcd' must be a sequence of numbers"),
     ("integrate", dict(params=None), TypeError, r"params = None must be a Params"),
+    ("integrate", dict(y0=np.array([1.0, 0.1j, 0.2, 0.3])), TypeError,
+     r"y0 = .*0\.1j.* must be a sequence of numbers .*all real"),
+    ("integrate", dict(y0=np.array(["1.0", 0.1, 0.2, 0.3], dtype=object)), TypeError,
+     r"y0 = .*'1\.0'.* must be a sequence of numbers .*all real"),
+    ("integrate", dict(max_steps=-5), ValueError, r"max_steps = -5 is outside the admissible range \[1, "),
+    ("integrate", dict(max_steps=2**64), ValueError, r"max_steps = 18446744073709551616 is outside the admissible"),
+    ("integrate", dict(max_steps=1e9), TypeError, r"max_steps = 1000000000.0 must be an integer"),
+    ("integrate", dict(progress=True), TypeError, r"progress = True must be an integer"),
+    ("integrate", dict(params=Params.physical(m_c=1.0, m_r=0.1, I_c=1.0, I_r=1.0, a=0.1, b=1e110)), ValueError,
+     r"b = 1e\+110 is too large: the coefficients of the equations overflow"),
     ("integrate", dict(backend="matlab"), ValueError, r"unknown backend 'matlab'"),
     ("mean_divergence", dict(T=-10.0), ValueError, r"T = -10.0 is outside the admissible range \(0, inf\)"),
     ("mean_divergence", dict(tol=0.0), ValueError, r"tol = 0.0 is outside the admissible range"),

@@ -8,6 +8,7 @@ import pytest
 import xarray as xr
 from conftest import smoke_config
 
+from sleighsim.io.netcdf import write_dataset
 from sleighsim.report import figures
 from sleighsim.report.figures import catalog as figure_catalog
 from sleighsim.report.figures.common import finish, legibility
@@ -62,8 +63,7 @@ def grid_dataset(path, spread):
                     attrs={"energy_label": 0.1127, "n_rows": 3, "fraction_flagged": 1 / 3, "reference_eps": 0.2,
                            "reference_rel_err": 0.07, "b_check": np.array([0.5, 2.0]), "scene": "grid",
                            "precision": "double"})
-    ds.to_netcdf(path, engine="netcdf4")
-    return path
+    return write_dataset(ds, path)
 
 
 def test_fig11_states_the_spread_across_b_from_its_data(tmp_path):

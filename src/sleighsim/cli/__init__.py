@@ -4,9 +4,10 @@
     sleighsim diff OLD NEW   compare two result trees dataset by dataset (python -m sleighsim.resultdiff)
     sleighsim costs ...      the run's measured cost, its estimate for a config, and the cost plot
     sleighsim configdoc ...  config/README.md from the config schema (--check: in step with it)
+    sleighsim verify DIR     check every dataset under DIR against its recorded checksum
 
 Each subcommand takes the options of the module it runs (``sleighsim SUBCOMMAND --help``) and
-returns its exit status: 0 success, 1 a difference or a failed check, 2 a usage error, 3 a
+returns its exit status: 0 success, 1 a difference or a failed check (a corrupt dataset), 2 a usage error, 3 a
 ledger written from an incomplete results tree.
 """
 
@@ -15,7 +16,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from sleighsim.cli import claims
+from sleighsim.cli import claims, verify
 from sleighsim.ops import configdoc, costs, resultdiff
 
 #: subcommand -> (the main it runs, its one-line help)
@@ -24,6 +25,7 @@ COMMANDS = {
     "diff": (resultdiff.main, "compare two result trees dataset by dataset (exit 1 when they differ)"),
     "costs": (costs.main, "the run's measured cost, its estimate for another config, and the cost plot"),
     "configdoc": (configdoc.main, "write config/README.md from the schema (--check: exit 1 when out of step)"),
+    "verify": (verify.main, "check every dataset of a results tree against its recorded checksum (exit 1 on any)"),
 }
 
 

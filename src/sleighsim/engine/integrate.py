@@ -26,11 +26,13 @@ from sleighsim.engine import integrators
 from sleighsim.engine.precision import Precision
 from sleighsim.model import equations
 from sleighsim.model.attrs import UNITS, state_attrs
-from sleighsim.model.params import Params, finite
+from sleighsim.model.params import Params, finite, integer
 
 log = logging.getLogger("sleighsim")
 
 DEFAULT_TOL = 2.0**-52  # heyoka's default: double-precision epsilon
+#: The largest step limit (and progress count) accepted: heyoka counts steps in a signed 64-bit integer.
+MAX_STEPS = 2**63 - 1
 SCIPY_METHODS = ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA")
 TWO_PI = 2.0 * math.pi
 
@@ -96,12 +98,15 @@ def _sample_times(times, t0) -> tuple[np.ndarray, float]:
 
 
 def _initial_state(y0, kinematics: bool) -> np.ndarray:
-    if y0 is None or isinstance(y0, (str, bytes)):
-        raise TypeError(f"y0 = {y0!r} must be a sequence of numbers (u, Omega, omega, delta)")
+    """``y0`` as a float array of 4 (or with the path 7) finite real numbers; TypeError naming it when
+    it holds anything but real numbers (complex, strings, objects), ValueError for its size or a NaN."""
     try:
-        y0 = np.asarray(y0, dtype=float).ravel()
-    except (TypeError, ValueError):
-        raise TypeError(f"y0 = {y0!r} must be a sequence of numbers (u, Omega, omega, delta)") from None
+        values = np.asarray(y0)
+    except (TypeError, ValueError):  # ragged
+        values = np.asarray(None)
+    if values.dtype.kind not in "iuf" or values.ndim == 0:
+        raise TypeError(f"y0 = {y0!r} must be a sequence of numbers (u, Omega, omega, delta), all real")
+    y0 = values.astype(float).ravel()
     want = 7 if kinematics else 4
     if y0.size == 4 and kinematics:
         y0 = np.concatenate([y0, np.zeros(3)])
@@ -293,7 +298,9 @@ def integrate(
     NumPy one (independent of heyoka) or, with ``compiled``, heyoka's cfunc (for speed
     studies of the integrator itself). Progress is logged ``progress``
     times. Raises :class:`IntegrationError` naming scene, time and state on failure,
-    including when ``max_steps`` steps do not reach the end.
+    including when ``max_steps`` steps do not reach the end. ``max_steps`` is an integer in
+    [1, 2**63 - 1], ``progress`` one in [0, 2**63 - 1]; ``y0`` holds real numbers only (a complex or
+    object array is refused, naming it).
 
     The state is kept bounded by exact symmetries (:func:`bound`, sleighsim.engine.integrators): delta
     is kept in [-pi, pi) after every step (and reported in [0, 2 pi)), theta is reduced by whole
@@ -303,6 +310,8 @@ def integrate(
     """
     if not isinstance(params, Params):
         raise TypeError(f"params = {params!r} must be a Params (Params.paper or Params.physical)")
+    equations.check_coefficients(params)
+    max_steps, progress = integer("max_steps", max_steps, 1, MAX_STEPS), integer("progress", progress, 0, MAX_STEPS)
     if backend == "heyoka":
         check_tol(tol, precision)
         run = partial(_run_heyoka, tol=tol, precision=precision)

@@ -16,7 +16,8 @@ exceeds |omega| (about 3.4 on the attractor) in that norm; :func:`load`, :func:`
 and from the model's variables.
 
 JIT cache. heyoka's on-disk cache is on by default (~/.cache/heyoka); ``SLEIGHSIM_JIT_CACHE`` points it elsewhere,
-e.g. node-local storage on a cluster (the cache does not support network file systems). Measured per process on this
+e.g. node-local storage on a cluster (the cache does not support network file systems). Either must be a directory
+only this user controls (sleighsim.io.cachedir), since heyoka runs the code it finds there. Measured per process on this
 machine (CPU seconds, median of 3, benchmarks/startup.py): building the plain flow 0.76 s without the cache, 0.22 s
 with it (0.09 s of that lambdifies the polynomial form's coefficients, once per process); the 4-lane tangent batch
 0.59 s, 0.04 s. (Measured over 1e6 time units from the reference state at tol 2.2e-16: energy drift 1.0e-12 with
@@ -33,6 +34,7 @@ from collections.abc import Callable
 import numpy as np
 
 from sleighsim.engine.precision import Precision
+from sleighsim.io.cachedir import private_directory
 from sleighsim.model.params import positive
 
 #: The sleigh's angle as its compiled integrators store it: delta + DELTA_SHIFT, in [0, 2 pi).
@@ -57,14 +59,18 @@ def compiled(key: tuple, build: Callable, angles: dict = SLEIGH_ANGLES):
 
 
 def _jit_cache_path() -> None:
-    """Point heyoka's on-disk cache at $SLEIGHSIM_JIT_CACHE when set (created if missing)."""
-    path = os.environ.get("SLEIGHSIM_JIT_CACHE")
-    if path:
-        import heyoka as hy
+    """Point heyoka's on-disk cache at $SLEIGHSIM_JIT_CACHE when set (else heyoka's default), a
+    directory only this user controls (:func:`sleighsim.io.cachedir.private_directory`: created 0700,
+    refused when another user owns or can write it, since heyoka runs the code it finds there)."""
+    import heyoka as hy
 
-        os.makedirs(path, exist_ok=True)
-        if hy.llvm_state.get_diskcache_path() != path:
-            hy.llvm_state.set_diskcache_path(path)
+    if not hy.llvm_state.get_diskcache_enabled():
+        return
+    path = os.environ.get("SLEIGHSIM_JIT_CACHE")
+    what = "SLEIGHSIM_JIT_CACHE" if path else "heyoka's default cache directory"
+    path = str(private_directory(path or hy.llvm_state.get_diskcache_path(), what))
+    if hy.llvm_state.get_diskcache_path() != path:
+        hy.llvm_state.set_diskcache_path(path)
 
 
 def register(ta, angles: dict) -> None:

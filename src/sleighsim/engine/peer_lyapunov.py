@@ -137,11 +137,11 @@ def sleigh_heyoka():
 
 def sleigh_heyoka_pars(param_values) -> list:
     """The runtime parameters of :func:`sleigh_heyoka` from the physical ones (mechanics.PHYSICAL
-    order; taken as given, like every peer's, so the formal system's m_c <= 0 passes too)."""
+    order; checked as Params checks them, admitting the formal system's m_c <= 0)."""
     from sleighsim.model.equations import heyoka_pars
     from sleighsim.model.params import PARAM_NAMES, Params
 
-    return list(heyoka_pars(Params(*param_tuple(param_values, len(PARAM_NAMES)))))
+    return list(heyoka_pars(Params(*param_tuple(param_values, len(PARAM_NAMES)), formal=True)))
 
 
 LORENZ_Y0 = (1.0, 1.0, 1.0)

@@ -16,7 +16,7 @@ import numpy as np
 import sympy as sp
 
 from sleighsim.model import mechanics as mech
-from sleighsim.model.params import PARAM_NAMES, Params
+from sleighsim.model.params import PARAM_NAMES, Params, largest
 
 STATE_NAMES = ("u", "Omega", "omega", "delta")
 KINEMATIC_NAMES = ("theta", "x", "y")
@@ -99,8 +99,19 @@ def heyoka_pars(params: Params, dtype=float) -> np.ndarray:
     """The runtime parameters of the compiled sleigh: par[0..5] the physical ones (PARAM_NAMES
     order), then the coefficients K[j] of the polynomial form (mechanics.PolynomialForm), computed
     in ``dtype`` (the integrator's floating-point type)."""
+    check_coefficients(params)
     values = np.array(params.values, dtype=dtype)
     return np.array([*values, *_coefficients()(*values)], dtype=dtype)
+
+
+def check_coefficients(params: Params) -> None:
+    """ValueError naming the largest parameter when a coefficient K[j] of the equations (a product
+    of up to six parameters) overflows double precision, where the integrators would stop at once."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        coefficients = np.array(_coefficients()(*np.array(params.values, dtype=float)), dtype=float)
+    if not np.all(np.isfinite(coefficients)):
+        raise ValueError(f"{largest(dict(zip(PARAM_NAMES, params.values)))} is too large: the coefficients of "
+                         "the equations overflow double precision")
 
 
 def compile_pars(dtype=float) -> np.ndarray:

@@ -8,7 +8,8 @@ m_r / m = a / b = eps, m = 1, I_c = (K2 - 1) b^2, I_r = eps^3 b^2 (K2 - 1 + eps)
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+import operator
+from dataclasses import dataclass, field
 
 PARAM_NAMES = ("m_c", "m_r", "I_c", "I_r", "a", "b")
 #: The keys of the paper form (a config's parameter block holds one form's keys only).
@@ -29,6 +30,26 @@ def finite(name, value) -> float:
     return value
 
 
+def integer(name, value, lo: int, hi: int) -> int:
+    """``value`` as an int in [``lo``, ``hi``]; TypeError naming ``name`` when it is not an integer (a
+    float, a bool, a string), ValueError when it is out of that range."""
+    if isinstance(value, bool):
+        raise TypeError(f"{name} = {value!r} must be an integer")
+    try:
+        value = operator.index(value)
+    except TypeError:
+        raise TypeError(f"{name} = {value!r} must be an integer") from None
+    if not lo <= value <= hi:
+        raise ValueError(f"{name} = {value} is outside the admissible range [{lo}, {hi}]")
+    return value
+
+
+def largest(values: dict) -> str:
+    """``name = value`` of the entry of ``values`` largest in magnitude (the one to blame for an overflow)."""
+    name = max(values, key=lambda k: abs(values[k]))
+    return f"{name} = {values[name]:g}"
+
+
 def positive(name, value) -> float:
     """``value`` as a float; ValueError naming ``name`` when it is not a number, not finite or not
     above 0 (the engines' and the chaos indicators' argument check)."""
@@ -44,7 +65,9 @@ def positive(name, value) -> float:
 @dataclass(frozen=True)
 class Params:
     """Physical parameters: masses m_c, m_r, inertias I_c (about C), I_r (rotor),
-    rotor offset a and runner distance b. Build with :meth:`physical` or :meth:`paper`."""
+    rotor offset a and runner distance b. The constructor checks them as :meth:`physical` says
+    (``formal=True`` admits m_c <= 0 with m_c + m_r > 0: the formal system of :meth:`paper`).
+    Build with :meth:`physical` or :meth:`paper`."""
 
     m_c: float
     m_r: float
@@ -52,22 +75,30 @@ class Params:
     I_r: float
     a: float
     b: float
+    formal: bool = field(default=False, kw_only=True, repr=False, compare=False)
+
+    def __post_init__(self):
+        """Every parameter a finite float in its range, the inertia positive definite (ValueError or
+        TypeError naming the parameter)."""
+        for k in PARAM_NAMES:
+            object.__setattr__(self, k, finite(k, getattr(self, k)))
+        for k in ("b",) if self.formal else ("m_c", "b"):
+            if getattr(self, k) <= 0:
+                raise ValueError(f"{k} = {getattr(self, k)} is outside the admissible range (0, inf)")
+        for k in ("m_r", "I_c", "I_r", "a"):
+            if getattr(self, k) < 0:
+                raise ValueError(f"{k} = {getattr(self, k)} is outside the admissible range [0, inf)")
+        if self.m <= 0:
+            raise ValueError(f"m_c = {self.m_c} is outside the admissible range (-m_r, inf): the total mass "
+                             "m_c + m_r must be positive")
+        self._check_positive_definite()
 
     @classmethod
     def physical(cls, *, m_c, m_r, I_c, I_r, a, b) -> Params:
         """The physical form: masses m_c > 0, m_r >= 0 [mass], inertias I_c, I_r >= 0 [mass length^2],
         offset a >= 0 and runner distance b > 0 [length]; ValueError when one is out of range or the
         inertia matrix is not positive definite."""
-        vals = {k: finite(k, v) for k, v in dict(m_c=m_c, m_r=m_r, I_c=I_c, I_r=I_r, a=a, b=b).items()}
-        for k in ("m_c", "b"):
-            if vals[k] <= 0:
-                raise ValueError(f"{k} = {vals[k]} is outside the admissible range (0, inf)")
-        for k in ("m_r", "I_c", "I_r", "a"):
-            if vals[k] < 0:
-                raise ValueError(f"{k} = {vals[k]} is outside the admissible range [0, inf)")
-        p = cls(**vals)
-        p._check_positive_definite()
-        return p
+        return cls(m_c=m_c, m_r=m_r, I_c=I_c, I_r=I_r, a=a, b=b)
 
     @classmethod
     def paper(cls, *, eps, b=1.0, K2=None, formal: bool = False) -> Params:
@@ -86,19 +117,12 @@ class Params:
             raise ValueError(f"b = {b} is outside the admissible range (0, inf)")
         if K2 <= 1:
             raise ValueError(f"K2 = {K2} is outside the admissible range (1, inf): K2 = 1 + I_c/(m b^2)")
-        if eps >= 1.0:
-            p = cls(m_c=1.0 - eps, m_r=eps, I_c=(K2 - 1.0) * b**2, I_r=eps**3 * b**2 * (K2 - 1.0 + eps),
+        form = dict(m_c=1.0 - eps, m_r=eps, I_c=(K2 - 1.0) * b * b, I_r=eps * eps * eps * b * b * (K2 - 1.0 + eps),
                     a=eps * b, b=b)
-            p._check_positive_definite()
-            return p
-        return cls.physical(
-            m_c=1.0 - eps,
-            m_r=eps,
-            I_c=(K2 - 1.0) * b**2,
-            I_r=eps**3 * b**2 * (K2 - 1.0 + eps),
-            a=eps * b,
-            b=b,
-        )
+        if not all(map(math.isfinite, form.values())):
+            raise ValueError(f"{largest(dict(eps=eps, b=b, K2=K2))} is too large: the physical parameters overflow "
+                             "double precision")
+        return cls(**form, formal=eps >= 1.0)
 
     @classmethod
     def sleigh0(cls, *, b=1.0, K2=1.1) -> Params:
@@ -128,10 +152,13 @@ class Params:
     def _check_positive_definite(self):
         # det M(delta) is linear in cos^2(delta): check both ends.
         m = self.m
-        J = self.I_c + m * self.b**2
-        R = self.I_r + self.m_r * self.a**2
+        J = self.I_c + m * self.b * self.b
+        R = self.I_r + self.m_r * self.a * self.a
         c = self.m_r * self.a
-        det_min = min(m * J * R - m * (c * self.b) ** 2, m * J * R - J * c**2)
+        det_min = min(m * J * R - m * (c * self.b) * (c * self.b), m * J * R - J * c * c)
+        if not math.isfinite(m * J * R):
+            raise ValueError(f"{largest(dict(zip(PARAM_NAMES, self.values)))} is too large: the inertia matrix "
+                             "overflows double precision")
         if not det_min > 1e-14 * m * J * max(R, 1e-300):
             raise ValueError(
                 f"inertia is not positive definite (min det M = {det_min:.3g}): "

@@ -25,7 +25,7 @@ import yaml
 from sleighsim.chaos.known_orbits import CHAOTIC_ORBITS, TORI
 from sleighsim.chaos.power import record_rates, record_voting
 from sleighsim.claims.ledger import Row
-from sleighsim.io.netcdf import read_dataset, write_text
+from sleighsim.io.netcdf import atomic_path, read_dataset, write_text
 from sleighsim.report.figures import costs as plots
 from sleighsim.report.figures.catalog import FIGURES
 from sleighsim.report.findings import precision_findings
@@ -97,10 +97,12 @@ def _scene_facts(datasets: dict, names) -> list[str]:
 
 
 def _copy_figure(png: Path, out_dir: Path) -> str:
-    """Copy the figure beside the page; its file name, or "" when it was not built."""
+    """Copy the figure beside the page, atomically (a full disk leaves no truncated copy); its file
+    name, or "" when it was not built."""
     if not png.exists():
         return ""
-    shutil.copy2(png, out_dir / png.name)
+    with atomic_path(out_dir / png.name) as tmp:
+        shutil.copy2(png, tmp)
     return png.name
 
 

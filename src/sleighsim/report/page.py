@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 
 import jinja2
 import latex2mathml.converter
+import nh3
 from markupsafe import Markup
 
 COLOURS = {"reproduced": "#d4edda", "reproduced only in double precision": "#ffe0b2", "differs": "#fff3cd",
@@ -29,13 +30,33 @@ class Table:
     note: str = ""
 
 
+#: The MathML latex2mathml writes: its elements, and the attributes it sets on them (not href or style).
+MATHML_TAGS = frozenset({"math", "mrow", "mi", "mn", "mo", "mtext", "mspace", "msup", "msub", "msubsup", "mfrac",
+                         "msqrt", "mroot", "mstyle", "mover", "munder", "munderover", "mtable", "mtr", "mtd",
+                         "mpadded", "mphantom", "menclose"})
+MATHML_ATTRIBUTES = frozenset({"xmlns", "display", "mathvariant", "mathsize", "mathcolor", "mathbackground",
+                               "stretchy", "fence", "form", "separator", "lspace", "rspace", "width", "height",
+                               "depth", "voffset", "columnalign", "columnlines", "columnspacing", "rowspacing",
+                               "displaystyle", "scriptlevel", "accent", "movablelimits", "linethickness", "notation",
+                               "minsize", "maxsize", "linebreak", "largeop"})
+
+
+def mathml(latex: str) -> str:
+    """MathML of the formula ``latex`` (latex2mathml), kept to :data:`MATHML_TAGS` and
+    :data:`MATHML_ATTRIBUTES` by nh3: latex2mathml copies ``\\text{...}`` into the page raw."""
+    raw = latex2mathml.converter.convert(latex)
+    return nh3.clean(raw, tags=set(MATHML_TAGS), attributes={t: set(MATHML_ATTRIBUTES) for t in MATHML_TAGS},
+                     url_schemes=set(), link_rel=None)
+
+
 def math_html(text: str) -> Markup:
-    """HTML of caption text: ``$...$`` rendered as MathML (latex2mathml, offline), the rest escaped."""
+    """HTML of caption text: ``$...$`` rendered as MathML (latex2mathml, offline, sanitised by
+    :func:`mathml`), the rest escaped."""
     out = []
     for part in re.split(r"(\$[^$]+\$)", text):
         if len(part) > 2 and part[0] == part[-1] == "$":
             try:
-                out.append(latex2mathml.converter.convert(part[1:-1]))
+                out.append(mathml(part[1:-1]))
             except Exception:  # noqa: BLE001 - a formula the converter rejects is shown as text, without $
                 out.append(html.escape(part[1:-1]))
         else:

@@ -1,0 +1,25 @@
+"""``sleighsim verify RESULTS_DIR``: check every dataset of a results tree against the checksum of its
+values recorded when it was written (:mod:`sleighsim.io.checksum`); print each file that fails, and
+why, then a count. Exit status 0 when all pass, 1 when any fails, 2 for a usage error."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from sleighsim.io.checksum import verify_tree
+
+
+def main(argv=None) -> int:
+    """Verify the netCDF files under RESULTS_DIR (``argv``, default sys.argv[1:]); the exit status."""
+    ap = argparse.ArgumentParser(prog="sleighsim verify", description=__doc__.split("\n\n")[0])
+    ap.add_argument("results", metavar="RESULTS_DIR", help="the results directory (every *.nc under it is checked)")
+    args = ap.parse_args(argv)
+    if not Path(args.results).is_dir():
+        ap.error(f"RESULTS_DIR {args.results}: no such directory")
+    checked = verify_tree(args.results)
+    failed = [why for why in checked.values() if why]
+    for why in failed:
+        print(f"FAILED {why}")
+    print(f"{len(checked)} datasets checked under {args.results}, {len(failed)} failed")
+    return 1 if failed else 0

@@ -1,0 +1,61 @@
+"""Cache directories no other user controls: heyoka's compiled code and the SymPy derivation are
+read back from them, so whoever can write there runs code in every job.
+
+A cache directory is created with mode 0700 when missing. An existing one is used only when it is a
+directory owned by the current user that no one else can write, and when each directory above it is
+owned by the user or by root and, if someone else can write it, sticky (as /tmp is: no one else can
+rename or replace what it holds). "Someone else" is others, and the group unless it is the user's
+private group (named after the user, with no other members: umask 002 systems make directories
+group-writable for it). Anything else is refused with the reason.
+"""
+
+from __future__ import annotations
+
+import grp
+import os
+import pwd
+import stat
+from pathlib import Path
+
+
+class UnsafeDirectory(RuntimeError):
+    """A cache directory another user owns or can write, refused."""
+
+
+def _private_group(gid: int) -> bool:
+    """Whether ``gid`` is the user's private group: named after the user, no one else a member."""
+    try:
+        user, group = pwd.getpwuid(os.geteuid()).pw_name, grp.getgrgid(gid)
+    except KeyError:
+        return False
+    return group.gr_name == user and set(group.gr_mem) <= {user}
+
+
+def _problem(path: Path, leaf: bool) -> str:
+    """Why another user controls the directory ``path`` ("" when no one else does); ``leaf``: the
+    cache itself, which must be owned by the user and not sticky-shared."""
+    st = os.stat(path)
+    owners = (os.geteuid(),) if leaf else (os.geteuid(), 0)
+    if not stat.S_ISDIR(st.st_mode):
+        return f"{path} is not a directory"
+    if st.st_uid not in owners:
+        return f"{path} is owned by uid {st.st_uid}, not by you (uid {os.geteuid()})"
+    shared = st.st_mode & 0o002 or (st.st_mode & 0o020 and not _private_group(st.st_gid))
+    if shared and (leaf or not st.st_mode & stat.S_ISVTX):
+        return f"{path} is writable by its group or by others (mode {stat.S_IMODE(st.st_mode):04o})"
+    return ""
+
+
+def private_directory(path, what: str) -> Path:
+    """``path`` as a cache directory only the current user controls: created 0700 when missing;
+    :class:`UnsafeDirectory` naming ``what`` (the setting that chose it) and the reason otherwise.
+    OSError when it cannot be created."""
+    path = Path(path)
+    os.makedirs(path, mode=0o700, exist_ok=True)
+    real = path.resolve()
+    for directory in (real, *real.parents):
+        if why := _problem(directory, leaf=directory == real):
+            raise UnsafeDirectory(f"{what} {path}: refused as a cache, since {why}; another user could put "
+                                  "code there that every job runs. Use a directory only you can write "
+                                  "(e.g. under ~/.cache), or chmod go-w it if it is yours")
+    return path
