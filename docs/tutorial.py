@@ -94,14 +94,14 @@ for name, run in runs.items():
     print(f"{name}: max relative energy drift {run['energy_max_rel_drift']:.2g}, wall {run['wall_s']:.3g} s")
 print("largest separation", separation.max(), "at t =", t[np.argmax(separation)])
 
-fig, (ax_sep, ax_omega) = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
+fig, (ax_sep, ax_spikes) = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
 ax_sep.semilogy(t, np.maximum(separation, 1e-18))
 ax_sep.set_ylabel("separation double / long double")
-ax_omega.plot(t, double["velocities"][:, 1], lw=0.6, label="double")
-ax_omega.plot(t, long_double["velocities"][:, 1], lw=0.6, ls="--", label="long double")
-ax_omega.set_xlabel("time after the settled point")
-ax_omega.set_ylabel("Omega")
-ax_omega.legend()
+for name, run in runs.items():  # the spike trains (next section): each interval at the spike that ends it
+    ax_spikes.plot(run["spikes"][1:], np.diff(run["spikes"]), "o", mfc="none", label=name)
+ax_spikes.set_xlabel("time after the settled point")
+ax_spikes.set_ylabel("interval between Omega spikes")
+ax_spikes.legend()
 fig.savefig(out / "tutorial-separation.png", dpi=100)
 
 # %% [markdown]
