@@ -1,10 +1,12 @@
 """The Snakemake workflow end to end: the smoke run, what it builds (derived from the registry),
 config refusal before any job, and what reruns after a change."""
 
+import json
 import os
 import re
 import subprocess
 import sys
+import zipfile
 from pathlib import Path
 
 import numpy as np
@@ -13,6 +15,7 @@ import yaml
 from conftest import ROOT, SMOKE, smoke_config, snakemake
 
 from sleighsim.io.netcdf import read_dataset
+from sleighsim.report import sections
 from sleighsim.report.figures import catalog as figure_catalog
 from sleighsim.scenes import catalog
 
@@ -94,10 +97,27 @@ def _umask():
 
 
 @pytest.mark.workflow
-def test_snakemakes_own_report_builds_from_the_run(smoke_run):
-    report = smoke_run / "results" / "snakemake_report.html"
+def test_snakemakes_own_report_holds_every_figure_under_its_paper_section(smoke_run, tmp_path):
+    report = tmp_path / "report.zip"
     res = snakemake(smoke_run, SMOKE, "--report", str(report))
-    assert res.returncode == 0 and report.stat().st_size > 100000, res.stderr[-2000:]
+    assert res.returncode == 0, res.stderr[-2000:]
+    with zipfile.ZipFile(report) as z:
+        files = {Path(n).name: n for n in z.namelist()}
+        page = z.read(files["report.html"]).decode()
+        standalone = z.read(files["standalone.html"]).decode()
+    built = figure_catalog.figures_built(SMOKE_CFG)
+    assert {f"{fig}.png" for fig in built} | {"claims.csv"} <= set(files)
+    entries = sections.figure_entries(ROOT / "paper" / "fedonyuk-tallapragada-sleigh-rotor.tex",
+                                      ROOT / "paper" / "CLAIMS.md")
+    categories = json.loads(re.search(r"var categories = (\{.*?\});\n", page)[1])
+    for fig in built:
+        e = entries[fig]
+        assert f"results/figures/{fig}.png" in categories[e["category"]][e["subcategory"]], fig
+    ledger = {f for files in categories[sections.LEDGER].values() for f in files}
+    assert ledger == {"results/claims.csv", "results/report/standalone.html"}
+    # the project's own report, linked as one file: every figure inlined, none left to fetch
+    assert standalone.count('<img src="data:image/png;base64,') >= len(built)
+    assert not re.search(r'<img [^>]*src="(?!data:)', standalone)
 
 
 def _mutate(cfg, path, value):

@@ -1,5 +1,9 @@
 # Figures read datasets only; each figure, and each dataset without a figure of its name, is
 # also a named target (snakemake -c2 fig3, snakemake -c2 hardcases).
+from sleighsim.report import sections
+
+# Where Snakemake's own report (snakemake --report report.zip) files each figure: its paper section.
+FIGURE_REPORT = sections.figure_entries(PAPER_TEX, CLAIMS_MD)
 
 
 rule figure:
@@ -9,7 +13,9 @@ rule figure:
         png=report(
             f"{R}/figures/{{fig}}.png",
             caption="../report/figure.rst",
-            category="Figures",
+            category=lambda w: FIGURE_REPORT[w.fig]["category"],
+            subcategory=lambda w: FIGURE_REPORT[w.fig]["subcategory"],
+            labels=lambda w: FIGURE_REPORT[w.fig]["labels"],
         ),
         pdf=f"{R}/figures/{{fig}}.pdf",
     log:
@@ -31,7 +37,9 @@ rule schematic:
         png=report(
             f"{R}/figures/{{fig}}.png",
             caption="../report/figure.rst",
-            category="Figures",
+            category=lambda w: FIGURE_REPORT[w.fig]["category"],
+            subcategory=lambda w: FIGURE_REPORT[w.fig]["subcategory"],
+            labels=lambda w: FIGURE_REPORT[w.fig]["labels"],
         ),
         pdf=f"{R}/figures/{{fig}}.pdf",
     log:

@@ -8,7 +8,12 @@ rule claims:
         figures=expand(f"{R}/figures/{{fig}}.png", fig=FIGURES_BUILT),
         claims_md=CLAIMS_MD,
     output:
-        csv=report(f"{R}/claims.csv", caption="../report/claims.rst", category="Claims"),
+        csv=report(
+            f"{R}/claims.csv",
+            caption="../report/claims.rst",
+            category=sections.LEDGER,
+            labels={"file": "claims ledger"},
+        ),
         nc=f"{R}/claims.nc",
     log:
         f"{R}/logs/report/claims.log",
@@ -33,6 +38,12 @@ rule report:
     output:
         html=f"{R}/report/index.html",
         md=f"{R}/report/README.md",
+        standalone=report(
+            f"{R}/report/standalone.html",
+            caption="../report/report.rst",
+            category=sections.LEDGER,
+            labels={"file": "reproduction report"},
+        ),
     log:
         f"{R}/logs/report/report.log",
     benchmark:

@@ -3,9 +3,11 @@
 from pathlib import Path
 
 from sleighsim.claims import ledger as claims
+from sleighsim.io.netcdf import write_text
 from sleighsim.ops.runlog import logging_to
 from sleighsim.report import build as report
 from sleighsim.report.figures.catalog import FIGURES
+from sleighsim.report.standalone import inline_images
 
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logging_to(sm.log[0]):
@@ -16,3 +18,4 @@ with logging_to(sm.log[0]):
                  figures=dict(zip(sm.params.figures, sm.input.figures)),
                  datasets=dict(zip(sm.params.data, sm.input.data)), benchmarks=sm.params.benchmarks,
                  power_record=sm.input.get("power_record"), cluster_record=sm.input.get("cluster_record"))
+    write_text(sm.output.standalone, inline_images(sm.output.html))

@@ -18,7 +18,7 @@ from pathlib import Path
 
 import xarray as xr
 
-from sleighsim.io import cf
+from sleighsim.io import cf, lockfile
 from sleighsim.io.checksum import ATTR as CHECKSUM_ATTR
 from sleighsim.io.checksum import stamp, verify
 
@@ -52,6 +52,7 @@ def provenance_attrs() -> dict:
         except metadata.PackageNotFoundError:
             out[f"version_{pkg}"] = "not installed"
     out["created_utc"] = _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds")
+    out.update(lockfile.lock_attrs())
     return out
 
 

@@ -22,8 +22,8 @@ import numpy as np
 from sleighsim.io.netcdf import read_dataset
 
 #: Names of attributes and variables that measure the run, not its result.
-# history and source (CF) carry the time of writing and the commit
-VOLATILE = re.compile(r"wall|compile_time|created_utc|git_commit|^version_|python_version|seconds_per_step"
+# history and source (CF) carry the time of writing and the commit; lock_ the lock file installed from
+VOLATILE = re.compile(r"wall|compile_time|created_utc|git_commit|^version_|^lock_|python_version|seconds_per_step"
                       r"|^history$|^source$|^cost_|_estimate_s$|^overhead_|speedup|fastest_at|^lambda_1_wall|^lyap_scipy_wall")
 
 

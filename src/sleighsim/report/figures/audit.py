@@ -26,4 +26,5 @@ def audit(sources):
     return finish(fig, ds.attrs)
 
 
-AUDIT = Figure("audit", audit, ("audit",), title="The model as printed: energy drift of the printed udot")
+AUDIT = Figure("audit", audit, ("audit",), title="The model as printed: energy drift of the printed udot",
+               section="sec:eom")

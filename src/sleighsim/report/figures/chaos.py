@@ -216,4 +216,4 @@ def chaos(sources):
 
 
 CHAOS = Figure("chaos", chaos, ("chaos_verdict",), title="Is the steady state chaotic? Indicators per state",
-               steady=("chaos_verdict",))
+               steady=("chaos_verdict",), section="sec:chaos")

@@ -216,8 +216,8 @@ def drift(sources):
 FIG10 = Figure("fig10", fig10, ("lyap_energy",), "F10", ("C20",), steady=("lyap_energy",), beside=True)
 FIG11 = Figure("fig11", fig11, ("fig11_grid",), "F11", ("C21",), steady=("fig11_grid",), beside=True)
 LYAPUNOV = Figure("lyapunov", lyapunov, ("lyap_spectrum", "lyap_protocol"),
-                  title="Lyapunov spectrum and the paper's protocol")
+                  title="Lyapunov spectrum and the paper's protocol", section="sec:chaos")
 REGIMES = Figure("regimes", regimes, ("regimes",), title="Regime diagram: lambda_1, spike interval and P_2pi rotation "
-                                                        "number against eps (C27)")
+                                                        "number against eps (C27)", section="sec:chaos")
 DRIFT = Figure("drift", drift, ("main_drift",), title="Does the main state's slow drift end? Spike interval and "
-                                                     "lambda_1 per window")
+                                                     "lambda_1 per window", section="sec:chaos")

@@ -16,7 +16,9 @@ class Figure:
     section); ``claims`` are the claims it illustrates; ``steady`` are the datasets that show a
     steady state, each of which must carry a passed transient check (``transient_over``) for the
     figure to count; ``beside``: the figure also reads its laddered scenes in their finer precisions
-    (after ``data``) and draws them beside the paper's arithmetic."""
+    (after ``data``) and draws them beside the paper's arithmetic; ``section``: for a figure the paper
+    does not have, the LaTeX label of the paper section it extends ("" for none: methods), which
+    Snakemake's report files it under (a paper figure's section is read from the LaTeX)."""
 
     name: str
     plot: Callable
@@ -27,3 +29,4 @@ class Figure:
     schematic: str = ""
     steady: tuple[str, ...] = ()
     beside: bool = False
+    section: str = ""

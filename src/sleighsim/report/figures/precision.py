@@ -75,6 +75,7 @@ def trigger(sources):
 PRECISION = Figure("precision", precision, ("precision_ladder",),
                    title="Does the arithmetic decide the steady state? Spike intervals per precision from one "
                          "settled point, and the orbits' separation",
-                   steady=("precision_ladder",))
+                   steady=("precision_ladder",), section="sec:chaos")
 TRIGGER = Figure("trigger", trigger, ("trigger_law",), title="What triggers the steady state? The first spike against "
-                                                            "the size of the injected error (C04)")
+                                                            "the size of the injected error (C04)",
+                 section="sec:simulation")

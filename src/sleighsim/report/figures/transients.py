@@ -196,7 +196,10 @@ def basins(sources):
 FIG4 = Figure("fig4", fig4, ("fig4",), "F4", ("C06",))
 FIG5 = Figure("fig5", fig5, ("fig5",), "F5", ("C11",))
 FIG6 = Figure("fig6", fig6, ("fig6",), "F6", ("C07", "C08", "C09", "C10"))
-TRANSIENTS = Figure("transients", transients, ("transients", "fig3"), title="Transient length against eps (C03-C05)")
+TRANSIENTS = Figure("transients", transients, ("transients", "fig3"), title="Transient length against eps (C03-C05)",
+                    section="sec:simulation")
 PERTURBATION = Figure("perturbation", perturbation, ("fig5", "pert_audit"),
-                      title="Perturbation hierarchy: convergence as eps -> 0 and secular growth (C12)")
-BASINS = Figure("basins", basins, ("basins",), title="Basin fractions on the energy level (C06 made quantitative)")
+                      title="Perturbation hierarchy: convergence as eps -> 0 and secular growth (C12)",
+                      section="sec:transient")
+BASINS = Figure("basins", basins, ("basins",), title="Basin fractions on the energy level (C06 made quantitative)",
+                section="sec:simulation")
