@@ -11,7 +11,7 @@ import sys
 from pathlib import Path
 
 from sleighsim.claims.ledger import ledger, parse_claims, summary, write
-from sleighsim.io.integrity import readable
+from sleighsim.io.integrity import ProductError, valid
 from sleighsim.ops.config import BASE_CONFIG, REPO, merged_config
 from sleighsim.report.figures.catalog import FIGURES, figures_built
 from sleighsim.scenes.catalog import run_datasets
@@ -76,7 +76,16 @@ def missing_products(data_dir, figures_dir, config: dict) -> list[str]:
     as paths."""
     data = [Path(data_dir) / f"{name}.nc" for name in run_datasets(config)]
     figures = [Path(figures_dir) / f"{f}.png" for f in figures_built(config)]
-    return [str(p) for p in data if not readable(p)] + [str(p) for p in figures if not p.is_file()]
+    return [str(p) for p in data if not _opens(p)] + [str(p) for p in figures if not p.is_file()]
+
+
+def _opens(path: Path) -> bool:
+    """Whether the dataset ``path`` exists and netCDF4 opens it (a permission, lock or I/O error counts
+    as not)."""
+    try:
+        return path.is_file() and valid(path)
+    except ProductError:
+        return False
 
 
 if __name__ == "__main__":
