@@ -148,6 +148,17 @@ def test_settling_time_is_nan_when_still_drifting():
     assert math.isnan(transient.settling_time(t, 1 + t / 1000, window=500.0, rtol=0.01))
 
 
+def test_block_fluctuation_tells_a_drift_from_a_scatter():
+    t = np.arange(0, 20000, 1.0)
+    # a drift: block means on a line, no scatter about it, though the rule finds no settling
+    assert transient.block_fluctuation(t, 1 + t / 1000, window=1000.0) == pytest.approx(0.0, abs=1e-12)
+    # block means alternating +- 10 % about 1: a scatter of that size about their line
+    scatter = 1 + 0.1 * np.where((t // 1000) % 2 == 0, 1.0, -1.0)
+    assert 0.08 < transient.block_fluctuation(t, scatter, window=1000.0) < 0.12
+    assert math.isnan(transient.settling_time(t, scatter, window=1000.0, rtol=0.02))
+    assert math.isnan(transient.block_fluctuation(t[:4000], scatter[:4000], window=1000.0))  # two blocks there
+
+
 # the reference orbit's maps in long double, tiny: about a second
 MAPS = {"kind": "poincare", "params": {"eps": 0.1, "b": 1.0, "K2": 1.1}, "y0": [0.0, 0.1, 1.0, 0.0],
         "energy_label": 0.1127, "t_settle": 300.0, "t_map": 100.0, "attractor_span": 20.0, "attractor_dt": 0.1,

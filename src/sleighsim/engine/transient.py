@@ -78,6 +78,22 @@ def settling_time(t, omega, *, window=2500.0, rtol=0.02) -> float:
     return float(tb[bad[-1] + 1, 0])
 
 
+def block_fluctuation(t, omega, *, window=2500.0) -> float:
+    """How much omega's block means (``window`` time units) scatter about their least-squares line
+    over the record's second half: the residuals' standard deviation (n - 2 degrees of freedom) over
+    the absolute mean of those block means (dimensionless); NaN with fewer than three blocks there.
+    A drift leaves small residuals; the settling rule cannot hold block means that scatter by rtol or
+    more within rtol of one value."""
+    tb, xb = _blocks(t, omega, window)
+    means, mid = xb.mean(axis=1), tb[:, 0]
+    half = len(means) // 2
+    means, mid = means[half:], mid[half:]
+    if means.size < 3 or not np.mean(means):
+        return float("nan")
+    residuals = means - np.polyval(np.polyfit(mid, means, 1), mid)
+    return float(np.sqrt(np.sum(residuals**2) / (means.size - 2)) / abs(np.mean(means)))
+
+
 def steady_state_report(t, Omega, omega, *, spike_factor=1.8, window=2500.0, rtol=0.02, t_min=0.0) -> dict:
     """Settling time, spikes and spike intervals over each half of the record."""
     spikes = spike_times(t, Omega, factor=spike_factor, t_min=t_min)
@@ -91,11 +107,12 @@ def steady_state_report(t, Omega, omega, *, spike_factor=1.8, window=2500.0, rto
 
 
 def settle(params, y0, t_settle: float, *, dt: float, window: float, rtol: float, spike_factor: float,
-           t_min: float, tol: float, label: str = "", progress: int = 20):
+           t_min: float, tol: float, label: str = "", progress: int = 20, fluctuation: bool = False):
     """Integrate the pre-run [0, t_settle] from y0, sampled every dt, and judge it with the rules
     above: the transient is over when omega's block means (``window``) have settled within ``rtol``
     at least two windows before t_settle. Returns (end state, attributes): ``transient_over``, the
-    settling time, spikes and spike intervals of each half, the rule and the pre-run's energy drift."""
+    settling time, spikes and spike intervals of each half, the rule and the pre-run's energy drift;
+    with ``fluctuation``, also ``transient_block_fluctuation`` (:func:`block_fluctuation`)."""
     pre = integrate(params, y0, sample_grid(0.0, t_settle, dt), tol=tol, scene=f"{label}.pre", progress=progress)
     report = steady_state_report(pre.time.values, pre.Omega.values, pre.omega.values, spike_factor=spike_factor,
                                  window=window, rtol=rtol, t_min=t_min)
@@ -105,6 +122,8 @@ def settle(params, y0, t_settle: float, *, dt: float, window: float, rtol: float
     attrs.update(transient_over=int(over), transient_window=window, transient_rtol=rtol,
                  transient_spike_factor=spike_factor, transient_rule=RULE,
                  pre_run_energy_max_rel_drift=pre.attrs["energy_max_rel_drift"], pre_run_steps=pre.attrs["steps"])
+    if fluctuation:
+        attrs["transient_block_fluctuation"] = block_fluctuation(pre.time.values, pre.omega.values, window=window)
     log.info("%s: transient %s (settling time %.6g, pre-run to %.6g)", label, "over" if over else "NOT over",
              settled, t_settle)
     return final_state(pre), attrs
