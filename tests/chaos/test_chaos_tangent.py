@@ -95,6 +95,20 @@ FTLE_CHAOS = {"rate": 0.12, "rate_err": 0.01, "T": 5000.0, "tau": 1.0, "spread_s
 FTLE_REG = {"rate": 2e-4, "rate_err": 3e-4, "T": 5000.0, "tau": 1.0, "spread_slope": -1.0, "spread_slope_err": 0.1}
 
 
+@pytest.mark.parametrize("rate, tau, degree", [(1.55e-4, 38.2, 2.0), (5e-4, 10.0, 2.0), (1e-3, 1.0, 1.0)])
+def test_resolving_horizon_is_where_the_polynomial_bound_meets_the_rate(rate, tau, degree):
+    T = verdicts.resolving_horizon(rate, tau, degree)
+    assert verdicts.polynomial_rate_bound(T, tau, degree) == pytest.approx(rate, rel=1e-9)
+    assert verdicts.polynomial_rate_bound(0.99 * T, tau, degree) > rate  # the larger root: shorter is not enough
+
+
+def test_resolving_horizon_of_a_rate_the_bound_never_reaches():
+    assert verdicts.resolving_horizon(0.0, 10.0) == math.inf and verdicts.resolving_horizon(-1e-4, 10.0) == math.inf
+    assert verdicts.resolving_horizon(math.nan, 10.0) == math.inf
+    # above the bound's largest value (2 / (e tau)) the shortest horizon the bound is defined on
+    assert verdicts.resolving_horizon(1.0, 10.0) == pytest.approx(math.e * 10.0)
+
+
 def test_judge_ftle_branches():
     bound = verdicts.polynomial_rate_bound(5000.0, 1.0)
     assert bound == pytest.approx(2 * math.log(5000.0) / 5000.0)

@@ -32,6 +32,19 @@ def polynomial_rate_bound(T, tau, degree=2.0):
     return degree * math.log(max(T / tau, math.e)) / T
 
 
+def resolving_horizon(rate, tau, degree=2.0) -> float:
+    """The horizon T (time) from which polynomial_rate_bound(T, tau, degree) lies below ``rate``
+    (1/time): the larger root of degree ln(T / tau) / T = rate (T >= e tau); inf for a rate that is
+    not positive and finite."""
+    tau = positive("tau", tau)
+    if not (math.isfinite(rate) and rate > 0):
+        return math.inf
+    T = max(math.e * tau, degree / rate)
+    for _ in range(200):  # the larger root attracts T -> degree ln(T / tau) / rate from above e tau
+        T = max(math.e * tau, degree * math.log(T / tau) / rate)
+    return T
+
+
 def _check_judge(names_values, errors=(), sigma=3.0):
     """None if all finite (ValueError for negative uncertainties or sigma), else an
     "undecided" verdict naming the NaN inputs."""

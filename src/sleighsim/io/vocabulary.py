@@ -106,6 +106,8 @@ VOCABULARY: dict[str, tuple[str, str]] = {
     "long_representative_run": ("the run whose start state the long-horizon check repeats", "1"),
     "long_spike_time": ("times of the Omega spikes of the long-horizon check", "time"),
     "omega_block_drift": ("largest relative drift of omega's block means over the replicas", "1"),
+    "rounds_wall_s": ("wall-clock time of the row's Benettin rounds at b = 1 (one core)", "s"),
+    "round_length": ("horizon each Benettin round adds to every replica", "time"),
     "rotation_number": ("rotation number of the P_2pi iterates", "1"),
     "curve_thickness": ("thickness of the curve of the P_2pi iterates "
                         "(sleighsim.engine.poincare.curve_thickness)", "1"),

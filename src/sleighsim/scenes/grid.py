@@ -34,7 +34,8 @@ log = logging.getLogger("sleighsim")
 
 ROW_VARIABLES = ("lambda_1", "stderr", "T", "tau", "status_code", "transient_over", "omega_block_drift", "steady",
                  "settling_time", "t_pre", "spike_interval", "spike_interval_std", "rotation_number",
-                 "curve_thickness", "b_check_max_diff", "b_check_bound", "wall_time_s")
+                 "curve_thickness", "b_check_max_diff", "b_check_bound", "wall_time_s", "rounds_wall_s",
+                 "round_length")
 STATUS = ("converged", "regular", "capped", "elsewhere")
 
 
@@ -110,7 +111,7 @@ def row(cfg: dict, eps: float, label: str = "", check_b: bool = False) -> dict:
     settled orbit, the replica estimate of lambda_1 (benettin.replica_exponents), steadiness of each
     replica, the steady spike interval, and (poincare_span > 0) the P_2pi rotation number and curve
     thickness; with ``check_b``, lambda_1 again at the b_check values from the replicas mapped by the
-    symmetry (one round)."""
+    symmetry (one round). The rounds' wall time (s) and round length (time units) price a longer horizon."""
     start = time.perf_counter()
     s, t_pre = slow_time(cfg, eps), pre_run(cfg, eps)
     tau = cfg["tau"] * s
@@ -123,14 +124,16 @@ def row(cfg: dict, eps: float, label: str = "", check_b: bool = False) -> dict:
     integrators.set_pars(ta, p)
     kw = dict(T_round=cfg["T_round"] * s, max_rounds=cfg["max_rounds"], target_rel=cfg["target_rel"],
               regular_floor=cfg["regular_floor"] / s, t_align=cfg["t_align"] * s, sigma=cfg["sigma"], label=label)
+    t_rounds = time.perf_counter()
     r = benettin.replica_exponents(ta, 4, 1, replicas, tau, **kw)
+    rounds_wall = time.perf_counter() - t_rounds
     drift, steady = _steadiness(r["states"], cfg["steady_blocks"], cfg["transient"]["rtol"])
     out = {"lambda_1": float(r["exponents"][0]), "stderr": float(r["stderr"][0]), "T": r["T"], "tau": tau,
            "status_code": STATUS.index(r["status"]), "transient_over": pre["transient_over"],
            "omega_block_drift": drift, "steady": int(steady), "settling_time": pre["transient_settling_time"],
            "t_pre": t_pre, "spike_interval": interval, "spike_interval_std": interval_std,
            "rotation_number": math.nan, "curve_thickness": math.nan, "b_check_max_diff": math.nan,
-           "b_check_bound": math.nan, "settled": y,
+           "b_check_bound": math.nan, "rounds_wall_s": rounds_wall, "round_length": kw["T_round"], "settled": y,
            "rule": r["rule"]}
     if cfg["poincare_span"] > 0:
         c = poincare.crossings(p, replicas[0], 0.0, cfg["poincare_span"] * s, **arith, scene=label)
@@ -219,6 +222,7 @@ def gather(paths, cfg: dict, scene: str = "") -> xr.Dataset:
         min_lambda_1=float(np.nanmin(ds.lambda_1.values)), max_lambda_1=float(np.nanmax(ds.lambda_1.values)),
         min_lambda_1_unflagged=float(np.nanmin(ds.lambda_1.values[ok])) if ok.any() else math.nan,
         cost_total_s=float(np.nansum(ds.wall_time_s.values)), transient_tol=cfg["tol"], transient_precision="double",
+        resolve_budget_s=float(cfg.get("resolve_budget_s", math.nan)),
         **steady_arithmetic(cfg), energy_label=cfg["energy_label"], scene=scene,
         settled_state=ds.row_settled_state.values.ravel(), **_observed(ds, ref),
     )
