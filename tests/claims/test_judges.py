@@ -360,6 +360,42 @@ def test_c26_without_eps_above_the_threshold():
     assert lyapunov.c26(PAPER["C26"], ds).verdict == NOT_YET
 
 
+def _formal_fluctuating(lam, over, fluct):
+    """_formal with each pre-run's block fluctuation, its wall time and the settling rule's numbers."""
+    ds = _formal(lam, [1e-5, 1e-7, 1e-7], over)
+    ds["block_fluctuation"] = ("eps", list(fluct))
+    ds["pre_run_wall_s"] = ("eps", [1.5, 2.5, 3.5])
+    ds.attrs.update(transient_rtol=0.02, transient_window=2500.0, t_transient=2e4)
+    return ds
+
+
+@pytest.mark.parametrize("lam, over, fluct, want", [
+    # eps 60 unsettled, its block means scattering by 0.15 >= rtol 0.02: the rule cannot certify it
+    ([1e-3, 1e-6, 1e-3], (1, 1, 0), (0.01, 0.01, 0.15), CANNOT),
+    # the same row scattering less than rtol: a longer pre-run may certify it
+    ([1e-3, 1e-6, 1e-3], (1, 1, 0), (0.01, 0.01, 0.005), NOT_YET),
+    # a settled eps resolved above the bound differs whatever the other row
+    ([1e-3, 1e-3, 1e-3], (1, 1, 0), (0.01, 0.01, 0.15), DIFFERS),
+    # an unsettled row that may still settle outranks one that cannot
+    ([1e-3, 1e-6, 1e-3], (1, 0, 0), (0.01, 0.005, 0.15), NOT_YET),
+    # every row above the threshold settled and below: the scatter of a settled row does not matter
+    ([1e-3, 1e-6, 2e-6], (0, 1, 1), (0.15, 0.15, 0.15), REPRODUCED),
+])
+def test_c26_cannot_be_reproduced_only_where_the_settling_rule_cannot_certify(lam, over, fluct, want):
+    j = lyapunov.c26(PAPER["C26"], _formal_fluctuating(lam, over, fluct))
+    assert j.verdict == want
+    # the reason names every row the rule cannot certify, with its scatter and its pre-run's wall time (s)
+    uncertifiable = over[2] == 0 and fluct[2] >= 0.02
+    named = "at eps 60 (scatter 0.15, pre-run 3.5 s) omega's block means over 2500 time units scatter"
+    assert (named in j.reason) == uncertifiable
+
+
+def test_c26_without_a_recorded_fluctuation_an_unsettled_row_is_not_yet_computed():
+    ds = _formal_fluctuating([1e-3, 1e-6, 1e-3], (1, 1, 0), (0.01, 0.01, 0.15)).drop_vars("block_fluctuation")
+    j = lyapunov.c26(PAPER["C26"], ds)
+    assert j.verdict == NOT_YET and j.reason == "transient not over at eps 60"
+
+
 def _regimes(status, lam, thick, T=1e5):
     n = len(status)
     return xr.Dataset({"lambda_1": ("eps", lam), "stderr": ("eps", [1e-6] * n), "status": ("eps", status),
@@ -388,6 +424,47 @@ def test_c27_counts_as_chaotic_only_rates_above_what_polynomial_growth_fakes():
     # the same rows over T = 1e4 (the fake rate 1.2e-3): none is chaotic
     assert lyapunov.c27(PAPER["C27"], _regimes(["regular", "converged", "converged", "converged"],
                                              [1e-6, 1e-4, 1.5e-4, 5e-4], [0.001] * 4, T=1e4)).verdict == NOT_YET
+
+
+def _priced(status, lam, budget, wall=10.0):
+    """_regimes (T = 1e5, tau = 10) whose rows record their rounds: ``wall`` s for T, rounds of 5e4."""
+    rows = _regimes(status, lam, [0.001] * len(status))
+    rows["rounds_wall_s"] = ("eps", [wall] * len(status))
+    rows["round_length"] = ("eps", [5e4] * len(status))
+    rows.attrs["resolve_budget_s"] = budget
+    return rows
+
+
+# rows converged at T = 1e5 but below the polynomial rate (1.84e-4): 1.5e-4 - 2e-6 needs T* = 1.3e5, one more
+# round of 5e4 at 10 s per 1e5, 5 s per row
+@pytest.mark.parametrize("status, lam, budget, want, text", [
+    (["converged"] * 4, [1.5e-4] * 4, 10.0, CANNOT, "about 20 s more of their rounds"),
+    (["converged"] * 4, [1.5e-4] * 4, 30.0, NOT_YET, "within the 30 s the run affords, but not run"),
+    # eps 0.5 resolved chaotic: only the three rows below it are priced
+    (["converged"] * 4, [1.5e-4] * 3 + [5e-4], 10.0, CANNOT, "about 15 s more"),
+    # a row whose lambda_1 - 2 stderr is not positive: no horizon resolves it at the measured values
+    (["converged"] * 4, [1.5e-4, 1e-6, 1.5e-4, 1.5e-4], 10.0, NOT_YET, "[1.3e+05, inf, 1.3e+05, 1.3e+05]"),
+])
+def test_c27_cannot_be_reproduced_when_resolving_the_rows_costs_more_than_the_run_affords(status, lam, budget, want,
+                                                                                            text):
+    j = lyapunov.c27(PAPER["C27"], _priced(status, lam, budget))
+    assert j.verdict == want and text in j.reason
+    assert ("above the 10 s the run affords (resolve_budget_s)" in j.reason) == (want == CANNOT)
+
+
+def test_c27_resolving_cost_prices_whole_rounds_by_each_rows_rounds():
+    rows = _priced(["converged"] * 4, [1.5e-4] * 4, 10.0)
+    need, cost = lyapunov.resolving_cost(rows, np.array([True, True, False, False]))
+    assert need == pytest.approx([1.3e5] * 2, rel=0.05) and cost == pytest.approx(2 * 10.0 / 1e5 * 5e4)
+    assert math.isnan(lyapunov.resolving_cost(rows.drop_vars("rounds_wall_s"), np.ones(4, bool))[1])
+
+
+def test_c27_with_chaos_down_to_the_smallest_row_computed_the_route_lies_below():
+    rows = _priced(["elsewhere", "converged", "converged", "converged"], [math.nan, 5e-4, 5e-4, 5e-4], 10.0)
+    j = lyapunov.c27(PAPER["C27"], rows)
+    assert j.verdict == NOT_YET
+    assert j.reason == ("no row below the first chaotic eps (0.0585) is computed here: a route, if any, lies below "
+                        "the computed range")
 
 
 def _audit(**over):

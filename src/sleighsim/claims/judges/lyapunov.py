@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from sleighsim.chaos.verdicts import polynomial_rate_bound
+from sleighsim.chaos.verdicts import polynomial_rate_bound, resolving_horizon
 from sleighsim.claims.rules import (
     CANNOT,
     DIFFERS,
@@ -167,22 +167,48 @@ def c25(paper, cost) -> Judgement:
                 else "the transient was not measured at the configured eps, so the cost is not determined"))
 
 
+def _uncertifiable(formal) -> np.ndarray:
+    """Per eps: whether the pre-run's rule cannot certify it settled, its omega block means scattering
+    about their line by at least the rule's rtol (dimensionless; variable block_fluctuation); False
+    where the dataset does not record it."""
+    if "block_fluctuation" not in formal or "transient_rtol" not in formal.attrs:
+        return np.zeros(formal.eps.size, bool)
+    return formal["block_fluctuation"].values >= formal.attrs["transient_rtol"]
+
+
+def _c26_cannot(formal, rows) -> str:
+    """The reason C26 cannot be decided at the eps of ``rows`` (a mask), from the dataset's numbers."""
+    a, fl = formal.attrs, formal["block_fluctuation"].values
+    listed = ", ".join(f"eps {e:g} (scatter {f:.2g}, pre-run {w:.2g} s)" for e, f, w in
+                       zip(formal.eps.values[rows], fl[rows], formal["pre_run_wall_s"].values[rows]))
+    return (f"at {listed} omega's block means over {a['transient_window']:g} time units scatter about their trend "
+            f"by at least the settling rule's rtol {a['transient_rtol']:g} over the second half of the "
+            f"{a['t_transient']:g}-time-unit pre-run: a fluctuation of the orbit that a longer pre-run does not "
+            "narrow, so the rule (block means within rtol of one value) cannot tell whether the transient is "
+            "over, and lambda_1 there is not counted")
+
+
 def c26(paper, formal) -> Judgement:
-    """Above the paper's eps only rows whose transient was checked over count (a missing check counts
-    as not checked); one resolved lambda_1 above the bound differs, all resolved below reproduce."""
+    """C26, "for eps > 20 the leading LE falls below 1e-5" (lambda_1 in 1/time). Above the paper's eps only
+    rows whose transient was checked over count (a missing check counts as not checked); one resolved
+    lambda_1 above the bound differs, all resolved below reproduce; a row whose pre-run the settling
+    rule cannot certify (its block means scatter by rtol or more) makes it cannot be reproduced."""
     eps, lam, err = formal.eps.values, formal.lambda_1.values, formal.stderr.values
     over = formal["transient_over"].values == 1 if "transient_over" in formal else np.zeros(eps.size, bool)
     big = eps > paper["eps_above"]
     if not big.any():
         return Judgement(NOT_YET, measured="no eps above the paper's threshold computed", rule="")
-    settled = big & over
+    settled, never = big & over, big & ~over & _uncertifiable(formal)
     below = lam + K_SIGMA * err < paper["lambda_below"]
     above = lam - K_SIGMA * err > paper["lambda_below"]
-    verdict = DIFFERS if (settled & above).any() else REPRODUCED if (below[big] & over[big]).all() else NOT_YET
-    unsettled = ", ".join(f"{e:g}" for e in eps[big & ~over])
+    open_ = (big & ~over & ~never) | (settled & ~below)
+    verdict = (DIFFERS if (settled & above).any() else NOT_YET if open_.any() else CANNOT if never.any()
+               else REPRODUCED)
+    unsettled = ", ".join(f"{e:g}" for e in eps[big & ~over & ~never])
     resolved_above = ", ".join(f"{e:g}" for e in eps[settled & above])
     reasons = ([f"lambda_1 resolved above {paper['lambda_below']:g} at settled eps {resolved_above}"]
                if resolved_above else []) + ([f"transient not over at eps {unsettled}"] if unsettled else [])
+    reasons += [_c26_cannot(formal, never)] if never.any() else []
     away = formal.attrs["eps_elsewhere"] if "eps_elsewhere" in formal.attrs else []
     return Judgement(
         verdict, units="1/time",
@@ -190,31 +216,67 @@ def c26(paper, formal) -> Judgement:
                            for e, m, s, o in zip(eps, lam, err, over)) + _elsewhere(formal, away),
         reason="; ".join(reasons),
         rule=f"at every eps above {paper['eps_above']:g} with its transient over, lambda_1 + {K_SIGMA:g} stderr < "
-             f"{paper['lambda_below']:g} (the formal system: m_c = 1 - eps < 0)")
+             f"{paper['lambda_below']:g} (the formal system: m_c = 1 - eps < 0); an eps whose pre-run the settling "
+             "rule cannot certify (omega's block means scatter about their trend by rtol or more over its second "
+             "half) is not counted and makes the claim cannot be reproduced, unless a settled eps differs")
+
+
+def resolving_cost(rows, sel) -> tuple[np.ndarray, float]:
+    """Per row of ``sel`` (a mask over the rows, in their order): the per-replica horizon (time) at which
+    polynomial growth fakes less than the measured lambda_1 - K_SIGMA stderr (inf when that is not
+    positive), and the wall time (s) of the whole rounds still needed to reach it, priced by the
+    row's own rounds (rounds_wall_s per T); NaN cost when the dataset does not record them."""
+    lam, err, T, tau = (rows[v].values[sel] for v in ("lambda_1", "stderr", "T", "tau"))
+    need = np.array([resolving_horizon(m - K_SIGMA * e, t) for m, e, t in zip(lam, err, tau)])
+    if "rounds_wall_s" not in rows or "round_length" not in rows:
+        return need, math.nan
+    wall, length = rows["rounds_wall_s"].values[sel], rows["round_length"].values[sel]
+    more = np.where(np.isfinite(need), np.ceil(np.minimum(need, 1e300) / length) * length - T, math.inf)
+    return need, float(np.sum(wall / T * np.maximum(more, 0.0)))
+
+
+def _c27_open(rows, first_chaos, unresolved) -> tuple[str, str]:
+    """(verdict, reason) of C27 when no regular row below the first chaotic eps decides it: cannot be
+    reproduced when resolving the rows there would cost more than the run's stated budget (s)."""
+    if not unresolved.any():
+        return NOT_YET, ("no row is resolved chaotic" if not finite(first_chaos) else
+                         f"no row below the first chaotic eps ({first_chaos:.3g}) is computed here: a route, if "
+                         "any, lies below the computed range")
+    listed = ", ".join(f"{e:.3g}" for e in rows.eps.values[unresolved])
+    need, cost = resolving_cost(rows, unresolved)
+    budget = float(rows.attrs.get("resolve_budget_s", math.nan))
+    text = ((f"the rows below the first chaotic eps ({first_chaos:.3g})" if finite(first_chaos) else
+             "no row is resolved chaotic; the rows") + f" are unresolved at eps {listed}: their lambda_1 - "
+            f"{K_SIGMA:g} stderr, as measured, clears {_FAKE} from per-replica horizons {fmt(need, 2)} (run: "
+            f"{fmt(rows['T'].values[unresolved], 2)})")
+    if not finite(cost):
+        return NOT_YET, text
+    text += f", about {cost:.3g} s more of their rounds on this machine (each row's rounds' measured wall time per T)"
+    if finite(budget) and cost > budget:
+        return CANNOT, text + f", above the {budget:g} s the run affords (resolve_budget_s)"
+    return NOT_YET, text + (f", within the {budget:g} s the run affords, but not run" if finite(budget) else "")
 
 
 def c27(paper, rows) -> Judgement:
-    """Quasi-periodic route to chaos near eps = 0, from lambda_1 against eps (the F11 rows, or the
-    on-request regime diagram)."""
+    """C27, quasi-periodic route to chaos near eps = 0, from lambda_1 (1/time) against eps (the F11 rows,
+    or the on-request regime diagram): regular rows below the first chaotic eps must be tori; cannot be
+    reproduced when the rows that would decide cost more to resolve than the run affords."""
+    order = np.argsort(rows.eps.values)
+    rows = rows.isel(eps=order)
     eps, lam, err, status = rows.eps.values, rows.lambda_1.values, rows.stderr.values, rows.status.values
     steady = (rows.transient_over.values == 1) & (rows.steady.values == 1)
     thin = np.asarray(rows.curve_thickness.values) < 0.01
     chaotic = steady & (status == "converged") & (lam - K_SIGMA * err > fake_rates(rows))
     regular = steady & (status == "regular")
-    order = np.argsort(eps)
-    eps, chaotic, regular, thin = eps[order], chaotic[order], regular[order], thin[order]
     first_chaos = eps[chaotic].min() if chaotic.any() else math.nan
-    below = eps < first_chaos if finite(first_chaos) else np.zeros(eps.size, bool)
+    below = eps < first_chaos if finite(first_chaos) else np.ones(eps.size, bool)
 
     def listed(sel):
         return ", ".join(f"{e:.3g}" for e in eps[sel]) or "none"
 
-    resolved_below = below & regular
-    if not chaotic.any():
-        verdict, reason = NOT_YET, "no row is resolved chaotic"
-    elif not resolved_below.any():
-        verdict, reason = NOT_YET, (f"no row below the first chaotic eps ({first_chaos:.3g}) is resolved regular: a "
-                                    f"route, if any, lies below the computed range or the rows there are unresolved")
+    resolved_below = below & regular & chaotic.any()
+    if not resolved_below.any():
+        verdict, reason = _c27_open(rows, first_chaos, below & ~chaotic & ~regular & (status != "elsewhere"))
     elif np.all(thin[resolved_below]):
         verdict, reason = REPRODUCED, ""
     else:
@@ -228,7 +290,8 @@ def c27(paper, rows) -> Judgement:
                  f"{listed(regular & thin)}",
         rule=f"below the smallest chaotic eps (lambda_1 - {K_SIGMA:g} stderr > {_FAKE}), the rows resolved regular "
              "must have a thin P_2pi curve (thickness < 0.01: a torus): reproduced when at least one such row exists "
-             "and all "
-             "have it, differs when one does not, not yet computed when none is resolved regular (unresolved rows "
-             "are not counted)",
+             "and all have it, differs when one does not; when none is resolved regular, cannot be reproduced if "
+             "resolving the unresolved rows there (all rows if none is chaotic) would take more wall time than the "
+             "run's resolve_budget_s (the rounds still needed to the horizon where the polynomial rate falls below "
+             "lambda_1 - 2 stderr, priced by each row's measured rounds), else not yet computed",
         reason=reason)
