@@ -218,7 +218,8 @@ def c26(paper, formal) -> Judgement:
         rule=f"at every eps above {paper['eps_above']:g} with its transient over, lambda_1 + {K_SIGMA:g} stderr < "
              f"{paper['lambda_below']:g} (the formal system: m_c = 1 - eps < 0); an eps whose pre-run the settling "
              "rule cannot certify (omega's block means scatter about their trend by rtol or more over its second "
-             "half) is not counted and makes the claim cannot be reproduced, unless a settled eps differs")
+             "half) is not counted: the claim then cannot be reproduced, unless a settled eps differs or another "
+             "eps's transient may still end (not yet computed)")
 
 
 def resolving_cost(rows, sel) -> tuple[np.ndarray, float]:
@@ -231,7 +232,7 @@ def resolving_cost(rows, sel) -> tuple[np.ndarray, float]:
     if "rounds_wall_s" not in rows or "round_length" not in rows:
         return need, math.nan
     wall, length = rows["rounds_wall_s"].values[sel], rows["round_length"].values[sel]
-    more = np.where(np.isfinite(need), np.ceil(np.minimum(need, 1e300) / length) * length - T, math.inf)
+    more = np.ceil(need / length) * length - T  # whole rounds; inf where no horizon resolves the row
     return need, float(np.sum(wall / T * np.maximum(more, 0.0)))
 
 
