@@ -125,9 +125,17 @@ def ladder_inputs(wildcards):
 
 
 def scene_inputs(wildcards):
+    """The datasets a scene's block names (role -> path), and the paper's claims table (role
+    ``claims_md``) for a kind that reads it (SceneKind.reads_paper)."""
+    block = SCENES[wildcards.scene]
+    paper = (
+        {"claims_md": CLAIMS_MD}
+        if scene_catalog.KINDS[block["kind"]].reads_paper
+        else {}
+    )
     return {
-        role: f"{R}/data/{source}.nc"
-        for role, source in SCENES[wildcards.scene].get("inputs", {}).items()
+        **{role: f"{R}/data/{source}.nc" for role, source in block.get("inputs", {}).items()},
+        **paper,
     }
 
 

@@ -28,8 +28,7 @@ from __future__ import annotations
 import csv
 import io
 import math
-import re
-from dataclasses import astuple, dataclass, field, fields
+from dataclasses import astuple, dataclass, fields
 from pathlib import Path
 
 import numpy as np
@@ -43,23 +42,11 @@ from sleighsim.claims.evidence import CAUSES, EVIDENCE
 from sleighsim.claims.judges import JUDGES
 from sleighsim.claims.rules import CANNOT, DIFFERS, DOUBLE_ONLY, FRAGILE, NOT_YET, REPRODUCED, VERDICTS
 from sleighsim.engine.precision import Precision
+from sleighsim.io.claims_table import Claim, parse_claims, parse_values  # noqa: F401 (the ledger's names since)
 from sleighsim.io.netcdf import read_dataset, write_dataset, write_text
 from sleighsim.scenes.catalog import ladder_name, laddered, realization_name, realized, variant
 
-ID = re.compile(r"[FCD]\d+")
 PRECISIONS = tuple(p.value for p in Precision)  # coarse to fine
-PAIR = re.compile(r"\s*(\w+)\s*=\s*(\[[^\]]*\]|[^;]+)")
-
-
-@dataclass
-class Claim:
-    """A row of CLAIMS.md: ``values`` are the parsed ``value`` column (numbers or lists of
-    numbers), with the numbers' spellings under ``values["_text"]``."""
-
-    id: str
-    statement: str
-    paper_value: str
-    values: dict = field(default_factory=dict)
 
 
 @dataclass
@@ -82,38 +69,6 @@ class Row:
     precision: str = ""
     double_value: str = ""
     realizations: str = ""
-
-
-def parse_values(cell: str) -> dict:
-    """``name=number; name=[number, ...]`` -> {name: float or list}, with the spellings in ``_text``."""
-    values, text = {}, {}
-    for m in PAIR.finditer(cell or ""):
-        name, raw = m.group(1), m.group(2).strip()
-        if raw.startswith("["):
-            items = [s.strip() for s in raw.strip("[]").split(",")]
-            values[name], text[name] = [float(s) for s in items], items
-        else:
-            values[name], text[name] = float(raw), raw
-    if values:
-        values["_text"] = text
-    return values
-
-
-def parse_claims(path) -> list[Claim]:
-    """Every table row of CLAIMS.md whose first cell is an id, in file order. Figure rows: (id, label,
-    what it shows); claims: (id, claim, paper value, value); model rows: (id, item, what to show, value)."""
-    out = []
-    for line in Path(path).read_text().splitlines():
-        cells = [c.strip() for c in line.strip().strip("|").split("|")]
-        if len(cells) < 3 or not ID.fullmatch(cells[0]):
-            continue
-        kind = cells[0][0]
-        if kind == "F":
-            out.append(Claim(cells[0], cells[2], cells[1]))
-        else:
-            value = cells[3] if len(cells) > 3 else ""
-            out.append(Claim(cells[0], cells[1], cells[2], parse_values(value)))
-    return out
 
 
 class MissingDataset(KeyError):
