@@ -41,10 +41,11 @@ from sleighsim.claims.causes import CAUSE_TESTS
 from sleighsim.claims.evidence import CAUSES, EVIDENCE
 from sleighsim.claims.judges import JUDGES
 from sleighsim.claims.rules import CANNOT, DIFFERS, DOUBLE_ONLY, FRAGILE, NOT_YET, REPRODUCED, VERDICTS
+from sleighsim.claims.setup_columns import cause_with_setup, columns
 from sleighsim.engine.precision import Precision
 from sleighsim.io.claims_table import Claim, parse_claims, parse_values  # noqa: F401 (the ledger's names since)
 from sleighsim.io.netcdf import read_dataset, write_dataset, write_text
-from sleighsim.scenes.catalog import ladder_name, laddered, realization_name, realized, variant
+from sleighsim.scenes.catalog import datasets, ladder_name, laddered, realization_name, realized, variant
 
 PRECISIONS = tuple(p.value for p in Precision)  # coarse to fine
 
@@ -69,6 +70,8 @@ class Row:
     precision: str = ""
     double_value: str = ""
     realizations: str = ""
+    paper_setup_value: str = ""
+    paper_setup_verdict: str = ""
 
 
 class MissingDataset(KeyError):
@@ -319,7 +322,21 @@ def ledger(claims_md, data_dir, figures_dir, config: dict, figures: dict) -> lis
     for row in rows:
         if row.id in by_paper_id:
             _figure_from_claims(row, judged, by_paper_id[row.id].claims)
+    with_setup(rows, load, config)
     return rows
+
+
+def with_setup(rows: list[Row], load: _Datasets, config: dict) -> None:
+    """Each row's value and verdict under the setup inferred jointly (the config's paper_setup scene,
+    :mod:`sleighsim.claims.setup_columns`); an unexplained cause is told the setup was tried."""
+    names = [n for n in datasets(config, on_request=True) if config["scenes"][n]["kind"] == "paper_setup"]
+    try:
+        setup = load(names[:1])[0] if names else None
+    except MissingDataset:
+        setup = None
+    for row in rows:
+        row.paper_setup_value, row.paper_setup_verdict = columns(row.id, row.verdict, setup)
+        row.cause = cause_with_setup(row.cause, row.paper_setup_verdict)
 
 
 def write(rows: list[Row], csv_path, nc_path) -> None:
