@@ -55,6 +55,7 @@ REPORT_DATA = sorted(
     {d for f in FIGURES_BUILT for d in figure_catalog.FIGURES[f].data}
     | {t.data for t in TABLES.values() if t.data in DATASETS}
     | set(LADDER_DATA)
+    | {n for n in DATASETS if SCENES[n]["kind"] == "paper_setup"}  # the findings' setup paragraph
 )
 
 

@@ -318,11 +318,11 @@ def ledger(claims_md, data_dir, figures_dir, config: dict, figures: dict) -> lis
             row.verdict, row.reason = NOT_YET, str(missing)
             row.measured = row.uncertainty = ""
         rows.append(row)
+    with_setup(rows, load, config)  # before the figure rows quote their claims' causes
     judged = {r.id: r for r in rows}
     for row in rows:
         if row.id in by_paper_id:
             _figure_from_claims(row, judged, by_paper_id[row.id].claims)
-    with_setup(rows, load, config)
     return rows
 
 
