@@ -244,7 +244,7 @@ ELEMENT_NAMES = {"K2": None, "integrator": "integrator and tolerance of the pape
 def ranking(top, coords, base_dev: float) -> xr.Dataset:
     """The top setups (dim ``rank``, 1 = best): each element's candidate, the deviance and its excess
     over the best."""
-    data = {f"rank_{e}": ("rank", np.array([coords[e][idx[k]] for _, idx in top], dtype=float if e == "K2" else object),
+    data = {f"rank_{e}": ("rank", np.array([coords[e][idx[k]] for _, idx in top], dtype=float if e == "K2" else str),
                           {"long_name": f"candidate of element {e} at this rank"} if e != "K2" else
                           {"long_name": "K2 at this rank", "units": "1"})
             for k, e in enumerate(ELEMENTS)}
