@@ -6,6 +6,8 @@ as the spectra judge does: REL_TOL of the paper's band width or one frequency bi
 
 from __future__ import annotations
 
+import numpy as np
+
 from sleighsim.claims.causes import NONE
 from sleighsim.claims.rules import REL_TOL, REPRODUCED, all_of, number
 
@@ -35,8 +37,9 @@ def columns(claim_id: str, verdict: str, setup) -> tuple[str, str]:
     ``setup`` (the paper_setup dataset; None: not built, with the reason in the verdict)."""
     if setup is None:
         return "", f"{NOT_APPLICABLE}: no paper_setup dataset in this run"
-    numbers = setup.where(setup.claim == claim_id, drop=True)
-    if numbers.sizes.get("paper_number", 0) == 0:
+    rows = np.flatnonzero(setup.claim.values == claim_id)
+    numbers = setup[["name", "paper", "best", "best_sd", "moved_by", "changed_by"]].isel(paper_number=rows)
+    if rows.size == 0:
         return "", f"{NOT_APPLICABLE}: the setup moves none of its numbers"
     if "best_K2" not in setup.attrs:
         return "", "not yet computed: no setup determines every scored number"
