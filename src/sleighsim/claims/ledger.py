@@ -3,7 +3,9 @@
 A claim (C.., D..) is judged by its function in :mod:`sleighsim.claims.judges` from the paper's
 values (the ``value`` column of CLAIMS.md, parsed) and the datasets of
 :data:`sleighsim.claims.evidence.EVIDENCE`; a row that differs is then tested against its likely causes
-(:mod:`sleighsim.claims.causes`, datasets of :data:`sleighsim.claims.evidence.CAUSES`). A figure row
+(:mod:`sleighsim.claims.causes`, datasets of :data:`sleighsim.claims.evidence.CAUSES`); every row
+is then set beside the setup the paper_setup scene inferred jointly from all the paper's numbers
+(columns ``paper_setup_value``, ``paper_setup_verdict``: :mod:`sleighsim.claims.setup_columns`). A figure row
 (F..) counts when its figure (the ledger is handed the figures of
 :data:`sleighsim.report.figures.catalog.FIGURES`) was built, every steady-state dataset it shows carries a passed
 transient check, and no claim it illustrates differs.

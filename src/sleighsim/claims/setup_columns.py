@@ -12,6 +12,11 @@ from sleighsim.claims.causes import NONE
 from sleighsim.claims.rules import REL_TOL, REPRODUCED, all_of, number
 
 NOT_APPLICABLE = "not applicable"
+NOT_INFERRED = "not yet computed: no setup determines every scored number"
+#: The verdicts' openings: the claim holds under both setups, only under the paper's, only under ours, neither.
+BOTH, PAPER_ONLY = "reproduced (under both)", "reproduced under the paper's setup"
+SAME_ELEMENTS = "its elements at the run's own: the sweeps' value, not the claim's dataset, reproduces it"
+CONVERGED_ONLY, NEITHER = "reproduced under converged physics only", "differs under both"
 
 
 def _band_part(paper_lo, paper_hi, ours, paper, sd) -> str:
@@ -42,18 +47,18 @@ def columns(claim_id: str, verdict: str, setup) -> tuple[str, str]:
     if rows.size == 0:
         return "", f"{NOT_APPLICABLE}: the setup moves none of its numbers"
     if "best_K2" not in setup.attrs:
-        return "", "not yet computed: no setup determines every scored number"
+        return "", NOT_INFERRED
     value = "; ".join(f"{n} {b:.4g}" for n, b in zip(numbers.name.values, numbers.best.values))
     changed = sorted({c for cs in numbers.changed_by.values for c in str(cs).split("; ") if c})
     moved = sorted({m for ms in numbers.moved_by.values for m in str(ms).split(", ") if m})
     setup_ok = all_of(_parts(numbers)) == REPRODUCED
     if verdict == REPRODUCED and setup_ok:
-        return value, "reproduced (under both)"
+        return value, BOTH
     if setup_ok:
-        return value, f"reproduced under the paper's setup ({'; '.join(changed) or 'the run’s own elements'})"
+        return value, f"{PAPER_ONLY} ({'; '.join(changed) or SAME_ELEMENTS})"
     if verdict == REPRODUCED:
-        return value, f"reproduced under converged physics only (differs under the paper's setup: {'; '.join(changed)})"
-    return value, f"differs under both (tried: {', '.join(moved) or 'no element moves it'})"
+        return value, f"{CONVERGED_ONLY} (differs under the paper's setup: {'; '.join(changed)})"
+    return value, f"{NEITHER} (tried: {', '.join(moved) or 'no element moves it'})"
 
 
 def cause_with_setup(cause: str, setup_verdict: str) -> str:

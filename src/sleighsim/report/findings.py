@@ -9,6 +9,8 @@ import math
 import numpy as np
 
 from sleighsim.analysis.observables import SEPARATED
+from sleighsim.claims import setup_columns
+from sleighsim.claims.rules import REPRODUCED
 from sleighsim.io.netcdf import read_dataset
 from sleighsim.model.symmetries import REFERENCE_STATE
 from sleighsim.report.page import Table
@@ -105,17 +107,17 @@ SETUP_ELEMENTS = ("K2", "integrator", "psd", "energy", "lyapunov")
 
 def _holds_under_setup(verdict: str) -> bool:
     """Whether a ledger row's paper_setup_verdict says the claim holds under the inferred setup."""
-    return verdict.startswith(("reproduced (under both)", "reproduced under the paper's setup"))
+    return verdict.startswith((setup_columns.BOTH, setup_columns.PAPER_ONLY))
 
 
 def setup_counts(rows: list) -> dict:
     """The rows the inferred setup moves (``ids``), those that hold under it (``setup``) and under
     converged physics (``converged``), and the whole ledger's reproduced counts under each."""
     moved = [r for r in rows if r.paper_setup_verdict and not r.paper_setup_verdict.startswith(
-        ("not applicable", "not yet computed"))]
+        (setup_columns.NOT_APPLICABLE, setup_columns.NOT_INFERRED))]
     setup = [r.id for r in moved if _holds_under_setup(r.paper_setup_verdict)]
-    converged = [r.id for r in moved if r.verdict == "reproduced"]
-    total_conv = sum(r.verdict == "reproduced" for r in rows)
+    converged = [r.id for r in moved if r.verdict == REPRODUCED]
+    total_conv = sum(r.verdict == REPRODUCED for r in rows)
     return {"ids": [r.id for r in moved], "setup": setup, "converged": converged, "n_rows": len(rows),
             "total_converged": total_conv, "total_setup": total_conv - len(converged) + len(setup)}
 

@@ -64,6 +64,7 @@ def spelling_sigma(text: str) -> float:
 
 
 def _da(values, dims) -> xr.DataArray:
+    """A float DataArray over ``dims``."""
     return xr.DataArray(np.asarray(values, float), dims=dims)
 
 
@@ -231,6 +232,7 @@ def term_table(terms, coords, best: dict, base: dict) -> xr.Dataset:
 
 
 def _label(coords, element: str, index: int) -> str:
+    """Candidate ``index`` of ``element`` as text (K2 to 4 significant digits)."""
     v = coords[element][index]
     return f"{v:.4g}" if element == "K2" else str(v)
 
