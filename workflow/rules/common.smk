@@ -55,6 +55,7 @@ REPORT_DATA = sorted(
     {d for f in FIGURES_BUILT for d in figure_catalog.FIGURES[f].data}
     | {t.data for t in TABLES.values() if t.data in DATASETS}
     | set(LADDER_DATA)
+    | {n for n in DATASETS if SCENES[n]["kind"] == "paper_setup"}  # the findings' setup paragraph
 )
 
 
@@ -125,9 +126,17 @@ def ladder_inputs(wildcards):
 
 
 def scene_inputs(wildcards):
+    """The datasets a scene's block names (role -> path), and the paper's claims table (role
+    ``claims_md``) for a kind that reads it (SceneKind.reads_paper)."""
+    block = SCENES[wildcards.scene]
+    paper = (
+        {"claims_md": CLAIMS_MD}
+        if scene_catalog.KINDS[block["kind"]].reads_paper
+        else {}
+    )
     return {
-        role: f"{R}/data/{source}.nc"
-        for role, source in SCENES[wildcards.scene].get("inputs", {}).items()
+        **{role: f"{R}/data/{source}.nc" for role, source in block.get("inputs", {}).items()},
+        **paper,
     }
 
 

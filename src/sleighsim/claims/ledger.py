@@ -3,7 +3,9 @@
 A claim (C.., D..) is judged by its function in :mod:`sleighsim.claims.judges` from the paper's
 values (the ``value`` column of CLAIMS.md, parsed) and the datasets of
 :data:`sleighsim.claims.evidence.EVIDENCE`; a row that differs is then tested against its likely causes
-(:mod:`sleighsim.claims.causes`, datasets of :data:`sleighsim.claims.evidence.CAUSES`). A figure row
+(:mod:`sleighsim.claims.causes`, datasets of :data:`sleighsim.claims.evidence.CAUSES`); every row
+is then set beside the setup the paper_setup scene inferred jointly from all the paper's numbers
+(columns ``paper_setup_value``, ``paper_setup_verdict``: :mod:`sleighsim.claims.setup_columns`). A figure row
 (F..) counts when its figure (the ledger is handed the figures of
 :data:`sleighsim.report.figures.catalog.FIGURES`) was built, every steady-state dataset it shows carries a passed
 transient check, and no claim it illustrates differs.
@@ -28,8 +30,7 @@ from __future__ import annotations
 import csv
 import io
 import math
-import re
-from dataclasses import astuple, dataclass, field, fields
+from dataclasses import astuple, dataclass, fields
 from pathlib import Path
 
 import numpy as np
@@ -42,24 +43,13 @@ from sleighsim.claims.causes import CAUSE_TESTS
 from sleighsim.claims.evidence import CAUSES, EVIDENCE
 from sleighsim.claims.judges import JUDGES
 from sleighsim.claims.rules import CANNOT, DIFFERS, DOUBLE_ONLY, FRAGILE, NOT_YET, REPRODUCED, VERDICTS
+from sleighsim.claims.setup_columns import cause_with_setup, columns
 from sleighsim.engine.precision import Precision
+from sleighsim.io.claims_table import Claim, parse_claims, parse_values  # noqa: F401 (the ledger's names since)
 from sleighsim.io.netcdf import read_dataset, write_dataset, write_text
-from sleighsim.scenes.catalog import ladder_name, laddered, realization_name, realized, variant
+from sleighsim.scenes.catalog import datasets, ladder_name, laddered, realization_name, realized, variant
 
-ID = re.compile(r"[FCD]\d+")
 PRECISIONS = tuple(p.value for p in Precision)  # coarse to fine
-PAIR = re.compile(r"\s*(\w+)\s*=\s*(\[[^\]]*\]|[^;]+)")
-
-
-@dataclass
-class Claim:
-    """A row of CLAIMS.md: ``values`` are the parsed ``value`` column (numbers or lists of
-    numbers), with the numbers' spellings under ``values["_text"]``."""
-
-    id: str
-    statement: str
-    paper_value: str
-    values: dict = field(default_factory=dict)
 
 
 @dataclass
@@ -82,38 +72,8 @@ class Row:
     precision: str = ""
     double_value: str = ""
     realizations: str = ""
-
-
-def parse_values(cell: str) -> dict:
-    """``name=number; name=[number, ...]`` -> {name: float or list}, with the spellings in ``_text``."""
-    values, text = {}, {}
-    for m in PAIR.finditer(cell or ""):
-        name, raw = m.group(1), m.group(2).strip()
-        if raw.startswith("["):
-            items = [s.strip() for s in raw.strip("[]").split(",")]
-            values[name], text[name] = [float(s) for s in items], items
-        else:
-            values[name], text[name] = float(raw), raw
-    if values:
-        values["_text"] = text
-    return values
-
-
-def parse_claims(path) -> list[Claim]:
-    """Every table row of CLAIMS.md whose first cell is an id, in file order. Figure rows: (id, label,
-    what it shows); claims: (id, claim, paper value, value); model rows: (id, item, what to show, value)."""
-    out = []
-    for line in Path(path).read_text().splitlines():
-        cells = [c.strip() for c in line.strip().strip("|").split("|")]
-        if len(cells) < 3 or not ID.fullmatch(cells[0]):
-            continue
-        kind = cells[0][0]
-        if kind == "F":
-            out.append(Claim(cells[0], cells[2], cells[1]))
-        else:
-            value = cells[3] if len(cells) > 3 else ""
-            out.append(Claim(cells[0], cells[1], cells[2], parse_values(value)))
-    return out
+    paper_setup_value: str = ""
+    paper_setup_verdict: str = ""
 
 
 class MissingDataset(KeyError):
@@ -360,11 +320,25 @@ def ledger(claims_md, data_dir, figures_dir, config: dict, figures: dict) -> lis
             row.verdict, row.reason = NOT_YET, str(missing)
             row.measured = row.uncertainty = ""
         rows.append(row)
+    with_setup(rows, load, config)  # before the figure rows quote their claims' causes
     judged = {r.id: r for r in rows}
     for row in rows:
         if row.id in by_paper_id:
             _figure_from_claims(row, judged, by_paper_id[row.id].claims)
     return rows
+
+
+def with_setup(rows: list[Row], load: _Datasets, config: dict) -> None:
+    """Each row's value and verdict under the setup inferred jointly (the config's paper_setup scene,
+    :mod:`sleighsim.claims.setup_columns`); an unexplained cause is told the setup was tried."""
+    names = [n for n in datasets(config, on_request=True) if config["scenes"][n]["kind"] == "paper_setup"]
+    try:
+        setup = load(names[:1])[0] if names else None
+    except MissingDataset:
+        setup = None
+    for row in rows:
+        row.paper_setup_value, row.paper_setup_verdict = columns(row.id, row.verdict, setup)
+        row.cause = cause_with_setup(row.cause, row.paper_setup_verdict)
 
 
 def write(rows: list[Row], csv_path, nc_path) -> None:

@@ -52,6 +52,8 @@ TITLES: dict[str, str] = {
                 "C23)",
     "integration_error": "SciPy's RK45 (standing in for MATLAB's ode45) against its tolerance: spikes, series "
                          "error and the paper's Lyapunov protocol (likely causes of C04, C05, C11, C18-C21)",
+    "paper_setup": "the paper's unstated setup (K2, integrator, psd convention, energy normalisation, Lyapunov "
+                   "integration) inferred jointly from all its numbers, from the cause datasets",
     "hardcases": "hard cases of the integrator: extreme parameters, energies and horizons, states at rest and on "
                  "a section",
     "bench": "speed against error: heyoka, SciPy and peer engines",

@@ -274,6 +274,8 @@ VOCABULARY: dict[str, tuple[str, str]] = {
     "difference": ("relative difference of the measured value from the paper's", "1"),
     "double_value": ("the value in double where the verdict rests on a finer arithmetic", "text"),
     "realizations": ("how the realizations agree", "text"),
+    "paper_setup_value": ("the claim's numbers under the setup inferred jointly (paper_setup.nc)", "text"),
+    "paper_setup_verdict": ("the verdict under the inferred setup beside the one under converged physics", "text"),
     "base": ("verdict of the unperturbed run", "text"),
     "perturbed": ("verdict with every start state perturbed", "text"),
     "changed": ("1 when a variant's verdict differs from the base run's, else 0", "1"),

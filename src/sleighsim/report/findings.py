@@ -9,6 +9,8 @@ import math
 import numpy as np
 
 from sleighsim.analysis.observables import SEPARATED
+from sleighsim.claims import setup_columns
+from sleighsim.claims.rules import REPRODUCED
 from sleighsim.io.netcdf import read_dataset
 from sleighsim.model.symmetries import REFERENCE_STATE
 from sleighsim.report.page import Table
@@ -85,8 +87,9 @@ def _ladder_summary(ds) -> str:
 def precision_findings(rows: list, datasets: dict) -> dict:
     """The findings: per state of the verdict states' precision ladder (``states``: [(state,
     sentences)]; empty and ``missing`` true when it was not run), then the steady-state scenes'
-    ladders (``ladders``, a Table or None)."""
-    out = {"states": [], "missing": "precision_ladder" not in datasets, "ladders": scene_ladders(datasets)}
+    ladders (``ladders``, a Table or None), and the paragraph on the paper's inferred setup (``setup``)."""
+    out = {"states": [], "missing": "precision_ladder" not in datasets, "ladders": scene_ladders(datasets),
+           "setup": setup_paragraph(rows, datasets)}
     if out["missing"]:
         return out
     ladder = read_dataset(datasets["precision_ladder"])
@@ -97,3 +100,51 @@ def precision_findings(rows: list, datasets: dict) -> dict:
         claim = f"{paper} (C05)" if from_reference else "no value for this state"
         out["states"].append((str(st), _state_sentences(ladder, verdict, k, claim)))
     return out
+
+
+SETUP_ELEMENTS = ("K2", "integrator", "psd", "energy", "lyapunov")
+
+
+def _holds_under_setup(verdict: str) -> bool:
+    """Whether a ledger row's paper_setup_verdict says the claim holds under the inferred setup."""
+    return verdict.startswith((setup_columns.BOTH, setup_columns.PAPER_ONLY))
+
+
+def setup_counts(rows: list) -> dict:
+    """The rows the inferred setup moves (``ids``), those that hold under it (``setup``) and under
+    converged physics (``converged``), and the whole ledger's reproduced counts under each."""
+    moved = [r for r in rows if r.paper_setup_verdict and not r.paper_setup_verdict.startswith(
+        (setup_columns.NOT_APPLICABLE, setup_columns.NOT_INFERRED))]
+    setup = [r.id for r in moved if _holds_under_setup(r.paper_setup_verdict)]
+    converged = [r.id for r in moved if r.verdict == REPRODUCED]
+    total_conv = sum(r.verdict == REPRODUCED for r in rows)
+    return {"ids": [r.id for r in moved], "setup": setup, "converged": converged, "n_rows": len(rows),
+            "total_converged": total_conv, "total_setup": total_conv - len(converged) + len(setup)}
+
+
+def setup_paragraph(rows: list, datasets: dict) -> str:
+    """One paragraph from paper_setup.nc and the ledger: the setup the paper's numbers fit, its gaps to
+    the runners-up, and how many claims hold under it and under converged physics ("" without the dataset)."""
+    name = next((n for n in datasets if n == "paper_setup" or n.endswith("/paper_setup")), None)
+    if name is None:
+        return ""
+    ds = read_dataset(datasets[name])
+    a = ds.attrs
+    if "best_K2" not in a:
+        return f"The paper's setup is not inferred in this run: {a.get('n_setups_note', 'no setup ranked')}."
+    c = setup_counts(rows)
+    elements = "; ".join(
+        f"{e} {a[f'best_{e}']:.4g} (within 1 of the least deviance: {a['best_K2_low']:.4g} to {a['best_K2_high']:.4g};"
+        f" this run {a['baseline_K2']:.4g})" if e == "K2" else
+        f"{e}: {a[f'best_{e}']} (next: {a[f'runner_up_{e}']}, deviance +{a[f'gap_{e}']:.3g})" for e in SETUP_ELEMENTS)
+    pulls = ds.where(ds.scored == 1, drop=True)
+    order = np.argsort(-np.abs(pulls.best_residual.values))[:3]
+    pull_text = ", ".join(f"{pulls.paper_number.values[i]} ({pulls.best_residual.values[i]:+.3g} sigma)"
+                          for i in order)
+    return (f"The paper's numbers fit this setup best (deviance {a['deviance_best']:.4g}, against "
+            f"{a['deviance_baseline']:.4g} for this run's own setup; {a['n_ranked']} of {a['n_setups']} setups "
+            f"ranked): {elements}. Under it, {len(c['setup'])} of the {len(c['ids'])} claims whose numbers it moves "
+            f"hold ({', '.join(c['setup']) or 'none'}); under converged physics, {len(c['converged'])} hold "
+            f"({', '.join(c['converged']) or 'none'}); over the whole ledger, {c['total_setup']} of {c['n_rows']} rows "
+            f"against {c['total_converged']}. The numbers that pull hardest against it: {pull_text}. "
+            f"Separability: {a['separability']}")

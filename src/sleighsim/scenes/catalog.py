@@ -27,6 +27,7 @@ from sleighsim.scenes import (
     hierarchy,
     judge_power,
     ladder,
+    paper_setup,
     schematic,
     steady_state,
     torus_stability,
@@ -46,7 +47,7 @@ KINDS: dict[str, SceneKind] = {k.name: k for k in (
     grid.LYAPUNOV_GRID, verdict.CHAOS_VERDICT, ladder.PRECISION_LADDER, trigger.TRIGGER_LAW, drift.DRIFT_WINDOWS,
     basins.BASINS, audit.PRINTED_MODEL, causes.K2_SWEEP, causes.INTEGRATION_ERROR, hardcases.HARDCASES, bench.BENCH,
     judge_power.JUDGE_POWER,
-    torus_stability.TORUS_STABILITY,
+    torus_stability.TORUS_STABILITY, paper_setup.PAPER_SETUP,
 )}
 
 #: Keys of a scene block that schedule its jobs and do not change what it computes.
@@ -54,10 +55,12 @@ SCHEDULING = ("on_request", "schedule_first", "chunk_runtime_min", "runtime_min"
 
 
 def compute(scene: str, cfg: dict, inputs: dict | None = None) -> xr.Dataset:
-    """The dataset of ``scene`` from its config block; ``inputs`` maps the kind's roles to paths."""
+    """The dataset of ``scene`` from its config block; ``inputs`` maps the kind's roles (and
+    ``claims_md`` for a kind that reads the paper's claims table) to paths."""
     kind = KINDS[cfg["kind"]]
     if kind.inputs:
-        return kind.compute(cfg, {role: inputs[role] for role in kind.inputs}, scene=scene)
+        roles = kind.inputs + (("claims_md",) if kind.reads_paper else ())
+        return kind.compute(cfg, {role: inputs[role] for role in roles}, scene=scene)
     return kind.compute(cfg, scene=scene)
 
 

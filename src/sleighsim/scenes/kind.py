@@ -52,6 +52,7 @@ class SceneKind:
       ``chunk_reads(cfg, index)``: the indices of the scene's own chunks that chunk ``index`` reads (a
       later stage; its ``chunk`` then takes their paths as ``reads=``);
     - ``inputs``: the roles of the datasets it reads (named in the block's ``inputs``);
+      ``reads_paper``: it also reads the paper's claims table (paper/CLAIMS.md, role ``claims_md``);
     - ``dataset``: False for a kind drawn from its config block alone; ``integrates``: it takes the
       config's ``defaults`` (the tolerance) unless its block sets them; ``realizable``: its claims rest
       on a sensitive quantity, so its block may ask for ``realizations``;
@@ -71,6 +72,7 @@ class SceneKind:
     chunk_count: Callable[[dict], int] = n_chunks
     chunk_reads: Callable[[dict, int], list[int]] = reads_none
     inputs: tuple[str, ...] = ()
+    reads_paper: bool = False
     dataset: bool = True
     integrates: bool = True
     realizable: bool = False
