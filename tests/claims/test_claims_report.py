@@ -272,6 +272,11 @@ def test_ledger_judges_in_the_finest_precision_computed_beside_double(tmp_path):
     assert rows["C22"].verdict == "reproduced" and rows["C22"].precision.startswith("long double")
     assert rows["C02"].precision == "double"  # judged from the model alone
     assert claims.summary(list(rows.values()))["reproduced only in double precision"] == 1
+    assert c16.cause == f"{claims.ARITHMETIC}: {c16.reason}" and "4 loops" in c16.cause and "3 loops" in c16.cause
+    assert rows["C22"].cause == ""  # reproduced: no cause
+    fig = claims.Row(id="Fx", statement="", paper_value="", verdict="reproduced")  # a figure showing C16
+    claims._figure_from_claims(fig, {"C16": c16}, ("C16",))
+    assert fig.verdict == "differs" and fig.cause == f"C16: {c16.cause}"
 
 
 def test_a_claim_whose_realizations_disagree_is_fragile_and_one_whose_realizations_agree_keeps_its_verdict(tmp_path):

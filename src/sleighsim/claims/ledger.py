@@ -50,6 +50,8 @@ from sleighsim.io.netcdf import read_dataset, write_dataset, write_text
 from sleighsim.scenes.catalog import datasets, ladder_name, laddered, realization_name, realized, variant
 
 PRECISIONS = tuple(p.value for p in Precision)  # coarse to fine
+#: The cause of a row reproduced only in double: double's rounding, which the finer arithmetic does not share.
+ARITHMETIC = "the arithmetic (double's rounding picks the orbit; the finer arithmetic does not follow it)"
 
 
 @dataclass
@@ -254,6 +256,8 @@ def judge_claim(row: Row, claim: Claim, load: _Datasets) -> None:
     row.uncertainty, row.units, row.difference = j.uncertainty, j.units, float(j.difference)
     row.evidence = _files(names) + (" " + j.note if names and j.note.startswith("(") else
                                     "; " + j.note if names and j.note else j.note)
+    if row.verdict == DOUBLE_ONLY:
+        row.cause = f"{ARITHMETIC}: {row.reason}"
     if row.verdict == DIFFERS and claim.id.startswith("D"):
         row.cause = ("the paper's model as printed (found by the derivation, no run involved): "
                      + (j.reason or j.measured))
