@@ -277,6 +277,11 @@ def test_ledger_judges_in_the_finest_precision_computed_beside_double(tmp_path):
     fig = claims.Row(id="Fx", statement="", paper_value="", verdict="reproduced")  # a figure showing C16
     claims._figure_from_claims(fig, {"C16": c16}, ("C16",))
     assert fig.verdict == "differs" and fig.cause == f"C16: {c16.cause}"
+    assert fig.paper_setup_verdict == ""  # C16 was not set beside a setup here
+    c16.paper_setup_verdict = "differs under both (tried: K2)"
+    claims._figure_from_claims(fig, {"C16": c16}, ("C16",))
+    assert fig.paper_setup_verdict.startswith("not applicable") and fig.paper_setup_verdict.endswith(
+        "C16: differs under both (tried: K2)")
 
 
 def test_a_claim_whose_realizations_disagree_is_fragile_and_one_whose_realizations_agree_keeps_its_verdict(tmp_path):

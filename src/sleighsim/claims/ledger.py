@@ -43,7 +43,7 @@ from sleighsim.claims.causes import CAUSE_TESTS
 from sleighsim.claims.evidence import CAUSES, EVIDENCE
 from sleighsim.claims.judges import JUDGES
 from sleighsim.claims.rules import CANNOT, DIFFERS, DOUBLE_ONLY, FRAGILE, NOT_YET, REPRODUCED, VERDICTS
-from sleighsim.claims.setup_columns import cause_with_setup, columns
+from sleighsim.claims.setup_columns import NOT_APPLICABLE, cause_with_setup, columns
 from sleighsim.engine.precision import Precision
 from sleighsim.io.claims_table import Claim, parse_claims, parse_values  # noqa: F401 (the ledger's names since)
 from sleighsim.io.netcdf import read_dataset, write_dataset, write_text
@@ -290,7 +290,8 @@ def judge_realizations(row: Row, claim: Claim, names, load: _Datasets, first, ju
 
 
 def _figure_from_claims(row: Row, judged: dict, claims: tuple) -> None:
-    """A built figure is no better than the claims it illustrates."""
+    """A built figure is no better than the claims it illustrates; its paper_setup_verdict quotes theirs
+    (a figure has no numbers of its own for the setup to move)."""
     if claims:
         row.rule += "; then no better than the claims it illustrates (" + ", ".join(claims) + ")"
     differing = [c for c in claims if c in judged and judged[c].verdict in (DIFFERS, DOUBLE_ONLY)]
@@ -300,6 +301,11 @@ def _figure_from_claims(row: Row, judged: dict, claims: tuple) -> None:
         row.cause = "; ".join(f"{c}: {judged[c].cause or 'no cause test yet'}" for c in differing)
     elif row.verdict == REPRODUCED and fragile:
         row.verdict, row.reason = FRAGILE, "its claims are fragile: " + ", ".join(fragile)
+    tried = [c for c in claims if c in judged and judged[c].paper_setup_verdict
+             and not judged[c].paper_setup_verdict.startswith(NOT_APPLICABLE)]
+    if tried:
+        row.paper_setup_verdict = (f"{NOT_APPLICABLE} to a figure; its claims under the paper's setup: "
+                                   + "; ".join(f"{c}: {judged[c].paper_setup_verdict}" for c in tried))
 
 
 def ledger(claims_md, data_dir, figures_dir, config: dict, figures: dict) -> list[Row]:
