@@ -19,7 +19,8 @@ def _rows():
 def _setup(tmp_path, inferred=True):
     attrs = {"n_setups": 8, "n_ranked": 6, "deviance_baseline": 90.0, "separability": "one at a time"}
     if inferred:
-        attrs.update(deviance_best=12.5, best_K2=1.12, best_K2_low=1.11, best_K2_high=1.13, baseline_K2=1.1)
+        attrs.update(deviance_best=12.5, best_K2=1.12, best_K2_low=1.11, best_K2_high=1.13, baseline_K2=1.1,
+                     misfit_scale=4.0, best_K2_low_scaled=1.09, best_K2_high_scaled=1.15)
         for e in findings.SETUP_ELEMENTS[1:]:
             attrs.update({f"best_{e}": f"{e}-a", f"runner_up_{e}": f"{e}-b", f"gap_{e}": 3.0})
     else:
@@ -39,7 +40,8 @@ def test_counts_come_from_the_rows_the_setup_moves():
 
 def test_the_paragraph_states_the_setup_its_counts_and_the_strongest_pull(tmp_path):
     text = findings.setup_paragraph(_rows(), {"paper_setup": _setup(tmp_path)})
-    assert "K2 1.12 (within 1 of the least deviance: 1.11 to 1.13; this run 1.1)" in text
+    assert ("K2 1.12 (within 1 of the least deviance: 1.11 to 1.13; with the sigmas inflated by the misfit, x 4: "
+            "1.09 to 1.15; this run 1.1)") in text
     assert "Under it, 2 of the 3 claims whose numbers it moves hold (C10, C09); under converged physics, 1 hold" in text
     assert "C04:first_spike (-7 sigma)" in text and "B_theory" not in text  # unscored numbers do not pull
     assert np.char.count(text, "deviance +3") == 4

@@ -54,6 +54,14 @@ def test_profiles_give_each_candidates_best_completion_and_the_gap_to_the_runner
     assert gaps["runner_up_lyapunov"] == "none ranked" and math.isnan(gaps["gap_lyapunov"])
 
 
+def test_the_k2_interval_widens_with_the_misfit_and_never_narrows_below_a_deviance_of_1():
+    K2, prof = [1.0, 1.1, 1.2, 1.3, 1.4], [50.0, 9.0, 5.0, 5.5, 30.0]
+    fit = ps.misfit_interval(prof, K2, [0.5, -0.5, 0.2, 0.1, 0.3, -0.2])  # chi-square 0.68 on 1 dof: scale 1
+    assert fit == {"misfit_scale": 1.0, "best_K2_low_scaled": 1.2, "best_K2_high_scaled": 1.3}
+    bad = ps.misfit_interval(prof, K2, [3.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0])  # chi-square 9 on 2 dof: scale 4.5
+    assert bad == {"misfit_scale": 4.5, "best_K2_low_scaled": 1.1, "best_K2_high_scaled": 1.3}
+
+
 def test_a_number_swept_against_k2_and_integrator_adds_the_solvers_shift_at_the_baseline():
     k2 = xr.Dataset({"first_spike": ("K2", [100.0, 80.0])}, coords={"K2": [1.0, 1.2]})
     err = xr.Dataset({"first_spike": ("rtol", [70.0, np.nan])}, coords={"rtol": [1e-6, 1e-3]},

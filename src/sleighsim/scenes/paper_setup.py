@@ -287,6 +287,19 @@ def element_gaps(prof: dict, coords: dict, best: dict) -> dict:
     return out
 
 
+def misfit_interval(profile_K2, K2, residuals) -> dict:
+    """K2's interval scaled by the misfit: the chi-square of the best setup's scored residuals (in sigma)
+    per degree of freedom (scored numbers minus the 5 elements), at least 1, is the deviance margin over
+    the least of K2's profile (the sigmas inflated until the best fit's reduced chi-square is 1)."""
+    r = np.asarray(residuals, float)
+    dof = max(r.size - len(ELEMENTS), 1)
+    scale = max(float(np.sum(r**2)) / dof, 1.0)
+    prof, K2 = np.asarray(profile_K2, float), np.asarray(K2, float)
+    ok = prof <= np.nanmin(prof) + scale
+    return {"misfit_scale": scale, "best_K2_low_scaled": float(K2[ok].min()),
+            "best_K2_high_scaled": float(K2[ok].max())}
+
+
 def infer(claims_md, cfg: dict, d: dict) -> xr.Dataset:
     """The joint inference from the paper's values (``claims_md``) and the datasets ``d`` (role -> Dataset)."""
     terms, coords = all_terms(claims_md, cfg, d)
@@ -305,6 +318,7 @@ def infer(claims_md, cfg: dict, d: dict) -> xr.Dataset:
     best = dict(zip(ELEMENTS, top[0][1]))
     ds = xr.merge([ds, term_table(terms, coords, best, base)])
     ds.attrs.update(element_gaps(profiles(A, P, E, L), coords, best), deviance_best=top[0][0])
+    ds.attrs.update(misfit_interval(ds.profile_K2.values, ds.K2.values, ds.best_residual.values[ds.scored.values == 1]))
     return ds
 
 
@@ -312,7 +326,10 @@ RULES = {
     "score_rule": __doc__.split("Score: ")[1].split(" A setup under")[0].replace("\n", " "),
     "ranking_rule": "a setup under which a scored number is not determined is not ranked; ranks by deviance, "
                     "lowest first; an element's gap: the least deviance with any other candidate minus the best's; "
-                    "K2 interval: where K2's profile deviance lies within 1 of its least",
+                    "K2 interval: where K2's profile deviance lies within 1 of its least; its scaled interval "
+                    "(best_K2_*_scaled): within misfit_scale of it, the best setup's chi-square per degree of "
+                    "freedom (scored numbers minus 5 elements, at least 1): the sigmas inflated until the fit is "
+                    "as good as they say",
     "separability": SEPARABILITY,
     "not_scored": "C10's closed-form numbers (T2_theory, B_theory, growth_theory): no sweep moves them; "
                   "reported at the run's value",
