@@ -86,4 +86,4 @@ def test_the_findings_are_composed_from_the_datasets(tmp_path):
     assert "Chaos verdict: undecided (all 3 realizations agree)" in main
     assert "no spike train within the run" in rotor and "(the paper: no value for this state)" in rotor
     assert "stay within 0.001" in rotor and "Mechanism" not in rotor
-    assert precision_findings(rows, {}) == {"states": [], "missing": True, "ladders": None}
+    assert precision_findings(rows, {}) == {"states": [], "missing": True, "ladders": None, "setup": ""}

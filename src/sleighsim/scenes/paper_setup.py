@@ -31,8 +31,10 @@ log = logging.getLogger(__name__)
 #: The setup elements; each scored number's dims are a subset of one block's.
 ELEMENTS = ("K2", "integrator", "psd", "energy", "lyapunov")
 BLOCKS = (("K2", "integrator"), ("K2", "psd"), ("energy",), ("lyapunov",))
-ROLES = ("k2_sweep", "integration_error", "audit", "psd_eps01", "psd_eps001", "lyap_protocol", "lyap_spectrum",
-         "fig6")
+#: The roles of the datasets it reads (the config's ``inputs`` names each role's scene): the K2 sweep, the
+#: RK45 solver's sweep, the model audit (energy normalisations), the spectra at eps 0.1 and 0.01, the paper's
+#: Lyapunov protocol, the converged spectrum, the hierarchy's closed forms.
+ROLES = ("k2", "solver", "model", "psd_ref", "psd_small", "protocol", "spectrum", "hierarchy")
 SEPARABILITY = sp.__doc__.split("Separability: ")[1].split("\n\n")[0].replace("\n", " ").strip()
 
 
@@ -70,7 +72,7 @@ def _da(values, dims) -> xr.DataArray:
 
 def _sweep_terms(paper, d, grid) -> list[Term]:
     """C04, C05, C11 (K2 and integrator) and C09, C10's simulated numbers (K2 only)."""
-    k2, err = d["k2_sweep"], d["integration_error"]
+    k2, err = d["k2"], d["solver"]
     out = []
     for cid, key, var in (("C04", "first_spike", "first_spike"), ("C05", "spike_interval", "spike_interval"),
                           ("C11", "omega_rel_error", "omega_rel_error")):
@@ -80,7 +82,7 @@ def _sweep_terms(paper, d, grid) -> list[Term]:
                           ("C10", "T2", "T2"), ("C10", "B", "B"), ("C10", "growth", "omega2_growth")):
         out.append(Term(cid, key, paper[cid][key], paper[cid]["_text"][key], sp.k2_observable(k2, var, grid),
                         _da(0.0, ())))
-    theory = d["fig6"].attrs
+    theory = d["hierarchy"].attrs
     for key, attr in (("T2_theory", "theory_T2"), ("B_theory", "theory_B"), ("growth_theory", "theory_omega2_growth")):
         out.append(Term("C10", key, paper["C10"][key], paper["C10"]["_text"][key], _da(theory[attr], ()),
                         _da(0.0, ()), scored=False))
@@ -90,7 +92,7 @@ def _sweep_terms(paper, d, grid) -> list[Term]:
 def _psd_terms(paper, d, grid, convs) -> list[Term]:
     """C23 (K2 and psd convention: the k2_sweep's band mapped) and C24 (psd convention only); the
     measured uncertainty of an edge is one frequency bin of its spectrum, in the convention's unit."""
-    k2, p01, p001 = d["k2_sweep"], d["psd_eps01"], d["psd_eps001"]
+    k2, p01, p001 = d["k2"], d["psd_ref"], d["psd_small"]
     factor = np.array([fa for _, fa, _ in convs])
     cases = (("C23", sp.interp_inside(k2.K2, k2.band_low, grid), sp.interp_inside(k2.K2, k2.band_high, grid),
               ("K2", "psd"), p01),
@@ -107,11 +109,11 @@ def _psd_terms(paper, d, grid, convs) -> list[Term]:
 
 def _other_terms(paper, d) -> tuple[list[Term], list[str], list[str]]:
     """D5 (energy normalisation) and C19 (Lyapunov candidates); returns the terms and the labels of both."""
-    a = d["audit"].attrs
+    a = d["model"].attrs
     names = a["d5_normalisation_names"].split(" | ")
     out = [Term("D5", "label", paper["D5"]["label"], paper["D5"]["_text"]["label"],
                 _da(a["d5_normalisation_values"], ("energy",)), _da(0.0, ()))]
-    labels, values, sd = sp.lyapunov_candidates(d["integration_error"], d["lyap_protocol"], d["lyap_spectrum"])
+    labels, values, sd = sp.lyapunov_candidates(d["solver"], d["protocol"], d["spectrum"])
     want = sorted(zip(paper["C19"]["exponents"], paper["C19"]["_text"]["exponents"]), key=lambda p: -p[0])
     for i, (w, text) in enumerate(want):
         out.append(Term("C19", f"lambda_{i + 1}", w, text, _da(values[:, i], ("lyapunov",)),
@@ -167,13 +169,13 @@ def n_ranked(A, P, E, L) -> int:
 
 def candidates(cfg: dict, d: dict) -> dict[str, list]:
     """The candidates of every element (coordinate values) and the psd conventions (label, factor, dt)."""
-    err = d["integration_error"]
+    err = d["solver"]
     s = cfg["sampling"]
     convs = sp.psd_conventions(np.geomspace(s["dt_min"], s["dt_max"], s["n"]))
-    return {"K2": list(sp.k2_grid(d["k2_sweep"], cfg["K2_step"], err.attrs["param_K2"])),
-            "integrator": sp.integrators(err, d["k2_sweep"].attrs["tol"]), "psd": [c[0] for c in convs],
-            "energy": d["audit"].attrs["d5_normalisation_names"].split(" | "),
-            "lyapunov": sp.lyapunov_candidates(err, d["lyap_protocol"], d["lyap_spectrum"])[0], "_convs": convs}
+    return {"K2": list(sp.k2_grid(d["k2"], cfg["K2_step"], err.attrs["param_K2"])),
+            "integrator": sp.integrators(err, d["k2"].attrs["tol"]), "psd": [c[0] for c in convs],
+            "energy": d["model"].attrs["d5_normalisation_names"].split(" | "),
+            "lyapunov": sp.lyapunov_candidates(err, d["protocol"], d["spectrum"])[0], "_convs": convs}
 
 
 def all_terms(claims_md, cfg: dict, d: dict) -> tuple[list[Term], dict]:
@@ -189,7 +191,7 @@ def baseline(d: dict, coords: dict) -> dict[str, int]:
     """The run's own setup (indices): K2 of integration_error, heyoka, cycles/time unsampled, the
     mechanics' energy (the audit's first normalisation), the converged spectrum."""
     K2 = np.asarray(coords["K2"])
-    return {"K2": int(np.argmin(np.abs(K2 - d["integration_error"].attrs["param_K2"]))), "integrator": 0,
+    return {"K2": int(np.argmin(np.abs(K2 - d["solver"].attrs["param_K2"]))), "integrator": 0,
             "psd": coords["psd"].index("cycles/time"), "energy": 0, "lyapunov": coords["lyapunov"].index(sp.CONVERGED)}
 
 
@@ -343,7 +345,7 @@ def paper_setup(cfg: dict, inputs: dict, scene: str = "") -> xr.Dataset:
     ds = infer(inputs["claims_md"], cfg, d)
     ds.attrs.update(RULES, scene=scene, K2_step=cfg["K2_step"], n_top=cfg["n_top"],
                     sources=", ".join(Path(inputs[r]).name for r in ROLES) + ", " + Path(inputs["claims_md"]).name,
-                    baseline_K2=float(d["integration_error"].attrs["param_K2"]))
+                    baseline_K2=float(d["solver"].attrs["param_K2"]))
     log.info("paper setup: best %s; deviance %.4g (baseline %.4g)",
              {e: ds.attrs.get(f"best_{e}") for e in ELEMENTS}, ds.attrs.get("deviance_best", math.nan),
              ds.attrs["deviance_baseline"])

@@ -8,7 +8,7 @@ with its candidates:
 - ``psd``: the frequency convention (cycles/time or rad/time) and the sampling interval that may
   alias the band (none, or each dt of the block's grid: f -> |f - round(f dt) / dt|);
 - ``energy``: the energy normalisations of the audit (``d5_normalisation_*``);
-- ``lyapunov``: the paper's protocol integrated by heyoka (lyap_protocol, mean over its states) or by
+- ``lyapunov``: the paper's protocol integrated by heyoka (the protocol scene, mean over its states) or by
   the RK45 of integration_error at each of its ``lyapunov_rtol``, or our converged spectrum.
 
 Separability: the data sweep one element at a time from the run's baseline (K2 of integration_error,
@@ -25,7 +25,7 @@ import numpy as np
 import xarray as xr
 
 HEYOKA = "heyoka (tol {tol:.1e})"
-CONVERGED = "converged spectrum (lyap_spectrum)"
+CONVERGED = "converged spectrum (the spectrum scene)"
 
 
 def interp_inside(x, y, at) -> np.ndarray:
