@@ -51,3 +51,12 @@ def test_the_paragraph_says_when_no_setup_was_inferred_and_is_absent_without_the
     text = findings.setup_paragraph(_rows(), {"paper_setup": _setup(tmp_path, inferred=False)})
     assert text.startswith("The paper's setup is not inferred in this run: no setup determines")
     assert findings.setup_paragraph(_rows(), {}) == ""
+
+
+def test_the_start_sentence_quotes_the_start_and_the_rescaled_t1_range_and_is_absent_without_the_test():
+    a = {"start": "the stated reference state", "start_T1": [6.276, 1.577, 111.5],
+         "start_T1_residual": [0.3, -9400.0, 2.1e5]}
+    text = findings._start_sentence(a)
+    assert text.startswith("Start: the stated reference state (C08's T1 6.276, +0.3 sigma;")
+    assert "T1 from 1.577 to 111.5, 9.4e+03 sigma or more" in text
+    assert findings._start_sentence({}) == ""

@@ -70,3 +70,19 @@ def test_a_number_swept_against_k2_and_integrator_adds_the_solvers_shift_at_the_
     assert pred.values[:, 0].tolist() == [100.0, 80.0]  # heyoka: the sweep
     assert pred.values[:, 1].tolist() == pytest.approx([80.0, 60.0])  # + (70 - 90)
     assert np.isnan(pred.values[:, 2]).all()  # no spike at rtol 1e-3: not determined
+
+
+def _start_inputs(T1_paper):
+    paper = {"D5": {"label": 0.1}, "C08": {"T1": T1_paper, "_text": {"T1": f"{T1_paper:.3f}"}}}
+    d = {"model": xr.Dataset(attrs={"d5_normalisation_names": "a | b", "d5_normalisation_values": [0.025, 0.4]}),
+         "hierarchy": xr.Dataset(attrs={"T1_u2": 6.0, "T1_u2_uncertainty": 1e-6})}
+    return paper, d
+
+
+def test_the_start_is_the_stated_state_when_t1_is_its_own_and_a_rescaled_one_when_t1_scales():
+    paper, d = _start_inputs(6.0)
+    out = ps.start_test(paper, d)
+    assert out["start"] == ps.STATED and out["start_T1"].tolist() == [6.0, 3.0, 12.0]  # sqrt(0.25), sqrt(4)
+    assert out["start_T1_residual"][0] == 0.0 and abs(out["start_T1_residual"][1]) > 1e3
+    paper, d = _start_inputs(12.0)  # the paper's T1 is what a start rescaled under "b" gives
+    assert ps.start_test(paper, d)["start"] == "rescaled to E = 0.1 under b"

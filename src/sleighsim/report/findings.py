@@ -148,4 +148,14 @@ def setup_paragraph(rows: list, datasets: dict) -> str:
             f"hold ({', '.join(c['setup']) or 'none'}); under converged physics, {len(c['converged'])} hold "
             f"({', '.join(c['converged']) or 'none'}); over the whole ledger, {c['total_setup']} of {c['n_rows']} rows "
             f"against {c['total_converged']}. The numbers that pull hardest against it: {pull_text}. "
-            f"Separability: {a['separability']}")
+            f"{_start_sentence(a)} Separability: {a['separability']}")
+
+
+def _start_sentence(a) -> str:
+    """Which start the paper ran (paper_setup's start test), with the T1 a rescaled start would give."""
+    if "start" not in a:
+        return ""
+    T1, res = np.asarray(a["start_T1"], float), np.asarray(a["start_T1_residual"], float)
+    return (f"Start: {a['start']} (C08's T1 {T1[0]:.4g}, {res[0]:+.2g} sigma; a start rescaled to the paper's energy "
+            f"label under the audit's normalisations would give T1 from {T1[1:].min():.4g} to {T1[1:].max():.4g}, "
+            f"{np.abs(res[1:]).min():.3g} sigma or more).")
