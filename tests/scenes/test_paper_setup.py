@@ -27,6 +27,12 @@ def test_psd_map_converts_units_and_folds_about_nyquist():
     assert sp.psd_map([0.9], 1.0, 1.0)[0] == pytest.approx(0.1)  # fs = 1: 0.9 aliases to 0.1
 
 
+def test_no_sampling_interval_leaves_the_two_units_unsampled_and_each_interval_adds_both():
+    none = sp.psd_conventions(np.geomspace(1e-3, 1e-3, 0))
+    assert [c[:2] for c in none] == [("cycles/time", 1.0), ("rad/time", 2 * math.pi)]
+    assert all(math.isnan(c[2]) for c in none) and len(sp.psd_conventions([0.5, 1.0])) == 6
+
+
 def _blocks():
     """Deviance blocks: K2 (2) x integrator (2), K2 x psd (2), energy (2), lyapunov (1)."""
     A = np.array([[5.0, np.inf], [1.0, 3.0]])
