@@ -134,9 +134,9 @@ def setup_paragraph(rows: list, datasets: dict) -> str:
         return f"The paper's setup is not inferred in this run: {a.get('n_setups_note', 'no setup ranked')}."
     c = setup_counts(rows)
     elements = "; ".join(
-        f"{e} {a[f'best_{e}']:.4g} (within 1 of the least deviance: {a['best_K2_low']:.4g} to {a['best_K2_high']:.4g};"
-        f" with the sigmas inflated by the misfit, x {a['misfit_scale']:.3g}: {a['best_K2_low_scaled']:.4g} to "
-        f"{a['best_K2_high_scaled']:.4g}; this run {a['baseline_K2']:.4g})" if e == "K2" else
+        f"{e} {a[f'best_{e}']:.6g} (within 1 of the least deviance: {a['best_K2_low']:.6g} to {a['best_K2_high']:.6g};"
+        f" with the sigmas inflated by the misfit, x {a['misfit_scale']:.3g}: {a['best_K2_low_scaled']:.6g} to "
+        f"{a['best_K2_high_scaled']:.6g}; this run {a['baseline_K2']:.4g})" if e == "K2" else
         f"{e}: {a[f'best_{e}']} (next: {a[f'runner_up_{e}']}, deviance +{a[f'gap_{e}']:.3g})" for e in SETUP_ELEMENTS)
     pulls = ds.where(ds.scored == 1, drop=True)
     order = np.argsort(-np.abs(pulls.best_residual.values))[:3]

@@ -236,7 +236,7 @@ def term_table(terms, coords, best: dict, base: dict) -> xr.Dataset:
 def _label(coords, element: str, index: int) -> str:
     """Candidate ``index`` of ``element`` as text (K2 to 4 significant digits)."""
     v = coords[element][index]
-    return f"{v:.4g}" if element == "K2" else str(v)
+    return f"{v:.6g}" if element == "K2" else str(v)
 
 
 ELEMENT_NAMES = {"K2": None, "integrator": "integrator and tolerance of the paper's runs",
