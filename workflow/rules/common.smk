@@ -55,7 +55,9 @@ REPORT_DATA = sorted(
     {d for f in FIGURES_BUILT for d in figure_catalog.FIGURES[f].data}
     | {t.data for t in TABLES.values() if t.data in DATASETS}
     | set(LADDER_DATA)
-    | {n for n in DATASETS if SCENES[n]["kind"] == "paper_setup"}  # the findings' setup paragraph
+    | {
+        n for n in DATASETS if SCENES[n]["kind"] == "paper_setup"
+    }  # the findings' setup paragraph
 )
 
 
@@ -135,7 +137,10 @@ def scene_inputs(wildcards):
         else {}
     )
     return {
-        **{role: f"{R}/data/{source}.nc" for role, source in block.get("inputs", {}).items()},
+        **{
+            role: f"{R}/data/{source}.nc"
+            for role, source in block.get("inputs", {}).items()
+        },
         **paper,
     }
 
