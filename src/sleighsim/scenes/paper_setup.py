@@ -107,18 +107,17 @@ def _psd_terms(paper, d, grid, convs) -> list[Term]:
     return out
 
 
-def _other_terms(paper, d) -> tuple[list[Term], list[str], list[str]]:
-    """D5 (energy normalisation) and C19 (Lyapunov candidates); returns the terms and the labels of both."""
+def _other_terms(paper, d) -> list[Term]:
+    """D5 (energy normalisation) and C19 (Lyapunov candidates)."""
     a = d["model"].attrs
-    names = a["d5_normalisation_names"].split(" | ")
     out = [Term("D5", "label", paper["D5"]["label"], paper["D5"]["_text"]["label"],
                 _da(a["d5_normalisation_values"], ("energy",)), _da(0.0, ()))]
-    labels, values, sd = sp.lyapunov_candidates(d["solver"], d["protocol"], d["spectrum"])
+    _, values, sd = sp.lyapunov_candidates(d["solver"], d["protocol"], d["spectrum"])
     want = sorted(zip(paper["C19"]["exponents"], paper["C19"]["_text"]["exponents"]), key=lambda p: -p[0])
     for i, (w, text) in enumerate(want):
         out.append(Term("C19", f"lambda_{i + 1}", w, text, _da(values[:, i], ("lyapunov",)),
                         _da(sd[:, i], ("lyapunov",))))
-    return out, names, labels
+    return out
 
 
 def deviance(term: Term) -> xr.DataArray:
@@ -178,12 +177,12 @@ def candidates(cfg: dict, d: dict) -> dict[str, list]:
             "lyapunov": sp.lyapunov_candidates(err, d["protocol"], d["spectrum"])[0], "_convs": convs}
 
 
-def all_terms(claims_md, cfg: dict, d: dict) -> tuple[list[Term], dict]:
-    """Every number the setup is scored on (and C10's closed forms, not scored), with the coordinates."""
-    paper = {c.id: c.values for c in parse_claims(claims_md)}
+def all_terms(paper: dict, cfg: dict, d: dict) -> tuple[list[Term], dict]:
+    """Every number the setup is scored on (and C10's closed forms, not scored), with the coordinates;
+    ``paper``: claim id -> its parsed values."""
     coords = candidates(cfg, d)
     terms = _sweep_terms(paper, d, coords["K2"]) + _psd_terms(paper, d, coords["K2"], coords.pop("_convs"))
-    terms += _other_terms(paper, d)[0]
+    terms += _other_terms(paper, d)
     return terms, coords
 
 
@@ -230,11 +229,11 @@ def term_table(terms, coords, best: dict, base: dict) -> xr.Dataset:
                 {"long_name": f"{ln} (model units of the number)" if unit else ln, **({"units": unit} if unit else {})})
             for (n, ln, unit), c in zip(spec, cols)}
     ids = ("paper_number", [f"{t.claim}:{t.name}" for t in terms], {"long_name": "claim id : name of the number"})
-    return xr.Dataset({n: ("paper_number", *v[1:]) for n, v in data.items()}, coords={"paper_number": ids})
+    return xr.Dataset(data, coords={"paper_number": ids})
 
 
 def _label(coords, element: str, index: int) -> str:
-    """Candidate ``index`` of ``element`` as text (K2 to 4 significant digits)."""
+    """Candidate ``index`` of ``element`` as text (K2 to 6 significant digits)."""
     v = coords[element][index]
     return f"{v:.6g}" if element == "K2" else str(v)
 
@@ -302,15 +301,17 @@ def misfit_interval(profile_K2, K2, residuals) -> dict:
             "best_K2_high_scaled": float(K2[ok].max())}
 
 
-def infer(claims_md, cfg: dict, d: dict) -> xr.Dataset:
-    """The joint inference from the paper's values (``claims_md``) and the datasets ``d`` (role -> Dataset)."""
-    terms, coords = all_terms(claims_md, cfg, d)
+def infer(paper: dict, cfg: dict, d: dict) -> xr.Dataset:
+    """The joint inference from the paper's values (``paper``: claim id -> parsed values) and the datasets
+    ``d`` (role -> Dataset)."""
+    terms, coords = all_terms(paper, cfg, d)
     A, P, E, L = blocks(terms, coords)
     top = top_setups(A, P, E, L, cfg["n_top"])
     base = baseline(d, coords)
     base_dev = float(A[base["K2"], base["integrator"]] + P[base["K2"], base["psd"]] + E[base["energy"]]
                      + L[base["lyapunov"]])
-    ds = xr.merge([ranking(top, coords, base_dev), profile_dataset(profiles(A, P, E, L), coords)])
+    prof = profiles(A, P, E, L)
+    ds = xr.merge([ranking(top, coords, base_dev), profile_dataset(prof, coords)])
     ds.attrs.update(n_setups=int(np.prod([len(coords[e]) for e in ELEMENTS])), n_ranked=n_ranked(A, P, E, L),
                     deviance_baseline=base_dev if math.isfinite(base_dev) else math.nan)
     if not top:
@@ -319,7 +320,7 @@ def infer(claims_md, cfg: dict, d: dict) -> xr.Dataset:
         return ds
     best = dict(zip(ELEMENTS, top[0][1]))
     ds = xr.merge([ds, term_table(terms, coords, best, base)])
-    ds.attrs.update(element_gaps(profiles(A, P, E, L), coords, best), deviance_best=top[0][0])
+    ds.attrs.update(element_gaps(prof, coords, best), deviance_best=top[0][0])
     ds.attrs.update(misfit_interval(ds.profile_K2.values, ds.K2.values, ds.best_residual.values[ds.scored.values == 1]))
     return ds
 
@@ -365,11 +366,12 @@ def paper_setup(cfg: dict, inputs: dict, scene: str = "") -> xr.Dataset:
     """The ``paper_setup`` scene: reads the datasets of :data:`ROLES` and the paper's values
     (``inputs["claims_md"]``) and infers the setup (:func:`infer`); integrates nothing."""
     d = {role: read_dataset(inputs[role]) for role in ROLES}
-    ds = infer(inputs["claims_md"], cfg, d)
+    paper = {c.id: c.values for c in parse_claims(inputs["claims_md"])}
+    ds = infer(paper, cfg, d)
     ds.attrs.update(RULES, scene=scene, K2_step=cfg["K2_step"], n_top=cfg["n_top"],
                     sources=", ".join(Path(inputs[r]).name for r in ROLES) + ", " + Path(inputs["claims_md"]).name,
                     baseline_K2=float(d["solver"].attrs["param_K2"]))
-    ds.attrs.update(start_test({c.id: c.values for c in parse_claims(inputs["claims_md"])}, d))
+    ds.attrs.update(start_test(paper, d))
     log.info("paper setup: best %s; deviance %.4g (baseline %.4g)",
              {e: ds.attrs.get(f"best_{e}") for e in ELEMENTS}, ds.attrs.get("deviance_best", math.nan),
              ds.attrs["deviance_baseline"])
