@@ -13,6 +13,7 @@ from conftest import write_fixture
 from test_judges import _ref, _spectrum
 
 from sleighsim.claims import ledger as claims
+from sleighsim.io.claims_table import parse_claims, parse_values
 from sleighsim.io.netcdf import read_dataset
 from sleighsim.report.figures.catalog import FIGURES
 
@@ -31,15 +32,15 @@ TEX = ROOT / "paper" / "fedonyuk-tallapragada-sleigh-rotor.tex"
 def test_parse_claims_finds_every_table_row_once():
     text = CLAIMS_MD.read_text()
     ids_in_file = re.findall(r"^\|\s*([FCD]\d+)\s*\|", text, flags=re.M)
-    parsed = [c.id for c in claims.parse_claims(CLAIMS_MD)]
+    parsed = [c.id for c in parse_claims(CLAIMS_MD)]
     assert parsed == ids_in_file and len(set(parsed)) == len(parsed)
     assert {c[0] for c in parsed} == {"F", "C", "D"}
 
 
 def test_value_column_parses_numbers_lists_and_spellings():
-    v = claims.parse_values("exponents=[2.9e-4, -2.2e-4]; T=4000; band=[1.45, 1.8]")
+    v = parse_values("exponents=[2.9e-4, -2.2e-4]; T=4000; band=[1.45, 1.8]")
     assert v["exponents"] == [2.9e-4, -2.2e-4] and v["T"] == 4000.0 and v["_text"]["band"] == ["1.45", "1.8"]
-    assert claims.parse_values("") == {}
+    assert parse_values("") == {}
 
 
 def _spellings(text: str) -> set[str]:
@@ -60,7 +61,7 @@ def _spellings(text: str) -> set[str]:
 def test_every_value_of_the_claims_list_is_written_in_the_paper():
     tex = re.sub(r"\s+", "", TEX.read_text())
     checked = 0
-    for c in claims.parse_claims(CLAIMS_MD):
+    for c in parse_claims(CLAIMS_MD):
         for name, text in c.values.get("_text", {}).items():
             for t in text if isinstance(text, list) else [text]:
                 assert any(sp in tex for sp in _spellings(t)), (c.id, name, t)
@@ -115,7 +116,7 @@ def test_ledger_on_synthetic_datasets(tmp_path):
     data = tmp_path / "data"
     _fig9(data / "fig9_ref.nc", n_loops=4, pairs=3)
     rows = {r.id: r for r in claims.ledger(CLAIMS_MD, data, tmp_path / "figures", PLAIN, FIGURES)}
-    assert list(rows) == [c.id for c in claims.parse_claims(CLAIMS_MD)]
+    assert list(rows) == [c.id for c in parse_claims(CLAIMS_MD)]
     assert rows["C16"].verdict == "reproduced" and "4 loops" in rows["C16"].measured
     assert rows["C22"].verdict == "differs" and rows["C22"].reason
     # 19999^2 1e-7 / 1 = 40 near-ties by chance
@@ -218,7 +219,7 @@ def test_report_renders_in_headless_chromium(smoke_run, tmp_path):
     ids = re.findall(r' id="([^"]+)"', dom.stdout)
     assert len(ids) == len(set(ids)), sorted(i for i in set(ids) if ids.count(i) > 1)  # every link has one target
     assert "claims-grid: whole; chaos-answer: whole" in dom.stdout, re.search(r"first-screen-check.{0,120}", dom.stdout)
-    ids = [c.id for c in claims.parse_claims(CLAIMS_MD)]
+    ids = [c.id for c in parse_claims(CLAIMS_MD)]
     grid = dom.stdout[dom.stdout.index('id="claims-grid"'): dom.stdout.index('id="chaos-answer"')]
     assert all(f'href="#{i}"' in grid and f'<tr id="{i}"' in dom.stdout for i in ids)
     assert "Is the steady state chaotic?" in dom.stdout and "decided in" in dom.stdout

@@ -9,13 +9,13 @@ import pytest
 import xarray as xr
 
 from sleighsim.claims import judges
-from sleighsim.claims import ledger as claims
 from sleighsim.claims.judges import lyapunov, perturbation, sleigh0, steady_state, transients
 from sleighsim.claims.rules import CANNOT, DIFFERS, NOT_YET, REPRODUCED, all_of, digits, number
+from sleighsim.io.claims_table import parse_claims
 from sleighsim.report.figures.catalog import FIGURES
 
 ROOT = Path(__file__).resolve().parents[2]
-PAPER = {c.id: c.values for c in claims.parse_claims(ROOT / "paper" / "CLAIMS.md")}
+PAPER = {c.id: c.values for c in parse_claims(ROOT / "paper" / "CLAIMS.md")}
 NAN = math.nan
 
 
@@ -34,7 +34,7 @@ def test_number_digits_and_all_of_rules():
 
 def test_every_claim_of_the_list_has_a_judge_or_a_figure():
     figure_ids = {f.paper for f in FIGURES.values() if f.paper}
-    for c in claims.parse_claims(ROOT / "paper" / "CLAIMS.md"):
+    for c in parse_claims(ROOT / "paper" / "CLAIMS.md"):
         assert c.id in judges.JUDGES or c.id in figure_ids, c.id
 
 

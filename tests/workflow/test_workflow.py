@@ -76,7 +76,8 @@ def test_smoke_workflow_builds_every_figure_and_dataset(smoke_run):
     assert set(fig3.data_vars) == {"u", "Omega", "omega", "theta"}
     assert fig3.attrs["energy_label"] == pytest.approx(0.1127)
     assert read_dataset(results / "data" / "fig2.nc").attrs["closed_form_max_abs_error"] < 1e-10
-    from sleighsim.claims.ledger import VERDICTS, parse_claims
+    from sleighsim.claims.rules import VERDICTS
+    from sleighsim.io.claims_table import parse_claims
 
     n_ids = len(parse_claims(ROOT / "paper" / "CLAIMS.md"))
     ledger = read_dataset(results / "claims.nc")

@@ -10,7 +10,8 @@ import argparse
 import sys
 from pathlib import Path
 
-from sleighsim.claims.ledger import ledger, parse_claims, summary, write
+from sleighsim.claims.ledger import ledger, summary, write
+from sleighsim.io.claims_table import parse_claims
 from sleighsim.io.integrity import ProductError, valid
 from sleighsim.ops.config import BASE_CONFIG, REPO, merged_config
 from sleighsim.report.figures.catalog import FIGURES, figures_built

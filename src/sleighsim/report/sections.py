@@ -9,7 +9,7 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from sleighsim.claims.ledger import parse_claims
+from sleighsim.io.claims_table import parse_claims
 from sleighsim.report.figures.catalog import FIGURES
 
 #: The category of a figure that extends no paper section (the methods figures).
