@@ -9,7 +9,7 @@ import math
 
 import numpy as np
 
-from sleighsim.claims.rules import REL_TOL, finite, fmt
+from sleighsim.claims.rules import REL_TOL, band_tolerance, finite, fmt
 
 NONE = "not explained by the causes tested"
 
@@ -229,7 +229,7 @@ def _units_and_sampling(paper, psd):
     a = psd.attrs
     want = np.asarray(paper["band"], float)
     ours = np.array([a["Omega_band_low"], a["Omega_band_high"]])
-    tol = max(REL_TOL * (want[1] - want[0]), 1.0 / a["psd_segment"])
+    tol = band_tolerance(want, 1.0 / a["psd_segment"])
     radians = 2 * math.pi * ours
     rad_ok = bool(np.all(np.abs(radians - want) <= tol))
     hits = []

@@ -51,6 +51,12 @@ def number(paper: float, ours: float, uncertainty: float = 0.0, rel_tol: float =
     return REPRODUCED if abs(ours - paper) <= max(K_SIGMA * abs(uncertainty), rel_tol * abs(paper)) else DIFFERS
 
 
+def band_tolerance(band, resolution: float) -> float:
+    """How far a band edge may lie from the paper's ``band`` (low, high) and still reproduce it: REL_TOL of
+    the paper's band width or ``resolution`` (one frequency bin), whichever is larger (frequency units)."""
+    return max(REL_TOL * (band[1] - band[0]), resolution)
+
+
 def digits(paper_text: str, ours: float, uncertainty: float = 0.0) -> str:
     """reproduced if |ours - paper| <= max(K_SIGMA * uncertainty, one unit of the paper's last printed digit)."""
     if not finite(ours, uncertainty):

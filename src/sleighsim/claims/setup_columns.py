@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from sleighsim.claims.causes import NONE
-from sleighsim.claims.rules import REL_TOL, REPRODUCED, all_of, number
+from sleighsim.claims.rules import REPRODUCED, all_of, band_tolerance, number
 
 NOT_APPLICABLE = "not applicable"
 NOT_INFERRED = "not yet computed: no setup determines every scored number"
@@ -21,7 +21,7 @@ CONVERGED_ONLY, NEITHER = "reproduced under converged physics only", "differs un
 
 def _band_part(paper_lo, paper_hi, ours, paper, sd) -> str:
     """An edge of a band judged as the spectra judge does (one bin: the measured sd)."""
-    return REPRODUCED if abs(ours - paper) <= max(REL_TOL * (paper_hi - paper_lo), sd) else "differs"
+    return REPRODUCED if abs(ours - paper) <= band_tolerance((paper_lo, paper_hi), sd) else "differs"
 
 
 def _parts(numbers) -> list[str]:

@@ -10,6 +10,7 @@ from sleighsim.claims.rules import (
     REL_TOL,
     REPRODUCED,
     Judgement,
+    band_tolerance,
     relative,
 )
 
@@ -19,7 +20,7 @@ def _band(paper, psd) -> Judgement:
     want = paper["band"]
     ours = (a["Omega_band_low"], a["Omega_band_high"])
     resolution = 1.0 / a["psd_segment"]
-    tol = max(REL_TOL * (want[1] - want[0]), resolution)
+    tol = band_tolerance(want, resolution)
     ok = all(abs(o - w) <= tol for o, w in zip(ours, want))
     return Judgement(
         REPRODUCED if ok else DIFFERS, units="cycles/time",
