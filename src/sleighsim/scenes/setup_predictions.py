@@ -29,16 +29,10 @@ CONVERGED = "converged spectrum (the spectrum scene)"
 
 
 def interp_inside(x, y, at) -> np.ndarray:
-    """y(x) linearly interpolated at ``at``: NaN outside [min x, max x] and where a neighbour is NaN."""
-    x, y, at = np.asarray(x, float), np.asarray(y, float), np.atleast_1d(np.asarray(at, float))
-    out = np.full(at.shape, np.nan)
-    for k, a in enumerate(at):
-        if not x[0] <= a <= x[-1]:
-            continue
-        i = min(int(np.searchsorted(x, a, side="right")) - 1, x.size - 2)
-        w = (a - x[i]) / (x[i + 1] - x[i])
-        out[k] = y[i] if w == 0 else y[i + 1] if w == 1 else (1 - w) * y[i] + w * y[i + 1]
-    return out
+    """y(x) linearly interpolated at ``at`` (``numpy.interp``): NaN outside [min x, max x] and where a
+    neighbour is NaN."""
+    at = np.atleast_1d(np.asarray(at, float))
+    return np.interp(at, np.asarray(x, float), np.asarray(y, float), left=np.nan, right=np.nan)
 
 
 def k2_grid(k2: xr.Dataset, step: float, baseline: float) -> np.ndarray:
