@@ -48,10 +48,10 @@ import numpy as np
 
 from sleighsim.chaos import faithfulness
 from sleighsim.engine import ddarith, ddtaylor, integrators, transient
-from sleighsim.engine.precision import Precision
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import REFERENCE_LABEL, REFERENCE_STATE, state_at_label
 from sleighsim.ops import benchio
+from sleighsim.precision import Precision
 
 say = partial(benchio.say, "doubledouble")
 

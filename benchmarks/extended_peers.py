@@ -60,10 +60,10 @@ import numpy as np
 import sympy as sp
 
 from sleighsim.engine import integrators, peers
-from sleighsim.engine.precision import Precision
 from sleighsim.model import equations, mechanics
 from sleighsim.model.params import Params
 from sleighsim.ops import benchio
+from sleighsim.precision import Precision
 
 say = partial(benchio.say, "extended_peers")
 

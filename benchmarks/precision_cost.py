@@ -6,7 +6,7 @@ quad, compact mode on and off, and heyoka's high_accuracy mode in double (its co
 
 Rows: every (system, precision, compact_mode, high_accuracy) with system "flow" (the 4-state sleigh) or
 "tangent" (the sleigh plus one tangent vector, heyoka's variational equations, k = 1), precision one of
-sleighsim.engine.precision.Precision, each at its own machine epsilon as tolerance, and high_accuracy on only in
+sleighsim.precision.Precision, each at its own machine epsilon as tolerance, and high_accuracy on only in
 double. Integrators come from the project's builders (integrators.flow: compact mode off in double and
 long double, on in quad; integrators.sleigh_tangent; integrators.tangent_integrator for quad); where they have
 no such option
@@ -54,11 +54,11 @@ import numpy as np
 
 from sleighsim.chaos import benettin
 from sleighsim.engine import integrators, transient
-from sleighsim.engine.precision import Precision
 from sleighsim.model import equations
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import REFERENCE_LABEL, REFERENCE_STATE, state_at_label
 from sleighsim.ops import benchio
+from sleighsim.precision import Precision
 
 say = partial(benchio.say, "precision_cost")
 

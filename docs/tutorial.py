@@ -38,9 +38,9 @@ import yaml
 import sleighsim
 from sleighsim.analysis.observables import gauge
 from sleighsim.chaos.power import record_voting
-from sleighsim.engine.precision import Precision
 from sleighsim.engine.transient import settle
 from sleighsim.ops.config import REPO, merged_config
+from sleighsim.precision import Precision
 from sleighsim.scenes import ladder
 from sleighsim.scenes.catalog import scene_config
 from sleighsim.scenes.verdict import verdict

@@ -69,8 +69,8 @@ def runs(hy):
 def write_fixture(ds, path):
     """Write a fixture dataset (write_dataset); one under precision/<tag>/ as computed in that
     precision: the tests lay out the tree, so they know it."""
-    from sleighsim.engine.precision import Precision
     from sleighsim.io.netcdf import write_dataset
+    from sleighsim.precision import Precision
 
     parts = Path(path).parts
     tag = parts[parts.index("precision") + 1] if "precision" in parts else "double"

@@ -12,8 +12,8 @@ from conftest import ROOT
 
 from sleighsim.chaos.faithfulness import FAITHFUL_MAX, FOLLOWS, UNKNOWN
 from sleighsim.chaos.verdicts import VERDICTS
-from sleighsim.engine.precision import Precision
 from sleighsim.model.symmetries import energy_label
+from sleighsim.precision import Precision
 
 
 def test_the_tutorial_runs_and_its_orbits_gauge_and_verdict_say_what_the_rules_say(tmp_path, monkeypatch):

@@ -8,9 +8,9 @@ import pytest
 from sleighsim.analysis import windows
 from sleighsim.chaos import benettin
 from sleighsim.engine import integrators
-from sleighsim.engine.precision import Precision
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import state_at_label
+from sleighsim.precision import Precision
 
 T_WIN = np.arange(10) * 1e5 + 5e4
 
@@ -94,18 +94,19 @@ def test_windowed_orbit_in_long_double_matches_double_where_both_are_accurate():
     np.testing.assert_allclose(np.asarray(runs[True][-1]["state"], float), runs[False][-1]["state"], rtol=5e-8)
 
 
-@pytest.mark.parametrize("long_double", [False, True])
-def test_drift_scene_at_smoke_size_in_each_precision(long_double):
+@pytest.mark.parametrize("precision", [Precision.DOUBLE, Precision.LONG_DOUBLE])
+def test_drift_scene_at_smoke_size_in_each_precision(precision):
     from conftest import smoke_config
 
     from sleighsim.scenes.catalog import scene_config
     from sleighsim.scenes.drift import drift_windows
 
     config = smoke_config()
-    cfg = {**scene_config(config, "main_drift"), "T": 100.0, "window": 50.0, "long_double": long_double}
+    cfg = {**scene_config(config, "main_drift"), "T": 100.0, "window": 50.0, "precision": precision.value}
     ds = drift_windows(cfg, "main_drift")
     assert ds.sizes["window"] == 2 and np.all(np.isfinite(ds.lambda_1.values))
     # the precision is read from the integrator's state, not from the config
+    long_double = precision is Precision.LONG_DOUBLE
     assert ds.attrs["precision"] == ("long double (epsilon 1.1e-19)" if long_double else "double")
-    assert ds.attrs["tol"] == (cfg["tol_long_double"] if long_double else cfg["tol"])
+    assert ds.attrs["tol"] == (2.0**-63 if long_double else cfg["tol"])
     assert ds.lambda_1.attrs["long_name"].endswith(f", {ds.attrs['precision']})")

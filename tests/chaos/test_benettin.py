@@ -9,10 +9,10 @@ from sleighsim.analysis import fits
 from sleighsim.chaos import benettin, zero_one
 from sleighsim.engine import integrators
 from sleighsim.engine.integrate import final_state, integrate
-from sleighsim.engine.precision import Precision
 from sleighsim.model import equations
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import REFERENCE_STATE, b_image, state_at_label
+from sleighsim.precision import Precision
 from sleighsim.scenes import grid, verdict_tangent
 
 
@@ -204,11 +204,11 @@ def test_megno_in_long_double_matches_double_where_both_are_accurate():
 
     p = Params.paper(eps=0.1)
     y0 = state_at_label([0.0, 0.1, 1.0, 0.0], p, 0.1127)
-    cfg = dict(tol=2.220446049250313e-16, tol_long_double=1.0842021724855044e-19, T_megno=200.0, T_long_double=200.0,
+    cfg = dict(tol=2.220446049250313e-16, T_megno=200.0, T_long_double=200.0,
                megno_samples=20, tau=10.0, compact_mode=True)
     a = verdict_tangent.megno_run(p, y0, cfg, precision=Precision.LONG_DOUBLE)
     b = verdict_tangent.megno_run(p, y0, cfg)
-    ta, _ = integrators.sleigh_megno(cfg["tol_long_double"], Precision.LONG_DOUBLE)
+    ta, _ = integrators.sleigh_megno(Precision.LONG_DOUBLE.epsilon, Precision.LONG_DOUBLE)
     assert ta.state.dtype == np.longdouble and a["log_growth"].dtype == float
     assert a["log_growth"] == pytest.approx(b["log_growth"], rel=1e-9, abs=1e-11)
     assert a["Y_mean"] == pytest.approx(b["Y_mean"], rel=1e-8)

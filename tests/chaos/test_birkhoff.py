@@ -553,7 +553,7 @@ if __name__ == "__main__":
 
     sys.path.insert(0, str(__import__("pathlib").Path(__file__).resolve().parents[1]))
     if sys.argv[1] == "sleigh":
-        from sleighsim.engine.precision import Precision
+        from sleighsim.precision import Precision
 
         sleigh_digits(Precision(sys.argv[2]), float(sys.argv[3]))
     else:

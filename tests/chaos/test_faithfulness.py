@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from sleighsim.chaos import faithfulness as fa
-from sleighsim.engine.precision import Precision
+from sleighsim.precision import Precision
 
 
 def _diag(*d):

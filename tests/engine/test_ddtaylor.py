@@ -201,7 +201,7 @@ def quad_grid(y0, grid, tol=2.0**-112):
     """heyoka's real128 flow (integrators.flow, quad) from y0 sampled on grid (grid[0] = 0): rows as pairs."""
     hy = pytest.importorskip("heyoka")
     from sleighsim.engine import integrators
-    from sleighsim.engine.precision import Precision
+    from sleighsim.precision import Precision
 
     ta, _ = integrators.flow(False, tol, Precision.QUAD)
     integrators.set_pars(ta, P)
@@ -228,7 +228,7 @@ def test_steps_are_heyokas_at_the_same_tolerance(flow):
     several per cent)."""
     hy = pytest.importorskip("heyoka")
     from sleighsim.engine import integrators
-    from sleighsim.engine.precision import Precision
+    from sleighsim.precision import Precision
 
     ta, _ = integrators.flow(False, 1e-32, Precision.QUAD)
     integrators.set_pars(ta, P)
@@ -335,7 +335,7 @@ def test_one_cycle_separation_stays_within_the_gauge(cycle_runs, gauge):
 def test_faithfulness_gauge_puts_double_double_far_below_the_bound(gauge):
     """G_max x 2^-106 far below FAITHFUL_MAX = 1e-3 (measured 1e-16.2), while double's is of order 1 (1e-0.2)."""
     from sleighsim.chaos import faithfulness
-    from sleighsim.engine.precision import Precision
+    from sleighsim.precision import Precision
 
     ln_g = gauge["ln_gain_max"]
     assert (ln_g + np.log(dd.ROUNDING)) / np.log(10) < -12

@@ -4,10 +4,10 @@ import numpy as np
 import pytest
 
 from sleighsim.engine.integrate import IntegrationError, integrate, sample_grid
-from sleighsim.engine.precision import Precision
 from sleighsim.io import netcdf
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import REFERENCE_STATE
+from sleighsim.precision import Precision
 
 REF = REFERENCE_STATE
 P = Params.paper(eps=0.1)

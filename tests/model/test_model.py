@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 
 from sleighsim.engine.integrate import DEFAULT_TOL, integrate, sample_grid
-from sleighsim.engine.precision import Precision
 from sleighsim.model import equations, sleigh0
 from sleighsim.model.params import PARAM_NAMES, Params, positive
 from sleighsim.model.symmetries import REFERENCE_LABEL, REFERENCE_STATE, energy_label, state_at_label
+from sleighsim.precision import Precision
 
 REF = REFERENCE_STATE
 

@@ -12,11 +12,11 @@ import pytest
 import yaml
 from test_config import PLENTY, ROOT, SCHEMA, SMOKE, refused, with_value
 
-from sleighsim.engine.precision import Precision
 from sleighsim.model.params import Params
 from sleighsim.ops import configcheck
 from sleighsim.ops.configcheck import ConfigError
 from sleighsim.ops.configdoc import _resolve
+from sleighsim.precision import Precision
 from sleighsim.scenes import catalog
 
 REF = [0.0, 0.1, 1.0, 0.0]
@@ -27,8 +27,11 @@ CONFIG_ROWS = [
     (("results",), "/", r"'/' does not match '\[\^/\]' results"),
     (("defaults", "tol"), 1e-300, r"1e-300 is less than the minimum of 2.220446049250313e-16 defaults.tol"),
     (("scenes", "fig3", "tol"), 1e-17, r"less than the minimum of 2.220446049250313e-16 scenes.fig3.tol"),
-    (("scenes", "chaos_verdict", "tol_long_double"), 1e-20, r"less than the minimum of 1.0842021724855044e-19"),
-    (("scenes", "chaos_verdict", "frequency", "tol_quad"), 1e-35, r"less than the minimum of 1.925929944387236e-34"),
+    (("scenes", "trigger_law", "tols", "quad"), [1e-35], r"less than the minimum of 1.925929944387236e-34"),
+    (("scenes", "main_drift", "precision"), "long_double",
+     r"'long_double' is not one of \['double', 'long double', 'quad'\]"),
+    (("scenes", "chaos_verdict", "decisive", "precision"), "double double",
+     r"'double double' is not one of \['double', 'long double', 'double-double', 'quad'\]"),
     (("scenes", "trigger_law", "tols", "long double"), [1e-12, 1e-20], r"less than the minimum of 1.08"),
     (("scenes", "integration_error", "rtols"), [1e-3, 1e-15], r"less than the minimum of 2.220446049250313e-14"),
     (("scenes", "fig3", "params"), {"eps": 0.1, "m_c": 5}, r"'m_c' is not one of \['eps', 'b', 'K2'\]"),

@@ -20,8 +20,8 @@ from hypothesis import strategies as st
 from test_config import ROOT, SMOKE, numeric_leaves, refused, with_value
 
 from sleighsim.engine.integrate import IntegrationError, integrate
-from sleighsim.engine.precision import Precision
 from sleighsim.model.params import Params
+from sleighsim.precision import Precision
 
 LEAVES = sorted(numeric_leaves(SMOKE), key=str)
 FACTORS = (0.0, -1.0, 1e-3, 0.5, 2.0, 1e3, 1e9)

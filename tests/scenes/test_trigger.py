@@ -8,7 +8,7 @@ import pytest
 import xarray as xr
 
 from sleighsim.claims import causes
-from sleighsim.engine.precision import Precision
+from sleighsim.precision import Precision
 from sleighsim.scenes import trigger
 
 D, LD, Q = Precision.DOUBLE, Precision.LONG_DOUBLE, Precision.QUAD

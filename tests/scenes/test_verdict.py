@@ -10,9 +10,9 @@ import pytest
 
 from sleighsim.chaos.verdicts import CHAOTIC, REGULAR, UNDECIDED
 from sleighsim.engine.integrate import integrate, sample_grid
-from sleighsim.engine.precision import Precision
 from sleighsim.model import equations
 from sleighsim.model.params import Params
+from sleighsim.precision import Precision
 from sleighsim.scenes.verdict_orbits import R, r_image
 
 C, G, U = CHAOTIC, REGULAR, UNDECIDED
@@ -61,7 +61,7 @@ def test_precision_check_on_each_branch(monkeypatch, lam, spread, want):
     g = lam * tau + spread * tau * rng.normal(size=n) * np.sqrt(n / 10)  # block means scatter by ~spread
     g[: int(t_align / tau)] = 5.0  # alignment of the vector: must be left out
     monkeypatch.setattr(verdict_tangent, "megno_run", lambda *a, **k: {"log_growth": g})
-    cfg = dict(tau=tau, sigma=3.0, tol_long_double=1.08e-19, T_long_double=T, t_align=t_align)
+    cfg = dict(tau=tau, sigma=3.0, T_long_double=T, t_align=t_align)
     out = verdict_tangent.precision_check(Params.paper(eps=0.1), [0.0, 0.1, 1.0, 0.0], cfg, "s")
     assert out["check"] == want and out["reason"].startswith(want)
     if math.isfinite(lam):
@@ -72,7 +72,7 @@ def test_loschmidt_run_in_long_double_has_the_smaller_rounding():
     from sleighsim.scenes.verdict_orbits import loschmidt_run
 
     p = Params.paper(eps=0.1)
-    cfg = dict(tol=2.0**-52, tol_long_double=1.0842021724855044e-19, loschmidt_T=[10.0, 40.0], loschmidt_n=3)
+    cfg = dict(tol=2.0**-52, loschmidt_T=[10.0, 40.0], loschmidt_n=3)
     y = np.array([0.05, 0.02, 0.8, 0.4])
     d, ld = loschmidt_run(p, y, cfg), loschmidt_run(p, y, cfg, precision=Precision.LONG_DOUBLE)
     np.testing.assert_allclose(d["T"], [10.0, 20.0, 40.0])
@@ -112,8 +112,7 @@ def test_frequency_indicator_runs_each_precision_only_when_needed(monkeypatch, c
 
     calls = []
     monkeypatch.setattr(verdict_frequency, "frequency_run", run)
-    cfg = dict(tol=2.220446049250313e-16, tol_long_double=1.0842021724855044e-19,
-               frequency={"quad_T": quad_T, "tol_quad": 1.925929944387235853e-34})
+    cfg = dict(tol=2.220446049250313e-16, frequency={"quad_T": quad_T})
     out = verdict_frequency.frequency_indicator(Params.paper(eps=0.1), [0.0, 0.1, 1.0, 0.0], cfg, 3.0)
     expected = [p for p, spec in zip(names, specs) if spec is not None and (p != "quad" or quad_T > 0)]
     assert calls == expected and list(out["runs"]) == expected
@@ -147,8 +146,7 @@ def test_a_state_judged_again_in_the_decisive_stage_gets_only_the_double_frequen
                     slope=0.0, slope_err=0.55, T=2e5, f=4e-4)
 
     monkeypatch.setattr(verdict_frequency, "frequency_run", run)
-    cfg = dict(tol=2.220446049250313e-16, tol_long_double=1.0842021724855044e-19,
-               frequency={"quad_T": 0.0, "tol_quad": 1.925929944387235853e-34})
+    cfg = dict(tol=2.220446049250313e-16, frequency={"quad_T": 0.0})
     out = verdict_frequency.frequency_indicator(Params.paper(eps=0.1), [0.0, 0.1, 1.0, 0.0], cfg, 3.0,
                                                 long_double=False)
     assert calls == ["double"] and out["verdict"][0] == U
@@ -176,9 +174,8 @@ def test_the_sleighs_flow_runs_in_quad_precision():
     from sleighsim.model.params import Params
     from sleighsim.scenes import verdict_frequency
 
-    cfg = dict(tol=2.220446049250313e-16, tol_long_double=1.0842021724855044e-19,
-               frequency={"T": 200.0, "quad_T": 200.0, "dt": 0.5, "component": "u", "splits": [2, 4],
-                          "min_cycles": 4.0, "tol_quad": 1.925929944387235853e-34})
+    cfg = dict(tol=2.220446049250313e-16, frequency={"T": 200.0, "quad_T": 200.0, "dt": 0.5, "component": "u",
+                                                     "splits": [2, 4], "min_cycles": 4.0})
     y = np.array([0.05, 0.02, 0.8, 0.4])
     runs = {p: verdict_frequency.frequency_run(Params.paper(eps=0.1), y, cfg, p) for p in verdict_frequency.PRECISIONS}
     flow, _ = integrators.flow(False, 1.925929944387235853e-34, Precision.QUAD)

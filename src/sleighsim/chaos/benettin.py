@@ -20,7 +20,7 @@ import numpy as np
 
 from sleighsim.engine import integrators
 from sleighsim.engine.integrate import check_tol
-from sleighsim.engine.precision import Precision
+from sleighsim.precision import Precision
 
 log = logging.getLogger("sleighsim")
 

@@ -24,7 +24,7 @@ import numpy as np
 
 from sleighsim.chaos.loschmidt import LOSCHMIDT_GAIN_ROUNDING_MAX
 from sleighsim.engine import integrators, transient
-from sleighsim.engine.precision import Precision
+from sleighsim.precision import Precision
 
 #: An arithmetic follows the exact orbit through a cycle when G x rounding is below this.
 FAITHFUL_MAX = 1e-3

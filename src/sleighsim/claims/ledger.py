@@ -44,9 +44,9 @@ from sleighsim.claims.evidence import CAUSES, EVIDENCE
 from sleighsim.claims.judges import JUDGES
 from sleighsim.claims.rules import CANNOT, DIFFERS, DOUBLE_ONLY, FRAGILE, NOT_YET, REPRODUCED, VERDICTS
 from sleighsim.claims.setup_columns import NOT_APPLICABLE, cause_with_setup, columns
-from sleighsim.engine.precision import Precision
 from sleighsim.io.claims_table import Claim, parse_claims
 from sleighsim.io.netcdf import read_dataset, write_dataset, write_text
+from sleighsim.precision import Precision
 from sleighsim.scenes.catalog import datasets, ladder_name, laddered, realization_name, realized, variant
 
 PRECISIONS = tuple(p.value for p in Precision)  # coarse to fine

@@ -23,10 +23,10 @@ import numpy as np
 import xarray as xr
 
 from sleighsim.engine import integrators
-from sleighsim.engine.precision import Precision
 from sleighsim.model import equations
 from sleighsim.model.attrs import UNITS, state_attrs
 from sleighsim.model.params import Params, finite, integer
+from sleighsim.precision import Precision
 
 log = logging.getLogger("sleighsim")
 

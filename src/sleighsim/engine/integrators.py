@@ -33,9 +33,9 @@ from collections.abc import Callable
 
 import numpy as np
 
-from sleighsim.engine.precision import Precision
 from sleighsim.io.cachedir import private_directory
 from sleighsim.model.params import positive
+from sleighsim.precision import Precision
 
 #: The sleigh's angle as its compiled integrators store it: delta + DELTA_SHIFT, in [0, 2 pi).
 DELTA_SHIFT = math.pi

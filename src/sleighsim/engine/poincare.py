@@ -20,8 +20,8 @@ import numpy as np
 
 from sleighsim.engine import integrators
 from sleighsim.engine.integrate import IntegrationError, check_tol
-from sleighsim.engine.precision import Precision
 from sleighsim.model.params import Params
+from sleighsim.precision import Precision
 
 log = logging.getLogger("sleighsim")
 TWO_PI = 2.0 * math.pi

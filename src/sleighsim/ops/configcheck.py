@@ -29,6 +29,7 @@ from sleighsim.ops.config import REPO
 from sleighsim.ops.names import check_scene_names
 from sleighsim.ops.plancheck import check_distinct_eps, check_labelled_states, check_pre_run
 from sleighsim.ops.workmodel import chunk_work, work
+from sleighsim.precision import Precision
 from sleighsim.scenes.catalog import KINDS, scene_config
 from sleighsim.scenes.checks import ConfigError, within
 from sleighsim.scenes.workload import HORIZON_KEYS
@@ -145,12 +146,11 @@ def check_runtime(name: str, kind: str, cfg: dict) -> None:
 
 
 def _precisions(w, cfg):
-    """A scene's precision ladder runs coarse to fine, from double."""
-    order = ["double", "long double", "quad"]
-    given = cfg.get("precisions", [])
-    if given and (given[0] != "double" or sorted(given, key=order.index) != list(given)):
-        raise ConfigError(f"{w}.precisions = {given}: list them coarse to fine, starting with double "
-                          f"(of {order})")
+    """A scene's precision ladder runs coarse to fine (by rounding), from double."""
+    given = [Precision.parse(p) for p in cfg.get("precisions", [])]
+    if given and (given[0] is not Precision.DOUBLE or sorted(given, key=lambda p: -p.rounding) != given):
+        raise ConfigError(f"{w}.precisions = {[p.value for p in given]}: list them coarse to fine, starting with "
+                          f"double (of {[p.value for p in Precision]})")
 
 
 def _scene(name: str, cfg: dict, scenes: dict) -> None:

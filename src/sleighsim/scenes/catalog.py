@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import xarray as xr
 
-from sleighsim.engine.precision import Precision
+from sleighsim.precision import Precision
 from sleighsim.scenes import (
     audit,
     basins,

@@ -8,9 +8,9 @@ import math
 import numpy as np
 
 from sleighsim.engine import integrators
-from sleighsim.engine.precision import Precision
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import state_at_label
+from sleighsim.precision import Precision
 
 
 def initial_state(cfg: dict, params: Params) -> np.ndarray:
@@ -54,13 +54,19 @@ def nan_padded(rows, min_width: int = 0) -> np.ndarray:
     return np.array([np.r_[r, np.full(width - r.size, np.nan)] for r in rows])
 
 
+def tolerance(cfg: dict, precision: Precision) -> float:
+    """The Taylor tolerance of a run in ``precision``: the block's ``tol`` in double, else that
+    arithmetic's machine epsilon (a finer run follows the exact orbit as far as its rounding lets it)."""
+    return cfg["tol"] if precision is Precision.DOUBLE else precision.epsilon
+
+
 def steady_arithmetic(cfg: dict) -> dict:
     """The arithmetic of a scene's steady-state part: the block's ``precision`` (double, the paper's
-    arithmetic, when unset) at the block's ``tol`` in double, else at that precision's machine
-    epsilon. The transient before it always runs in double at ``tol``, so every precision of a
-    scene's ladder starts from the same settled point. Returns {"precision" (a Precision), "tol"}."""
+    arithmetic, when unset) at its ``tolerance``. The transient before it always runs in double at
+    ``tol``, so every precision of a scene's ladder starts from the same settled point. Returns
+    {"precision" (a Precision), "tol"}."""
     precision = Precision.parse(cfg.get("precision", "double"))
-    return {"precision": precision, "tol": cfg["tol"] if precision is Precision.DOUBLE else precision.epsilon}
+    return {"precision": precision, "tol": tolerance(cfg, precision)}
 
 
 def stored_state(y) -> np.ndarray:

@@ -12,7 +12,6 @@ import xarray as xr
 
 from sleighsim.analysis import windows
 from sleighsim.engine import integrators, transient
-from sleighsim.engine.precision import Precision
 from sleighsim.engine.transient import settle
 from sleighsim.io import cf
 from sleighsim.model import equations
@@ -21,6 +20,7 @@ from sleighsim.model.params import Params
 from sleighsim.model.symmetries import state_at_label
 from sleighsim.scenes import memory
 from sleighsim.scenes.checks import multiple
+from sleighsim.scenes.common import steady_arithmetic
 from sleighsim.scenes.kind import SceneKind
 
 log = logging.getLogger("sleighsim")
@@ -65,18 +65,19 @@ def _notes(cfg: dict) -> dict:
 
 def drift_windows(cfg: dict, scene: str = "") -> xr.Dataset:
     """From y0 (scaled to the label), after a checked transient: one orbit over T in windows of
-    ``window``, with one tangent vector renormalised every tau (compact or full heyoka mode; in
-    double at tol, or with long_double in long double at tol_long_double; the transient in
-    double). Per window: the steady spike interval (mean, sd, spikes), lambda_1 of the window and the energy drift;
-    the trend rule (``windows.trend``) on the spike interval and on lambda_1."""
+    ``window``, with one tangent vector renormalised every tau (compact or full heyoka mode; in the
+    block's ``precision``, ``common.steady_arithmetic``: double at tol, long double at its machine
+    epsilon; the transient in double). Per window: the steady spike interval (mean, sd, spikes), lambda_1
+    of the window and the energy drift; the trend rule (``windows.trend``) on the spike interval and on
+    lambda_1."""
     start = time.perf_counter()
     params = Params.from_config(cfg["params"])
     y0 = state_at_label(cfg["y0"], params, cfg["energy_label"])
     y, transient_attrs = settle(params, y0, cfg["t_transient"], **cfg["transient"], tol=cfg["tol"], label=scene,
                                 progress=1)
-    tol = cfg["tol_long_double"] if cfg["long_double"] else cfg["tol"]
-    arithmetic = Precision.LONG_DOUBLE if cfg["long_double"] else Precision.DOUBLE
-    ta, compile_s = integrators.sleigh_tangent(1, tol, cfg["compact_mode"], arithmetic)
+    arith = steady_arithmetic(cfg)
+    tol = arith["tol"]
+    ta, compile_s = integrators.sleigh_tangent(1, tol, cfg["compact_mode"], arith["precision"])
     integrators.set_pars(ta, params)
     precision = ("double" if ta.state.dtype == np.float64
                  else f"long double (epsilon {float(np.finfo(ta.state.dtype).eps):.2g})")

@@ -19,12 +19,12 @@ import xarray as xr
 
 from sleighsim.analysis.observables import SEPARATED
 from sleighsim.engine import integrators
-from sleighsim.engine.precision import Precision
 from sleighsim.engine.transient import settle, spike_times
 from sleighsim.io import cf
 from sleighsim.model.equations import energy
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import state_at_label
+from sleighsim.precision import Precision
 from sleighsim.scenes import memory
 from sleighsim.scenes.checks import multiple
 from sleighsim.scenes.common import nan_padded

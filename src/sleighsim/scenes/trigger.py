@@ -23,11 +23,11 @@ import numpy as np
 import xarray as xr
 
 from sleighsim.engine.integrate import integrate, sample_grid
-from sleighsim.engine.precision import Precision
 from sleighsim.engine.transient import spike_times
 from sleighsim.io import cf
 from sleighsim.model.equations import STATE_NAMES
 from sleighsim.model.params import Params
+from sleighsim.precision import Precision
 from sleighsim.scenes import memory
 from sleighsim.scenes.kind import SceneKind
 

@@ -36,13 +36,13 @@ from sleighsim.chaos.two_trajectory import two_trajectory_indicator
 from sleighsim.chaos.verdicts import CHAOTIC
 from sleighsim.engine import integrators
 from sleighsim.engine.integrate import orbit_samples
-from sleighsim.engine.precision import Precision
 from sleighsim.engine.transient import settle
 from sleighsim.io import cf
 from sleighsim.io.netcdf import read_dataset
 from sleighsim.model import equations
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import state_at_label
+from sleighsim.precision import Precision
 from sleighsim.scenes import memory
 from sleighsim.scenes.checks import ConfigError
 from sleighsim.scenes.common import realization_states

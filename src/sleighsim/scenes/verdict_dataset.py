@@ -26,8 +26,8 @@ from sleighsim.chaos.rule import (
 )
 from sleighsim.chaos.tangent import judge_benettin
 from sleighsim.chaos.two_trajectory import d0_independent
-from sleighsim.engine.precision import Precision
 from sleighsim.io import cf
+from sleighsim.precision import Precision
 from sleighsim.scenes.common import nan_padded
 from sleighsim.scenes.verdict_frequency import frequency_indicator
 from sleighsim.scenes.verdict_orbits import loschmidt_settings, r_image
@@ -191,7 +191,7 @@ def set_attrs(ds: xr.Dataset, cfg: dict, params, per_state, start: float) -> Non
         faithful_rule=" ".join(faithful_gate.__doc__.split()),
         precision_rule=" ".join(precision_check.__doc__.split()),
         d0_rule=" ".join(d0_independent.__doc__.split()), T_long_double=cfg["T_long_double"],
-        tol_long_double=cfg["tol_long_double"], compact_mode=int(cfg["compact_mode"]),
+        tol_long_double=Precision.LONG_DOUBLE.epsilon, compact_mode=int(cfg["compact_mode"]),
         benettin_rule=" ".join(judge_benettin.__doc__.split()), R_rule=" ".join(r_image.__doc__.split()),
         uncertainty="Benettin: standard error over independent replicas along the settled orbit; FTLE: window "
                     "standard error; MEGNO: 2 x (slope of <Y> over the second half, least-squares error, "
@@ -205,7 +205,7 @@ def set_attrs(ds: xr.Dataset, cfg: dict, params, per_state, start: float) -> Non
                                  + frequency_log_ratio.__doc__).split()),
         frequency_method=" ".join(drift.__doc__.split()), frequency_T=fc["T"], frequency_dt=fc["dt"],
         frequency_component=fc["component"], frequency_min_cycles=fc["min_cycles"], frequency_quad_T=fc["quad_T"],
-        frequency_tol_quad=fc["tol_quad"],
+        frequency_tol_quad=Precision.QUAD.epsilon,
         loschmidt_rule=" ".join((loschmidt_indicator.__doc__ + " " + judge_loschmidt_run.__doc__ + " "
                                  + judge_loschmidt.__doc__).split()),
         loschmidt_fit=" ".join(loschmidt_fit.__doc__.split()), **loschmidt_settings(), T_megno=cfg["T_megno"],

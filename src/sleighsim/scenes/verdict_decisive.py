@@ -28,10 +28,10 @@ from sleighsim.chaos.section_megno import judge_section_megno, section_megno, se
 from sleighsim.chaos.verdicts import CHAOTIC, UNDECIDED
 from sleighsim.engine import ddtaylor, integrators, transient
 from sleighsim.engine.ddtaylor import DDFlow
-from sleighsim.engine.precision import Precision
 from sleighsim.io import cf
 from sleighsim.model import equations
 from sleighsim.model.params import Params
+from sleighsim.precision import Precision
 from sleighsim.scenes.common import stored_state
 
 log = logging.getLogger("sleighsim")

@@ -17,27 +17,21 @@ from sleighsim.chaos.frequency import (
 )
 from sleighsim.chaos.verdicts import REGULAR
 from sleighsim.engine import integrators
-from sleighsim.engine.precision import Precision
 from sleighsim.model import equations
-from sleighsim.scenes.common import stored_state
+from sleighsim.precision import Precision
+from sleighsim.scenes.common import stored_state, tolerance
 
 # the frequency indicator's runs, in order (heyoka's arithmetics; double-double runs in the decisive stage)
 PRECISIONS = (Precision.DOUBLE, Precision.LONG_DOUBLE, Precision.QUAD)
 
 
-def _frequency_tol(cfg: dict, precision: Precision) -> float:
-    """The Taylor tolerance of the frequency run in ``precision`` (one of PRECISIONS)."""
-    tols = {"double": cfg["tol"], "long double": cfg["tol_long_double"], "quad": cfg["frequency"]["tol_quad"]}
-    return tols[precision]
-
-
 def frequency_run(params, y, cfg: dict, precision: Precision = Precision.DOUBLE) -> dict:
     """``chaos.frequency.frequency_drift`` of the velocity frequency.component (u, Omega or omega) from y,
-    sampled every frequency.dt: in double at tol over frequency.T, in long double at
-    tol_long_double over frequency.T, or in quad at frequency.tol_quad over frequency.quad_T."""
+    sampled every frequency.dt: in double at tol over frequency.T, in long double over frequency.T, or in
+    quad over frequency.quad_T (each finer one at its machine epsilon, ``common.tolerance``)."""
     fc = cfg["frequency"]
     T = fc["quad_T"] if precision is Precision.QUAD else fc["T"]
-    flow, _ = integrators.flow(False, _frequency_tol(cfg, precision), precision)
+    flow, _ = integrators.flow(False, tolerance(cfg, precision), precision)
     integrators.set_pars(flow, params)
     return frequency_drift(flow, stored_state(y), T=T, dt=fc["dt"],
                            component=equations.STATE_NAMES.index(fc["component"]),
@@ -71,7 +65,7 @@ def frequency_indicator(params, y, cfg: dict, sigma: float, *, long_double: bool
         if prev is not None:
             log_ratio, log_ratio_err = frequency_log_ratio(made[prev], run)
             ratio = {"log_ratio": log_ratio, "log_ratio_err": log_ratio_err,
-                     "rounding_ratio": _frequency_tol(cfg, prev) / _frequency_tol(cfg, precision)}
+                     "rounding_ratio": tolerance(cfg, prev) / tolerance(cfg, precision)}
         judged.append(judged_run(precision, run, **ratio))
         judgement = judge_frequency(judged, sigma=sigma)
     last = made[list(made)[-1]]

@@ -18,9 +18,9 @@ from sleighsim.chaos.two_trajectory import two_trajectory
 from sleighsim.chaos.verdicts import UNDECIDED
 from sleighsim.engine import integrators
 from sleighsim.engine.integrate import integrate, sample_grid
-from sleighsim.engine.precision import Precision
 from sleighsim.model import equations
-from sleighsim.scenes.common import stored_state
+from sleighsim.precision import Precision
+from sleighsim.scenes.common import stored_state, tolerance
 
 # the reversing involution: (u, Omega, omega, delta) -> (-u, -Omega, -omega, delta)
 R = np.array([-1.0, -1.0, -1.0, 1.0])
@@ -54,10 +54,9 @@ def two_trajectory_runs(params, y, cfg: dict) -> tuple:
 
 def loschmidt_run(params, y, cfg: dict, *, precision: Precision = Precision.DOUBLE) -> dict:
     """``chaos.loschmidt.loschmidt`` from y (model variables) with the involution R at loschmidt_n
-    log-spaced T in loschmidt_T, relative to max |velocity|: in double at tol, or in long double at
-    tol_long_double (rounding 2^11 smaller: the rounding floor is 3.3 decades lower)."""
-    tol = cfg["tol_long_double"] if precision is Precision.LONG_DOUBLE else cfg["tol"]
-    flow, _ = integrators.flow(False, tol, precision)
+    log-spaced T in loschmidt_T, relative to max |velocity|: in double at tol, or in long double at its
+    machine epsilon (rounding 2^11 smaller: the rounding floor is 3.3 decades lower)."""
+    flow, _ = integrators.flow(False, tolerance(cfg, precision), precision)
     integrators.set_pars(flow, params)
     return loschmidt(flow, stored_state(y), loschmidt_T(cfg), lambda z: R * z, callback=integrators.bounded(flow),
                      difference=equations.state_difference, scale=float(np.max(np.abs(np.asarray(y)[:3]))))

@@ -27,8 +27,8 @@ from sleighsim.chaos.tangent import (
 )
 from sleighsim.chaos.verdicts import CHAOTIC
 from sleighsim.engine import integrators
-from sleighsim.engine.precision import Precision
-from sleighsim.scenes.common import stored_state
+from sleighsim.precision import Precision
+from sleighsim.scenes.common import stored_state, tolerance
 
 log = logging.getLogger("sleighsim")
 
@@ -94,11 +94,10 @@ def tangent_indicators(params, replicas, res: dict, cfg: dict, scene: str, value
 
 def megno_run(params, y, cfg: dict, *, precision: Precision = Precision.DOUBLE) -> dict:
     """MEGNO from y (model variables), renormalised every tau, <Y> recorded at megno_samples times
-    (``chaos.megno.megno``): over T_megno in double, or over T_long_double at tol_long_double in long
-    double."""
-    long_double = precision is Precision.LONG_DOUBLE
-    tol, T = (cfg["tol_long_double"], cfg["T_long_double"]) if long_double else (cfg["tol"], cfg["T_megno"])
-    ta, _ = integrators.sleigh_megno(tol, precision, cfg["compact_mode"])
+    (``chaos.megno.megno``): over T_megno in double at tol, or over T_long_double in long double at its
+    machine epsilon."""
+    T = cfg["T_long_double"] if precision is Precision.LONG_DOUBLE else cfg["T_megno"]
+    ta, _ = integrators.sleigh_megno(tolerance(cfg, precision), precision, cfg["compact_mode"])
     integrators.set_pars(ta, params)
     return megno(ta, 4, stored_state(y), T=T, n_samples=cfg["megno_samples"], tau=cfg["tau"],
                  callback=integrators.bounded(ta))
@@ -121,8 +120,8 @@ def precision_check(params, y, cfg: dict, scene: str) -> dict:
     m = megno_run(params, y, cfg, precision=Precision.LONG_DOUBLE)
     g = m["log_growth"][math.ceil(cfg["t_align"] / tau):]  # the alignment of the vector left out
     lam, err, bound, ok = growth_confirmed(g, tau, T, sigma, N_BLOCKS)
-    text = (f"long double (tol {cfg['tol_long_double']:.2g}): lambda_1 = {lam:.3g} +- {err:.2g} over T = {T:.3g}, "
-            f"bound {bound:.2g}")
+    text = (f"long double (tol {Precision.LONG_DOUBLE.epsilon:.2g}): lambda_1 = {lam:.3g} +- {err:.2g} "
+            f"over T = {T:.3g}, bound {bound:.2g}")
     log.info("%s: precision check: %s", scene, text)
     return {"lambda_1": lam, "stderr": err, "check": "confirmed" if ok else "not confirmed",
             "reason": ("confirmed in " if ok else "not confirmed in ") + text, "megno": m}

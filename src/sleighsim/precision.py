@@ -1,4 +1,5 @@
-"""The arithmetics an integration can run in: one type, parsed once where a scene's config is read.
+"""The arithmetics an integration can run in: one type, the lowest layer of the package (every
+layer, io included, names an arithmetic by it), parsed once where a scene's config is read.
 
 A :class:`Precision` is a string enum whose value is its config name ("double", "long double",
 "double-double", "quad"), so a dataset attribute or coordinate written from it holds that name. Each

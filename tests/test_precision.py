@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from sleighsim.engine.precision import Precision
+from sleighsim.precision import Precision
 
 
 @pytest.mark.parametrize("name, member", [("double", Precision.DOUBLE), ("long double", Precision.LONG_DOUBLE),
@@ -35,3 +35,16 @@ def test_double_double_has_no_heyoka_type():
     """Only sleighsim.engine.ddtaylor integrates in double-double: asking heyoka's type says so."""
     with pytest.raises(ValueError, match="ddtaylor"):
         _ = Precision.DOUBLE_DOUBLE.fp_type
+
+
+def test_the_config_schema_names_exactly_the_types_arithmetics():
+    """The schema's two enums are the type's names (all, and heyoka's): the type is the one list, the
+    schema cannot drift from it."""
+    from pathlib import Path
+
+    import yaml
+
+    schema = yaml.safe_load((Path(__file__).parents[1] / "workflow" / "schemas" / "config.schema.yaml").read_text())
+    assert schema["$defs"]["precision"]["enum"] == [p.value for p in Precision]
+    heyoka = [p.value for p in Precision if p is not Precision.DOUBLE_DOUBLE]
+    assert schema["$defs"]["heyoka_precision"]["enum"] == heyoka
