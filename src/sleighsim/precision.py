@@ -33,6 +33,11 @@ class Precision(enum.StrEnum):
         member.tag, member.epsilon, member.rounding = tag, epsilon, rounding
         return member
 
+    def __repr__(self) -> str:
+        """Its config name's repr: a config block holding a member reads (and Snakemake compares its
+        params) exactly as written."""
+        return repr(self.value)
+
     @classmethod
     def parse(cls, value) -> Precision:
         """The member named ``value`` (its config name, or a member); ValueError naming it otherwise."""
@@ -54,6 +59,31 @@ class Precision(enum.StrEnum):
         return np.longdouble if self is Precision.LONG_DOUBLE else float
 
     @property
+    def heyoka(self) -> bool:
+        """Whether heyoka integrates in this arithmetic (double-double is sleighsim.engine.ddtaylor's)."""
+        return self is not Precision.DOUBLE_DOUBLE
+
+    @property
     def dtype(self) -> np.dtype:
         """The NumPy dtype of states in this arithmetic (double-double: of each of the pair's doubles)."""
         return np.dtype(float) if self is Precision.DOUBLE_DOUBLE else np.dtype(self.fp_type)
+
+
+def parsed(block):
+    """A copy of a config block (nested dicts and lists) with every arithmetic it names parsed into a
+    :class:`Precision`: the value of a key ``precision``, the items of ``precisions`` and the keys of
+    ``tols``. ValueError naming the value when one is not an arithmetic."""
+    if isinstance(block, list):
+        return [parsed(v) for v in block]
+    if not isinstance(block, dict):
+        return block
+    out = {}
+    for key, value in block.items():
+        if key == "precision":
+            value = Precision.parse(value)
+        elif key == "precisions":
+            value = [Precision.parse(p) for p in value]
+        elif key == "tols" and isinstance(value, dict):
+            value = {Precision.parse(p): v for p, v in value.items()}
+        out[key] = parsed(value)
+    return out

@@ -12,6 +12,7 @@ from test_claims_report import CLAIMS_MD, LADDERED, PLAIN, REALIZED, _fig9, _lad
 from test_judges import _spectrum
 
 from sleighsim.claims import ledger as claims
+from sleighsim.io import layout
 from sleighsim.ops.config import merged_config
 from sleighsim.report.figures.catalog import FIGURES
 from sleighsim.scenes import catalog
@@ -26,7 +27,7 @@ def _rows(data, config):
 def _spectra(data, ks, div=-1e-3):
     """lyap_spectrum's realizations ``ks`` (0: the scene itself); contracting (C18 reproduced) at div < 0."""
     for k in ks:
-        write_fixture(_spectrum(div, 1e-4), data / f"{catalog.realization_name('lyap_spectrum', k)}.nc")
+        write_fixture(_spectrum(div, 1e-4), data / f"{layout.realization('lyap_spectrum', k)}.nc")
 
 
 def _laddered_fig9(data, loops_double=4, loops_long=3):

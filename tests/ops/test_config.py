@@ -12,6 +12,7 @@ import pytest
 import yaml
 from conftest import PAPER, ROOT, smoke_config
 
+from sleighsim.io import layout
 from sleighsim.ops import configcheck
 from sleighsim.ops.configcheck import ConfigError
 from sleighsim.scenes import catalog
@@ -245,8 +246,8 @@ def test_laddered_scenes_and_their_datasets_are_named_by_the_registry():
     ladders = catalog.laddered(SMOKE)
     assert ladders["fig9_ref"] == ["double", "long double"]
     assert "precision_ladder" not in ladders  # its own precisions are a parameter, not a ladder of the scene
-    assert catalog.variant("fig9_ref", "long double") == "precision/long_double/fig9_ref"
-    assert catalog.variant("fig9_ref", "double") == "fig9_ref" and catalog.ladder_name("x") == "ladder/x"
+    assert layout.variant("fig9_ref", "long double") == "precision/long_double/fig9_ref"
+    assert layout.variant("fig9_ref", "double") == "fig9_ref" and layout.ladder("x") == "ladder/x"
     cfg = catalog.scene_config(SMOKE, "fig9_ref")
     assert "precisions" not in cfg  # the double dataset does not depend on its ladder
     assert catalog.scene_config(SMOKE, "precision_ladder")["precisions"]

@@ -8,6 +8,7 @@ import pytest
 import xarray as xr
 from conftest import smoke_config
 
+from sleighsim.io import layout
 from sleighsim.io.netcdf import write_dataset
 from sleighsim.report import figures
 from sleighsim.report.figures import catalog as figure_catalog
@@ -89,7 +90,7 @@ def figure_source(results, name):
     if fig.schematic:
         return catalog.scene_config(SMOKE_CFG, fig.schematic)
     laddered = catalog.laddered(SMOKE_CFG, on_request=True)
-    beside = [catalog.variant(s, p) for s in (fig.data if fig.beside else ()) for p in laddered.get(s, ())
+    beside = [layout.variant(s, p) for s in (fig.data if fig.beside else ()) for p in laddered.get(s, ())
               if p != "double"]
     return [results / "data" / f"{d}.nc" for d in (*fig.data, *beside)]
 

@@ -14,6 +14,7 @@ import pytest
 import yaml
 from conftest import ROOT, SMOKE, smoke_config, snakemake
 
+from sleighsim.io import layout
 from sleighsim.io.netcdf import read_dataset
 from sleighsim.report import sections
 from sleighsim.report.figures import catalog as figure_catalog
@@ -176,7 +177,7 @@ def test_dry_run_of_the_paper_config_runs_two_long_double_variants_as_chunks(tmp
     n = {s: catalog.chunk_count(scenes[s]) for s in ("lyap_energy", "fig9_eps001")}
     assert n == {"lyap_energy": scenes["lyap_energy"]["precision_chunks"], "fig9_eps001": 2}
     res = snakemake(tmp_path, ROOT / "config" / "config.yaml", "-n", "results/data/lyap_energy.nc",
-                    "results/data/fig9_eps001.nc", *(f"results/data/{catalog.variant(s, 'long double')}.nc" for s in n),
+                    "results/data/fig9_eps001.nc", *(f"results/data/{layout.variant(s, 'long double')}.nc" for s in n),
                     timeout=120)
     assert res.returncode == 0, res.stderr[-2000:]
     counts = dict(re.findall(r"^(\w+)\s+(\d+)\s*$", res.stdout + res.stderr, flags=re.M))
@@ -281,10 +282,10 @@ def test_every_laddered_scene_of_the_smoke_run_has_its_ladder_from_one_settled_s
     ladders = catalog.laddered(SMOKE_CFG)
     assert {"fig3", "fig8", "lyap_energy", "lyap_protocol", "fig11_grid"} <= set(ladders)
     for scene, precisions in ladders.items():
-        ds = read_dataset(data / f"{catalog.ladder_name(scene)}.nc")
+        ds = read_dataset(data / f"{layout.ladder(scene)}.nc")
         assert ds.attrs["converged_precision"] in (*precisions[:-1], "not converged"), scene
         assert list(ds.precision.values) == precisions and ds.sizes["observable"] >= 1, scene
-        finer = read_dataset(data / f"{catalog.variant(scene, precisions[-1])}.nc")
+        finer = read_dataset(data / f"{layout.variant(scene, precisions[-1])}.nc")
         assert finer.attrs["precision"] == precisions[-1]
         assert finer.attrs["transient_precision"] in ("double", precisions[-1])
     assert all(figure_catalog.FIGURES[f].beside for f in ("fig3", "fig8", "fig10", "fig11"))

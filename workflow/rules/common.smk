@@ -2,6 +2,8 @@
 # figures (sleighsim.report.figures.catalog) and the report's tables (nothing listed here).
 import re
 
+from sleighsim.io import layout
+from sleighsim.precision import Precision
 from sleighsim.report.figures import catalog as figure_catalog
 from sleighsim.report.tables import TABLES
 from sleighsim.scenes import catalog as scene_catalog
@@ -36,20 +38,15 @@ LADDERED_CHUNKED = [
         and scene_catalog.chunk_count(SCENES[s]) > 1
     )
 ]
-TAG_PRECISION = {
-    scene_catalog.precision_tag(p): p
-    for ps in LADDERED.values()
-    for p in ps
-    if p != "double"
-}
+TAG_PRECISION = {p.tag: p for ps in LADDERED.values() for p in ps[1:]}
 # Scenes run again from perturbed start states ({scene: realizations}) and those datasets by name.
 REALIZED = scene_catalog.realized(config, on_request=True)
 # Runtime resource (minutes) of a scene job whose block sets no runtime_min (the SLURM profile's default).
 SCENE_RUNTIME_MIN = 60
 # Every dataset of the default run: the scenes, their finer precisions, ladders and realizations.
 CLAIMS_DATA = scene_catalog.run_datasets(config)
-LADDER_DATA = [n for n in CLAIMS_DATA if n.startswith(("precision/", "ladder/"))]
-REALIZATION_DATA = [n for n in CLAIMS_DATA if n.startswith("realization/")]
+LADDER_DATA = [n for n in CLAIMS_DATA if layout.is_finer(n) or layout.is_ladder(n)]
+REALIZATION_DATA = [n for n in CLAIMS_DATA if layout.is_realization(n)]
 # What the report reads: the datasets of the figures shown and of the tables built.
 REPORT_DATA = sorted(
     {d for f in FIGURES_BUILT for d in figure_catalog.FIGURES[f].data}
@@ -91,10 +88,9 @@ def figure_inputs(wildcards):
     laddered scenes in every finer precision."""
     fig = figure_catalog.FIGURES[wildcards.fig]
     beside = [
-        scene_catalog.variant(s, p)
+        layout.variant(s, p)
         for s in (fig.data if fig.beside else ())
-        for p in LADDERED.get(s, ())
-        if p != "double"
+        for p in LADDERED.get(s, ())[1:]
     ]
     return [f"{R}/data/{s}.nc" for s in (*fig.data, *beside)]
 
@@ -122,7 +118,7 @@ def realization_cfg(wildcards):
 
 def ladder_inputs(wildcards):
     return [
-        f"{R}/data/{scene_catalog.variant(wildcards.scene, p)}.nc"
+        f"{R}/data/{layout.variant(wildcards.scene, p)}.nc"
         for p in LADDERED[wildcards.scene]
     ]
 
@@ -145,12 +141,18 @@ def scene_inputs(wildcards):
     }
 
 
+def chunk_folder(wildcards):
+    """The folder under chunks/ of a chunked scene, or of its variant in a finer precision (wildcard ``tag``)."""
+    if "tag" in wildcards.keys():
+        return layout.chunk_folder(wildcards.scene, TAG_PRECISION[wildcards.tag])
+    return layout.chunk_folder(wildcards.scene, Precision.DOUBLE)
+
+
 def chunk_reads(wildcards):
     """The chunk files of the same scene (or variant) that a later-stage chunk job reads (the kind's
     ``chunk_reads``; none for most)."""
-    where = f"precision/{wildcards.tag}/" if "tag" in wildcards.keys() else ""
     reads = scene_catalog.chunk_reads(SCENES[wildcards.scene], int(wildcards.chunk))
-    return expand(f"{R}/chunks/{where}{wildcards.scene}/{{k}}.nc", k=reads)
+    return expand(f"{R}/chunks/{chunk_folder(wildcards)}/{{k}}.nc", k=reads)
 
 
 def chunk_inputs(wildcards):
@@ -167,8 +169,7 @@ def chunk_inputs(wildcards):
 def chunk_files(wildcards):
     """The chunk files of a chunked scene, or of its variant in a finer precision (wildcard ``tag``)."""
     n = scene_catalog.chunk_count(SCENES[wildcards.scene])
-    where = f"precision/{wildcards.tag}/" if "tag" in wildcards.keys() else ""
-    return expand(f"{R}/chunks/{where}{wildcards.scene}/{{k}}.nc", k=range(n))
+    return expand(f"{R}/chunks/{chunk_folder(wildcards)}/{{k}}.nc", k=range(n))
 
 
 def benchmark_files(datasets, figures):
@@ -176,9 +177,9 @@ def benchmark_files(datasets, figures):
     out = {}
     for name in datasets:
         # a chunked scene, or a chunked variant precision/<tag>/<scene> (not its ladder)
-        scene = name.rsplit("/", 1)[-1]
+        scene = layout.scene_of(name)
         if (scene in CHUNKED and name == scene) or (
-            scene in LADDERED_CHUNKED and name.startswith("precision/")
+            scene in LADDERED_CHUNKED and layout.is_finer(name)
         ):
             chunks = expand(
                 f"{R}/benchmarks/chunk/{name}/{{k}}.tsv",
@@ -194,14 +195,10 @@ def benchmark_files(datasets, figures):
 
 def chunk_products(scene):
     """The chunk files of a chunked scene and of its chunked finer-precision variants."""
-    tags = [
-        scene_catalog.precision_tag(p)
-        for p in LADDERED.get(scene, ())
-        if p != "double" and scene in LADDERED_CHUNKED
-    ]
-    where = [""] * (scene in CHUNKED) + [f"precision/{t}/" for t in tags]
+    finer = LADDERED.get(scene, [])[1:] if scene in LADDERED_CHUNKED else []
+    folders = [scene] * (scene in CHUNKED) + [layout.chunk_folder(scene, p) for p in finer]
     n = scene_catalog.chunk_count(SCENES[scene])
-    return [f"{R}/chunks/{w}{scene}/{k}.nc" for w in where for k in range(n)]
+    return [f"{R}/chunks/{f}/{k}.nc" for f in folders for k in range(n)]
 
 
 # Every netCDF file the config's rules write (on-request ones too): the datasets, their variants,
@@ -212,14 +209,10 @@ PRODUCTS = sorted(
             f"{R}/data/{n}.nc"
             for n in [
                 *ALL_DATASETS,
+                *(layout.variant(s, p) for s, ps in LADDERED.items() for p in ps),
+                *(layout.ladder(s) for s in LADDERED),
                 *(
-                    scene_catalog.variant(s, p)
-                    for s, ps in LADDERED.items()
-                    for p in ps
-                ),
-                *(scene_catalog.ladder_name(s) for s in LADDERED),
-                *(
-                    scene_catalog.realization_name(s, k)
+                    layout.realization(s, k)
                     for s, count in REALIZED.items()
                     for k in range(1, count)
                 ),

@@ -25,11 +25,11 @@ rule scene:
 # A laddered scene in a finer precision: the same block, its steady-state part in that arithmetic.
 rule scene_in_precision:
     output:
-        nc=f"{R}/data/precision/{{tag}}/{{scene}}.nc",
+        nc=f"{R}/data/{layout.FINER}.nc",
     log:
-        f"{R}/logs/scene/precision/{{tag}}/{{scene}}.log",
+        f"{R}/logs/scene/{layout.FINER}.log",
     benchmark:
-        f"{R}/benchmarks/scene/precision/{{tag}}/{{scene}}.tsv"
+        f"{R}/benchmarks/scene/{layout.FINER}.tsv"
     wildcard_constraints:
         scene=alternatives([s for s in LADDERED if s not in LADDERED_CHUNKED]),
         tag=alternatives(TAG_PRECISION),
@@ -48,11 +48,11 @@ rule scene_realization:
     input:
         unpack(scene_inputs),
     output:
-        nc=f"{R}/data/realization/{{k}}/{{scene}}.nc",
+        nc=f"{R}/data/{layout.REALIZED}.nc",
     log:
-        f"{R}/logs/scene/realization/{{k}}/{{scene}}.log",
+        f"{R}/logs/scene/{layout.REALIZED}.log",
     benchmark:
-        f"{R}/benchmarks/scene/realization/{{k}}/{{scene}}.tsv"
+        f"{R}/benchmarks/scene/{layout.REALIZED}.tsv"
     wildcard_constraints:
         scene=alternatives(REALIZED),
         k=r"[1-9]\d*",
@@ -75,11 +75,11 @@ rule ladder:
     input:
         runs=ladder_inputs,
     output:
-        nc=f"{R}/data/ladder/{{scene}}.nc",
+        nc=f"{R}/data/{layout.LADDER_OF}.nc",
     log:
-        f"{R}/logs/scene/ladder/{{scene}}.log",
+        f"{R}/logs/scene/{layout.LADDER_OF}.log",
     benchmark:
-        f"{R}/benchmarks/scene/ladder/{{scene}}.tsv"
+        f"{R}/benchmarks/scene/{layout.LADDER_OF}.tsv"
     wildcard_constraints:
         scene=alternatives(LADDERED),
     conda:
@@ -150,11 +150,11 @@ rule gather:
 # A laddered scene chunked in a finer precision: its chunks' steady-state parts in that arithmetic.
 use rule chunk as chunk_in_precision with:
     output:
-        nc=f"{R}/chunks/precision/{{tag}}/{{scene}}/{{chunk}}.nc",
+        nc=f"{R}/chunks/{layout.FINER}/{{chunk}}.nc",
     log:
-        f"{R}/logs/chunk/precision/{{tag}}/{{scene}}/{{chunk}}.log",
+        f"{R}/logs/chunk/{layout.FINER}/{{chunk}}.log",
     benchmark:
-        f"{R}/benchmarks/chunk/precision/{{tag}}/{{scene}}/{{chunk}}.tsv"
+        f"{R}/benchmarks/chunk/{layout.FINER}/{{chunk}}.tsv"
     wildcard_constraints:
         scene=alternatives(LADDERED_CHUNKED),
         tag=alternatives(TAG_PRECISION),
@@ -165,11 +165,11 @@ use rule chunk as chunk_in_precision with:
 
 use rule gather as gather_in_precision with:
     output:
-        nc=f"{R}/data/precision/{{tag}}/{{scene}}.nc",
+        nc=f"{R}/data/{layout.FINER}.nc",
     log:
-        f"{R}/logs/gather/precision/{{tag}}/{{scene}}.log",
+        f"{R}/logs/gather/{layout.FINER}.log",
     benchmark:
-        f"{R}/benchmarks/gather/precision/{{tag}}/{{scene}}.tsv"
+        f"{R}/benchmarks/gather/{layout.FINER}.tsv"
     wildcard_constraints:
         scene=alternatives(LADDERED_CHUNKED),
         tag=alternatives(TAG_PRECISION),

@@ -44,10 +44,11 @@ from sleighsim.claims.evidence import CAUSES, EVIDENCE
 from sleighsim.claims.judges import JUDGES
 from sleighsim.claims.rules import CANNOT, DIFFERS, DOUBLE_ONLY, FRAGILE, NOT_YET, REPRODUCED, VERDICTS
 from sleighsim.claims.setup_columns import NOT_APPLICABLE, cause_with_setup, columns
+from sleighsim.io import layout
 from sleighsim.io.claims_table import Claim, parse_claims
 from sleighsim.io.netcdf import read_dataset, write_dataset, write_text
 from sleighsim.precision import Precision
-from sleighsim.scenes.catalog import datasets, ladder_name, laddered, realization_name, realized, variant
+from sleighsim.scenes.catalog import datasets, laddered, realized
 
 PRECISIONS = tuple(p.value for p in Precision)  # coarse to fine
 #: The cause of a row reproduced only in double: double's rounding, which the finer arithmetic does not share.
@@ -88,7 +89,7 @@ class MissingDataset(KeyError):
 class _Datasets:
     """The datasets of one data directory, each read once; MissingDataset naming a missing one.
     Names are paths under the directory without .nc (a scene, or its variant in a finer precision,
-    ``sleighsim.scenes.catalog.variant``, or a realization, ``sleighsim.scenes.catalog.realization_name``).
+    ``sleighsim.io.layout.variant``, or a realization, ``sleighsim.io.layout.realization``).
     Which variants and realizations exist is what the config declares, never which files are
     there: ``ladders`` {scene: precisions, coarse to fine} (``catalog.laddered``), ``realized``
     {scene: number of realizations} (``catalog.realized``)."""
@@ -119,7 +120,7 @@ class _Datasets:
 
     def variants(self, names, precision: str) -> list[str]:
         """Each of ``names`` in ``precision`` where the config ladders it in that precision, else as is."""
-        return [variant(n, precision) if precision in self.ladders.get(n, ()) else n for n in names]
+        return [layout.variant(n, precision) if precision in self.ladders.get(n, ()) else n for n in names]
 
     def realizations(self, names) -> list[list[str]]:
         """The evidence of realizations k = 1 .. n-1 of ``names`` (n: the fewest realizations the
@@ -128,7 +129,7 @@ class _Datasets:
         MissingDataset."""
         realized = [n for n in names if n in self.realized]
         n = min((self.realized[r] for r in realized), default=1)
-        return [[realization_name(m, k) if m in realized else m for m in names] for k in range(1, n)]
+        return [[layout.realization(m, k) if m in realized else m for m in names] for k in range(1, n)]
 
     def ladder_status(self, names) -> str:
         """The converged precision of each of ``names`` the config ladders (data/ladder/<name>.nc), and
@@ -137,7 +138,7 @@ class _Datasets:
         for n in names:
             if n not in self.ladders:
                 continue
-            ds = self([ladder_name(n)])[0]
+            ds = self([layout.ladder(n)])[0]
             c = ds.attrs["converged_precision"]
             text = f"{n}: " + (f"converged in {c}" if c != "not converged" else c)
             if "follows_orbit" in ds:

@@ -16,8 +16,10 @@ from pathlib import Path
 
 import xarray as xr
 
+from sleighsim.io import layout
 from sleighsim.io.titles import TITLES
 from sleighsim.io.vocabulary import PATTERNS, VOCABULARY
+from sleighsim.precision import Precision
 
 CONVENTIONS = "CF-1.11"
 REFERENCES = ("Fedonyuk, V. and Tallapragada, P., Chaotic dynamics of the Chaplygin sleigh with a passive internal "
@@ -125,31 +127,30 @@ def dataset_name(path, precision: str = "double") -> tuple[str, str]:
     parent folder and stem ("stability/verdicts") when :data:`sleighsim.io.titles.TITLES` knows that, else
     by its stem ("claims"). ``precision``: the config name of the arithmetic the dataset was computed
     in (the writer's knowledge; never read back from the path); ValueError when a file under
-    precision/ is said to be in double."""
-    parts = Path(path).with_suffix("").parts
-    anchors = [i for i, p in enumerate(parts[:-1]) if p in ("data", "chunks")]
-    rest = list(parts[anchors[-1]:]) if anchors else []
-    match rest:
-        case ["data", scene]:
-            return scene, ""
-        case ["data", "precision", _, scene]:
-            return scene, _in_precision(path, precision)
-        case ["data", "ladder", scene]:
-            return scene, "its precision ladder: the key observables in every arithmetic and where they converge"
-        case ["data", "realization", k, scene]:
-            return scene, f"realization {k}: the start states perturbed"
-        case ["chunks", scene, k]:
-            return scene, f"chunk {k}"
-        case ["chunks", "precision", _, scene, k]:
-            return scene, f"chunk {k} {_in_precision(path, precision)}"
-    nested = "/".join(parts[-2:])
-    return (nested, "") if nested in TITLES else (parts[-1], "")
+    precision/ is said to be in double (:mod:`sleighsim.io.layout` reads the path)."""
+    at = layout.place(path)
+    match at.what:
+        case "scene":
+            return at.scene, ""
+        case "finer":
+            return at.scene, _in_precision(path, precision)
+        case "ladder":
+            return at.scene, "its precision ladder: the key observables in every arithmetic and where they converge"
+        case "realization":
+            return at.scene, f"realization {at.k}: the start states perturbed"
+        case "chunk":
+            return at.scene, f"chunk {at.k}"
+        case "finer chunk":
+            return at.scene, f"chunk {at.k} {_in_precision(path, precision)}"
+    nested = "/".join(Path(path).with_suffix("").parts[-2:])
+    return (nested, "") if nested in TITLES else (at.scene, "")
 
 
-def _in_precision(path, precision: str) -> str:
-    if precision == "double":
+def _in_precision(path, precision) -> str:
+    p = Precision.parse(precision)
+    if p is Precision.DOUBLE:
         raise ValueError(f"{path}: a dataset under precision/ needs the precision it was computed in")
-    return f"in {precision}"
+    return f"in {p}"
 
 
 def title(path, precision: str = "double") -> str:

@@ -9,8 +9,10 @@ from __future__ import annotations
 from collections import defaultdict
 from pathlib import Path
 
+from sleighsim.io import layout
 from sleighsim.ops.config import BASE_CONFIG, REPO
 from sleighsim.ops.workmodel import chunk_work, is_modelled, work
+from sleighsim.precision import Precision
 from sleighsim.report.figures import catalog as figure_catalog
 from sleighsim.scenes import catalog
 
@@ -157,9 +159,9 @@ def _precision_cost() -> dict:
     path = REPO / "benchmarks" / "precision_cost.yaml"
     if not path.exists():
         return {}
-    rows = yaml.safe_load(path.read_text())["rows"]
-    return {r["precision"]: r["cost_s_per_tu"] for r in rows
-            if r["system"] == "flow" and not r["high_accuracy"] and r["compact_mode"] == (r["precision"] == "quad")}
+    rows = [(Precision.parse(r["precision"]), r) for r in yaml.safe_load(path.read_text())["rows"]]
+    return {p: r["cost_s_per_tu"] for p, r in rows
+            if r["system"] == "flow" and not r["high_accuracy"] and r["compact_mode"] == (p is Precision.QUAD)}
 
 
 def _variant_cpu(cpu: dict, name: str) -> float | None:
@@ -182,20 +184,19 @@ def _new_jobs(target: dict, mjobs: list, est: dict) -> None:
     cost = _precision_cost()
     for scene, n in catalog.realized(target).items():
         for k in range(1, n):
-            name = f"scene/{catalog.realization_name(scene, k)}"
+            name = f"scene/{layout.realization(scene, k)}"
             if name not in cpu and f"scene/{scene}" in cpu:
                 est["jobs"].append({"job": name, "rule": "scene_realization", "kind": target["scenes"][scene]["kind"],
                                     "scene": scene, "cpu_s": cpu[f"scene/{scene}"], "ratio": 1.0})
     for scene, precisions in catalog.laddered(target).items():
-        ld = _variant_cpu(cpu, catalog.variant(scene, "long double"))
+        ld, LD = _variant_cpu(cpu, layout.variant(scene, Precision.LONG_DOUBLE)), Precision.LONG_DOUBLE
         for p in precisions[1:]:
-            if _variant_cpu(cpu, catalog.variant(scene, p)) is not None:
+            if _variant_cpu(cpu, layout.variant(scene, p)) is not None:
                 continue
-            name = f"scene/{catalog.variant(scene, p)}"
-            if ld is not None and p in cost and "long double" in cost:
+            name = f"scene/{layout.variant(scene, p)}"
+            if ld is not None and p in cost and LD in cost:
                 est["jobs"].append({"job": name, "rule": "scene_in_precision", "kind": target["scenes"][scene]["kind"],
-                                    "scene": scene, "cpu_s": ld * cost[p] / cost["long double"],
-                                    "ratio": cost[p] / cost["long double"]})
+                                    "scene": scene, "cpu_s": ld * cost[p] / cost[LD], "ratio": cost[p] / cost[LD]})
             else:
                 est["unmeasured"].append(name)
 

@@ -11,6 +11,7 @@ import numpy as np
 from sleighsim.analysis.observables import SEPARATED
 from sleighsim.claims import setup_columns
 from sleighsim.claims.rules import REPRODUCED
+from sleighsim.io import layout
 from sleighsim.io.netcdf import read_dataset
 from sleighsim.model.symmetries import REFERENCE_STATE
 from sleighsim.report.page import Table
@@ -53,13 +54,13 @@ def scene_ladders(datasets: dict) -> Table | None:
     precision with its stated uncertainty and the precision it converges in, then one row per scene
     saying when the sampled orbits separate and which arithmetic follows them. None when no scene
     was laddered."""
-    names = sorted(n for n in datasets if n.startswith("ladder/"))
+    names = sorted(n for n in datasets if layout.is_ladder(n))
     if not names:
         return None
     rows = []
     for name in names:
         ds = read_dataset(datasets[name])
-        scene = name.split("/", 1)[1]
+        scene = layout.scene_of(name)
         for k, obs in enumerate(ds.observable.values):
             cells = "; ".join(f"{p}: {_cell(float(ds.value.values[j, k]), float(ds.uncertainty.values[j, k]))}"
                               for j, p in enumerate(ds.precision.values))

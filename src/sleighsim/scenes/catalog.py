@@ -3,9 +3,9 @@ names of the datasets a config builds.
 
 Scenes live in the config: each block under ``scenes`` names its ``kind``; the dataset is
 ``results/data/<scene>.nc``, computed by the kind's declared function (:class:`sleighsim.scenes.kind.SceneKind`).
-A scene may also run in several precisions (its finer ones under ``precision/<tag>/``, their ladder
-under ``ladder/``) and from perturbed start states (``realization/<k>/``). The Snakefile, the config
-checks, the cost estimate and the claims ledger derive what they build from here.
+A scene may also run in several precisions (a ladder, coarse to fine from double) and from perturbed
+start states (realizations); where each of those lies is :mod:`sleighsim.io.layout`'s. The Snakefile, the
+config checks, the cost estimate and the claims ledger derive what they build from here.
 
 Importing this module imports every scene module (about 1.1 CPU-s, once per job: farm-bench, median
 of 10; scipy.signal, .stats and .optimize are imported where used, 0.8 CPU-s less)."""
@@ -14,7 +14,8 @@ from __future__ import annotations
 
 import xarray as xr
 
-from sleighsim.precision import Precision
+from sleighsim.io import layout
+from sleighsim.precision import Precision, parsed
 from sleighsim.scenes import (
     audit,
     basins,
@@ -90,33 +91,12 @@ def chunk_count(cfg: dict) -> int:
     return KINDS[cfg["kind"]].chunk_count(cfg)
 
 
-def precision_tag(precision: str) -> str:
-    """A precision's name in paths (``Precision.tag``): "long double" -> "long_double"."""
-    return Precision.parse(precision).tag
-
-
-def variant(scene: str, precision: str) -> str:
-    """The dataset name (path under data/) of ``scene`` computed in ``precision``: the scene itself
-    in double (the paper's arithmetic), else precision/<tag>/<scene>."""
-    return scene if precision == "double" else f"precision/{precision_tag(precision)}/{scene}"
-
-
-def ladder_name(scene: str) -> str:
-    """The dataset name (path under data/) of the precision ladder of ``scene``."""
-    return f"ladder/{scene}"
-
-
-def laddered(config: dict, *, on_request: bool = False) -> dict[str, list[str]]:
-    """{scene: its precisions, coarse to fine} for the scenes of ``config`` that run in more than
-    one precision (among those :func:`datasets` builds)."""
+def laddered(config: dict, *, on_request: bool = False) -> dict[str, list[Precision]]:
+    """{scene: its precisions, coarse to fine from double} for the scenes of ``config`` that run in more
+    than one precision (among those :func:`datasets` builds)."""
     scenes = config["scenes"]
-    return {name: list(scenes[name]["precisions"]) for name in datasets(config, on_request=on_request)
+    return {name: parsed(scenes[name])["precisions"] for name in datasets(config, on_request=on_request)
             if KINDS[scenes[name]["kind"]].observables and len(scenes[name].get("precisions", ())) > 1}
-
-
-def realization_name(scene: str, k: int) -> str:
-    """The dataset name (path under data/) of realization ``k`` of ``scene`` (0: the scene itself)."""
-    return scene if k == 0 else f"realization/{k}/{scene}"
 
 
 def realized(config: dict, *, on_request: bool = False) -> dict[str, int]:
@@ -131,9 +111,9 @@ def run_datasets(config: dict) -> list[str]:
     """Every dataset the config's default run builds, by name under data/: its scenes, their
     finer-precision variants and precision ladders, and their realizations (on-request scenes not)."""
     lad = laddered(config)
-    return (datasets(config) + [variant(s, p) for s, ps in lad.items() for p in ps if p != "double"]
-            + [ladder_name(s) for s in lad]
-            + [realization_name(s, k) for s, n in realized(config).items() for k in range(1, n)])
+    return (datasets(config) + [layout.variant(s, p) for s, ps in lad.items() for p in ps[1:]]
+            + [layout.ladder(s) for s in lad]
+            + [layout.realization(s, k) for s, n in realized(config).items() for k in range(1, n)])
 
 
 def scene_config(config: dict, scene: str) -> dict:
@@ -141,13 +121,14 @@ def scene_config(config: dict, scene: str) -> dict:
     the kind integrates and the block sets no value, the scheduling keys removed (and a laddered
     kind's ``precisions`` and ``gain``: each precision's job adds its own ``precision``, and the
     ladder's job reads the gauge; a realizable kind's ``realizations`` and ``realization_rel``: each
-    realization's job perturbs its start states itself)."""
+    realization's job perturbs its start states itself), every arithmetic it names parsed into a
+    Precision (``sleighsim.precision.parsed``: the one place a scene's precisions are parsed)."""
     block = config["scenes"][scene]
     kind = KINDS[block["kind"]]
     defaults = config.get("defaults", {}) if kind.integrates else {}
     laddering = ("precisions", "gain") if kind.observables else ()  # the ladder's, by its own jobs
     realizing = ("realizations", "realization_rel") if kind.realizable else ()
-    return {**defaults, **{k: v for k, v in block.items() if k not in SCHEDULING + laddering + realizing}}
+    return parsed({**defaults, **{k: v for k, v in block.items() if k not in SCHEDULING + laddering + realizing}})
 
 
 def datasets(config: dict, *, on_request: bool = False) -> list[str]:

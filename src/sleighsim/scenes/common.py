@@ -65,7 +65,7 @@ def steady_arithmetic(cfg: dict) -> dict:
     arithmetic, when unset) at its ``tolerance``. The transient before it always runs in double at
     ``tol``, so every precision of a scene's ladder starts from the same settled point. Returns
     {"precision" (a Precision), "tol"}."""
-    precision = Precision.parse(cfg.get("precision", "double"))
+    precision = cfg.get("precision", Precision.DOUBLE)
     return {"precision": precision, "tol": tolerance(cfg, precision)}
 
 

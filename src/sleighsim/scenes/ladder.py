@@ -90,8 +90,7 @@ def one_state(params, y0, cfg: dict, label: str) -> dict:
     """Settle the state from y0 (double), then run it in every precision of the ladder."""
     y, pre = settle(params, y0, cfg["t_transient"], **cfg["transient"], tol=Precision.DOUBLE.epsilon, label=label,
                     progress=1)
-    runs = [run_in(params, y, Precision.parse(p), T=cfg["T"], dt=cfg["dt"],
-                   spike_factor=cfg["transient"]["spike_factor"])
+    runs = [run_in(params, y, p, T=cfg["T"], dt=cfg["dt"], spike_factor=cfg["transient"]["spike_factor"])
             for p in cfg["precisions"]]
     seps = [separation(a, b) for a, b in zip(runs[:-1], runs[1:])]
     t = cfg["dt"] * np.arange(1, runs[0]["velocities"].shape[0] + 1)
@@ -108,7 +107,7 @@ def precision_ladder(cfg: dict, scene: str = "") -> xr.Dataset:
     and when it first exceeds SEPARATED; per state, the converged precision."""
     start = time.perf_counter()
     params = Params.from_config(cfg["params"])
-    names, precs = list(cfg["states"]), [Precision.parse(p) for p in cfg["precisions"]]
+    names, precs = list(cfg["states"]), cfg["precisions"]
     out = [one_state(params, state_at_label(cfg["states"][n], params, cfg["energy_label"]), cfg, f"{scene}[{n}]")
            for n in names]
     every = int(round(cfg["separation_every"] / cfg["dt"]))

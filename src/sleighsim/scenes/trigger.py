@@ -93,7 +93,7 @@ def trigger_law(cfg: dict, scene: str = "") -> xr.Dataset:
     """First and second spike per (precision, tol) of ``cfg["tols"]`` from y0, and the fitted law."""
     start = time.perf_counter()
     params = Params.from_config(cfg["params"])
-    runs = [(Precision.parse(p), float(t)) for p, tols in cfg["tols"].items() for t in tols]
+    runs = [(p, float(t)) for p, tols in cfg["tols"].items() for t in tols]
     out = np.array([spikes_after(params, cfg["y0"], p, t, cfg, scene) for p, t in runs])
     tol = np.array([t for _, t in runs])
     in_fit = fitted(runs)

@@ -57,7 +57,7 @@ def orbit_and_megno(params, y, dc: dict, *, tangent: bool = True) -> tuple[dict,
     t, Y in the model's variables as doubles, drift max |E/E0 - 1|, steps, and with the tangent
     log_norm, the tangent vector's on t: interpolated between renormalisations in heyoka's
     arithmetics), (the MEGNO run, None without the tangent)."""
-    precision = Precision.parse(dc["precision"])
+    precision = dc["precision"]
     if precision is Precision.DOUBLE_DOUBLE:
         return dd_orbit_and_megno(params, y, dc) if tangent else (dd_orbit(params, y, dc), None)
     orbit = heyoka_orbit(params, y, dc, precision)
@@ -239,7 +239,7 @@ def decisive_state(cfg: dict, stage1: xr.Dataset, scene: str = "", *, voters: fr
     params, dc, sigma = Params.from_config(cfg["params"]), decisive_config(cfg), cfg["sigma"]
     y, tangent = stage1.settled_state.values[0], needs_tangent(voters)
     orbit, m = orbit_and_megno(params, y, dc, tangent=tangent)
-    gain_rounding = math.exp(float(stage1.ln_gain_max.values[0])) * Precision.parse(dc["precision"]).rounding
+    gain_rounding = math.exp(float(stage1.ln_gain_max.values[0])) * dc["precision"].rounding
     judged = {"megno": megno_judged(m, dc, sigma) if tangent else not_run("megno", dc),
               "section_megno": section_megno_judged(orbit, dc, sigma) if tangent else not_run("section_megno", dc),
               "frequency": frequency_stage(orbit, dc, sigma), "birkhoff": birkhoff_stage(orbit, dc, gain_rounding)}
@@ -279,7 +279,7 @@ def _decisive_vars(stage1, judged: dict, orbit: dict, dc: dict, verdict: str, re
     """The decisive stage's variables for its one state (names prefixed decisive_)."""
     names = list(judged)
     ln_gain = float(stage1.ln_gain_max.values[0])
-    log10_gr = (ln_gain + math.log(Precision.parse(dc["precision"]).rounding)) / math.log(10)
+    log10_gr = (ln_gain + math.log(dc["precision"].rounding)) / math.log(10)
     follows = indicator_follows(ln_gain, dict.fromkeys(names, dc["precision"]),
                                 {k: judged[k].get("resolved", math.nan) for k in names})
     m = judged["megno"]["run"] or {"t": np.full(1, math.nan), "Y_mean": np.full(1, math.nan)}
@@ -357,4 +357,4 @@ def decisive_spike_period(ds: xr.Dataset) -> np.ndarray:
 
 def _backend(precision: str) -> str:
     """The integrator of the decisive arithmetic."""
-    return "sleighsim.engine.ddtaylor" if Precision.parse(precision) is Precision.DOUBLE_DOUBLE else "heyoka"
+    return "heyoka" if precision.heyoka else "sleighsim.engine.ddtaylor"

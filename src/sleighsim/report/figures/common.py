@@ -15,6 +15,7 @@ from matplotlib.text import Text  # noqa: E402
 from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter, ScalarFormatter  # noqa: E402
 
 from sleighsim.io.netcdf import atomic_path  # noqa: E402
+from sleighsim.precision import Precision  # noqa: E402
 
 #: The report shows a PNG at most 1100 px wide: a figure at most WIDTH inches wide is shown at 100 px
 #: per inch or more, so no text under MIN_PT points renders under 11 px.
@@ -91,16 +92,21 @@ def finish(fig, attrs: dict):
     return fig
 
 
-#: Line styles of the precisions drawn beside double (the paper's arithmetic).
-PRECISION_STYLE = {"double": {"color": "tab:blue"}, "long double": {"color": "tab:red", "alpha": 0.7},
-                   "quad": {"color": "black", "alpha": 0.6}}
+#: One colour per arithmetic, in every figure.
+ARITHMETIC_COLOUR = {Precision.DOUBLE: "tab:blue", Precision.LONG_DOUBLE: "tab:red",
+                     Precision.DOUBLE_DOUBLE: "tab:green", Precision.QUAD: "black"}
+#: Line styles of the precisions drawn beside double (the paper's arithmetic): their colour, the finer
+#: ones a little transparent.
+PRECISION_STYLE = {p: {"color": c} | ({} if p is Precision.DOUBLE else {"alpha": 0.7 if p is Precision.LONG_DOUBLE
+                                                                              else 0.6})
+                   for p, c in ARITHMETIC_COLOUR.items()}
 
 
 def finer_precisions(datasets: list) -> dict:
     """{(scene, precision): dataset} of the datasets computed in a precision finer than double
     (a figure drawn beside its finer precisions receives them after its own datasets)."""
     return {(d.attrs["scene"], d.attrs["precision"]): d for d in datasets
-            if d.attrs.get("precision", "double") != "double"}
+            if d.attrs.get("precision", Precision.DOUBLE) != Precision.DOUBLE}
 
 
 #: A numpy array or scalar printed as is: "[0.02 -0.01]", "array(", "np.float64(".

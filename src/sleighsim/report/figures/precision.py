@@ -6,10 +6,9 @@ from __future__ import annotations
 import numpy as np
 
 from sleighsim.io.netcdf import read_dataset
-from sleighsim.report.figures.common import PRECISION_STYLE, finish, subplots
+from sleighsim.precision import Precision
+from sleighsim.report.figures.common import ARITHMETIC_COLOUR, PRECISION_STYLE, finish, subplots
 from sleighsim.report.figures.figure import Figure
-
-COLOURS = {"double": "tab:red", "long double": "tab:blue", "double-double": "tab:green", "quad": "k"}
 
 
 def precision(sources):
@@ -24,7 +23,7 @@ def precision(sources):
         for j, p in enumerate(ds.precision.values):
             t = ds.spike_time.values[k, j]
             t = t[np.isfinite(t)]
-            ax.plot(t[1:], np.diff(t), "o-", ms=3, color=COLOURS.get(str(p), None),
+            ax.plot(t[1:], np.diff(t), "o-", ms=3, color=ARITHMETIC_COLOUR[Precision.parse(str(p))],
                     label=f"{p}: {ds.interval_mean.values[k, j]:.1f} +- {ds.interval_sd.values[k, j]:.1f}")
         ax.set_title(f"{st}: converged precision: {ds.converged_precision.values[k]}")
         if not np.isfinite(ds.interval_mean.values[k]).any():
