@@ -11,18 +11,17 @@ from __future__ import annotations
 import os
 import re
 
+from sleighsim.io import layout
 from sleighsim.scenes.checks import ConfigError
 
 #: The documented pattern of a scene name (the schema's ``scenes.propertyNames``).
 SCENE_NAME = r"^[A-Za-z][A-Za-z0-9_]{0,63}$"
-#: Names a scene may not take: the workflow's rules and the directories under results/.
+#: Names a scene may not take: the workflow's rules and the folders of the results tree (io.layout).
 RESERVED = frozenset({
     # rules (workflow/Snakefile, workflow/rules/*.smk)
     "all", "atlas", "chunk", "chunk_in_precision", "claims", "figure", "gather", "gather_in_precision",
     "ladder", "report", "scene", "scene_first", "scene_in_precision", "scene_realization", "schematic",
-    "stability",
-    # directories under results/
-    "benchmarks", "chunks", "data", "figures", "logs", "precision", "realization", "unreadable"})
+    "stability", *layout.RESERVED})
 
 
 def _shown(name: str) -> str:
