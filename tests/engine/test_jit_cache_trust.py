@@ -1,6 +1,11 @@
 """Issue 54: every heyoka compilation checks the JIT cache directory first (heyoka runs the code it finds
 there), not only those built through integrators.compiled: each builder below compiled from an unchecked
-directory before."""
+directory before. numba's cache (it unpickles what it finds there) is checked the same way."""
+
+import os
+import subprocess
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -42,3 +47,18 @@ def test_a_heyoka_build_outside_compiled_refuses_a_jit_cache_others_can_write(na
         _builders()[name]()
     assert hy.llvm_state.get_diskcache_path() == before
     assert not any(cache.iterdir())
+
+
+def test_a_numba_cache_others_can_write_is_refused_before_the_double_double_kernels_use_it(tmp_path):
+    """NUMBA_CACHE_DIR is read when numba is imported: a child process imports the kernels."""
+    pytest.importorskip("numba")
+    cache = tmp_path / "numba"
+    cache.mkdir()
+    cache.chmod(0o777)
+    src = str(Path(__file__).resolve().parents[2] / "src")
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(cache), "PYTHONPATH": src}
+    res = subprocess.run([sys.executable, "-c", "import sleighsim.engine.ddtaylor"], env=env, capture_output=True,
+                         text=True, timeout=300)
+    assert res.returncode != 0
+    assert f"UnsafeDirectory: numba's cache {cache}" in res.stderr, res.stderr[-2000:]
+    assert not any(cache.rglob("*.nb[ic]"))
