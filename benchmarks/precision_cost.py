@@ -288,6 +288,7 @@ def run(opts) -> dict:
     equations.heyoka_system(False, integrators.DELTA_SHIFT)
     for fp in (float, np.longdouble, hy.real128):
         equations.compile_pars(fp)
+    integrators.guarded_heyoka()  # heyoka's JIT cache checked before the first build (issue 54)
     x = hy.make_vars("x")
     hy.taylor_adaptive([(x, -x)], [1.0])
     if opts["cold_compile"]:

@@ -57,7 +57,7 @@ print("horizons from", "config/config.yaml" + (f" + {overlay}" if overlay else "
 # ## The model and its energy
 #
 # `Params.paper` takes the paper's form (eps = m_r/m = a/b, K2 = 1 + I_c/(m b^2)); the equations are
-# derived from the mechanics with SymPy (`sleighsim.derive`, cached on disk). A state is
+# derived from the mechanics with SymPy (`sleighsim.derive`, once per process). A state is
 # (u, Omega, omega, delta): the sleigh's forward speed, its turning rate, the rotor's rate and angle.
 # The energy is conserved exactly; the paper labels a state by its energy, and the time-scaling
 # symmetry moves a state to any label (`state_at_label`).

@@ -147,7 +147,7 @@ def test_a_jit_cache_another_user_controls_is_refused_before_heyoka_uses_it(tmp_
     before = hy.llvm_state.get_diskcache_path()
     why = "is owned by uid" if owner_other else "is writable by its group or by others"
     with pytest.raises(UnsafeDirectory, match=rf"^SLEIGHSIM_JIT_CACHE {cache}: refused as a cache, since .*{why}"):
-        integrators._jit_cache_path()
+        integrators.guarded_heyoka()
     assert hy.llvm_state.get_diskcache_path() == before
 
 

@@ -121,7 +121,7 @@ def realizations(system: str, n: int, stream: int, first: int = 0) -> list[Orbit
 
 @functools.cache
 def _flow(system: str, precision: str):
-    import heyoka as hy  # the audit's only heyoka use; imported when a judge first runs
+    hy = integrators.guarded_heyoka()  # the audit's only heyoka use; imported when a judge first runs
 
     fp = np.longdouble if precision == "long double" else float
     sys = SYSTEMS[system].build(hy)

@@ -17,12 +17,15 @@ from __future__ import annotations
 
 import math
 from fractions import Fraction
+from pathlib import Path
 
 import mpmath
 import numba
 import numpy as np
 from numba.core import types
 from numba.extending import intrinsic
+
+from sleighsim.io.cachedir import private_directory
 
 #: Unit roundoff of double-double (2^-106).
 ROUNDING = 2.0**-106
@@ -73,7 +76,19 @@ N_TRIG = next(n for n in range(1, 40) if (math.pi / 4) ** (2 * n + 1) / math.fac
 SIN_COEF = np.array([pair(Fraction((-1) ** j, math.factorial(2 * j + 1))) for j in range(N_TRIG + 1)])
 COS_COEF = np.array([pair(Fraction((-1) ** j, math.factorial(2 * j))) for j in range(N_TRIG + 1)])
 
-jit = numba.njit(cache=True, fastmath=False, error_model="numpy")
+_njit = numba.njit(cache=True, fastmath=False, error_model="numpy")
+
+
+def jit(f):
+    """numba's ``njit(cache=True)`` of ``f``, its cache directory checked first: numba unpickles what it
+    finds there. ``__pycache__`` beside the source is as trusted as Python's bytecode there; any other
+    (NUMBA_CACHE_DIR, or ~/.cache/numba when that is not writable) must be one only this user controls
+    (:func:`sleighsim.io.cachedir.private_directory`)."""
+    dispatcher = _njit(f)
+    where = Path(dispatcher._cache.cache_path)
+    if where != Path(f.__code__.co_filename).parent / "__pycache__":
+        private_directory(where, "numba's cache")
+    return dispatcher
 
 
 @jit

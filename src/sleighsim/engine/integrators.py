@@ -50,7 +50,7 @@ def compiled(key: tuple, build: Callable, angles: dict = SLEIGH_ANGLES):
     """(integrator, compile seconds) for ``key``: built by ``build()`` on first use in this process;
     ``angles`` (name -> (state index, stored shift)) are the variables :func:`bounded` keeps in [0, 2 pi)."""
     if key not in _CACHE:
-        _jit_cache_path()
+        guarded_heyoka()
         start = time.perf_counter()
         ta = build()
         _CACHE[key] = (ta, time.perf_counter() - start)
@@ -58,19 +58,21 @@ def compiled(key: tuple, build: Callable, angles: dict = SLEIGH_ANGLES):
     return _CACHE[key]
 
 
-def _jit_cache_path() -> None:
-    """Point heyoka's on-disk cache at $SLEIGHSIM_JIT_CACHE when set (else heyoka's default), a
+def guarded_heyoka():
+    """heyoka, its on-disk cache pointed at $SLEIGHSIM_JIT_CACHE when set (else heyoka's default), a
     directory only this user controls (:func:`sleighsim.io.cachedir.private_directory`: created 0700,
-    refused when another user owns or can write it, since heyoka runs the code it finds there)."""
+    refused when another user owns or can write it, since heyoka runs the code it finds there). Every
+    heyoka build calls it first."""
     import heyoka as hy
 
     if not hy.llvm_state.get_diskcache_enabled():
-        return
+        return hy
     path = os.environ.get("SLEIGHSIM_JIT_CACHE")
     what = "SLEIGHSIM_JIT_CACHE" if path else "heyoka's default cache directory"
     path = str(private_directory(path or hy.llvm_state.get_diskcache_path(), what))
     if hy.llvm_state.get_diskcache_path() != path:
         hy.llvm_state.set_diskcache_path(path)
+    return hy
 
 
 def register(ta, angles: dict) -> None:
@@ -182,7 +184,7 @@ def rhs_function(kinematics: bool = False, k: int = 0, params=None):
 def _tangent(sys, k: int, make):
     """(ta, n, compile_s) of ``make(vsys, n)``: heyoka's first-order variational equations of ``sys``
     (list of (var, expr)) with respect to its first k variables, built by ``make``."""
-    import heyoka as hy
+    hy = guarded_heyoka()
 
     sys = list(sys)
     n = len(sys)
@@ -256,7 +258,7 @@ def megno_integrator(sys, pars=(), tol=None, compact_mode=True, precision: Preci
     Y(t) = 2 I / t and <Y>(t) = J / t (t = heyoka's time, which must start > 0), in the arithmetic
     ``precision``. Returns (ta, n).
     """
-    import heyoka as hy
+    hy = guarded_heyoka()
 
     fp_type = precision.fp_type
     sys = list(sys)

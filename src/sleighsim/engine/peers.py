@@ -45,8 +45,13 @@ class PeerUnavailable(ImportError):
 
 
 def require(module: str, package: str | None = None):
-    """Import ``module`` or raise :class:`PeerUnavailable` with the install hint."""
+    """Import ``module`` or raise :class:`PeerUnavailable` with the install hint; heyoka with its JIT
+    cache checked (sleighsim.engine.integrators.guarded_heyoka)."""
     try:
+        if module == "heyoka":
+            from sleighsim.engine.integrators import guarded_heyoka
+
+            return guarded_heyoka()
         return importlib.import_module(module)
     except ImportError as exc:
         name = package or module.split(".")[0]

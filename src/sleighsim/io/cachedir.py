@@ -1,5 +1,5 @@
-"""Cache directories no other user controls: heyoka's compiled code and the SymPy derivation are
-read back from them, so whoever can write there runs code in every job.
+"""Cache directories no other user controls: heyoka's and numba's compiled code is read back from
+them and run, so whoever can write there runs code in every job.
 
 A cache directory is created with mode 0700 when missing. An existing one is used only when it is a
 directory owned by the current user that no one else can write, and when each directory above it is

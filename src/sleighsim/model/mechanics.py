@@ -17,21 +17,16 @@ with delta = theta - beta. The projected equations are invariant under
 rotations of the plane, so they are evaluated at theta = 0 (beta = -delta);
 a test checks that invariance at random headings.
 
-Everything is cached: the derivation (about 0.5 s of CPU with the polynomial form, no blanket ``simplify``)
-runs once per process, and its result is kept on disk between processes (``$SLEIGHSIM_CACHE``,
-default ``~/.cache/sleighsim``), under a name made from a hash of this module's source and the
-SymPy version, so any change to the derivation derives afresh. The file is data, not a pickle: JSON
-holding each expression as SymPy's ``srepr`` text and a SHA-256 of them; reading it evaluates only
-calls of a few SymPy classes on literals (:func:`parse_srepr`), and its directory must be one only
-this user controls (:func:`sleighsim.io.cachedir.private_directory`).
+The derivation (about 0.3 s of CPU with the polynomial form, no blanket ``simplify``) runs once per
+process and is kept in memory only. It was once cached on disk as SymPy text, which read back became
+code (issue 54: a Symbol's name is pasted into the source ``lambdify`` runs); reading it saved 0.26 s
+per process, about 1.5% of a full run's CPU, so nothing of it is read from disk any more.
 """
 
 from __future__ import annotations
 
-import ast
-import hashlib
-import json
 import os
+import warnings
 from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
@@ -130,97 +125,26 @@ def projected_equations(theta_value=0):
     return sp.expand(projected)
 
 
-def cache_file() -> Path:
-    """Where :func:`derive` keeps its result between processes: named by a hash of this module's
-    source and the SymPy version, in ``$SLEIGHSIM_CACHE`` (default ``~/.cache/sleighsim``)."""
-    key = hashlib.sha256(Path(__file__).read_bytes() + sp.__version__.encode()).hexdigest()[:16]
+def _old_cache_files() -> list[Path]:
+    """Derivation files an earlier sleighsim kept between processes (``$SLEIGHSIM_CACHE``, default
+    ``~/.cache/sleighsim``): listed by name for :func:`derive`'s warning, never opened."""
     root = os.environ.get("SLEIGHSIM_CACHE") or Path.home() / ".cache" / "sleighsim"
-    return Path(root) / f"derivation-{key}.json"
-
-
-#: The SymPy names a stored derivation's srepr text may call (every name its expressions use).
-SREPR_NAMES = ("Add", "Mul", "Pow", "Integer", "Rational", "Float", "Symbol", "Function", "Derivative", "Tuple",
-               "sin", "cos", "ImmutableDenseMatrix", "MutableDenseMatrix")
-#: Of these, those whose first argument is a text (a name or digits, never parsed as an expression).
-_TEXT_FIRST = ("Symbol", "Function", "Float")
-
-
-def parse_srepr(text: str):
-    """The SymPy object of ``srepr`` ``text``, evaluating nothing but calls of :data:`SREPR_NAMES` on
-    numbers, booleans, lists and tuples (text only as the name of a Symbol or Function or the digits of
-    a Float); ValueError for anything else (an attribute, another name, an operator)."""
-    tree = ast.parse(text, mode="eval")
-    texts = {id(c.args[0]) for c in ast.walk(tree) if isinstance(c, ast.Call) and c.args
-             and isinstance(c.func, ast.Name) and c.func.id in _TEXT_FIRST}
-    for node in ast.walk(tree):
-        ok = (isinstance(node, (ast.Expression, ast.Call, ast.keyword, ast.List, ast.Tuple, ast.Load, ast.USub))
-              or (isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.USub))
-              or (isinstance(node, ast.Name) and node.id in SREPR_NAMES)
-              or (isinstance(node, ast.Constant) and (not isinstance(node.value, str) or id(node) in texts)))
-        if not ok:
-            raise ValueError(f"text: {ast.dump(node)[:80]} is not part of a SymPy srepr of the derivation")
-    return eval(compile(tree, "<srepr>", "eval"), {"__builtins__": {}}, {n: getattr(sp, n) for n in SREPR_NAMES})
-
-
-def _fields(d: Derivation) -> dict:
-    """The derivation's expressions by field name (the polynomial form's flattened in)."""
-    poly = d.polynomial
-    return {"M": d.M, "f": d.f, "rhs": list(d.rhs), "energy": d.energy, "lagrangian": d.lagrangian,
-            "numerators": list(poly.numerators), "denominator": poly.denominator, "K": list(poly.K),
-            "coefficients": list(poly.coefficients)}
-
-
-def _digest(payload: dict) -> str:
-    return hashlib.sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()
-
-
-def dump_derivation(d: Derivation) -> str:
-    """``d`` as JSON text: each field's srepr (lists for the tuples) and their SHA-256."""
-    payload = {k: [sp.srepr(e) for e in v] if isinstance(v, list) else sp.srepr(v) for k, v in _fields(d).items()}
-    return json.dumps({"sha256": _digest(payload), "derivation": payload})
-
-
-def load_derivation(text: str) -> Derivation:
-    """The derivation of :func:`dump_derivation`'s ``text``; ValueError when its checksum does not
-    match or it holds anything but srepr text of the derivation (KeyError, TypeError when malformed)."""
-    stored = json.loads(text)
-    payload = stored["derivation"]
-    if stored["sha256"] != _digest(payload):
-        raise ValueError("text: its SHA-256 does not match its contents")
-    v = {k: [parse_srepr(e) for e in x] if isinstance(x, list) else parse_srepr(x) for k, x in payload.items()}
-    poly = PolynomialForm(numerators=tuple(v["numerators"]), denominator=v["denominator"], K=tuple(v["K"]),
-                          coefficients=tuple(v["coefficients"]))
-    return Derivation(M=v["M"], f=v["f"], rhs=tuple(v["rhs"]), energy=v["energy"], lagrangian=v["lagrangian"],
-                      polynomial=poly)
+    try:
+        return sorted(Path(root).glob("derivation-*.json"))
+    except OSError:
+        return []
 
 
 @cache
 def derive() -> Derivation:
-    """M(delta), f and the explicit reduced vector field: from the disk cache when it holds this
-    derivation intact, else derived (and stored; an unwritable cache only costs the time). A cache
-    directory another user owns or can write is refused (sleighsim.io.cachedir.UnsafeDirectory)."""
-    # deferred: sleighsim.io.netcdf brings xarray, 0.40 s (python -X importtime) on top of this
-    # module's 0.24 s, which the benchmarks and the integrator-only imports do not need
-    from sleighsim.io.cachedir import private_directory
-    from sleighsim.io.netcdf import atomic_path
-
-    path = cache_file()
-    try:
-        private_directory(path.parent, "SLEIGHSIM_CACHE" if os.environ.get("SLEIGHSIM_CACHE") else "the derivation "
-                          "cache (default of SLEIGHSIM_CACHE)")
-    except OSError:  # it cannot be created: derive without it
-        return _derive()
-    try:
-        return load_derivation(path.read_text())
-    except (OSError, ValueError, KeyError, TypeError, SyntaxError):  # missing, unreadable, stale or corrupt
-        pass
-    d = _derive()
-    try:
-        with atomic_path(path) as tmp:
-            tmp.write_text(dump_derivation(d))
-    except OSError:
-        pass
-    return d
+    """M(delta), f and the explicit reduced vector field, derived once per process (about 0.3 s of
+    CPU). Nothing is read from disk; a derivation file an earlier sleighsim cached is named in a
+    warning and ignored."""
+    for path in _old_cache_files():
+        warnings.warn(f"{path}: a derivation cached by an earlier sleighsim, ignored: the derivation is no "
+                      "longer read from disk, where code could hide in it (issue 54); delete the file",
+                      stacklevel=2)
+    return _derive()
 
 
 def _derive() -> Derivation:

@@ -39,7 +39,7 @@ log = logging.getLogger("sleighsim")
 
 def reference(params, y0, t_end, tol):
     """End state at t_end with heyoka in long double precision; returns (state, wall)."""
-    import heyoka as hy
+    hy = integrators.guarded_heyoka()
 
     start = time.perf_counter()
     ta = hy.taylor_adaptive(equations.heyoka_system(delta_shift=integrators.DELTA_SHIFT), np.zeros(4, np.longdouble),
