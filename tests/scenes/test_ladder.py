@@ -6,6 +6,7 @@ import math
 import numpy as np
 import pytest
 
+from sleighsim.precision import parsed
 from sleighsim.scenes import ladder
 
 
@@ -48,7 +49,7 @@ def test_a_rotor_start_converges_in_double(hy):
            "states": {"rotor_a": [0.0, 0.0, 1.0, 0.3]}, "t_transient": 6000.0,
            "transient": {"dt": 3.0, "window": 750.0, "rtol": 0.02, "spike_factor": 1.8, "t_min": 200.0},
            "T": 6000.0, "dt": 1.0, "separation_every": 10.0, "precisions": ["double", "long double"]}
-    ds = ladder.precision_ladder(cfg, "test")
+    ds = ladder.precision_ladder(parsed(cfg), "test")
     assert ds.converged_precision.values.tolist() == ["double"]
     assert np.all(ds.interval_mean.values > 1000) and np.all(np.isnan(ds.t_separated.values))
     assert ds.separation.values.max() < 1e-6 and list(ds.pair.values) == ["double / long double"]

@@ -8,7 +8,7 @@ import pytest
 import xarray as xr
 
 from sleighsim.claims import causes
-from sleighsim.precision import Precision
+from sleighsim.precision import Precision, parsed
 from sleighsim.scenes import trigger
 
 D, LD, Q = Precision.DOUBLE, Precision.LONG_DOUBLE, Precision.QUAD
@@ -46,7 +46,7 @@ def test_trigger_scene_on_a_short_run():
     double); the machine-epsilon run is kept outside the fit."""
     cfg = dict(params={"eps": 0.2, "b": 1.0, "K2": 1.2}, y0=[0.0, 0.1, 1.0, 0.0], t_end=2000.0, dt=1.0, t_min=250.0,
                spike_factor=1.8, tols={"double": [1e-8, 1e-10, 1e-12, 2.0**-52], "long double": [1e-12]})
-    ds = trigger.trigger_law(cfg, "t")
+    ds = trigger.trigger_law(parsed(cfg), "t")
     assert ds.in_fit.values.tolist() == [1, 1, 0, 0, 1]
     assert np.all(np.isfinite(ds.first_spike.values))
     assert ds.first_spike.values[2] == ds.first_spike.values[4]  # tol 1e-12 in both arithmetics
@@ -75,7 +75,7 @@ def test_the_law_counts_each_tolerance_once(monkeypatch):
     cfg = {"params": {"eps": 0.1, "b": 1.0, "K2": 1.1}, "y0": [0.0, 0.1, 1.0, 0.0], "t_end": 1.0, "dt": 1.0,
            "t_min": 0.0, "spike_factor": 1.8, "tols": {"double": [1e-8, 1e-9, 1e-10, 1e-11, 1e-12, 2.0**-52],
                                                       "long double": [1e-12, 1e-13, 1e-14, 1e-15, 1e-16, 2.0**-63]}}
-    ds = trigger.trigger_law(cfg, "t")
+    ds = trigger.trigger_law(parsed(cfg), "t")
     assert ds.attrs["law_n_fit"] == 9 == int(ds.in_fit.sum())
     assert ds.attrs["law_slope"] == pytest.approx(-30.0) and ds.attrs["law_intercept"] == pytest.approx(5000.0)
     assert "one per distinct tolerance" in ds.attrs["fit_rule"] and "least squares" in ds.attrs["fit_rule"].lower()

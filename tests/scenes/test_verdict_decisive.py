@@ -11,6 +11,7 @@ import xarray as xr
 
 from sleighsim.chaos.megno import megno_from_log_norm
 from sleighsim.chaos.verdicts import CHAOTIC, REGULAR, UNDECIDED
+from sleighsim.precision import parsed
 from sleighsim.scenes import verdict, verdict_decisive
 from sleighsim.scenes.checks import ConfigError
 
@@ -168,10 +169,10 @@ def test_the_stage_integrates_a_tangent_vector_only_when_a_tangent_based_judge_o
 
 
 def _decisive_cfg():
-    return {"params": {"eps": 0.1, "b": 1.0, "K2": 1.1}, "sigma": 3.0, "tau": 10.0,
+    return parsed({"params": {"eps": 0.1, "b": 1.0, "K2": 1.1}, "sigma": 3.0, "tau": 10.0,
             "frequency": {"component": "omega", "min_cycles": 2.0}, "transient": {"spike_factor": 1.8},
             "decisive": {"states": ["main"], "precision": "double-double", "tol": 1e-20, "T": 200.0, "dt": 0.5,
-                         "splits": [2, 4], "megno_samples": 4, "vote_horizon": 1.0}}
+                         "splits": [2, 4], "megno_samples": 4, "vote_horizon": 1.0}})
 
 
 @pytest.mark.parametrize("voters", [ALL, frozenset({"birkhoff", "ftle", "two_trajectory"})])

@@ -35,6 +35,7 @@ import numpy as np
 
 from sleighsim.chaos.common import _state
 from sleighsim.chaos.verdicts import REGULAR, UNDECIDED, _g, _is_finite
+from sleighsim.engine.orbits import grid_samples
 from sleighsim.model.params import positive
 
 MIN_SAMPLES = 16  # samples a window needs at least
@@ -135,19 +136,10 @@ def sampled_observables(ta, y0, *, T: float, dt: float, angles=(), callback=None
     """``observables`` of the orbit of ``ta`` (parameters set) from y0 (its stored state), sampled every dt
     at t = 0, dt, ..., T - dt (one propagate_grid run in the integrator's precision: double, long double or
     real128). RuntimeError naming the time when the integration stops early or leaves the finite numbers."""
-    import heyoka as hy
-
     y0 = _state("y0", y0, len(ta.state))
     T, dt = positive("T", T), positive("dt", dt)
-    fp = ta.state.dtype.type
-    ta.time = fp(0)
     ta.state[:] = np.asarray(y0).astype(ta.state.dtype)
-    grid = np.arange(round(T / dt)).astype(ta.state.dtype) * fp(dt)  # any precision, real128 too
-    res = ta.propagate_grid(grid) if callback is None else ta.propagate_grid(grid, callback=callback)
-    Y = np.asarray(res[-1]).astype(float)
-    if res[0] != hy.taylor_outcome.time_limit or not np.all(np.isfinite(Y)):
-        raise RuntimeError(f"integration stopped at t = {float(ta.time):.6g} (target {T:.6g}): heyoka outcome {res[0]}")
-    return observables(Y, angles)
+    return observables(grid_samples(ta, round(T / dt), dt, callback)[0].astype(float), angles)
 
 
 def _arithmetic_digits(gain_rounding) -> float:

@@ -23,6 +23,7 @@ import numpy as np
 
 from sleighsim.chaos.common import _state
 from sleighsim.chaos.verdicts import REGULAR, UNDECIDED, _g, _is_finite
+from sleighsim.engine.orbits import grid_samples
 from sleighsim.model.params import positive
 
 # relative precision of a refined frequency: on a pure cosine sampled 28 times a period the error is
@@ -181,19 +182,11 @@ def frequency_drift(ta, y0, *, T, dt, component, splits=(2, 4, 8, 16), min_cycle
     splits = check_splits(splits)
     if not (isinstance(component, (int, np.integer)) and 0 <= component < dim):
         raise ValueError(f"component must be an index into the state (0..{dim - 1}), got {component!r}")
-    fp = ta.state.dtype.type
     n = round(T / dt)
     if n < MIN_SAMPLES * splits[-1]:
         raise ValueError(f"T / dt = {n} samples: too few for {splits[-1]} windows of at least {MIN_SAMPLES}")
-    import heyoka as hy
-
-    ta.time = fp(0)
     ta.state[:] = np.asarray(y0).astype(ta.state.dtype)
-    grid = np.arange(n).astype(ta.state.dtype) * fp(dt)  # n samples: T = n dt (any precision, real128 too)
-    res = ta.propagate_grid(grid) if callback is None else ta.propagate_grid(grid, callback=callback)
-    samples = np.asarray(res[-1]).astype(float)
-    if res[0] != hy.taylor_outcome.time_limit or not np.all(np.isfinite(samples)):
-        raise RuntimeError(f"integration stopped at t = {float(ta.time):.6g} (target {T:.6g}): heyoka outcome {res[0]}")
+    samples = grid_samples(ta, n, dt, callback)[0].astype(float)  # n samples: T = n dt (any precision)
     out = drift(samples[:, component], dt, splits, min_cycles=min_cycles)
     out.update(T=float(n * dt), dt=float(dt), final_state=ta.state.copy())
     return out

@@ -30,6 +30,7 @@ from sleighsim.engine.integrate import final_state, integrate, sample_grid
 from sleighsim.io.netcdf import write_dataset
 from sleighsim.model import equations
 from sleighsim.model.params import Params
+from sleighsim.precision import Precision
 from sleighsim.scenes import memory
 from sleighsim.scenes.bench_peers import heyoka_end_state, peer_comparison
 from sleighsim.scenes.kind import SceneKind
@@ -38,14 +39,11 @@ log = logging.getLogger("sleighsim")
 
 
 def reference(params, y0, t_end, tol):
-    """End state at t_end with heyoka in long double precision; returns (state, wall)."""
-    hy = integrators.guarded_heyoka()
-
+    """End state at t_end with heyoka in long double precision (``integrators.flow``); returns (state, wall)."""
     start = time.perf_counter()
-    ta = hy.taylor_adaptive(equations.heyoka_system(delta_shift=integrators.DELTA_SHIFT), np.zeros(4, np.longdouble),
-                            pars=equations.heyoka_pars(params, np.longdouble), fp_type=np.longdouble,
-                            tol=np.longdouble(tol))
-    integrators.register(ta, integrators.SLEIGH_ANGLES)
+    ta, _ = integrators.flow(False, tol, Precision.LONG_DOUBLE)
+    integrators.set_pars(ta, params)
+    ta.time = np.longdouble(0)
     integrators.load(ta, np.asarray(y0, np.longdouble))
     ta.propagate_until(np.longdouble(t_end), callback=integrators.bounded(ta))
     return np.asarray(integrators.read(ta, 4), float), time.perf_counter() - start

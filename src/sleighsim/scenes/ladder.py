@@ -18,7 +18,7 @@ import numpy as np
 import xarray as xr
 
 from sleighsim.analysis.observables import SEPARATED
-from sleighsim.engine import integrators
+from sleighsim.engine.orbits import sleigh_orbit
 from sleighsim.engine.transient import settle, spike_times
 from sleighsim.io import cf
 from sleighsim.model.equations import energy
@@ -59,18 +59,9 @@ def run_in(params, y, precision: Precision, *, T: float, dt: float, spike_factor
     """The orbit from y (model variables) in ``precision`` over T, sampled every dt: velocities and
     the spike train of Omega (``transient.spike_times``), with the run's wall time."""
     start = time.perf_counter()
-    ta, _ = integrators.flow(False, precision.epsilon, precision)
-    integrators.set_pars(ta, params)
-    fp = ta.state.dtype.type
-    ta.time = fp(0)
-    integrators.load(ta, np.asarray(y, float))
     n = int(round(T / dt))
-    grid = np.arange(n + 1).astype(ta.state.dtype) * fp(dt)  # from t = 0 (heyoka's grid starts at the current time)
-    res = ta.propagate_grid(grid, callback=integrators.bounded(ta))
-    Y = integrators.samples(ta, np.asarray(res[-1]).astype(float))  # real128 too
+    Y = sleigh_orbit(params, y, precision, precision.epsilon, n + 1, dt).Y
     v = Y[1:, :3]
-    if v.shape[0] != n or not np.all(np.isfinite(v)):
-        raise RuntimeError(f"{precision} run stopped at t = {float(ta.time):.6g} of {T:.6g}: heyoka outcome {res[0]}")
     t = dt * np.arange(1, n + 1)
     spikes = spike_times(t, v[:, 1], factor=spike_factor)
     intervals = np.diff(spikes)

@@ -28,6 +28,7 @@ from sleighsim.chaos.section_megno import judge_section_megno, section_megno, se
 from sleighsim.chaos.verdicts import CHAOTIC, UNDECIDED
 from sleighsim.engine import ddtaylor, integrators, transient
 from sleighsim.engine.ddtaylor import DDFlow
+from sleighsim.engine.orbits import sleigh_orbit
 from sleighsim.io import cf
 from sleighsim.model import equations
 from sleighsim.model.params import Params
@@ -72,9 +73,9 @@ def orbit_and_megno(params, y, dc: dict, *, tangent: bool = True) -> tuple[dict,
     return orbit, m
 
 
-def _dd_grid(dc: dict) -> np.ndarray:
-    """The decisive orbit's sample times: 0, dt, ..., T."""
-    return np.arange(round(dc["T"] / dc["dt"]) + 1) * dc["dt"]
+def _samples(dc: dict) -> int:
+    """The decisive orbit's number of samples: t = 0, dt, ..., T."""
+    return round(dc["T"] / dc["dt"]) + 1
 
 
 def _dd_drift(params, hi, lo) -> float:
@@ -84,18 +85,16 @@ def _dd_drift(params, hi, lo) -> float:
 
 
 def dd_orbit(params, y, dc: dict) -> dict:
-    """``orbit_and_megno``'s orbit in double-double without a tangent vector."""
-    flow = DDFlow(params, dc["tol"])
-    grid = _dd_grid(dc)
-    hi, lo = flow.propagate_grid(np.asarray(y, float), grid)
-    return {"t": grid, "Y": hi, "steps": flow.steps, "drift": _dd_drift(params, hi, lo)}
+    """``orbit_and_megno``'s orbit in double-double without a tangent vector (``engine.orbits.sleigh_orbit``)."""
+    orbit = sleigh_orbit(params, y, Precision.DOUBLE_DOUBLE, dc["tol"], _samples(dc), dc["dt"])
+    return {"t": orbit.t, "Y": orbit.Y, "steps": orbit.steps, "drift": _dd_drift(params, orbit.Y, orbit.lo)}
 
 
 def dd_orbit_and_megno(params, y, dc: dict) -> tuple[dict, dict]:
     """``orbit_and_megno`` in double-double: the tangent vector starts in a random unit direction
     (seed 0, as ``chaos.megno.megno``)."""
     flow = DDFlow(params, dc["tol"])
-    grid = _dd_grid(dc)
+    grid = np.arange(_samples(dc)) * dc["dt"]
     v0 = np.random.default_rng(0).normal(size=4)
     hi, lo, log_norm, _ = flow.propagate_tangent_grid(np.asarray(y, float), v0 / np.linalg.norm(v0), grid)
     orbit = {"t": grid, "Y": hi, "steps": flow.steps, "log_norm": log_norm, "drift": _dd_drift(params, hi, lo)}
@@ -103,23 +102,11 @@ def dd_orbit_and_megno(params, y, dc: dict) -> tuple[dict, dict]:
 
 
 def heyoka_orbit(params, y, dc: dict, precision: Precision) -> dict:
-    """The orbit from y in heyoka's ``precision`` at dc["tol"], sampled every dc["dt"] over dc["T"] (one
-    propagate_grid run): t, Y (the model's variables, as doubles), drift and steps."""
-    import heyoka as hy  # the outcome's enum (heyoka is loaded with the integrator)
-
-    ta, _ = integrators.flow(False, dc["tol"], precision)
-    integrators.set_pars(ta, params)
-    fp = ta.state.dtype.type
-    ta.time = fp(0)
-    integrators.load(ta, np.asarray(y, float))
-    grid = np.arange(round(dc["T"] / dc["dt"]) + 1).astype(ta.state.dtype) * fp(dc["dt"])
-    res = ta.propagate_grid(grid, callback=integrators.bounded(ta))
-    Y = integrators.samples(ta, res[-1]).astype(float)
-    if res[0] != hy.taylor_outcome.time_limit or not np.all(np.isfinite(Y)):
-        raise RuntimeError(f"decisive orbit in {precision}: stopped at t = {float(ta.time):.6g} of {dc['T']:.6g} "
-                           f"(heyoka outcome {res[0]})")
-    E = equations.energy(Y, params)
-    return {"t": grid.astype(float), "Y": Y, "steps": int(res[3]), "drift": float(np.max(np.abs(E / E[0] - 1)))}
+    """The orbit from y in heyoka's ``precision`` at dc["tol"], sampled every dc["dt"] over dc["T"]
+    (``engine.orbits.sleigh_orbit``): t, Y (the model's variables, as doubles), drift and steps."""
+    orbit = sleigh_orbit(params, y, precision, dc["tol"], _samples(dc), dc["dt"])
+    E = equations.energy(orbit.Y, params)
+    return {"t": orbit.t, "Y": orbit.Y, "steps": orbit.steps, "drift": float(np.max(np.abs(E / E[0] - 1)))}
 
 
 def section_megno_judged(orbit: dict, dc: dict, sigma: float) -> dict:
