@@ -85,7 +85,7 @@ def test_the_report_names_the_arithmetic_that_follows_each_orbit(tmp_path):
     import xarray as xr
 
     from sleighsim.io.netcdf import write_dataset
-    from sleighsim.report.build import chaos_answers
+    from sleighsim.report.chaos_answers import chaos_answers
 
     ds = xr.Dataset({"verdict": ("state", np.array(["undecided", "regular"], dtype=object)),
                      "reason": ("state", np.array(["r0", "r1"], dtype=object)),
@@ -130,7 +130,7 @@ def test_the_first_screen_says_who_decided_and_what_would_decide_the_rest():
     """_decided_by: the indicators that say the state's verdict, with the arithmetic each was judged in
     (the decisive stage's for those it judged again); _to_decide: nothing for a decided state; for an
     undecided one the decisive stage's measured cost and how it scales, or that no stage ran."""
-    from sleighsim.report.build import _decided_by, _decided_in, _to_decide
+    from sleighsim.report.chaos_answers import _decided_by, _decided_in, _to_decide
 
     R, U = "regular", "undecided"
     ds = _decisive_dataset([R, U, U], [R, U, "not run"], [[U, "chaotic", U], [U, U, U], [U, U, U]],
@@ -170,7 +170,7 @@ def test_the_first_screen_names_the_arithmetic_each_state_was_decided_in():
     follows the orbit (some, none, or unknown when the gauge saw no complete cycle)."""
     import xarray as xr
 
-    from sleighsim.report.build import _decided_in
+    from sleighsim.report.chaos_answers import _decided_in
 
     follows = np.array([["does not follow", "follows", "follows", "follows"], ["does not follow"] * 4,
                         ["unknown"] * 4], dtype=object)
@@ -188,7 +188,7 @@ def test_the_first_screen_names_the_arithmetic_each_state_was_decided_in():
 def test_the_first_screen_cites_a_verdict_measured_with_another_config():
     """elsewhere: per state of the record, how many realizations gave each verdict, the indicators that said
     it, G x rounding, the tori, the wall times and the commit; nothing without a record."""
-    from sleighsim.report.build import elsewhere
+    from sleighsim.report.chaos_answers import elsewhere
 
     def row(k, v, period):
         return {"realization": k, "state": "main", "verdict": v, "indicators": {"megno": v, "birkhoff": "regular"},

@@ -39,7 +39,7 @@ def test_counts_come_from_the_rows_the_setup_moves():
 
 
 def test_the_paragraph_states_the_setup_its_counts_and_the_strongest_pull(tmp_path):
-    text = findings.setup_paragraph(_rows(), {"paper_setup": _setup(tmp_path)})
+    text = findings.setup_paragraph(_rows(), _setup(tmp_path))
     assert ("K2 1.12 (within 1 of the least deviance: 1.11 to 1.13; with the sigmas inflated by the misfit, x 4: "
             "1.09 to 1.15; this run 1.1)") in text
     assert "Under it, 2 of the 3 claims whose numbers it moves hold (C10, C09); under converged physics, 1 hold" in text
@@ -48,9 +48,9 @@ def test_the_paragraph_states_the_setup_its_counts_and_the_strongest_pull(tmp_pa
 
 
 def test_the_paragraph_says_when_no_setup_was_inferred_and_is_absent_without_the_dataset(tmp_path):
-    text = findings.setup_paragraph(_rows(), {"paper_setup": _setup(tmp_path, inferred=False)})
+    text = findings.setup_paragraph(_rows(), _setup(tmp_path, inferred=False))
     assert text.startswith("The paper's setup is not inferred in this run: no setup determines")
-    assert findings.setup_paragraph(_rows(), {}) == ""
+    assert findings.setup_paragraph(_rows(), None) == ""
 
 
 def test_the_start_sentence_quotes_the_start_and_the_rescaled_t1_range_and_is_absent_without_the_test():

@@ -79,7 +79,8 @@ def test_the_findings_are_composed_from_the_datasets(tmp_path):
     write_dataset(lad, tmp_path / "l.nc")
     write_dataset(ver, tmp_path / "v.nc")
     rows = [Row("C05", "spike interval", "about 2200")]
-    found = precision_findings(rows, {"precision_ladder": tmp_path / "l.nc", "chaos_verdict": tmp_path / "v.nc"})
+    found = precision_findings(rows, {"ladder": tmp_path / "l.nc", "verdict": tmp_path / "v.nc"},
+                               {"ladder": "precision_ladder", "verdict": "chaos_verdict"})
     (st0, main), (st1, rotor) = [(st, " ".join(s)) for st, s in found["states"]]
     assert (st0, st1) == ("main", "rotor_a") and not found["missing"] and found["ladders"] is None
     assert "double 2311.5 +- 14.0; long double 2338.5 +- 7.6 (the paper: about 2200 (C05))" in main
@@ -87,4 +88,4 @@ def test_the_findings_are_composed_from_the_datasets(tmp_path):
     assert "Chaos verdict: undecided (all 3 realizations agree)" in main
     assert "no spike train within the run" in rotor and "(the paper: no value for this state)" in rotor
     assert "stay within 0.001" in rotor and "Mechanism" not in rotor
-    assert precision_findings(rows, {}) == {"states": [], "missing": True, "ladders": None, "setup": ""}
+    assert precision_findings(rows, {}, {}) == {"states": [], "missing": True, "ladders": None, "setup": ""}

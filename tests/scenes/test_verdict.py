@@ -248,7 +248,7 @@ def test_gather_keeps_an_answer_only_when_every_realization_gives_it(tmp_path):
     assert out.ln_gain.values[1].tolist() == [36.0] * 3 and np.isnan(out.ln_gain.values[0, 2])  # padded
     assert out.attrs["transient_over"] == 1
     # the torus each realization reached, and the report's sentence on it
-    from sleighsim.report.build import _tori_note
+    from sleighsim.report.chaos_answers import _tori_note
 
     assert out.realization_spike_period.values[:, 0].tolist() == [2300.0, 2301.0, 2302.0]
     assert _tori_note(out, 0).endswith(

@@ -7,6 +7,7 @@ from sleighsim.precision import Precision
 from sleighsim.report.figures import catalog as figure_catalog
 from sleighsim.report.tables import TABLES
 from sleighsim.scenes import catalog as scene_catalog
+from sleighsim.scenes.paper_setup import PAPER_SETUP
 
 R = config["results"]
 SCENES = config["scenes"]
@@ -52,9 +53,7 @@ REPORT_DATA = sorted(
     {d for f in FIGURES_BUILT for d in figure_catalog.FIGURES[f].data}
     | {t.data for t in TABLES.values() if t.data in DATASETS}
     | set(LADDER_DATA)
-    | {
-        n for n in DATASETS if SCENES[n]["kind"] == "paper_setup"
-    }  # the findings' setup paragraph
+    | set(scene_catalog.scenes_of(config, PAPER_SETUP, on_request=False))  # the findings' setup paragraph
 )
 
 
@@ -228,11 +227,9 @@ REPORT_BENCHMARKS = benchmark_files(REPORT_DATA + REALIZATION_DATA, FIGURES_BUIL
 ROOT = Path(workflow.basedir).parent
 PAPER_TEX = str(ROOT / "paper" / "fedonyuk-tallapragada-sleigh-rotor.tex")
 CLAIMS_MD = str(ROOT / "paper" / "CLAIMS.md")
-# The judge-power record the chaos verdict votes by (its table and the deciding judges' power in the report).
+# The judge-power record a scene votes by (its table and the deciding judges' power in the report).
 # A chaos verdict measured with config/cluster.yaml (ops.verdictrecord), cited on the report's first screen.
 CLUSTER_RECORD = {"cluster_record": str(ROOT / "benchmarks" / "cluster_verdict.yaml")}
 POWER_RECORD = {
-    "power_record": str(ROOT / b["vote_record"])
-    for b in SCENES.values()
-    if b.get("kind") == "chaos_verdict" and "vote_record" in b
+    "power_record": str(ROOT / b["vote_record"]) for b in SCENES.values() if "vote_record" in b
 }

@@ -53,6 +53,7 @@ rule report:
     params:
         figures=FIGURES_BUILT,
         data=REPORT_DATA,
+        kinds={name: block["kind"] for name, block in SCENES.items()},
         benchmarks=REPORT_BENCHMARKS,
     script:
         "../scripts/report.py"

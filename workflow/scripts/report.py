@@ -17,6 +17,7 @@ with logging_to(sm.log[0]):
               if c.id == FIGURES[f].paper}
     report.build(rows, out_dir=Path(sm.output.html).parent, tex_path=sm.input.tex, labels=labels,
                  figures=dict(zip(sm.params.figures, sm.input.figures)),
-                 datasets=dict(zip(sm.params.data, sm.input.data)), benchmarks=sm.params.benchmarks,
+                 datasets=dict(zip(sm.params.data, sm.input.data)), kinds=sm.params.kinds,
+                 benchmarks=sm.params.benchmarks,
                  power_record=sm.input.get("power_record"), cluster_record=sm.input.get("cluster_record"))
     write_text(sm.output.standalone, inline_images(sm.output.html))

@@ -48,7 +48,8 @@ from sleighsim.io import layout
 from sleighsim.io.claims_table import Claim, parse_claims
 from sleighsim.io.netcdf import read_dataset, write_dataset, write_text
 from sleighsim.precision import Precision
-from sleighsim.scenes.catalog import datasets, laddered, realized
+from sleighsim.scenes.catalog import laddered, realized, scenes_of
+from sleighsim.scenes.paper_setup import PAPER_SETUP
 
 PRECISIONS = tuple(p.value for p in Precision)  # coarse to fine
 #: The cause of a row reproduced only in double: double's rounding, which the finer arithmetic does not share.
@@ -342,7 +343,7 @@ def ledger(claims_md, data_dir, figures_dir, config: dict, figures: dict) -> lis
 def with_setup(rows: list[Row], load: _Datasets, config: dict) -> None:
     """Each row's value and verdict under the setup inferred jointly (the config's paper_setup scene,
     :mod:`sleighsim.claims.setup_columns`); an unexplained cause is told the setup was tried."""
-    names = [n for n in datasets(config, on_request=True) if config["scenes"][n]["kind"] == "paper_setup"]
+    names = scenes_of(config, PAPER_SETUP)
     try:
         setup = load(names[:1])[0] if names else None
     except MissingDataset:

@@ -5,6 +5,7 @@ and the mechanism (how much one spike cycle amplifies rounding). Data for the re
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 
@@ -15,6 +16,9 @@ from sleighsim.io import layout
 from sleighsim.io.netcdf import read_dataset
 from sleighsim.model.symmetries import REFERENCE_STATE
 from sleighsim.report.page import Table
+from sleighsim.scenes.ladder import PRECISION_LADDER
+from sleighsim.scenes.paper_setup import PAPER_SETUP
+from sleighsim.scenes.verdict import CHAOS_VERDICT
 
 
 def _interval(ds, k: int, j: int) -> str:
@@ -85,16 +89,25 @@ def _ladder_summary(ds) -> str:
     return out
 
 
-def precision_findings(rows: list, datasets: dict) -> dict:
+def of_kind(datasets: dict, kinds: dict, kind) -> Path | None:
+    """The path of the first of ``datasets`` (name -> path) whose scene is of ``kind`` (a SceneKind;
+    ``kinds``: scene -> its kind's name, from the config), None when there is none."""
+    return next((path for name, path in datasets.items() if kinds.get(name) == kind.name), None)
+
+
+def precision_findings(rows: list, datasets: dict, kinds: dict) -> dict:
     """The findings: per state of the verdict states' precision ladder (``states``: [(state,
     sentences)]; empty and ``missing`` true when it was not run), then the steady-state scenes'
-    ladders (``ladders``, a Table or None), and the paragraph on the paper's inferred setup (``setup``)."""
-    out = {"states": [], "missing": "precision_ladder" not in datasets, "ladders": scene_ladders(datasets),
-           "setup": setup_paragraph(rows, datasets)}
+    ladders (``ladders``, a Table or None), and the paragraph on the paper's inferred setup (``setup``).
+    ``kinds``: scene -> its kind's name (the config's), which finds each dataset by its kind."""
+    ladder_path = of_kind(datasets, kinds, PRECISION_LADDER)
+    out = {"states": [], "missing": ladder_path is None, "ladders": scene_ladders(datasets),
+           "setup": setup_paragraph(rows, of_kind(datasets, kinds, PAPER_SETUP))}
     if out["missing"]:
         return out
-    ladder = read_dataset(datasets["precision_ladder"])
-    verdict = read_dataset(datasets["chaos_verdict"]) if "chaos_verdict" in datasets else None
+    ladder = read_dataset(ladder_path)
+    verdict_path = of_kind(datasets, kinds, CHAOS_VERDICT)
+    verdict = read_dataset(verdict_path) if verdict_path is not None else None
     paper = next((r.paper_value for r in rows if r.id == "C05"), "not stated")
     for k, st in enumerate(ladder.state.values):
         from_reference = np.array_equal(ladder.start.values[k], np.asarray(REFERENCE_STATE, float))
@@ -123,13 +136,13 @@ def setup_counts(rows: list) -> dict:
             "total_converged": total_conv, "total_setup": total_conv - len(converged) + len(setup)}
 
 
-def setup_paragraph(rows: list, datasets: dict) -> str:
-    """One paragraph from paper_setup.nc and the ledger: the setup the paper's numbers fit, its gaps to
-    the runners-up, and how many claims hold under it and under converged physics ("" without the dataset)."""
-    name = next((n for n in datasets if n == "paper_setup" or n.endswith("/paper_setup")), None)
-    if name is None:
+def setup_paragraph(rows: list, path) -> str:
+    """One paragraph from the paper-setup dataset at ``path`` and the ledger: the setup the paper's numbers
+    fit, its gaps to the runners-up, and how many claims hold under it and under converged physics (""
+    without the dataset, ``path`` None)."""
+    if path is None:
         return ""
-    ds = read_dataset(datasets[name])
+    ds = read_dataset(path)
     a = ds.attrs
     if "best_K2" not in a:
         return f"The paper's setup is not inferred in this run: {a.get('n_setups_note', 'no setup ranked')}."

@@ -131,6 +131,12 @@ def scene_config(config: dict, scene: str) -> dict:
     return parsed({**defaults, **{k: v for k, v in block.items() if k not in SCHEDULING + laddering + realizing}})
 
 
+def scenes_of(config: dict, kind: SceneKind, *, on_request: bool = True) -> list[str]:
+    """The scenes of ``config`` of ``kind`` (a declaration, never its name as a string) that make a
+    dataset (:func:`datasets`; with ``on_request`` also those built only when asked for)."""
+    return [n for n in datasets(config, on_request=on_request) if config["scenes"][n]["kind"] == kind.name]
+
+
 def datasets(config: dict, *, on_request: bool = False) -> list[str]:
     """The scenes of ``config`` that make a dataset: those built in the full run, or with
     ``on_request`` also those built only when asked for."""
