@@ -15,7 +15,7 @@ import yaml
 from compliance_checker.cf.cf_1_11 import CF1_11Check
 from compliance_checker.runner import CheckSuite
 
-from sleighsim.io import cf, netcdf, titles, vocabulary
+from sleighsim.io import cf, netcdf, vocabulary
 from sleighsim.scenes import basins, catalog, causes, grid
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -101,13 +101,13 @@ def _tiny() -> xr.Dataset:
 
 
 def test_write_dataset_adds_the_cf_attributes(tmp_path):
-    """Conventions, a title from sleighsim.io.titles, history appended (ISO time, version, commit), source,
-    references, the model's units; long_name and units from the vocabulary, legacy units made "1" with
+    """Conventions, a title from what the writer says the dataset is, history appended (ISO time, version,
+    commit), source, references, the model's units; long_name and units from the vocabulary, legacy units made "1" with
     the model unit in the long_name, a variable's own attributes kept, none on text; provenance kept."""
-    path = netcdf.write_dataset(_tiny(), tmp_path / "results" / "data" / "fig3.nc")
+    path = netcdf.write_dataset(_tiny(), tmp_path / "results" / "data" / "fig3.nc", what="one run")
     ds = netcdf.read_dataset(path)
     a = ds.attrs
-    assert a["Conventions"] == "CF-1.11" and titles.TITLES["fig3"] in a["title"] and "[fig3]" in a["title"]
+    assert a["Conventions"] == "CF-1.11" and a["title"].endswith(": one run [fig3]")
     earlier, line = a["history"].split("\n")
     assert earlier.startswith("2026-01-01T00:00:00")
     assert re.match(r"\d{4}-\d\d-\d\dT\d\d:\d\d:\d\d\+00:00 sleighsim ", line)
@@ -133,28 +133,40 @@ def test_a_variable_nobody_named_is_reported_not_defaulted(tmp_path, caplog):
     assert out.zz_unnamed.attrs == {} and out.zz_text.attrs == {}
     assert cf.missing(out) == ["zz_unnamed has no long_name", "zz_unnamed has no units", "zz_text has no long_name"]
     assert "zz_unnamed has no long_name" in caplog.text
-    assert out.attrs["title"].endswith("sleighsim dataset [v]")  # a file TITLES does not know
+    assert out.attrs["title"].endswith("sleighsim dataset [v]")  # a writer that does not say what it wrote
 
 
 def test_every_scene_of_every_config_has_a_title():
-    """Each dataset of the configs (on request too), in each of its variants, gets its scene's title;
-    TITLES names no scene that no config has."""
-    scenes = set()
-    for path in CONFIGS:
-        scenes |= {name for name, block in yaml.safe_load(path.read_text())["scenes"].items()
-                   if "kind" not in block or catalog.KINDS[block["kind"]].dataset}
-    assert scenes <= set(titles.TITLES)
-    assert set(titles.TITLES) - scenes == {"claims", "stability/verdicts"}
-    for scene in scenes:
+    """Each dataset of the paper config (on request too), in each of its variants, gets its block's title
+    or its kind's (every kind declares one); the ledger and the stability table say their own."""
+    from sleighsim.claims import ledger
+    from sleighsim.ops import stability
+
+    config = yaml.safe_load(CONFIGS[0].read_text())
+    assert all(k.title for k in catalog.KINDS.values())
+    for scene in catalog.datasets(config, on_request=True):
+        what = catalog.writing(catalog.scene_config(config, scene))["what"]
+        assert what == config["scenes"][scene].get("title", catalog.KINDS[config["scenes"][scene]["kind"]].title)
         for rel in (f"data/{scene}.nc", f"data/precision/long_double/{scene}.nc", f"data/ladder/{scene}.nc",
                     f"data/realization/2/{scene}.nc", f"chunks/{scene}/3.nc", f"chunks/precision/quad/{scene}/0.nc"):
-            title = cf.title(Path("/any/results") / rel, "quad" if "precision/" in rel else "double")
-            assert titles.TITLES[scene] in title and f"[{scene}" in title, rel
+            title = cf.title(Path("/any/results") / rel, "quad" if "precision/" in rel else "double", what)
+            assert what in title and f"[{scene}" in title, rel
     assert cf.dataset_name("/r/results/data/precision/long_double/fig3.nc", "long double") == ("fig3", "in long double")
     with pytest.raises(ValueError, match="needs the precision"):
         cf.dataset_name("/r/results/data/precision/long_double/fig3.nc")
     assert cf.dataset_name("/r/results/stability/verdicts.nc") == ("stability/verdicts", "")
-    assert titles.TITLES["claims"] in cf.title("/r/results/claims.nc")
+    assert cf.title("/r/results/claims.nc", what=ledger.TITLE).endswith(f"{ledger.TITLE} [claims]")
+    assert stability.TITLE in cf.title("/r/results/stability/verdicts.nc", what=stability.TITLE)
+
+
+def test_a_name_means_one_thing_in_every_dataset():
+    """A kind's own vocabulary names what no other kind and no shared entry names: one meaning per name."""
+    owners = {}
+    for k in catalog.KINDS.values():
+        for name in k.vocabulary:
+            assert name not in vocabulary.VOCABULARY, (k.name, name)
+            owners.setdefault(name, []).append(k.name)
+    assert {n: o for n, o in owners.items() if len(o) > 1} == {}
 
 
 def test_the_vocabulary_names_what_the_scenes_declare():
@@ -164,8 +176,10 @@ def test_the_vocabulary_names_what_the_scenes_declare():
 
     declared = [*grid.ROW_VARIABLES, *basins.RUN_VARIABLES, *(f"reference_{v}" for v in basins.RUN_VARIABLES),
                 *causes.K2_OBSERVABLES]
-    assert [n for n in declared if n not in vocabulary.VOCABULARY] == []
-    assert {kind for _, kind in vocabulary.VOCABULARY.values()} <= set(cf.KINDS)
+    known = vocabulary.VOCABULARY | basins.VOCABULARY
+    assert [n for n in declared if n not in known] == []
+    for own in [vocabulary.VOCABULARY, *(k.vocabulary for k in catalog.KINDS.values())]:
+        assert {kind for _, kind in own.values()} <= set(cf.KINDS)
     for units, _ in cf.KINDS.values():
         if units is not None:
             cf_units.Unit(units)

@@ -95,3 +95,23 @@ def test_the_report_tables_each_peer_ratio_with_its_compile_time():
     t = report.peer_table(ds)
     assert t.head == ["error target", "diffrax Dopri8 (compile 0.5 s)", "scipy LSODA + numba rhs (compile 1.2 s)"]
     assert t.rows == [["1e-08", "12x", "not reached"]] and t.note == "rule; versions: diffrax 0.7.2"
+
+
+def test_the_command_reads_the_bench_block_of_a_config(tmp_path, monkeypatch):
+    """`python -m sleighsim.scenes.bench OUT --config config/config.yaml` reads scenes.bench (it read a
+    top-level `bench` key, a KeyError on every config) and writes the dataset with its kind's title."""
+    from pathlib import Path
+
+    from sleighsim.io.netcdf import read_dataset
+    from sleighsim.scenes import bench
+
+    seen = {}
+
+    def fake(cfg):
+        seen.update(cfg)
+        return xr.Dataset({"wall_short": ("run", [1.0])}, coords={"run": [0]})
+
+    monkeypatch.setattr(bench, "bench", fake)
+    bench.main([str(tmp_path / "b.nc"), "--config", str(Path(__file__).parents[2] / "config" / "config.yaml")])
+    assert seen["kind"] == "bench" and "t_short" in seen
+    assert bench.BENCH.title in read_dataset(tmp_path / "b.nc").attrs["title"]

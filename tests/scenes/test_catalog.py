@@ -71,3 +71,44 @@ def test_importing_the_catalog_leaves_scipy_signal_stats_and_optimize_to_the_sce
     code = f"import sys, sleighsim.scenes.catalog; print([m for m in {heavy!r} if m in sys.modules])"
     res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, timeout=60)
     assert res.stdout.strip() == "[]"
+
+
+#: Where a kind's name may stand as a string besides its own module, each a homonym with its reason: the
+#: paper config's scenes that share a kind's name, named in the places that declare which datasets a claim,
+#: figure or table reads (docs/layout.md), rule and folder names, and words that mean something else there.
+HOMONYMS = {
+    "claims/evidence.py": "the datasets each claim reads, by the paper config's scene names",
+    "report/tables.py": "the dataset each table reads, by scene name",
+    "report/figures/*.py": "the datasets each figure reads, by scene name; figure names; a dimension 'trajectory'",
+    "ops/names.py": "the workflow's rule names (rule schematic)",
+    "engine/peer_lyapunov.py": "lyapax's function lyapunov_spectrum",
+    "scenes/paper_setup.py": "the power-spectrum convention, a setup element named psd",
+    "scenes/causes.py": "the setup element psd",
+    "report/findings.py": "the setup element psd",
+}
+
+
+def test_a_kind_is_named_as_a_string_only_in_its_own_module():
+    """Adding a kind touches only the places docs/layout.md's recipe names: its module (the declaration), the
+    catalog (an import), the schema and the configs. Its name as a string literal anywhere else in the package
+    or the workflow is a kind compared with a literal or listed by hand, except the homonyms above."""
+    import fnmatch
+    import re
+    import sys
+    from pathlib import Path
+
+    root = Path(__file__).parents[2]
+    pkg = root / "src" / "sleighsim"
+    places = [root / "workflow" / "Snakefile", *(root / "workflow").rglob("*.smk"), *(root / "workflow").rglob("*.py"),
+              *pkg.rglob("*.py")]
+    found = []
+    for kind in catalog.KINDS.values():
+        fn = next(f for f in (kind.compute, kind.chunk, kind.gather, kind.records) if f is not None)
+        own = Path(sys.modules[fn.__module__].__file__).resolve()
+        for p in places:
+            rel = p.relative_to(pkg).as_posix() if p.is_relative_to(pkg) else p.relative_to(root).as_posix()
+            if p.resolve() == own or any(fnmatch.fnmatch(rel, pattern) for pattern in HOMONYMS):
+                continue
+            if re.search(rf"""["']{kind.name}["']""", p.read_text()):
+                found.append((rel, kind.name))
+    assert found == []

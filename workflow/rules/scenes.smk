@@ -86,6 +86,7 @@ rule ladder:
         "../envs/sleighsim.yaml"
     params:
         kind=lambda w: SCENES[w.scene]["kind"],
+        what=lambda w: scene_catalog.writing(SCENE_CFG[w.scene])["what"],
         precisions=lambda w: LADDERED[w.scene],
         gain=lambda w: ladder_gain(w.scene),
     script:

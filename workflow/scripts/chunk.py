@@ -8,4 +8,4 @@ sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logging_to(sm.log[0]):
     inputs = {role: path for role, path in sm.input.items() if role != "reads"}
     ds = catalog.chunk(sm.wildcards.scene, sm.params.cfg, int(sm.wildcards.chunk), list(sm.input.reads), inputs)
-    netcdf.write_dataset(ds, sm.output.nc, precision=sm.params.cfg.get("precision", "double"))
+    netcdf.write_dataset(ds, sm.output.nc, **catalog.writing(sm.params.cfg))

@@ -7,4 +7,4 @@ from sleighsim.scenes import catalog
 sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logging_to(sm.log[0]):
     netcdf.write_dataset(catalog.gather(sm.wildcards.scene, sm.params.cfg, sm.input.chunks), sm.output.nc,
-                         precision=sm.params.cfg.get("precision", "double"))
+                         **catalog.writing(sm.params.cfg))

@@ -10,4 +10,4 @@ with logging_to(sm.log[0]):
     runs = [netcdf.read_dataset(p) for p in sm.input.runs]
     ds = observables.ladder(sm.params.kind, KINDS[sm.params.kind].observables, runs, list(sm.params.precisions),
                             scene=sm.wildcards.scene, gain=sm.params.gain)
-    netcdf.write_dataset(ds, sm.output.nc)
+    netcdf.write_dataset(ds, sm.output.nc, what=sm.params.what)

@@ -8,4 +8,4 @@ sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logging_to(sm.log[0]):
     ds = catalog.compute(sm.wildcards.scene, sm.params.cfg, dict(sm.input.items()))
     ds.attrs.update(getattr(sm.params, "attrs", {}))  # a realization's index and perturbation size
-    netcdf.write_dataset(ds, sm.output.nc, precision=sm.params.cfg.get("precision", "double"))
+    netcdf.write_dataset(ds, sm.output.nc, **catalog.writing(sm.params.cfg))

@@ -353,6 +353,10 @@ def with_setup(rows: list[Row], load: _Datasets, config: dict) -> None:
         row.cause = cause_with_setup(row.cause, row.paper_setup_verdict)
 
 
+#: What the ledger's dataset is (its CF title).
+TITLE = "the claims ledger: every claim of the paper judged from the datasets (paper/CLAIMS.md)"
+
+
 def write(rows: list[Row], csv_path, nc_path) -> None:
     """Write the ledger ``rows`` as CSV (one row per claim) to ``csv_path`` and as a netCDF dataset to ``nc_path``."""
     buf = io.StringIO()
@@ -360,7 +364,7 @@ def write(rows: list[Row], csv_path, nc_path) -> None:
     writer.writerow([f.name for f in fields(Row)])
     writer.writerows(astuple(r) for r in rows)
     write_text(csv_path, buf.getvalue())
-    write_dataset(to_dataset(rows), nc_path)
+    write_dataset(to_dataset(rows), nc_path, what=TITLE)
 
 
 def read(nc_path) -> list[Row]:

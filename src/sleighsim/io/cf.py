@@ -4,8 +4,9 @@ The model is nondimensional (global attribute ``nondimensionalisation``): a quan
 "1" (UDUNITS' dimensionless unit), angles are "rad", wall-clock times "s", and the quantity's model
 unit (time, length, speed, angular velocity, rate, frequency) is stated in its ``long_name``
 (:func:`attrs`). Text variables carry a ``long_name`` and no ``units`` (CF: units belong to
-quantities). :data:`sleighsim.io.vocabulary.VOCABULARY` names every variable a scene or output
-writes without attributes of its own; :func:`complete` fills in what a variable lacks and
+quantities). :data:`sleighsim.io.vocabulary.VOCABULARY` names the variables several scenes or outputs
+write without attributes of their own, a scene kind's own vocabulary (``SceneKind.vocabulary``) those
+only it writes; :func:`complete` fills in what a variable lacks and
 :func:`missing` lists what no one named, which the tests require to be empty on every dataset of the smoke run.
 """
 
@@ -17,7 +18,6 @@ from pathlib import Path
 import xarray as xr
 
 from sleighsim.io import layout
-from sleighsim.io.titles import TITLES
 from sleighsim.io.vocabulary import PATTERNS, VOCABULARY
 from sleighsim.precision import Precision
 
@@ -70,8 +70,10 @@ def attrs(long_name: str, kind: str = "1") -> dict:
     return out
 
 
-def _entry(name: str) -> tuple[str, str] | None:
-    """The vocabulary's (long_name, kind) of ``name``, or None."""
+def _entry(name: str, own: dict) -> tuple[str, str] | None:
+    """The (long_name, kind) of ``name``: the writer's ``own`` vocabulary's, else the shared one's, or None."""
+    if name in own:
+        return own[name]
     if name in VOCABULARY:
         return VOCABULARY[name]
     return next((entry for pattern, entry in PATTERNS.items() if re.fullmatch(pattern, name)), None)
@@ -82,18 +84,19 @@ def is_text(var: xr.Variable) -> bool:
     return var.dtype.kind in "OSU"
 
 
-def completed(name: str, var: xr.Variable) -> dict:
+def completed(name: str, var: xr.Variable, own: dict | None = None) -> dict:
     """The attributes of variable ``name``: its own, a legacy unit string (:data:`LEGACY_UNITS`) made
     "1" with its model unit in the long_name, and what it lacks of long_name and units from the
     vocabulary (its model unit appended to its own long_name where the vocabulary supplies the units).
-    What neither has stays missing (:func:`missing`)."""
+    ``own``: the writer's own vocabulary (a scene kind's), before the shared one. What neither has stays
+    missing (:func:`missing`)."""
     out = dict(var.attrs)
     legacy = LEGACY_UNITS.get(out.get("units"))
     if legacy is not None:
         del out["units"]
         if "long_name" in out:
             out.update(attrs(out["long_name"], legacy))
-    entry = _entry(name)
+    entry = _entry(name, own or {})
     if entry is None:
         return out
     if "units" not in out and not is_text(var):
@@ -102,11 +105,12 @@ def completed(name: str, var: xr.Variable) -> dict:
     return out
 
 
-def complete(ds: xr.Dataset) -> xr.Dataset:
-    """A copy of ``ds`` whose variables' attributes are :func:`completed` (the data are shared)."""
+def complete(ds: xr.Dataset, own: dict | None = None) -> xr.Dataset:
+    """A copy of ``ds`` whose variables' attributes are :func:`completed` with the writer's ``own``
+    vocabulary (the data are shared)."""
     ds = ds.copy()
     for name, var in ds.variables.items():
-        var.attrs = completed(name, var)
+        var.attrs = completed(name, var, own)
     return ds
 
 
@@ -124,9 +128,9 @@ def dataset_name(path, precision: str = "double") -> tuple[str, str]:
     """(name, variant) of a file of a results tree: the scene of ``data/<scene>.nc`` ("" variant),
     ``data/precision/<tag>/<scene>.nc``, ``data/ladder/<scene>.nc``, ``data/realization/<k>/<scene>.nc``,
     ``chunks/<scene>/<k>.nc`` or ``chunks/precision/<tag>/<scene>/<k>.nc``; any other file by its
-    parent folder and stem ("stability/verdicts") when :data:`sleighsim.io.titles.TITLES` knows that, else
-    by its stem ("claims"). ``precision``: the config name of the arithmetic the dataset was computed
-    in (the writer's knowledge; never read back from the path); ValueError when a file under
+    parent folder and stem when the folder is one of the results tree's (``layout.FOLDERS``:
+    "stability/verdicts"), else by its stem ("claims"). ``precision``: the arithmetic the dataset was
+    computed in (the writer's knowledge; never read back from the path); ValueError when a file under
     precision/ is said to be in double (:mod:`sleighsim.io.layout` reads the path)."""
     at = layout.place(path)
     match at.what:
@@ -142,8 +146,8 @@ def dataset_name(path, precision: str = "double") -> tuple[str, str]:
             return at.scene, f"chunk {at.k}"
         case "finer chunk":
             return at.scene, f"chunk {at.k} {_in_precision(path, precision)}"
-    nested = "/".join(Path(path).with_suffix("").parts[-2:])
-    return (nested, "") if nested in TITLES else (at.scene, "")
+    parts = Path(path).with_suffix("").parts
+    return ("/".join(parts[-2:]), "") if len(parts) > 1 and parts[-2] in layout.FOLDERS else (at.scene, "")
 
 
 def _in_precision(path, precision) -> str:
@@ -153,18 +157,20 @@ def _in_precision(path, precision) -> str:
     return f"in {p}"
 
 
-def title(path, precision: str = "double") -> str:
-    """The CF title of the dataset written to ``path`` and computed in ``precision`` (its config
-    name): what it is (:data:`sleighsim.io.titles.TITLES`), its name and variant; a file the
-    titles do not know is named by its file name."""
+#: What a dataset is when its writer does not say.
+UNTOLD = "sleighsim dataset"
+
+
+def title(path, precision=Precision.DOUBLE, what: str = UNTOLD) -> str:
+    """The CF title of the dataset written to ``path`` and computed in ``precision``: ``what`` it is (its
+    writer's words: a scene kind's or block's ``title``), its name and variant (:func:`dataset_name`)."""
     name, variant = dataset_name(path, precision)
-    what = TITLES.get(name, "sleighsim dataset")
     return f"Chaplygin sleigh with a passive internal rotor: {what} [{name}{', ' + variant if variant else ''}]"
 
 
-def global_attrs(path, provenance: dict, history: str = "", precision: str = "double") -> dict:
-    """The CF global attributes of a dataset written to ``path`` (computed in ``precision``, see
-    :func:`title`) with ``provenance``
+def global_attrs(path, provenance: dict, history: str = "", precision=Precision.DOUBLE, what: str = UNTOLD) -> dict:
+    """The CF global attributes of a dataset written to ``path`` (computed in ``precision``, ``what`` it is:
+    see :func:`title`) with ``provenance``
     (:func:`sleighsim.io.netcdf.provenance_attrs`): Conventions, title, source, references, the model's
     units (time_unit, nondimensionalisation) and ``history`` with this write's line appended (CF:
     one line per program that wrote the data, an ISO 8601 time first)."""
@@ -173,7 +179,7 @@ def global_attrs(path, provenance: dict, history: str = "", precision: str = "do
             f"sleighsim.io.netcdf.write_dataset wrote {Path(path).name}")
     return {
         "Conventions": CONVENTIONS,
-        "title": title(path, precision),
+        "title": title(path, precision, what),
         "history": f"{history}\n{line}" if history else line,
         "source": (f"sleighsim {version} (git commit {provenance['git_commit']}); integrator library heyoka "
                    f"{provenance['version_heyoka']} (SciPy where the attribute backend says so); Python "

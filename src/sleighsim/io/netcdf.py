@@ -21,6 +21,7 @@ import xarray as xr
 from sleighsim.io import cf, lockfile
 from sleighsim.io.checksum import ATTR as CHECKSUM_ATTR
 from sleighsim.io.checksum import stamp, verify
+from sleighsim.precision import Precision
 
 log = logging.getLogger("sleighsim")
 
@@ -101,17 +102,19 @@ def atomic_path(path):
             raise
 
 
-def write_dataset(ds: xr.Dataset, path, precision: str = "double") -> Path:
+def write_dataset(ds: xr.Dataset, path, precision=Precision.DOUBLE, what: str = cf.UNTOLD,
+                  vocabulary: dict | None = None) -> Path:
     """Write ``ds`` to netCDF at ``path`` atomically, adding the provenance attributes
     (package versions, git commit, creation time) and the CF-1.11 attributes (:mod:`sleighsim.io.cf`:
-    Conventions, title from the path and ``precision`` (the config name of the arithmetic ``ds`` was
-    computed in), history, source, references; long_name and units of every
-    variable the vocabulary knows; a variable still without them is logged, and the tests fail on it;
+    Conventions, title from ``what`` the dataset is, the path and ``precision`` (the arithmetic ``ds`` was
+    computed in), history, source, references; long_name and units of every variable the writer's own
+    ``vocabulary`` (a scene kind's) or the shared one knows; a variable still without them is logged, and
+    the tests fail on it;
     no _FillValue on coordinate variables) and, computed from the written file, the checksum of its
     values (``sleighsim_checksum``, :mod:`sleighsim.io.checksum`).
     Text is written at its own width: a fixed text width kept in the encoding of a variable read from
     a file (or joined from such variables) would truncate longer texts put there since."""
-    ds = cf.complete(ds)
+    ds = cf.complete(ds, vocabulary)
     for name, v in ds.variables.items():
         if v.dtype.kind in "UO":
             v.encoding = {k: e for k, e in v.encoding.items() if k != "dtype"}
@@ -120,7 +123,8 @@ def write_dataset(ds: xr.Dataset, path, precision: str = "double") -> Path:
     provenance = provenance_attrs()
     ds.attrs.pop(CHECKSUM_ATTR, None)  # a stale one, of a file this dataset was read from
     ds.attrs.update(provenance)
-    ds.attrs.update(cf.global_attrs(path, provenance, history=ds.attrs.get("history", ""), precision=precision))
+    ds.attrs.update(cf.global_attrs(path, provenance, history=ds.attrs.get("history", ""), precision=precision,
+                                    what=what))
     if lacking := cf.missing(ds):
         log.warning("%s: no CF attributes known for: %s", path, "; ".join(lacking))
     with atomic_path(path) as tmp:

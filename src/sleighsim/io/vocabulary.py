@@ -1,6 +1,7 @@
-"""The names sleighsim writes: each variable's long_name and kind of quantity (the kinds of
-:data:`sleighsim.io.cf.KINDS`), which :func:`sleighsim.io.cf.completed` gives a variable written
-without attributes of its own. A name means one thing in every dataset."""
+"""The names several of sleighsim's datasets share: each variable's long_name and kind of quantity (the
+kinds of :data:`sleighsim.io.cf.KINDS`), which :func:`sleighsim.io.cf.completed` gives a variable written
+without attributes of its own. A name only one scene kind writes is in that kind's own vocabulary
+(``SceneKind.vocabulary``, beside its declaration). A name means one thing in every dataset (tested)."""
 
 from __future__ import annotations
 
@@ -184,84 +185,17 @@ VOCABULARY: dict[str, tuple[str, str]] = {
     "order4_mean_over_rms": ("mean over RMS of the order-4 forcing term on the late window", "1"),
     "order4_rms_growth": ("RMS of the order-4 forcing term, second half of the late window over the first", "1"),
     "order4_late_rms": ("RMS of the order-4 forcing term on the late window (model units of its equation)", "1"),
-    # basins (sleighsim.scenes.basins)
-    "sample": ("index of the sampled start state", "1"),
+    # names several scenes write: a reference, windows, runs and their costs, refined spikes
     "reference": ("name of the reference state", "text"),
-    "group_of": ("steady-state group of the run", "text"),
-    "count": ("runs in the group", "1"),
-    "fraction": ("fraction of the runs in the group", "1"),
-    "ci_low": ("lower end of the fraction's Wilson interval", "1"),
-    "ci_high": ("upper end of the fraction's Wilson interval", "1"),
-    "group_interval": ("mean steady spike interval of the group", "time"),
-    # drift windows
     "window": ("index of the window", "1"),
     "t_start": ("start of the window", "time"),
-    "t_mid": ("middle of the window", "time"),
-    # hard cases
-    "case": ("hard case", "text"),
-    "outcome": ("outcome: reliable, degraded or refused", "text"),
     "error": ("error of the case (drift, disagreement or scaling error, as its detail says)", "1"),
     "drift": ("max |E(t) / E(0) - 1| of the run", "1"),
-    "disagreement": ("max |heyoka - DOP853| of the end state over the velocity scale", "1"),
-    "min_step": ("smallest integrator step", "time"),
-    "max_step": ("largest integrator step", "time"),
     "wall_s": ("wall-clock time of the run", "s"),
-    "detail": ("detail of the outcome", "text"),
-    # speed benchmark
-    "backend": ("integration backend", "text"),
     "method": ("integration method", "text"),
-    "error_short": ("max |state difference| from the reference at t_short", "1"),
-    "wall_short": ("median wall-clock time of the run to t_short", "s"),
-    "drift_long": ("max |E(t) / E(0) - 1| of the run to t_long", "1"),
-    "wall_long": ("wall-clock time of the run to t_long", "s"),
-    "steps_long": ("integrator steps of the run to t_long (-1: not run)", "1"),
     "compile_s": ("compile time", "s"),
-    "tol_observable": ("heyoka tolerance of the observables' runs", "1"),
-    "lambda_1_wall": ("wall-clock time of the lambda_1 run", "s"),
-    "error_target": ("error target", "1"),
-    "peer": ("peer engine", "text"),
-    "peer_run": ("index of the peer run", "1"),
-    "peer_engine": ("peer engine of the run", "text"),
-    "peer_rtol": ("relative tolerance of the peer run", "1"),
-    "peer_error": ("max |state difference| of the peer run from the reference", "1"),
-    "peer_wall": ("median wall-clock time of the peer run after warm-up", "s"),
-    "peer_compile_s": ("compile time of the peer run", "s"),
-    "peer_note": ("note on the peer run", "text"),
-    "peer_ratio": ("fastest wall-clock time of the peer reaching the error target over heyoka's", "1"),
-    "peer_engine_compile_s": ("compile time of the peer engine", "s"),
-    "lyap_peer": ("index of the Lyapunov peer run", "1"),
-    "lyap_peer_system": ("system of the Lyapunov peer run (the sleigh, or Lorenz in its own time unit)", "text"),
-    "lyap_peer_engine": ("engine of the Lyapunov peer run", "text"),
-    "lyap_peer_lambda_1": ("largest Lyapunov exponent lambda_1 of the peer run's system", "rate"),
-    "lyap_peer_wall": ("wall-clock time of the Lyapunov peer run", "s"),
-    "lyap_peer_compile_s": ("compile time of the Lyapunov peer run", "s"),
-    "lyap_peer_note": ("note on the Lyapunov peer run", "text"),
-    "lyap_scipy": ("index of the SciPy Lyapunov run", "1"),
-    "lyap_scipy_method": ("SciPy method of the Lyapunov run", "text"),
-    "lyap_scipy_rtol": ("relative tolerance of the SciPy Lyapunov run", "1"),
-    "lyap_scipy_lambda_1": ("largest Lyapunov exponent lambda_1 with SciPy's method", "rate"),
-    "lyap_scipy_wall": ("wall-clock time of the SciPy Lyapunov run", "s"),
-    # torus stability (sleighsim.scenes.torus_stability)
-    "orbit": ("index of the orbit (0: the reference from the settled point, then the perturbed starts)", "1"),
     "amplitude": ("relative size of the start's perturbation (0: the reference)", "1"),
-    "direction": ("index of the perturbation's seeded random direction (-1: the reference)", "1"),
-    "start_distance": ("relative distance of the start from the settled point (sleighsim.engine.ddtaylor.separation)",
-                       "1"),
     "spike_time": ("refined time of each Omega spike (peak of |Omega| on the delta = 0 section)", "time"),
-    "spike_phase": ("delta mod 2 pi at each spike, the fast phase of the spike section", "angle"),
-    "spike_u": ("u at each spike", "speed"),
-    "spike_Omega": ("Omega at each spike", "angular_velocity"),
-    "spike_omega": ("omega at each spike", "angular_velocity"),
-    "mean_interval": ("mean interval between the orbit's refined spikes", "time"),
-    "mean_interval_err": ("standard error of the mean spike interval, std / sqrt(n) over the intervals", "time"),
-    "curve_distance": ("distance of each spike-section point to the reference's spike-section curve, relative to the "
-                       "reference's max |(u, Omega, omega)|", "1"),
-    "distance_early": ("median distance to the reference's spike-section curve over the first quarter of spikes", "1"),
-    "distance_late": ("median distance to the reference's spike-section curve over the last quarter of spikes", "1"),
-    "period_difference": ("mean spike interval over the second half of the spikes minus the reference's mean", "time"),
-    "period_difference_err": ("standard error of the period difference (both orbits' combined)", "time"),
-    "torus_class": ("class of the orbit: same torus, neighbouring torus or leaves (reference: the reference)", "text"),
-    "class_reason": ("reason for the orbit's class", "text"),
     # the claims ledger (sleighsim.claims.ledger) and the verdict stability table
     "id": ("claim id (paper/CLAIMS.md)", "text"),
     "statement": ("the paper's statement", "text"),
@@ -284,10 +218,6 @@ VOCABULARY: dict[str, tuple[str, str]] = {
 # the perturbation series' terms, v = v0 + eps v1 + eps^2 v2 + ... (sleighsim.model.perturbation)
 VOCABULARY.update({f"{v}{k}": (f"order-{k} term of {_STATE_LONG[v]}", STATE_KINDS[v])
                    for v in _STATE_LONG for k in range(5)})
-# a basins reference state's run has the run's variables
-VOCABULARY.update({f"reference_{v}": (f"{VOCABULARY[v][0]}, reference state", VOCABULARY[v][1])
-                   for v in ("settled", "t_settled", "n_spikes", "interval", "interval_std", "omega_sign",
-                             "energy_max_rel_drift", "wall_time_s")})
 
 #: Names made from settings (regular expression -> (long_name, kind)).
 PATTERNS: dict[str, tuple[str, str]] = {

@@ -100,13 +100,17 @@ def table(base_nc, variant_ncs: dict) -> xr.Dataset:
     return ds
 
 
+#: What the verdict stability table's dataset is (its CF title).
+TITLE = "verdict stability: the ledger's verdicts with perturbed start states and at a looser tolerance"
+
+
 def write_table(ds: xr.Dataset, csv_path) -> None:
     """The verdict table ``ds`` (one row per claim id) as CSV at ``csv_path``."""
     names = [k for k in ds.data_vars]
     lines = ["id," + ",".join(names)]
     lines += [",".join([str(i)] + [str(ds[k].values[j]) for k in names]) for j, i in enumerate(ds.id.values)]
     write_text(csv_path, "\n".join(lines) + "\n")
-    write_dataset(ds, Path(csv_path).with_suffix(".nc"))
+    write_dataset(ds, Path(csv_path).with_suffix(".nc"), what=TITLE)
 
 
 def run(config: dict, base_nc, out_csv, *, cores: int = 2, snakefile=None) -> xr.Dataset:

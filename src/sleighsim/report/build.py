@@ -187,7 +187,7 @@ def tables(datasets, power: dict | None = None, power_path="") -> list[dict]:
     """The report's tables (:data:`sleighsim.report.tables.TABLES`), or the dataset that would hold each;
     then the judge-power record's (``power_table``) when given."""
     out = [] if power is None else [{"title": "Judges' power and false rates (who votes on chaos)",
-                                     "data": "judge_power", "table": power_table(power, power_path)}]
+                                     "data": Path(power_path).name, "table": power_table(power, power_path)}]
     for title, table in TABLES.items():
         content = None
         if table.data in datasets:

@@ -73,7 +73,9 @@ def printed_model(cfg: dict, scene: str = "") -> xr.Dataset:
 
 
 PRINTED_MODEL = SceneKind(
-    name="printed_model", compute=printed_model,
+    name="printed_model",
+    title="the model as printed: energy drift of the printed udot, and the paper's other slips (D1-D6)",
+    compute=printed_model,
     records=lambda c: [memory.span(c, "t_end", "dt", 8), memory.span(c, "spikes.t_end", "spikes.dt")])
 
 

@@ -27,6 +27,7 @@ from sleighsim.engine import transient
 from sleighsim.engine.integrate import integrate, sample_grid
 from sleighsim.engine.transient import settle
 from sleighsim.io.netcdf import read_dataset
+from sleighsim.io.vocabulary import VOCABULARY as SHARED
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import state_at_label
 from sleighsim.scenes import memory
@@ -182,7 +183,26 @@ def _checks(w, cfg):
         raise ConfigError(f"{w}.n_chunks = {cfg['n_chunks']} must lie in [1, n_samples = {cfg['n_samples']}]")
 
 
+#: The variables only this kind writes: name -> (long_name, kind of quantity) (``sleighsim.io.cf``).
+VOCABULARY = {
+    "sample": ("index of the sampled start state", "1"),
+    "group_of": ("steady-state group of the run", "text"),
+    "count": ("runs in the group", "1"),
+    "fraction": ("fraction of the runs in the group", "1"),
+    "ci_low": ("lower end of the fraction's Wilson interval", "1"),
+    "ci_high": ("upper end of the fraction's Wilson interval", "1"),
+    "group_interval": ("mean steady spike interval of the group", "time"),
+}
+# a reference state's run has the run's variables
+VOCABULARY.update({f"reference_{v}": (f"{SHARED[v][0]}, reference state", SHARED[v][1])
+                   for v in ("settled", "t_settled", "n_spikes", "interval", "interval_std", "omega_sign",
+                             "energy_max_rel_drift", "wall_time_s")})
+
+
 BASINS = SceneKind(
-    name="basins", chunk=chunk, gather=gather, checks=_checks, pre_run="t_round",
+    name="basins",
+    title="basin fractions of the steady states on one energy level (claim C06 made quantitative)",
+    vocabulary=VOCABULARY,
+    chunk=chunk, gather=gather, checks=_checks, pre_run="t_round",
     records=lambda c: [*memory.pre_run(c, "t_round"), memory.span(c, "T_measure", "dt_measure"),
                        memory.span(c, "n_samples", None, 8)])

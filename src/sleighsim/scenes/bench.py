@@ -254,7 +254,47 @@ def bench(cfg: dict, scene: str = "") -> xr.Dataset:
     return ds
 
 
-BENCH = SceneKind(name="bench", compute=bench, integrates=False,
+#: The variables only this kind writes: name -> (long_name, kind of quantity) (``sleighsim.io.cf``).
+VOCABULARY = {
+    "backend": ("integration backend", "text"),
+    "error_short": ("max |state difference| from the reference at t_short", "1"),
+    "wall_short": ("median wall-clock time of the run to t_short", "s"),
+    "drift_long": ("max |E(t) / E(0) - 1| of the run to t_long", "1"),
+    "wall_long": ("wall-clock time of the run to t_long", "s"),
+    "steps_long": ("integrator steps of the run to t_long (-1: not run)", "1"),
+    "tol_observable": ("heyoka tolerance of the observables' runs", "1"),
+    "lambda_1_wall": ("wall-clock time of the lambda_1 run", "s"),
+    "error_target": ("error target", "1"),
+    "peer": ("peer engine", "text"),
+    "peer_run": ("index of the peer run", "1"),
+    "peer_engine": ("peer engine of the run", "text"),
+    "peer_rtol": ("relative tolerance of the peer run", "1"),
+    "peer_error": ("max |state difference| of the peer run from the reference", "1"),
+    "peer_wall": ("median wall-clock time of the peer run after warm-up", "s"),
+    "peer_compile_s": ("compile time of the peer run", "s"),
+    "peer_note": ("note on the peer run", "text"),
+    "peer_ratio": ("fastest wall-clock time of the peer reaching the error target over heyoka's", "1"),
+    "peer_engine_compile_s": ("compile time of the peer engine", "s"),
+    "lyap_peer": ("index of the Lyapunov peer run", "1"),
+    "lyap_peer_system": ("system of the Lyapunov peer run (the sleigh, or Lorenz in its own time unit)", "text"),
+    "lyap_peer_engine": ("engine of the Lyapunov peer run", "text"),
+    "lyap_peer_lambda_1": ("largest Lyapunov exponent lambda_1 of the peer run's system", "rate"),
+    "lyap_peer_wall": ("wall-clock time of the Lyapunov peer run", "s"),
+    "lyap_peer_compile_s": ("compile time of the Lyapunov peer run", "s"),
+    "lyap_peer_note": ("note on the Lyapunov peer run", "text"),
+    "lyap_scipy": ("index of the SciPy Lyapunov run", "1"),
+    "lyap_scipy_method": ("SciPy method of the Lyapunov run", "text"),
+    "lyap_scipy_rtol": ("relative tolerance of the SciPy Lyapunov run", "1"),
+    "lyap_scipy_lambda_1": ("largest Lyapunov exponent lambda_1 with SciPy's method", "rate"),
+    "lyap_scipy_wall": ("wall-clock time of the SciPy Lyapunov run", "s"),
+}
+
+
+BENCH = SceneKind(
+    name="bench",
+    title="speed against error: heyoka, SciPy and peer engines",
+    vocabulary=VOCABULARY,
+    compute=bench, integrates=False,
                   records=lambda c: [memory.span(c, "t_long", "dt_long")])
 
 
@@ -284,7 +324,7 @@ def main(argv=None):
     """The bench from the command line: run it (or ``--quick``) into OUT, or ``--summarize`` an existing one."""
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("out", help="netCDF file to write")
-    parser.add_argument("--config", help="YAML file with a bench block (default: config/config.yaml)")
+    parser.add_argument("--config", help="config YAML whose scenes hold a bench block (default: config/config.yaml)")
     parser.add_argument("--quick", action="store_true", help="a tiny run (seconds), for a first look")
     parser.add_argument("--summarize", metavar="YAML", help="read OUT (an existing bench dataset) and write "
                         "its summary (loosest converged tolerances, speed ratios) to YAML instead of running")
@@ -302,8 +342,8 @@ def main(argv=None):
     else:
         import yaml
 
-        cfg = yaml.safe_load(open(args.config or "config/config.yaml"))["bench"]
-    write_dataset(bench(cfg), args.out)
+        cfg = yaml.safe_load(open(args.config or "config/config.yaml"))["scenes"]["bench"]
+    write_dataset(bench(cfg), args.out, what=BENCH.title, vocabulary=BENCH.vocabulary)
 
 
 if __name__ == "__main__":

@@ -86,6 +86,15 @@ def gather(scene: str, cfg: dict, paths) -> xr.Dataset:
     return KINDS[cfg["kind"]].gather(list(paths), cfg, scene=scene)
 
 
+def writing(cfg: dict) -> dict:
+    """How a dataset of the scene block ``cfg`` is written (``sleighsim.io.netcdf.write_dataset``'s
+    keywords): the arithmetic it was computed in, what it is (the block's ``title``, else its kind's) and
+    its kind's vocabulary."""
+    kind = KINDS[cfg["kind"]]
+    return {"precision": cfg.get("precision", Precision.DOUBLE), "what": cfg.get("title", kind.title),
+            "vocabulary": kind.vocabulary}
+
+
 def chunk_count(cfg: dict) -> int:
     """The number of chunk jobs of a chunked scene block."""
     return KINDS[cfg["kind"]].chunk_count(cfg)

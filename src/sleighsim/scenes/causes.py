@@ -106,7 +106,9 @@ def k2_sweep(cfg: dict, scene: str = "") -> xr.Dataset:
 
 
 K2_SWEEP = SceneKind(
-    name="k2_sweep", compute=k2_sweep,
+    name="k2_sweep",
+    title="the observables the unstated K bears on, against K2 (likely causes of C04, C05, C09-C11, C13, C23)",
+    compute=k2_sweep,
     records=lambda c: [memory.span(c, "t_end", "dt"), *memory.hierarchy(c, "hierarchy."),
                        *memory.series(c, "series.", c["series"]["order"]),
                        memory.span(c, "psd.t_settle", "psd.transient.dt"), memory.span(c, "psd.duration", "psd.dt")])
@@ -168,6 +170,9 @@ def integration_error(cfg: dict, scene: str = "") -> xr.Dataset:
 
 
 INTEGRATION_ERROR = SceneKind(
-    name="integration_error", compute=integration_error,
+    name="integration_error",
+    title=("SciPy's RK45 (standing in for MATLAB's ode45) against its tolerance: spikes, series error and the "
+           "paper's Lyapunov protocol (likely causes of C04, C05, C11, C18-C21)"),
+    compute=integration_error,
     records=lambda c: [memory.span(c, "t_end", "dt"), *memory.series(c, "series.", c["series"]["order"]),
                        memory.span(c, "lyapunov.T", "lyapunov.tau")])

@@ -125,6 +125,15 @@ def _drift_windows_checks(w, cfg):
     multiple(f"{w}.T", cfg["T"], "window", cfg["window"])
 
 
+#: The variables only this kind writes: name -> (long_name, kind of quantity) (``sleighsim.io.cf``).
+VOCABULARY = {
+    "t_mid": ("middle of the window", "time"),
+}
+
+
 DRIFT_WINDOWS = SceneKind(
-    name="drift_windows", compute=drift_windows, checks=_drift_windows_checks,
+    name="drift_windows",
+    title="the main state's slow drift: spike interval and lambda_1 per window of one long run",
+    vocabulary=VOCABULARY,
+    compute=drift_windows, checks=_drift_windows_checks,
     records=lambda c: [*memory.pre_run(c, "t_transient"), memory.span(c, "window", "tau", 2)])

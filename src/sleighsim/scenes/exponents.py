@@ -131,7 +131,9 @@ def spectrum(cfg: dict, scene: str = "") -> xr.Dataset:
 
 
 LYAPUNOV_SPECTRUM = SceneKind(
-    name="lyapunov_spectrum", compute=spectrum, realizable=True, observables=("lambda_1", "lambda_4"),
+    name="lyapunov_spectrum",
+    title="the four Lyapunov exponents of the steady state from independent replicas (claims C18, C19)",
+    compute=spectrum, realizable=True, observables=("lambda_1", "lambda_4"),
     records=lambda c: [*memory.pre_run(c, "t_transient"), *memory.benettin(c, 8)], pre_run="t_transient")
 
 
@@ -215,7 +217,9 @@ def _protocol_checks(w, cfg):
 
 
 LYAPUNOV_PROTOCOL = SceneKind(
-    name="lyapunov_protocol", compute=protocol, realizable=True, observables=("lambda_1", "lambda_4"),
+    name="lyapunov_protocol",
+    title="the paper's Lyapunov protocol from several start states on one level (claim C19)",
+    compute=protocol, realizable=True, observables=("lambda_1", "lambda_4"),
     records=lambda c: [memory.span(c, "T", "tau"), memory.span(c, "tau_check", "paper_tau")],
     checks=_protocol_checks)
 
@@ -343,7 +347,9 @@ def energy_gather(paths, cfg: dict, scene: str = "") -> xr.Dataset:
 
 
 LYAPUNOV_ENERGY = SceneKind(
-    name="lyapunov_energy", compute=energy_sweep, chunk=energy_chunk, gather=energy_gather,
+    name="lyapunov_energy",
+    title="the largest Lyapunov exponent against the energy label (figure F10, claim C20)",
+    compute=energy_sweep, chunk=energy_chunk, gather=energy_gather,
     chunk_count=_precision_chunks, realizable=True, observables=("lambda_1_reference", "lambda_1_lowest_label"),
     records=lambda c: [*memory.pre_run(c, "t_transient"), memory.span(c, "T", "tau", 5, memory.count(c, "labels"))],
     checks=lambda w, cfg: blocks(w, cfg, "T"), pre_run="t_transient")
@@ -392,7 +398,10 @@ def small_eps_cost(cfg: dict, scene: str = "") -> xr.Dataset:
 
 
 
-SMALL_EPS_COST = SceneKind(name="small_eps_cost", compute=small_eps_cost,
+SMALL_EPS_COST = SceneKind(
+    name="small_eps_cost",
+    title="what small eps costs: transient length and integrator steps extrapolated in eps (claim C25)",
+    compute=small_eps_cost,
                            records=lambda c: [memory.span(c, ("max(horizons)", max(c["horizons"])), "dt")])
 
 
@@ -461,6 +470,8 @@ def _formal_exponents_checks(w, cfg):
 
 
 FORMAL_EXPONENTS = SceneKind(
-    name="formal_exponents", compute=formal_exponents, realizable=True,
+    name="formal_exponents",
+    title="the largest Lyapunov exponent of the formal system, eps >= 1 (claim C26)",
+    compute=formal_exponents, realizable=True,
     records=lambda c: [*memory.pre_run(c, "t_transient"), *memory.benettin(c, 8)],
     checks=_formal_exponents_checks, pre_run="t_transient")

@@ -296,7 +296,9 @@ def _checks(w, cfg):
 
 
 LYAPUNOV_GRID = SceneKind(
-    name="lyapunov_grid", chunk=chunk, gather=gather, observables=("lambda_1_reference", "lambda_1_smallest"),
+    name="lyapunov_grid",
+    title="the largest Lyapunov exponent over a grid of (eps, b) rows at one energy label",
+    chunk=chunk, gather=gather, observables=("lambda_1_reference", "lambda_1_smallest"),
     records=lambda c: [*memory.pre_run(c, "t_pre"), *memory.benettin(c, 5),
                        memory.span(c, ("n_eps x n_b", c["n_eps"] * c["n_b"]), None, 20)],
     work=lambda cfg: sum(w for _, w in grid_rows(cfg)), chunk_work=chunk_work, modelled=lambda leaf: leaf in WORK_KEYS,

@@ -145,5 +145,21 @@ def hardcases(cfg: dict, scene: str = "") -> xr.Dataset:
     return ds
 
 
-HARDCASES = SceneKind(name="hardcases", compute=hardcases,
+#: The variables only this kind writes: name -> (long_name, kind of quantity) (``sleighsim.io.cf``).
+VOCABULARY = {
+    "case": ("hard case", "text"),
+    "outcome": ("outcome: reliable, degraded or refused", "text"),
+    "disagreement": ("max |heyoka - DOP853| of the end state over the velocity scale", "1"),
+    "min_step": ("smallest integrator step", "time"),
+    "max_step": ("largest integrator step", "time"),
+    "detail": ("detail of the outcome", "text"),
+}
+
+
+HARDCASES = SceneKind(
+    name="hardcases",
+    title=("hard cases of the integrator: extreme parameters, energies and horizons, states at rest and on a "
+           "section"),
+    vocabulary=VOCABULARY,
+    compute=hardcases,
                       records=lambda c: [memory.span(c, "T_long", ("T_long / 100", c["T_long"] / 100))])

@@ -122,7 +122,10 @@ def series_vs_exact(cfg: dict, scene: str = "") -> xr.Dataset:
 
 
 SERIES_VS_EXACT = SceneKind(
-    name="series_vs_exact", compute=series_vs_exact,
+    name="series_vs_exact",
+    title=("the perturbation series to order 2 against the exact flow, and its convergence as eps -> 0 (figure"
+           " F5, claim C11)"),
+    compute=series_vs_exact,
     records=lambda c: [*memory.series(c, "", c["order"]),
                        *memory.series(c, "convergence.", max(c["convergence"]["orders"]))])
 
@@ -208,7 +211,11 @@ def _hierarchy_terms_checks(w, cfg):
         raise ConfigError(f"{w}.fit_window = [{lo}, {hi}] must be increasing within [0, t_end = {cfg['t_end']}]")
 
 
-HIERARCHY_TERMS = SceneKind(name="hierarchy_terms", compute=hierarchy_terms, checks=_hierarchy_terms_checks,
+HIERARCHY_TERMS = SceneKind(
+    name="hierarchy_terms",
+    title=("the order-0 and order-2 terms of the perturbation hierarchy with the paper's numbers (figure F6, "
+           "claims C07-C10)"),
+    compute=hierarchy_terms, checks=_hierarchy_terms_checks,
                             records=memory.hierarchy)
 
 
@@ -309,4 +316,8 @@ def hierarchy_audit(cfg: dict, scene: str = "") -> xr.Dataset:
     return ds
 
 
-HIERARCHY_AUDIT = SceneKind(name="hierarchy_audit", compute=hierarchy_audit, records=memory.hierarchy)
+HIERARCHY_AUDIT = SceneKind(
+    name="hierarchy_audit",
+    title=("the printed perturbation hierarchy against the derived one, order 3 and the secular terms of order"
+           " 4 (claim C12)"),
+    compute=hierarchy_audit, records=memory.hierarchy)

@@ -177,7 +177,10 @@ WORK_KEYS = ("T_megno", "T_two", "replicas", "T_round", "max_rounds", "replica_s
              "horizons", "samples", "confirm_periods", "spike_period", "n_chunks")
 
 JUDGE_POWER = SceneKind(
-    name="judge_power", chunk=chunk, gather=gather, integrates=False,
+    name="judge_power",
+    title=("the chaos judges' power and false rates on orbits of known class (sticky chaos, slow-fast tori, "
+           "textbook orbits) and the judges that vote"),
+    chunk=chunk, gather=gather, integrates=False,
     records=lambda c: [Span(("sleigh.frequency.T x max(horizons)", c["sleigh"]["frequency"]["T"] * max(c["horizons"])),
                             ("sleigh.frequency.dt", c["sleigh"]["frequency"]["dt"]), 4)],
     work=work, chunk_work=chunk_work, modelled=lambda leaf: leaf in WORK_KEYS, checks=_checks)

@@ -10,7 +10,7 @@ The estimates and checks are pure functions of the kind's config block (as
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from sleighsim.scenes.workload import HORIZON_KEYS, horizon_work
 
@@ -44,7 +44,10 @@ def no_checks(where: str, cfg: dict) -> None:
 class SceneKind:
     """A scene kind.
 
-    - ``name``: the ``kind`` of a config block;
+    - ``name``: the ``kind`` of a config block; ``title``: what a dataset of this kind is, in words (the
+      heart of its CF title; a block's own ``title`` says it for that scene); ``vocabulary``: the
+      (long_name, kind of quantity) of the variables only this kind writes (``sleighsim.io.cf``; the
+      shared names are ``sleighsim.io.vocabulary``'s, and a name means one thing in every dataset);
     - ``compute(cfg, [inputs,] scene=)``: its dataset (None for a chunked or dataset-free kind);
     - ``chunk(cfg, index, scene=)`` and ``gather(paths, cfg, scene=)``: a chunked kind's chunk jobs
       and its dataset from their files; ``chunk_count(cfg)``: how many chunk jobs (a kind with both
@@ -65,7 +68,9 @@ class SceneKind:
       :class:`sleighsim.scenes.checks.ConfigError`); ``pre_run``: the key of its checked pre-run."""
 
     name: str
+    title: str
     records: Callable[[dict], list]
+    vocabulary: dict = field(default_factory=dict)
     compute: Callable | None = None
     chunk: Callable | None = None
     gather: Callable | None = None

@@ -148,5 +148,7 @@ def _precision_ladder_checks(w, cfg):
 
 
 PRECISION_LADDER = SceneKind(
-    name="precision_ladder", compute=precision_ladder, checks=_precision_ladder_checks,
+    name="precision_ladder",
+    title="spike times per arithmetic from one settled point and the orbits' separation",
+    compute=precision_ladder, checks=_precision_ladder_checks,
     records=lambda c: [*memory.pre_run(c, "t_transient"), memory.span(c, "T", "dt", 4, memory.count(c, "precisions"))])

@@ -379,5 +379,9 @@ def paper_setup(cfg: dict, inputs: dict, scene: str = "") -> xr.Dataset:
 
 
 #: Reads datasets and the claims table and integrates nothing: it holds no records.
-PAPER_SETUP = SceneKind(name="paper_setup", compute=paper_setup, inputs=ROLES, reads_paper=True, integrates=False,
+PAPER_SETUP = SceneKind(
+    name="paper_setup",
+    title=("the paper's unstated setup (K2, integrator, psd convention, energy normalisation, Lyapunov "
+           "integration) inferred jointly from all its numbers, from the cause datasets"),
+    compute=paper_setup, inputs=ROLES, reads_paper=True, integrates=False,
                         records=lambda c: [])

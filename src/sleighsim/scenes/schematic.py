@@ -4,4 +4,7 @@ from __future__ import annotations
 
 from sleighsim.scenes.kind import SceneKind
 
-SCHEMATIC = SceneKind(name="schematic", dataset=False, integrates=False, records=lambda c: [])
+SCHEMATIC = SceneKind(
+    name="schematic",
+    title="schematic of the sleigh, its runner and the rotor (figure F1)",
+    dataset=False, integrates=False, records=lambda c: [])

@@ -172,7 +172,9 @@ def poincare_gather(paths, cfg: dict, scene: str = "") -> xr.Dataset:
 
 
 POINCARE = SceneKind(
-    name="poincare", compute=poincare_maps, chunk=poincare_chunk, gather=poincare_gather, chunk_count=_precision_jobs,
+    name="poincare",
+    title="Poincare maps P_2pi and P_pi/2, return times and loops of a steady state",
+    compute=poincare_maps, chunk=poincare_chunk, gather=poincare_gather, chunk_count=_precision_jobs,
     observables=("rotation_number", "return_time_mean", "n_loops"),
     records=lambda c: [*memory.pre_run(c, "t_settle"), memory.span(c, "attractor_span", "attractor_dt")],
     pre_run="t_settle")
@@ -239,7 +241,9 @@ def _psd_checks(w, cfg):
 
 
 PSD = SceneKind(
-    name="psd", compute=psd,
+    name="psd",
+    title="power spectra of u and Omega on the attractor",
+    compute=psd,
     observables=("Omega_band_low", "Omega_band_high", "Omega_band_peak", "u_band_peak", "Omega_n_peaks_near_zero"),
     records=lambda c: [*memory.pre_run(c, "t_settle"), memory.span(c, "duration", "dt"),
                        memory.span(c, "check_duration", "check_dt")],
@@ -270,5 +274,9 @@ def attractor_scaling(cfg: dict, inputs: dict, scene: str = "") -> xr.Dataset:
 
 
 #: Reads two poincare datasets and integrates nothing: it holds no records.
-ATTRACTOR_SCALING = SceneKind(name="attractor_scaling", compute=attractor_scaling, inputs=("reference", "scaled"),
+ATTRACTOR_SCALING = SceneKind(
+    name="attractor_scaling",
+    title=("the attractor at a higher energy label mapped by the time-scaling law onto the reference one "
+           "(claim C17)"),
+    compute=attractor_scaling, inputs=("reference", "scaled"),
                               integrates=False, records=lambda c: [])

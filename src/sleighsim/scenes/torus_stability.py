@@ -266,8 +266,35 @@ def _checks(w: str, cfg: dict) -> None:
         raise ConfigError(f"{w}.T_reference = {cfg['T_reference']} must be at least T = {cfg['T']}")
 
 
+#: The variables only this kind writes: name -> (long_name, kind of quantity) (``sleighsim.io.cf``).
+VOCABULARY = {
+    "orbit": ("index of the orbit (0: the reference from the settled point, then the perturbed starts)", "1"),
+    "direction": ("index of the perturbation's seeded random direction (-1: the reference)", "1"),
+    "start_distance": ("relative distance of the start from the settled point (sleighsim.engine.ddtaylor.separation)",
+                       "1"),
+    "spike_phase": ("delta mod 2 pi at each spike, the fast phase of the spike section", "angle"),
+    "spike_u": ("u at each spike", "speed"),
+    "spike_Omega": ("Omega at each spike", "angular_velocity"),
+    "spike_omega": ("omega at each spike", "angular_velocity"),
+    "mean_interval": ("mean interval between the orbit's refined spikes", "time"),
+    "mean_interval_err": ("standard error of the mean spike interval, std / sqrt(n) over the intervals", "time"),
+    "curve_distance": ("distance of each spike-section point to the reference's spike-section curve, relative to the "
+                       "reference's max |(u, Omega, omega)|", "1"),
+    "distance_early": ("median distance to the reference's spike-section curve over the first quarter of spikes", "1"),
+    "distance_late": ("median distance to the reference's spike-section curve over the last quarter of spikes", "1"),
+    "period_difference": ("mean spike interval over the second half of the spikes minus the reference's mean", "time"),
+    "period_difference_err": ("standard error of the period difference (both orbits' combined)", "time"),
+    "torus_class": ("class of the orbit: same torus, neighbouring torus or leaves (reference: the reference)", "text"),
+    "class_reason": ("reason for the orbit's class", "text"),
+}
+
+
 TORUS_STABILITY = SceneKind(
-    name="torus_stability", chunk=chunk, gather=gather, pre_run="t_transient",
+    name="torus_stability",
+    title=("what the steady state is: orbits started near the main torus in double-double, each on its torus, "
+           "a neighbouring one, or gone (issue 39 item 4, claim C06)"),
+    vocabulary=VOCABULARY,
+    chunk=chunk, gather=gather, pre_run="t_transient",
     records=lambda c: [*memory.pre_run(c, "t_transient"), memory.span(c, "T_reference", "dt", 8)],
     work=lambda cfg: sum(chunk_work(cfg)), chunk_work=chunk_work,
     modelled=lambda leaf: leaf in ("T", "T_reference", "t_transient", "amplitudes", "directions", "n_chunks"),

@@ -65,7 +65,9 @@ def _trajectory_checks(w, cfg):
 
 
 TRAJECTORY = SceneKind(
-    name="trajectory", compute=trajectory,
+    name="trajectory",
+    title="one run of the sleigh: velocities, heading and path, through its transients into the steady state",
+    compute=trajectory,
     observables=("n_spikes", "first_spike_time", "spike_interval_mean", "path_reach"),
     records=lambda c: [memory.span(c, ("(t_end - t_sample_start)", c["t_end"] - c.get("t_sample_start", 0.0)),
                                    "dt", 7),
@@ -185,7 +187,10 @@ def _sleigh0_checks(w, cfg):
 
 
 SLEIGH0 = SceneKind(
-    name="sleigh0", compute=sleigh0, checks=_sleigh0_checks,
+    name="sleigh0",
+    title=("the rotor-free sleigh (eps = 0): phase portrait against the closed form, vector field and a path "
+           "(figure F2, claim C01)"),
+    compute=sleigh0, checks=_sleigh0_checks,
     records=lambda c: [memory.span(c, "portrait.n_samples", None, 4, memory.count(c, "portrait.states")),
                        memory.span(c, ("portrait.n_field^2", c["portrait"]["n_field"] ** 2), None, 4),
                        memory.span(c, "path.t_end", "path.dt", 7)])

@@ -76,7 +76,9 @@ def transient_scaling(cfg: dict, scene: str = "") -> xr.Dataset:
 
 
 TRANSIENT_SCALING = SceneKind(
-    name="transient_scaling", compute=transient_scaling,
+    name="transient_scaling",
+    title="the transient phases against eps from the reference state (claims C03-C05)",
+    compute=transient_scaling,
     records=lambda c: [memory.span(c, ("t_scale / min(eps)^2", c["t_scale"] / min(c["eps"]) ** 2), "dt")])
 
 
@@ -259,6 +261,9 @@ def _attractor_levels_checks(w, cfg):
 
 
 ATTRACTOR_LEVELS = SceneKind(
-    name="attractor_levels", compute=attractor_levels, checks=_attractor_levels_checks,
+    name="attractor_levels",
+    title=("several start states on two energy levels, each run to its steady state and compared under the "
+           "time-scaling law (figure F4, claim C06)"),
+    compute=attractor_levels, checks=_attractor_levels_checks,
     records=lambda c: [memory.span(c, "t_max", "dt"), memory.span(c, "long_check.t_end", "long_check.dt"),
                        memory.span(c, "compare_window", "compare_dt")])

@@ -123,4 +123,7 @@ def trigger_law(cfg: dict, scene: str = "") -> xr.Dataset:
     return ds
 
 
-TRIGGER_LAW = SceneKind(name="trigger_law", compute=trigger_law, records=lambda c: [memory.span(c, "t_end", "dt")])
+TRIGGER_LAW = SceneKind(
+    name="trigger_law",
+    title="the first spike against the size of the injected error (tolerance and arithmetic) (claim C04)",
+    compute=trigger_law, records=lambda c: [memory.span(c, "t_end", "dt")])

@@ -306,7 +306,9 @@ def _chunk_work(cfg: dict) -> list[float]:
 
 
 CHAOS_VERDICT = SceneKind(
-    name="chaos_verdict", chunk=chunk, gather=gather, chunk_count=_chunk_count, chunk_reads=_chunk_reads,
+    name="chaos_verdict",
+    title="is the steady state chaotic? Indicators, their verdicts and the faithfulness gauge per start state",
+    chunk=chunk, gather=gather, chunk_count=_chunk_count, chunk_reads=_chunk_reads,
     inputs=("power",),
     checks=_checks, pre_run="t_transient",
     records=lambda c: [*memory.pre_run(c, "t_transient"), *memory.benettin(c, 8),
