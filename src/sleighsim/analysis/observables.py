@@ -63,11 +63,16 @@ def observable(ds: xr.Dataset, name: str) -> tuple[float, float]:
     raise KeyError(f"no rule for the uncertainty of observable {name!r}")
 
 
-# the docstring is written into every ladder dataset (attribute agreement_rule)
+#: Written into every ladder dataset (attribute agreement_rule).
+AGREES_RULE = (
+    "Do two precisions' values (value, uncertainty) of one observable agree? Counts: equal. Other values: |a - "
+    "b| <= K_SIGMA x sqrt(u_a^2 + u_b^2), each u floored at REL_FLOOR x |value|. A NaN on either side never "
+    "agrees."
+)
+
+
 def agrees(a: tuple[float, float], b: tuple[float, float], *, count: bool) -> bool:
-    """Do two precisions' values (value, uncertainty) of one observable agree? Counts: equal.
-    Other values: |a - b| <= K_SIGMA x sqrt(u_a^2 + u_b^2), each u floored at REL_FLOOR x |value|.
-    A NaN on either side never agrees."""
+    """Applies :data:`AGREES_RULE`, the rule as the datasets record it (just above)."""
     if not all(math.isfinite(v) for v in (*a, *b)):
         return False
     if count:
@@ -76,11 +81,16 @@ def agrees(a: tuple[float, float], b: tuple[float, float], *, count: bool) -> bo
     return abs(a[0] - b[0]) <= K_SIGMA * math.hypot(ua, ub)
 
 
-# the docstring is written into every ladder dataset (attribute converged_rule)
+#: Written into every ladder dataset (attribute converged_rule).
+CONVERGED_RULE = (
+    "The lowest precision whose values agree (``agrees``) with those of every finer precision, ``agree[i, j]`` "
+    "telling whether precisions i and j agree; \"not converged\" when none does below the finest (a single "
+    "precision is never called converged)."
+)
+
+
 def converged(agree: np.ndarray, precisions: list[str]) -> str:
-    """The lowest precision whose values agree (``agrees``) with those of every finer precision,
-    ``agree[i, j]`` telling whether precisions i and j agree; "not converged" when none does below
-    the finest (a single precision is never called converged)."""
+    """Applies :data:`CONVERGED_RULE`, the rule as the datasets record it (just above)."""
     for i in range(len(precisions) - 1):
         if all(agree[i, j] for j in range(i + 1, len(precisions))):
             return precisions[i]
@@ -165,8 +175,8 @@ def ladder(kind: str, names: tuple[str, ...], runs: list[xr.Dataset], precisions
     ds.attrs.update({k: v for k, v in runs[0].attrs.items() if k.startswith(("param_", "y0_", "energy_label"))})
     ds.attrs.update(scene=scene, kind=kind, converged_precision=overall, settled_state=starts[0],
                     start_rule="transient in double from the scene's y0, then each precision from that settled point "
-                               "at its machine epsilon", agreement_rule=" ".join(agrees.__doc__.split()),
-                    converged_rule=" ".join(converged.__doc__.split()), rel_floor=REL_FLOOR, k_sigma=K_SIGMA)
+                               "at its machine epsilon", agreement_rule=AGREES_RULE,
+                    converged_rule=CONVERGED_RULE, rel_floor=REL_FLOOR, k_sigma=K_SIGMA)
     if gain:
         g = gauge(gain["params"], starts[0], T=gain["T"], tau=gain["tau"], spike_factor=gain["spike_factor"],
                   tol=gain["tol"])

@@ -19,13 +19,19 @@ import numpy as np
 CLASSES = ("same torus", "neighbouring torus", "leaves")
 
 
+#: Written into the torus_stability dataset (attribute spike_rule).
+SPIKE_PEAKS_RULE = (
+    "Spike times refined to the peak of a smooth envelope, and the section's state there: for each coarse spike"
+    " time, the section crossing (rows of X, times t; one per fast turn) whose |X[:, 1]| is largest within "
+    "half_width of it; polynomials of ``degree`` in t through it and its ``half_points`` neighbours on each "
+    "side, per column of X; the spike time is the largest maximum of the fitted |X[:, 1]| among the fit "
+    "window's critical points, and the spike point the fitted X there. A spike whose window runs past the "
+    "record's ends is dropped. Returns (times (m,), points (m, columns))."
+)
+
+
 def spike_peaks(t, X, coarse, half_width: float, half_points: int = 3, degree: int = 4):
-    """Spike times refined to the peak of a smooth envelope, and the section's state there: for each
-    coarse spike time, the section crossing (rows of X, times t; one per fast turn) whose |X[:, 1]| is
-    largest within half_width of it; polynomials of ``degree`` in t through it and its ``half_points``
-    neighbours on each side, per column of X; the spike time is the largest maximum of the fitted
-    |X[:, 1]| among the fit window's critical points, and the spike point the fitted X there. A spike
-    whose window runs past the record's ends is dropped. Returns (times (m,), points (m, columns))."""
+    """Applies :data:`SPIKE_PEAKS_RULE`, the rule as the datasets record it (just above)."""
     t, X = np.asarray(t, float), np.atleast_2d(np.asarray(X, float))
     signal, h = np.abs(X[:, 1]), half_points
     times, points = [], []
@@ -53,13 +59,18 @@ def _design(phase, order: int) -> np.ndarray:
     return np.hstack([np.ones_like(phase), np.cos(k * phase), np.sin(k * phase)])
 
 
+#: Written into the torus_stability dataset (attribute curve_rule).
+SECTION_CURVE_RULE = (
+    "The closed curve x(phi) through the spike-section points: per coordinate a Fourier series of order "
+    "min(max_order, (n - 2) // 4, pi / (the largest gap between the points' phases)) fitted by least squares "
+    "(at least twice as many points as coefficients, and no harmonic finer than the coverage resolves: points "
+    "on a short arc give order 0, their mean). ``floor``: the median over the points of the leave-one-out "
+    "residual's norm (each point against the fit without it), the curve's own thickness in the points' units."
+)
+
+
 def section_curve(phase, points, max_order: int) -> dict:
-    """The closed curve x(phi) through the spike-section points: per coordinate a Fourier series of
-    order min(max_order, (n - 2) // 4, pi / (the largest gap between the points' phases)) fitted by least
-    squares (at least twice as many points as coefficients, and no harmonic finer than the coverage
-    resolves: points on a short arc give order 0, their mean). ``floor``: the median over the points of
-    the leave-one-out residual's norm (each point against the fit without it), the curve's own
-    thickness in the points' units."""
+    """Applies :data:`SECTION_CURVE_RULE`, the rule as the datasets record it (just above)."""
     phase, points = np.asarray(phase, float), np.atleast_2d(np.asarray(points, float))
     if phase.size < 3:
         raise ValueError(f"a section curve needs at least 3 points, got {phase.size}")
@@ -101,19 +112,23 @@ def late_interval(spikes) -> tuple[float, float]:
     return mean_interval(spikes[spikes.size // 2:])
 
 
-# the docstring is written into the torus_stability dataset (attribute classification_rule)
+#: Written into the torus_stability dataset (attribute classification_rule).
+CLASSIFY_RULE = (
+    "The class of a perturbed orbit from its distances D_n to the reference's spike-section curve (relative), "
+    "its spike count and the difference dT +- dT_err of its late mean spike interval (second half of its "
+    "spikes) from the reference's mean (dT_err: both standard errors combined). D_early, D_late: medians over "
+    "the first and last quarter of the spikes; the periods agree when |dT| <= max(sigma dT_err, period_floor), "
+    "the latter the resolution of the spike times. \"leaves\" when fewer than min_spikes spikes came, or D_late "
+    ">= leave, or D grew (D_late / D_early >= change); \"same torus\" when the periods agree and D came back: it "
+    "decayed (D_late / D_early <= 1 / change, from D_early above same x floor) or it lies within same x floor "
+    "(the reference curve's own relative thickness); else \"neighbouring torus\" (regular, at an offset that "
+    "neither grows nor decays by the factor change, or at a measurably different period)."
+)
+
+
 def classify(D, n_spikes: int, dT: float, dT_err: float, floor: float, *, min_spikes: int, leave: float,
              change: float, same: float, sigma: float, period_floor: float) -> tuple[str, str]:
-    """The class of a perturbed orbit from its distances D_n to the reference's spike-section curve
-    (relative), its spike count and the difference dT +- dT_err of its late mean spike interval (second
-    half of its spikes) from the reference's mean (dT_err: both standard errors combined). D_early,
-    D_late: medians over the first and last quarter of the spikes; the periods agree when |dT| <=
-    max(sigma dT_err, period_floor), the latter the resolution of the spike times. "leaves" when fewer
-    than min_spikes spikes came, or D_late >= leave, or D grew (D_late / D_early >= change); "same torus"
-    when the periods agree and D came back: it decayed (D_late / D_early <= 1 / change, from D_early
-    above same x floor) or it lies within same x floor (the reference curve's own relative thickness);
-    else "neighbouring torus" (regular, at an offset that neither grows nor decays by the factor change,
-    or at a measurably different period)."""
+    """Applies :data:`CLASSIFY_RULE`, the rule as the datasets record it (just above)."""
     if n_spikes < min_spikes:
         return "leaves", f"{n_spikes} spikes (fewer than {min_spikes}): the spike train stopped"
     early, late = quarters(D)

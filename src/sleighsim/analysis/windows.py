@@ -76,16 +76,20 @@ def _step(ta, n: int, tau: float, callback, label: str) -> tuple[float, int]:
     return math.log(norm), res[3]
 
 
-def trend(t, x, *, rel_tol: float, sigma: float, last_fraction: float = 0.5, min_points: int = 4) -> dict:
-    """Has x(t) (one value per window) stopped drifting? A straight line is fitted to the windows in
-    the last ``last_fraction`` of the run (least squares; the windows are treated as independent,
-    which holds when a window spans many correlation times); change = slope x span of those windows.
+#: Written into the drift_windows dataset (attribute trend_rule).
+TREND_RULE = (
+    "Has x(t) (one value per window) stopped drifting? A straight line is fitted to the windows in the last "
+    "``last_fraction`` of the run (least squares; the windows are treated as independent, which holds when a "
+    "window spans many correlation times); change = slope x span of those windows. settled: |change| + sigma * "
+    "stderr(change) <= rel_tol * |mean| (any drift left is resolved below the tolerance; the reason says when "
+    "the slope itself is still resolved); drifting: |change| - sigma * stderr(change) > rel_tol * |mean| (a "
+    "drift resolved above the tolerance); undetermined otherwise, or with fewer than min_points (>= 3) finite "
+    "windows. Returns verdict, reason, slope (per time), slope_stderr, change, change_stderr, mean, n."
+)
 
-    settled: |change| + sigma * stderr(change) <= rel_tol * |mean| (any drift left is resolved below
-    the tolerance; the reason says when the slope itself is still resolved); drifting:
-    |change| - sigma * stderr(change) > rel_tol * |mean| (a drift resolved above the tolerance);
-    undetermined otherwise, or with fewer than min_points (>= 3) finite windows. Returns verdict,
-    reason, slope (per time), slope_stderr, change, change_stderr, mean, n."""
+
+def trend(t, x, *, rel_tol: float, sigma: float, last_fraction: float = 0.5, min_points: int = 4) -> dict:
+    """Applies :data:`TREND_RULE`, the rule as the datasets record it (just above)."""
     t, x = np.asarray(t, float), np.asarray(x, float)
     if t.shape != x.shape:
         raise ValueError(f"t and x differ in shape ({t.shape}, {x.shape})")

@@ -125,32 +125,32 @@ def _convergence(splits, W, D, D_log_err) -> tuple[float, float]:
     return math.log(D[a] / max(D[b], PRECISION)) / lever, math.hypot(D_log_err[a], D_log_err[b]) / lever
 
 
+#: Written into the chaos_verdict dataset (attribute frequency_method).
+DRIFT_RULE = (
+    "How the leading frequency of x changes between windows, for windows of length W = T / K, K in ``splits`` "
+    "(T = the series' length): D(W) = sample standard deviation of the K window frequencies / their mean, and "
+    "its convergence exponent between the longest and the shortest windows, slope = ln(D(W_max) / D(W_min)) / "
+    "ln(W_max / W_min) (D ~ W^slope; a torus gives about -4 with the Hann window; a wandering frequency about "
+    "-1/2: measured -0.6 to +0.3 on the chaotic textbook orbits). One line is followed in every window: f_ref "
+    "is the median of the leading frequencies of the finest split's windows, and each window's line is the "
+    "largest within (f_ref / 2, 3 f_ref / 2), so windows do not hop between lines of similar amplitude (a "
+    "harmonic, or a fast line). Splits whose windows hold fewer than min_cycles periods of f_ref, or in which a"
+    " window has no line in the band (NaN), are left out (a window of a few periods does not define a "
+    "frequency); slope and slope_err are NaN when fewer than two remain. Uncertainty: ln D of K windows is "
+    "given the standard error 1/sqrt(2 (K - 1)), that of a sample standard deviation of K independent values "
+    "(window frequencies of a chaotic orbit are nearly independent once W exceeds its correlation time; on a "
+    "torus D is deterministic, so the error is an upper bound there); the slope's error combines the two ends' "
+    "errors. A split of fewer than MIN_WINDOWS windows keeps its D but does not enter the slope: with K = 2, D "
+    "is one difference |f_1 - f_2|, whose logarithm has a heavy lower tail that this error does not cover, so "
+    "one chance coincidence of two window frequencies would fake convergence. When D(W_max) is at or below "
+    "PRECISION the frequency has converged as far as the refinement resolves: slope is then -inf and slope_err "
+    "NaN. Returns splits (those used), W, D, D_log_err, slope, slope_err, f_ref, f (the mean window frequency "
+    "of the finest split used; NaN if none) and frequencies (one array per split used)."
+)
+
+
 def drift(x, dt: float, splits=(2, 4, 8, 16), *, min_cycles: float = 8.0) -> dict:
-    """How the leading frequency of x changes between windows, for windows of length W = T / K,
-    K in ``splits`` (T = the series' length): D(W) = sample standard deviation of the K window
-    frequencies / their mean, and its convergence exponent between the longest and the shortest
-    windows, slope = ln(D(W_max) / D(W_min)) / ln(W_max / W_min) (D ~ W^slope; a torus gives about
-    -4 with the Hann window; a wandering frequency about -1/2: measured -0.6 to +0.3 on the chaotic
-    textbook orbits).
-
-    One line is followed in every window: f_ref is the median of the leading frequencies of the
-    finest split's windows, and each window's line is the largest within (f_ref / 2, 3 f_ref / 2),
-    so windows do not hop between lines of similar amplitude (a harmonic, or a fast line). Splits
-    whose windows hold fewer than min_cycles periods of f_ref, or in which a window has no line
-    in the band (NaN), are left out (a window of a few periods does not define a frequency);
-    slope and slope_err are NaN when fewer than two remain.
-
-    Uncertainty: ln D of K windows is given the standard error 1/sqrt(2 (K - 1)), that of a sample
-    standard deviation of K independent values (window frequencies of a chaotic orbit are nearly
-    independent once W exceeds its correlation time; on a torus D is deterministic, so the error
-    is an upper bound there); the slope's error combines the two ends' errors. A split of fewer than
-    MIN_WINDOWS windows keeps its D but does not enter the slope: with K = 2, D is one difference
-    |f_1 - f_2|, whose logarithm has a heavy lower tail that this error does not cover, so one
-    chance coincidence of two window frequencies would fake convergence. When D(W_max) is at
-    or below PRECISION the frequency has converged as far as the refinement resolves: slope is
-    then -inf and slope_err NaN. Returns splits (those used), W, D, D_log_err, slope, slope_err,
-    f_ref, f (the mean window frequency of the finest split used; NaN if none) and frequencies
-    (one array per split used)."""
+    """Applies :data:`DRIFT_RULE`, the rule as the datasets record it (just above)."""
     splits = check_splits(splits)
     if not (math.isfinite(min_cycles) and min_cycles > 0):
         raise ValueError(f"min_cycles must be positive, got {min_cycles}")
@@ -192,26 +192,28 @@ def frequency_drift(ta, y0, *, T, dt, component, splits=(2, 4, 8, 16), min_cycle
     return out
 
 
-# the docstring is written into the chaos_verdict dataset (attribute frequency_rule)
-def judge_frequency(runs, *, sigma=3.0, converged_max=-1.0):
-    """Verdict from frequency analysis (``frequency_drift``) of one orbit in one or more
-    precisions, in order of decreasing rounding: ``runs`` is a list of dicts with ``precision``
-    (a name), ``slope`` and ``slope_err`` (the convergence exponent of the spread D ~ W^slope of
-    the leading frequency), ``D`` (the spread at the longest window) and, from the second run on,
-    ``log_ratio`` +- ``log_ratio_err`` (ln of the previous run's D over this one's,
-    ``frequency_log_ratio``) and ``rounding_ratio`` (the previous run's tolerance over this one's).
+#: Written into the chaos_verdict dataset (attribute frequency_rule).
+JUDGE_FREQUENCY_RULE = (
+    "Verdict from frequency analysis (``frequency_drift``) of one orbit in one or more precisions, in order of "
+    "decreasing rounding: ``runs`` is a list of dicts with ``precision`` (a name), ``slope`` and ``slope_err`` "
+    "(the convergence exponent of the spread D ~ W^slope of the leading frequency), ``D`` (the spread at the "
+    "longest window) and, from the second run on, ``log_ratio`` +- ``log_ratio_err`` (ln of the previous run's "
+    "D over this one's, ``frequency_log_ratio``) and ``rounding_ratio`` (the previous run's tolerance over this"
+    " one's). regular: the window frequencies converge faster than 1/W in some run (slope + sigma err < "
+    "converged_max, or slope = -inf: at the refinement's precision): a torus's refined frequency converges like"
+    " W^-2 or faster, while a frequency that wanders on a chaotic orbit spreads like W^-1/2 or more slowly. "
+    "Otherwise undecided. The test never says chaotic: a spread that neither converges nor depends on the "
+    "rounding also appears on a torus whose windows are shorter than one of its slow periods (the smoke "
+    "config's rotor states: D about 5e-3 at every window, equal in both precisions). When the drift shrinks "
+    "with the rounding by more than the square root of the rounding ratio (log_ratio - sigma err > "
+    "ln(rounding_ratio) / 2), the reason says so: the previous run's drift is then integration error, and the "
+    "exact dynamics' drift is bounded by the last run's D, but that run's own drift is not explained, so the "
+    "verdict stays undecided."
+)
 
-    regular: the window frequencies converge faster than 1/W in some run (slope + sigma err <
-    converged_max, or slope = -inf: at the refinement's precision): a torus's refined frequency
-    converges like W^-2 or faster, while a frequency that wanders on a chaotic orbit spreads like
-    W^-1/2 or more slowly. Otherwise undecided. The test never says chaotic: a spread that
-    neither converges nor depends on the rounding also appears on a torus whose windows are
-    shorter than one of its slow periods (the smoke config's rotor states: D about 5e-3 at every
-    window, equal in both precisions). When the drift shrinks with the rounding by more than the
-    square root of the rounding ratio (log_ratio - sigma err > ln(rounding_ratio) / 2), the
-    reason says so: the previous run's drift is then integration error, and the exact dynamics'
-    drift is bounded by the last run's D, but that run's own drift is not explained, so the
-    verdict stays undecided."""
+
+def judge_frequency(runs, *, sigma=3.0, converged_max=-1.0):
+    """Applies :data:`JUDGE_FREQUENCY_RULE`, the rule as the datasets record it (just above)."""
     if not (math.isfinite(sigma) and sigma >= 0):
         raise ValueError(f"sigma must be >= 0, got {sigma!r}")
     if not runs:
@@ -238,14 +240,19 @@ def judge_frequency(runs, *, sigma=3.0, converged_max=-1.0):
                        + f"; sigma {_g(sigma)}")
 
 
-# the docstring is written into the chaos_verdict dataset (attribute frequency_rule)
+#: Written into the chaos_verdict dataset (attribute frequency_rule).
+FREQUENCY_LOG_RATIO_RULE = (
+    "ln(D_coarse / D_fine) of two ``frequency_drift`` runs of one orbit (coarse: the larger rounding, e.g. "
+    "double against long double) over the splits both used, weighted by K - 1 (the windows behind each D; a D "
+    "below the refinement's precision counts as that precision), and its standard error: the same weighted mean"
+    " of the splits' errors 1 / sqrt(K - 1) (that of the ratio of two independent sample standard deviations of"
+    " K values), the error of the mean if the splits were fully correlated (they share the data). (NaN, NaN) "
+    "when no split is shared."
+)
+
+
 def frequency_log_ratio(coarse: dict, fine: dict) -> tuple[float, float]:
-    """ln(D_coarse / D_fine) of two ``frequency_drift`` runs of one orbit (coarse: the larger
-    rounding, e.g. double against long double) over the splits both used, weighted by K - 1 (the
-    windows behind each D; a D below the refinement's precision counts as that precision), and
-    its standard error: the same weighted mean of the splits' errors 1 / sqrt(K - 1) (that of the
-    ratio of two independent sample standard deviations of K values), the error of the mean if
-    the splits were fully correlated (they share the data). (NaN, NaN) when no split is shared."""
+    """Applies :data:`FREQUENCY_LOG_RATIO_RULE`, the rule as the datasets record it (just above)."""
     common = np.intersect1d(coarse["splits"], fine["splits"])
     if common.size == 0:
         return math.nan, math.nan

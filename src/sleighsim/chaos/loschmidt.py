@@ -50,19 +50,21 @@ def _growth_fits(T, e) -> dict:
 LOSCHMIDT_GAIN_ROUNDING_MAX = 1e-4
 
 
-# the docstring is written into the chaos_verdict dataset (attribute loschmidt_fit)
+#: Written into the chaos_verdict dataset (attribute loschmidt_fit).
+LOSCHMIDT_FIT_RULE = (
+    "Classify return errors: exponential in T (chaos) or a power of T (regular). Uses the points with "
+    "floor_factor * rounding * scale < error < saturation * scale (rounding: the integrator's machine epsilon) "
+    "before the first horizon whose error reached saturation, fits log(error) = a + rate T and log(error) = a +"
+    " p log T by least squares over all of them and again over the tail (the last ``tail`` fraction of them in "
+    "T, at least tail_min: the longest horizons before saturation) and reports both (slope, stderr, rms "
+    "residual in log units; the tail's under ``tail_``). ``better`` is \"exponential\" or \"power\" (smaller rms "
+    "over all points), \"undetermined\" with fewer than 3 usable points."
+)
+
+
 def loschmidt_fit(T_values, errors, scale, *, floor_factor=1e3, saturation=1e-2, rounding=_EPS, tail=0.5,
                   tail_min=4):
-    """Classify return errors: exponential in T (chaos) or a power of T (regular).
-
-    Uses the points with floor_factor * rounding * scale < error < saturation * scale (rounding:
-    the integrator's machine epsilon) before the first horizon whose error reached saturation,
-    fits log(error) = a + rate T and log(error) = a + p log T by least squares over all of them and
-    again over the tail (the last ``tail`` fraction of them in T, at least tail_min: the longest
-    horizons before saturation) and reports both (slope, stderr, rms residual in
-    log units; the tail's under ``tail_``). ``better`` is "exponential" or "power"
-    (smaller rms over all points), "undetermined" with fewer than 3 usable points.
-    """
+    """Applies :data:`LOSCHMIDT_FIT_RULE`, the rule as the datasets record it (just above)."""
     T = np.asarray(T_values, float).ravel()
     e = np.asarray(errors, float).ravel()
     if T.size == 0:
@@ -148,24 +150,24 @@ def loschmidt(ta, y0, T_values, involution, callback=None, *, difference=None, s
     return out
 
 
-# the docstring is written into the chaos_verdict dataset (attribute loschmidt_rule)
+#: Written into the chaos_verdict dataset (attribute loschmidt_rule).
+JUDGE_LOSCHMIDT_RULE = (
+    "Verdict from ``loschmidt`` / ``loschmidt_fit`` (fits over the n_used points between the rounding floor and"
+    " saturation; rms residuals are goodness of fit in log units, the stderr's are the uncertainties). chaotic:"
+    " n_used >= min_points, exp_rate - sigma * exp_rate_err > 0 and either the exponential fit is better by "
+    "fit_ratio (exp_rms * fit_ratio <= pow_rms) or the error grows faster than any plausible power "
+    "(pow_exponent - sigma * pow_exponent_err > p_max); regular: n_used >= min_points, the exponential fit is "
+    "not better by fit_ratio (pow_rms < exp_rms * fit_ratio) and the error grows at most like T^p_max "
+    "(pow_exponent + sigma * pow_exponent_err < p_max; rounding on a torus gives about T^1 to T^1.5, Brouwer's "
+    "law). Otherwise undecided. The chaotic return errors scatter by about a factor e around the exponential, "
+    "so use many T values (tens) across the window between floor and saturation, which spans about ln(1e-2 / "
+    "1e-13) / lambda = 25 / lambda in double (32 / lambda in long double)."
+)
+
+
 def judge_loschmidt(n_used, exp_rate, exp_rate_err, exp_rms, pow_exponent, pow_exponent_err, pow_rms, *,
                     sigma=3.0, fit_ratio=1.5, p_max=3.0, min_points=3):
-    """Verdict from ``loschmidt`` / ``loschmidt_fit`` (fits over the n_used points between
-    the rounding floor and saturation; rms residuals are goodness of fit in log units, the
-    stderr's are the uncertainties).
-
-    chaotic: n_used >= min_points, exp_rate - sigma * exp_rate_err > 0 and either the
-    exponential fit is better by fit_ratio (exp_rms * fit_ratio <= pow_rms) or the error
-    grows faster than any plausible power (pow_exponent - sigma * pow_exponent_err > p_max);
-    regular: n_used >= min_points, the exponential fit is not better by fit_ratio
-    (pow_rms < exp_rms * fit_ratio) and the error grows at most like T^p_max
-    (pow_exponent + sigma * pow_exponent_err < p_max; rounding on a torus gives about T^1
-    to T^1.5, Brouwer's law). Otherwise undecided. The chaotic return errors scatter by
-    about a factor e around the exponential, so use many T values (tens) across the window
-    between floor and saturation, which spans about ln(1e-2 / 1e-13) / lambda = 25 / lambda in
-    double (32 / lambda in long double).
-    """
+    """Applies :data:`JUDGE_LOSCHMIDT_RULE`, the rule as the datasets record it (just above)."""
     if not _is_finite(n_used):
         return UNDECIDED, "not finite: n_used"
     if int(n_used) < min_points:
@@ -188,14 +190,19 @@ def judge_loschmidt(n_used, exp_rate, exp_rate_err, exp_rms, pow_exponent, pow_e
     return UNDECIDED, f"return error neither clearly exponential nor bounded by T^{_g(p_max)}; {nums}"
 
 
-# the docstring is written into the chaos_verdict dataset (attribute loschmidt_rule)
+#: Written into the chaos_verdict dataset (attribute loschmidt_rule).
+JUDGE_LOSCHMIDT_RUN_RULE = (
+    "``judge_loschmidt`` on a ``loschmidt`` run, over all usable points and over their tail (the longest "
+    "horizons before saturation, ``loschmidt_fit``'s tail_ fits). chaotic: chaotic over all points and in the "
+    "tail (the growth is still exponential, or faster than T^3, where the error approaches saturation: a few "
+    "early jumps of the error followed by power-law growth are not chaos); regular: regular in the tail (early "
+    "transient amplification does not hide the power-law growth that follows); otherwise undecided, with both "
+    "reasons."
+)
+
+
 def judge_loschmidt_run(L: dict, *, sigma=3.0) -> tuple[str, str]:
-    """``judge_loschmidt`` on a ``loschmidt`` run, over all usable points and over their tail (the
-    longest horizons before saturation, ``loschmidt_fit``'s tail_ fits). chaotic: chaotic over all points
-    and in the tail (the growth is still exponential, or faster than T^3, where the error
-    approaches saturation: a few early jumps of the error followed by power-law growth are not
-    chaos); regular: regular in the tail (early transient amplification does not hide the
-    power-law growth that follows); otherwise undecided, with both reasons."""
+    """Applies :data:`JUDGE_LOSCHMIDT_RUN_RULE`, the rule as the datasets record it (just above)."""
     whole = judge_loschmidt(*(L[k] for k in ("n_used",) + _FIT_KEYS), sigma=sigma)
     tail = judge_loschmidt(L["tail_n"], *(L[f"tail_{k}"] for k in _FIT_KEYS), sigma=sigma)
     both = f"over all usable points: {whole[0]}: {whole[1]}; in the tail: {tail[0]}: {tail[1]}"
@@ -208,13 +215,17 @@ def judge_loschmidt_run(L: dict, *, sigma=3.0) -> tuple[str, str]:
     return UNDECIDED, f"neither sustained exponential growth nor power-law growth in the tail; {both}"
 
 
-# the docstring is written into the chaos_verdict dataset (attribute loschmidt_rule)
+#: Written into the chaos_verdict dataset (attribute loschmidt_rule).
+LOSCHMIDT_INDICATOR_RULE = (
+    "The Loschmidt indicator, judged (``chaos.loschmidt.judge_loschmidt_run``) from the long-double run L_ld, "
+    "whose rounding floor is 2^11 lower, so its error stays unsaturated up to longer T; the double run L's "
+    "verdict is named in the reason and kept. Value and error: the long-double tail's exponential rate and its "
+    "least-squares error. Returns value, error, verdict ((verdict, reason)) and verdict_double."
+)
+
+
 def loschmidt_indicator(L: dict, L_ld: dict, sigma: float) -> dict:
-    """The Loschmidt indicator, judged (``chaos.loschmidt.judge_loschmidt_run``) from the long-double run
-    L_ld, whose rounding floor is 2^11 lower, so its error stays unsaturated up to longer T; the
-    double run L's verdict is named in the reason and kept. Value and error: the long-double tail's
-    exponential rate and its least-squares error. Returns value, error, verdict ((verdict,
-    reason)) and verdict_double."""
+    """Applies :data:`LOSCHMIDT_INDICATOR_RULE`, the rule as the datasets record it (just above)."""
     double = judge_loschmidt_run(L, sigma=sigma)
     v, r = judge_loschmidt_run(L_ld, sigma=sigma)
     return {"value": L_ld["tail_exp_rate"], "error": L_ld["tail_exp_rate_err"],

@@ -134,11 +134,16 @@ def judge_ftle(rate, rate_err, T, tau, spread_slope, spread_slope_err, *, sigma=
     return UNDECIDED, f"neither exponential growth resolved nor a regular spread law; {nums}"
 
 
-# the docstring is written into the chaos_verdict dataset (attribute benettin_rule)
+#: Written into the chaos_verdict dataset (attribute benettin_rule).
+JUDGE_BENETTIN_RULE = (
+    "The replicas' lambda_1: chaotic when resolved above the rate polynomial growth can fake over the horizon "
+    "(lambda_1 - sigma stderr > 2 ln(T / tau) / T); regular when the replica run says so (lambda_1 + sigma "
+    "stderr below that rate, itself below the configured floor); else undecided."
+)
+
+
 def judge_benettin(res: dict, tau: float, sigma: float) -> tuple[str, str]:
-    """The replicas' lambda_1: chaotic when resolved above the rate polynomial growth can fake over
-    the horizon (lambda_1 - sigma stderr > 2 ln(T / tau) / T); regular when the replica run says so
-    (lambda_1 + sigma stderr below that rate, itself below the configured floor); else undecided."""
+    """Applies :data:`JUDGE_BENETTIN_RULE`, the rule as the datasets record it (just above)."""
     lam, err, T = float(res["exponents"][0]), float(res["stderr"][0]), float(res["T"])
     bound = polynomial_rate_bound(T, tau)
     text = f"lambda_1 = {lam:.3g} +- {err:.2g} over T = {T:.3g} per replica ({res['status']}); bound {bound:.2g}"

@@ -170,13 +170,18 @@ def judge_two_trajectory(rate, stderr, T, tau, running_slope, running_slope_err,
     return UNDECIDED, f"rate not resolved above the polynomial bound with a steady running rate, nor decaying; {nums}"
 
 
-# the docstring is written into the chaos_verdict dataset (attribute d0_rule)
+#: Written into the chaos_verdict dataset (attribute d0_rule).
+D0_INDEPENDENT_RULE = (
+    "Is a two-trajectory rate a Lyapunov exponent? Only if it does not depend on the separation: the rates "
+    "measured at the initial separations ``d0s`` must agree pairwise within sigma combined standard errors. A "
+    "rate that changes with d0 is dominated by rounding noise or finite size (on the sleigh, noise off the "
+    "leading direction amplified by many orders at every spike). Returns (True | False, reason); a non-finite "
+    "rate or fewer than two d0 fail the check."
+)
+
+
 def d0_independent(d0s, rates, stderrs, *, sigma=3.0):
-    """Is a two-trajectory rate a Lyapunov exponent? Only if it does not depend on the separation:
-    the rates measured at the initial separations ``d0s`` must agree pairwise within sigma combined
-    standard errors. A rate that changes with d0 is dominated by rounding noise or finite size (on
-    the sleigh, noise off the leading direction amplified by many orders at every spike). Returns
-    (True | False, reason); a non-finite rate or fewer than two d0 fail the check."""
+    """Applies :data:`D0_INDEPENDENT_RULE`, the rule as the datasets record it (just above)."""
     d0s, rates, stderrs = (np.atleast_1d(np.asarray(v, float)) for v in (d0s, rates, stderrs))
     if not (d0s.size == rates.size == stderrs.size):
         raise ValueError(f"d0s, rates and stderrs differ in length ({d0s.size}, {rates.size}, {stderrs.size})")

@@ -228,11 +228,16 @@ def _judged(claim: Claim, datasets: list):
     return j
 
 
-# the docstring is written into the ledger (attribute precision_rule)
+#: Written into the ledger (attribute precision_rule).
+IN_PRECISION_RULE = (
+    "The verdict of a claim whose datasets were computed in double and in a finer ``precision``: the finer "
+    "arithmetic's verdict, except \"reproduced only in double precision\" when double reproduces the paper's "
+    "value and the finer arithmetic does not. Returns (verdict, reason)."
+)
+
+
 def in_precision(double, finest, precision: str):
-    """The verdict of a claim whose datasets were computed in double and in a finer ``precision``:
-    the finer arithmetic's verdict, except "reproduced only in double precision" when double
-    reproduces the paper's value and the finer arithmetic does not. Returns (verdict, reason)."""
+    """Applies :data:`IN_PRECISION_RULE`, the rule as the datasets record it (just above)."""
     if double.verdict == REPRODUCED and finest.verdict in (DIFFERS, CANNOT):
         return DOUBLE_ONLY, (f"double reproduces the paper ({double.measured}); {precision} does not "
                              f"({finest.measured}){': ' + finest.reason if finest.reason else ''}")
@@ -382,8 +387,8 @@ def to_dataset(rows: list[Row]) -> xr.Dataset:
             for n in names}
     ds = xr.Dataset(data, coords={"id": [r.id for r in rows]})
     ds.attrs.update({f"n_{v.replace(' ', '_')}": sum(r.verdict == v for r in rows) for v in VERDICTS})
-    ds.attrs.update(rel_tol=rules.REL_TOL, k_sigma=rules.K_SIGMA, rules=rules.__doc__.strip(),
-                    precision_rule=" ".join(in_precision.__doc__.split()))
+    ds.attrs.update(rel_tol=rules.REL_TOL, k_sigma=rules.K_SIGMA, rules=rules.VERDICT_RULES,
+                    precision_rule=IN_PRECISION_RULE)
     return ds
 
 

@@ -1,12 +1,5 @@
-"""The rules every judge of the ledger uses: what a judgement holds, and how numbers are compared.
-
-Verdicts: "reproduced", "reproduced only in double precision" (the ledger's, when the claim's
-datasets were also computed in a finer arithmetic and only double reproduces the paper),
-"differs", "fragile" (the ledger's, when realizations of the claim's datasets from start states
-perturbed at the rounding level give different verdicts), "cannot be reproduced" (only from a computed rule, such as a measured cost above a
-stated budget, or a run that reached its stated cap without resolving the number), "not yet
-computed" (the dataset is missing, or does not determine the number: NaN).
-"""  # noqa: E501 (claims.ledger writes this docstring verbatim into the claims dataset's "rules" attribute)
+"""The rules every judge of the ledger uses: the verdicts (:data:`VERDICT_RULES`, written verbatim into the
+claims dataset's ``rules`` attribute) and how numbers are compared."""
 
 from __future__ import annotations
 
@@ -15,6 +8,18 @@ from dataclasses import dataclass
 
 from sleighsim.chaos.rule import FRAGILE  # a claim whose realizations disagree, as a state's verdict does
 
+#: What a judgement holds: the verdicts, as the claims dataset records them (attribute ``rules``).
+VERDICT_RULES = (
+    "The rules every judge of the ledger uses: what a judgement holds, and how numbers are compared.\n"
+    "\n"
+    'Verdicts: "reproduced", "reproduced only in double precision" (the ledger\'s, when the claim\'s\n'
+    "datasets were also computed in a finer arithmetic and only double reproduces the paper),\n"
+    "\"differs\", \"fragile\" (the ledger's, when realizations of the claim's datasets from start states\n"
+    "perturbed at the rounding level give different verdicts), \"cannot be reproduced\" (only from a computed "
+    "rule, such as a measured cost above a\n"
+    "stated budget, or a run that reached its stated cap without resolving the number), \"not yet\n"
+    "computed\" (the dataset is missing, or does not determine the number: NaN)."
+)
 REPRODUCED, DIFFERS, CANNOT, NOT_YET = "reproduced", "differs", "cannot be reproduced", "not yet computed"
 #: A paper number that double precision reproduces and the finest arithmetic computed does not.
 DOUBLE_ONLY = "reproduced only in double precision"

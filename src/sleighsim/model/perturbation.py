@@ -1,13 +1,7 @@
 """The regular perturbation hierarchy in eps, derived from the mechanics (SymPy).
 
-Convention (the paper's, made explicit): K2 = K^2 is held fixed as an O(1)
-parameter and K2 - 1 = kappa eps with kappa explicit (default 1, so that
-K2 = 1 + eps is the model's default). The derived right-hand sides are brought
-to the form N(eps, K2) / (eps D), D = K2^2 + eps (K2 - 1) cos^2(delta) (the
-paper's denominator, sin^2 = 1 - cos^2 reduced); in every coefficient of eps in N
-and in D, each factor (K2 - 1) is replaced by kappa eps. The result
-F(eps; K2, kappa) equals the derived system identically when kappa = (K2 - 1)/eps
-(a test checks it) and is regular at eps = 0.
+The convention, :data:`CONVENTION` (written into the hierarchy datasets): K2 held fixed, K2 - 1 =
+kappa eps, so that the hierarchy is regular at eps = 0.
 
 Substituting x = x0 + eps x1 + eps^2 x2 + ... for x in (u, Omega, omega, delta)
 and equating powers of eps gives the hierarchy: order 0 is the eps = 0 sleigh,
@@ -26,6 +20,15 @@ import xarray as xr
 
 from sleighsim.model import mechanics as mech
 
+#: The paper's convention, made explicit (attribute ``convention`` of the hierarchy datasets).
+CONVENTION = (
+    "Convention (the paper's, made explicit): K2 = K^2 is held fixed as an O(1) parameter and K2 - 1 = kappa "
+    "eps with kappa explicit (default 1, so that K2 = 1 + eps is the model's default). The derived right-hand "
+    "sides are brought to the form N(eps, K2) / (eps D), D = K2^2 + eps (K2 - 1) cos^2(delta) (the paper's "
+    "denominator, sin^2 = 1 - cos^2 reduced); in every coefficient of eps in N and in D, each factor (K2 - 1) "
+    "is replaced by kappa eps. The result F(eps; K2, kappa) equals the derived system identically when kappa = "
+    "(K2 - 1)/eps (a test checks it) and is regular at eps = 0."
+)
 kappa = sp.Symbol("kappa", positive=True)
 VARS = ("u", "Omega", "omega", "delta")
 _S, _C = sp.symbols("S C")  # sin(delta), cos(delta) while the equations are polynomial

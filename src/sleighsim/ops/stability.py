@@ -2,10 +2,7 @@
 looser tolerance, and tabulate which verdicts of the ledger change. Chaotic observables differ in
 detail between such runs; the verdicts should not.
 
-Variants (each a whole config, its results under ``<results>/stability/<variant>``):
-- ``perturbed``: every initial state (``y0`` and the ``states`` of a scene) times
-  (1 + rel s_i), s_i = +1, -1, +1, -1 by component (zero components stay zero);
-- ``tol_<tol>``: every integration at ``tol`` where it used the default tolerance.
+Variants: :data:`METHOD` (written into the stability dataset).
 
 Command line (also the on-request Snakemake target ``stability``)::
 
@@ -32,6 +29,14 @@ import yaml
 
 from sleighsim.claims import ledger as claims
 from sleighsim.io.netcdf import write_dataset, write_text
+
+#: The variants, as the stability dataset records them (attribute ``method``).
+METHOD = (
+    "Variants (each a whole config, its results under ``<results>/stability/<variant>``): - ``perturbed``: "
+    "every initial state (``y0`` and the ``states`` of a scene) times (1 + rel s_i), s_i = +1, -1, +1, -1 by "
+    "component (zero components stay zero); - ``tol_<tol>``: every integration at ``tol`` where it used the "
+    "default tolerance."
+)
 
 STATE_KEYS = ("y0", "states")
 REL = 1e-12
@@ -96,7 +101,7 @@ def table(base_nc, variant_ncs: dict) -> xr.Dataset:
     data["changed"] = ("id", changed)
     ds = xr.Dataset(data, coords={"id": ids})
     ds.attrs.update(n_changed=int(changed.sum()), variants=", ".join(cols), rel=REL, tol=TOL,
-                    method=" ".join(__doc__.split("\n\n")[1].split()))
+                    method=METHOD)
     return ds
 
 

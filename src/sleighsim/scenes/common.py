@@ -21,10 +21,16 @@ def initial_state(cfg: dict, params: Params) -> np.ndarray:
     return y0
 
 
+#: Written into the chaos_verdict dataset (attribute realization_rule, before agree's).
+REALIZATION_STATES_RULE = (
+    "The start states of realization ``index`` (a dict or list of states): realization 0 as given, realization "
+    "k > 0 every component times (1 + rel z), z standard normal from a generator seeded by k, the states in "
+    "order (zero components stay zero)."
+)
+
+
 def realization_states(states, rel: float, index: int):
-    """The start states of realization ``index`` (a dict or list of states): realization 0 as given,
-    realization k > 0 every component times (1 + rel z), z standard normal from a generator seeded
-    by k, the states in order (zero components stay zero)."""
+    """Applies :data:`REALIZATION_STATES_RULE`, the rule as the datasets record it (just above)."""
     named = states if isinstance(states, dict) else dict(enumerate(states))
     if index == 0:
         out = {name: list(y) for name, y in named.items()}

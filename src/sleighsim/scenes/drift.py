@@ -112,7 +112,7 @@ def drift_windows(cfg: dict, scene: str = "") -> xr.Dataset:
         spike_interval_overall=float(np.nanmean(interval)),
         energy_max_rel_drift=float(np.max(np.abs(drift))), rel_tol_spike_interval=cfg["rel_tol"]["spike_interval"],
         rel_tol_lambda_1=cfg["rel_tol"]["lambda_1"], last_fraction=cfg["last_fraction"], sigma=cfg["sigma"],
-        trend_rule=" ".join(windows.trend.__doc__.split()), t_align=cfg["t_align"], **_notes(cfg),
+        trend_rule=windows.TREND_RULE, t_align=cfg["t_align"], **_notes(cfg),
         wall_time_s=time.perf_counter() - start,
     )
     log.info("%s: spike interval %s (%s), lambda_1 %s (%s)", scene, judged["spike_interval"]["verdict"],

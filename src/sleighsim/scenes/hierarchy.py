@@ -102,7 +102,7 @@ def series_vs_exact(cfg: dict, scene: str = "") -> xr.Dataset:
     ds.attrs.update(state_attrs(params, y0))
     t_end = float(times[-1])
     ds.attrs.update(
-        scene=scene, order=order, kappa=kap, convention=pert.__doc__.split("\n\n")[1].replace("\n", " "),
+        scene=scene, order=order, kappa=kap, convention=pert.CONVENTION,
         energy_max_rel_drift=exact.attrs["energy_max_rel_drift"], tol=cfg["tol"], backend="heyoka",
         steps=exact.attrs["steps"], hierarchy_steps=h.attrs["steps"],
         **{f"{v}_rel_error_at_t_end": float(ds[f"{v}_rel_error"].values[-1]) for v in ("u", "Omega", "omega")},

@@ -33,22 +33,32 @@ from sleighsim.scenes.kind import SceneKind
 log = logging.getLogger("sleighsim")
 
 
-# the docstring is written into the precision_ladder dataset (attribute agreement_rule)
+#: Written into the precision_ladder dataset (attribute agreement_rule).
+AGREES_RULE = (
+    "Do two precisions' spike trains agree? Both have at least two intervals, the spreads of their intervals "
+    "(standard deviations, floored at the sampling dt that resolves a spike time) are within a factor 2 of each"
+    " other (the same regularity), and their mean intervals differ by at most the smaller spread (no assumption"
+    " of independent intervals is made)."
+)
+
+
 def agrees(coarse: dict, fine: dict, dt: float) -> bool:
-    """Do two precisions' spike trains agree? Both have at least two intervals, the spreads of their
-    intervals (standard deviations, floored at the sampling dt that resolves a spike time) are within
-    a factor 2 of each other (the same regularity), and their mean intervals differ by at most the
-    smaller spread (no assumption of independent intervals is made)."""
+    """Applies :data:`AGREES_RULE`, the rule as the datasets record it (just above)."""
     if min(coarse["n_intervals"], fine["n_intervals"]) < 2:
         return False
     sd = sorted(max(r["interval_sd"], dt) for r in (coarse, fine))
     return sd[1] <= 2 * sd[0] and abs(coarse["interval_mean"] - fine["interval_mean"]) <= sd[0]
 
 
-# the docstring is written into the precision_ladder dataset (attribute converged_rule)
+#: Written into the precision_ladder dataset (attribute converged_rule).
+CONVERGED_PRECISION_RULE = (
+    "The lowest precision whose spike train agrees (``agrees``) with that of every finer precision run, or \"not"
+    " converged\" when the two finest disagree or only one precision ran."
+)
+
+
 def converged_precision(runs: list[dict], names: list[str], dt: float) -> str:
-    """The lowest precision whose spike train agrees (``agrees``) with that of every finer precision
-    run, or "not converged" when the two finest disagree or only one precision ran."""
+    """Applies :data:`CONVERGED_PRECISION_RULE`, the rule as the datasets record it (just above)."""
     for i in range(len(runs) - 1):
         if all(agrees(runs[i], later, dt) for later in runs[i + 1:]):
             return names[i]
@@ -137,8 +147,7 @@ def precision_ladder(cfg: dict, scene: str = "") -> xr.Dataset:
                     integrator="heyoka Taylor in each precision, tolerance its machine epsilon (coordinate tol)",
                     energy_max_rel_drift=float(np.nanmax([[r["energy_max_rel_drift"] for r in o["runs"]]
                                                           for o in out])),
-                    agreement_rule=" ".join(agrees.__doc__.split()),
-                    converged_rule=" ".join(converged_precision.__doc__.split()),
+                    agreement_rule=AGREES_RULE, converged_rule=CONVERGED_PRECISION_RULE,
                     wall_time_s=time.perf_counter() - start)
     return ds
 

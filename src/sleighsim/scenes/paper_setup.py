@@ -4,10 +4,7 @@ explain the values of paper/CLAIMS.md. No integration: the candidates' predictio
 datasets the ledger's cause tests read (:mod:`sleighsim.scenes.setup_predictions`, which states the
 separability assumption).
 
-Score: the deviance -2 ln L = sum over the scored numbers of ((pred - paper) / sigma)^2 + 2 ln sigma
-+ ln 2 pi (lower is better), sigma^2 = sigma_paper^2 + sigma_measured^2: sigma_paper half a unit of
-the paper's last significant printed digit (:func:`spelling_sigma`), sigma_measured the standard
-error (or scatter) the dataset carries for that prediction, 0 where it carries none. A setup under
+Score: :data:`SCORE_RULE` (written into the dataset). A setup under
 which a scored number is not determined (NaN: no spike in the run, outside a sweep) is not ranked."""
 
 from __future__ import annotations
@@ -35,7 +32,13 @@ BLOCKS = (("K2", "integrator"), ("K2", "psd"), ("energy",), ("lyapunov",))
 #: RK45 solver's sweep, the model audit (energy normalisations), the spectra at eps 0.1 and 0.01, the paper's
 #: Lyapunov protocol, the converged spectrum, the hierarchy's closed forms.
 ROLES = ("k2", "solver", "model", "psd_ref", "psd_small", "protocol", "spectrum", "hierarchy")
-SEPARABILITY = sp.__doc__.split("Separability: ")[1].split("\n\n")[0].replace("\n", " ").strip()
+#: How setups are scored (attribute ``score_rule``).
+SCORE_RULE = (
+    "the deviance -2 ln L = sum over the scored numbers of ((pred - paper) / sigma)^2 + 2 ln sigma + ln 2 pi "
+    "(lower is better), sigma^2 = sigma_paper^2 + sigma_measured^2: sigma_paper half a unit of the paper's last"
+    " significant printed digit (:func:`spelling_sigma`), sigma_measured the standard error (or scatter) the "
+    "dataset carries for that prediction, 0 where it carries none."
+)
 
 
 @dataclass
@@ -326,14 +329,14 @@ def infer(paper: dict, cfg: dict, d: dict) -> xr.Dataset:
 
 
 RULES = {
-    "score_rule": __doc__.split("Score: ")[1].split(" A setup under")[0].replace("\n", " "),
+    "score_rule": SCORE_RULE,
     "ranking_rule": "a setup under which a scored number is not determined is not ranked; ranks by deviance, "
                     "lowest first; an element's gap: the least deviance with any other candidate minus the best's; "
                     "K2 interval: where K2's profile deviance lies within 1 of its least; its scaled interval "
                     "(best_K2_*_scaled): within misfit_scale of it, the best setup's chi-square per degree of "
                     "freedom (scored numbers minus 5 elements, at least 1): the sigmas inflated until the fit is "
                     "as good as they say",
-    "separability": SEPARABILITY,
+    "separability": sp.SEPARABILITY,
     "not_scored": "C10's closed-form numbers (T2_theory, B_theory, growth_theory): no sweep moves them; "
                   "reported at the run's value",
 }

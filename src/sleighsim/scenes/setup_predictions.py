@@ -11,11 +11,7 @@ with its candidates:
 - ``lyapunov``: the paper's protocol integrated by heyoka (the protocol scene, mean over its states) or by
   the RK45 of integration_error at each of its ``lyapunov_rtol``, or our converged spectrum.
 
-Separability: the data sweep one element at a time from the run's baseline (K2 of integration_error,
-heyoka). A number swept against K2 and the integrator is predicted as k2(K2) + rk(rtol) - k2(K2_base)
-(additive shifts, first order); one swept against only one element takes the others at the baseline.
-The psd convention is an exact map applied to the predicted band. Values in model units
-(time, 1/time, cycles/time before the psd map)."""
+Separability: :data:`SEPARABILITY` (an assumption, written into the paper_setup dataset)."""
 
 from __future__ import annotations
 
@@ -23,6 +19,15 @@ import math
 
 import numpy as np
 import xarray as xr
+
+#: How the joint predictions are composed from the one-at-a-time sweeps (attribute ``separability``).
+SEPARABILITY = (
+    "the data sweep one element at a time from the run's baseline (K2 of integration_error, heyoka). A number "
+    "swept against K2 and the integrator is predicted as k2(K2) + rk(rtol) - k2(K2_base) (additive shifts, "
+    "first order); one swept against only one element takes the others at the baseline. The psd convention is "
+    "an exact map applied to the predicted band. Values in model units (time, 1/time, cycles/time before the "
+    "psd map)."
+)
 
 HEYOKA = "heyoka (tol {tol:.1e})"
 CONVERGED = "converged spectrum (the spectrum scene)"

@@ -60,10 +60,16 @@ def energy_gradient(y, params: Params, h: float = 1e-7) -> np.ndarray:
     return np.array([(energy(y + e[i], params) - energy(y - e[i], params)) / (2 * h) for i in range(4)])
 
 
+#: Written into the torus_stability dataset (attribute perturbation_rule).
+PERTURBED_START_RULE = (
+    "y + d on y's energy level: z standard normal (generator seeded by (seed, direction)), projected onto the "
+    "level's tangent plane, scaled to amplitude x max |(u, Omega, omega)| of y, then the velocities rescaled "
+    "onto the level (second order in d)."
+)
+
+
 def perturbed_start(y, params: Params, amplitude: float, direction: int, seed: int) -> np.ndarray:
-    """y + d on y's energy level: z standard normal (generator seeded by (seed, direction)), projected
-    onto the level's tangent plane, scaled to amplitude x max |(u, Omega, omega)| of y, then the
-    velocities rescaled onto the level (second order in d)."""
+    """Applies :data:`PERTURBED_START_RULE`, the rule as the datasets record it (just above)."""
     z = np.random.default_rng([seed, direction]).standard_normal(4)
     g = energy_gradient(y, params)
     z -= (z @ g) / (g @ g) * g
@@ -220,19 +226,13 @@ def gather(paths, cfg: dict, scene: str = "") -> xr.Dataset:
         spike_half_width=cfg["spike_half_width"], curve_order=j["order"], curve_floor=j["floor"],
         velocity_scale=j["scale"], reference_interval=j["T_ref"], min_spikes=cfg["min_spikes"],
         leave_distance=cfg["leave_distance"], change_factor=cfg["change_factor"], same_factor=cfg["same_factor"],
-        sigma=cfg["sigma"], period_rtol=cfg["period_rtol"], classification_rule=_doc(torus.classify),
-        perturbation_rule=_doc(perturbed_start), spike_rule=_doc(torus.spike_peaks),
-        curve_rule=_doc(torus.section_curve),
+        sigma=cfg["sigma"], period_rtol=cfg["period_rtol"], classification_rule=torus.CLASSIFY_RULE,
+        perturbation_rule=PERTURBED_START_RULE, spike_rule=torus.SPIKE_PEAKS_RULE, curve_rule=torus.SECTION_CURVE_RULE,
         energy_max_rel_drift=float(np.nanmax(ds.energy_max_rel_drift.values)),
         wall_time_s=float(ds.wall_time_s.values.sum()), n_perturbed=int(classes.size),
         **{f"n_{c.replace(' ', '_')}": int(np.sum(classes == c)) for c in torus.CLASSES},
         summary=_summary(ds))
     return ds
-
-
-def _doc(f) -> str:
-    """A function's docstring on one line (a rule written into the dataset)."""
-    return " ".join(f.__doc__.split())
 
 
 def _summary(ds: xr.Dataset) -> str:

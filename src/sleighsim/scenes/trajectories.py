@@ -75,21 +75,26 @@ TRAJECTORY = SceneKind(
     checks=_trajectory_checks, pre_run="t_sample_start")
 
 
+#: Written into every trajectory dataset (attribute observables_rule).
+OBSERVED_RULE = (
+    "A trajectory's key observables (time units, lengths in b) with their uncertainties: the number of Omega "
+    "spikes (exact), the first spike's time (uncertainty: the sampling step), the mean spike interval "
+    "(uncertainty: the difference between the means of the intervals' two halves, a block estimate; from four "
+    "intervals), and with a path its reach, the farthest distance from the window's start (uncertainty: the "
+    "difference between the farthest distances of the path's two halves, a block estimate). A run from t = 0 "
+    "finds its spikes after the sleigh-like phase (:func:`sleighsim.engine.transient.phases`, as the judges "
+    "do), a window after a pre-run from its start. Observables a run cannot state are left out."
+)
+
+
 def observed(run: xr.Dataset, *, pre_run: bool, spike_factor: float) -> dict:
-    """A trajectory's key observables (time units, lengths in b) with their uncertainties: the
-    number of Omega spikes (exact), the first spike's time (uncertainty: the sampling step), the
-    mean spike interval (uncertainty: the difference between the means of the intervals' two halves,
-    a block estimate; from four intervals), and with a path its reach, the farthest distance from
-    the window's start (uncertainty: the difference between the farthest distances of the path's two
-    halves, a block estimate). A run from
-    t = 0 finds its spikes after the sleigh-like phase (:func:`sleighsim.engine.transient.phases`, as the
-    judges do), a window after a pre-run from its start. Observables a run cannot state are left out."""
+    """Applies :data:`OBSERVED_RULE`, the rule as the datasets record it (just above)."""
     t, Omega = run.time.values, run.Omega.values
     if pre_run:
         spikes = spike_times(t, Omega, factor=spike_factor, t_min=float(t[0]))
     else:
         spikes = phases(t, run.u.values, Omega, run.omega.values, spike_factor=spike_factor)["spikes"]
-    out = {"n_spikes": int(spikes.size), "observables_rule": " ".join(observed.__doc__.split())}
+    out = {"n_spikes": int(spikes.size), "observables_rule": OBSERVED_RULE}
     if spikes.size:
         out.update(first_spike_time=float(spikes[0]), first_spike_time_uncertainty=float(t[1] - t[0]))
     d = np.diff(spikes)

@@ -49,12 +49,17 @@ def spikes_after(params, y0, precision: Precision, tol: float, cfg: dict, scene:
     return first, second, time.perf_counter() - start, run.attrs["energy_max_rel_drift"]
 
 
-# the docstring is written into the trigger_law dataset (attribute fit_rule, before fit's)
+#: Written into the trigger_law dataset (attribute fit_rule, before fit's).
+FITTED_RULE = (
+    "The runs (precision, tol) in the fit, one per distinct tolerance: where the arithmetic's rounding lies at "
+    "least FAR times below tol (the tolerance, not the rounding, sets the injected error), and of a tolerance "
+    "run in several such arithmetics only the finest (the same injected error is one point of the law, not one "
+    "per arithmetic; its rounding lies farthest below it)."
+)
+
+
 def fitted(runs) -> np.ndarray:
-    """The runs (precision, tol) in the fit, one per distinct tolerance: where the arithmetic's
-    rounding lies at least FAR times below tol (the tolerance, not the rounding, sets the injected
-    error), and of a tolerance run in several such arithmetics only the finest (the same injected
-    error is one point of the law, not one per arithmetic; its rounding lies farthest below it)."""
+    """Applies :data:`FITTED_RULE`, the rule as the datasets record it (just above)."""
     finest = {}
     for i in sorted(range(len(runs)), key=lambda i: -runs[i][0].epsilon):  # coarse to fine: the finest stays
         p, t = runs[i]
@@ -63,12 +68,16 @@ def fitted(runs) -> np.ndarray:
     return np.isin(np.arange(len(runs)), list(finest.values()))
 
 
-# the docstring is written into the trigger_law dataset (attribute fit_rule, after fitted's)
+#: Written into the trigger_law dataset (attribute fit_rule, after fitted's).
+FIT_RULE = (
+    "Least squares of the first spike time against log10(tol) over the runs in the fit "
+    "(scipy.stats.linregress): slope (time units per decade) and intercept with their standard errors from the "
+    "residual scatter of the independent runs; NaN with fewer than 3 runs whose first spike came."
+)
+
+
 def fit(log10_tol, first) -> dict:
-    """Least squares of the first spike time against log10(tol) over the runs in the fit
-    (scipy.stats.linregress): slope (time units per decade) and intercept with their standard
-    errors from the residual scatter of the independent runs; NaN with fewer than 3 runs whose
-    first spike came."""
+    """Applies :data:`FIT_RULE`, the rule as the datasets record it (just above)."""
     from scipy import stats  # here: at the top it costs every job start-up (scenes.catalog)
 
     x, y = np.asarray(log10_tol, float), np.asarray(first, float)
@@ -118,7 +127,7 @@ def trigger_law(cfg: dict, scene: str = "") -> xr.Dataset:
                     spike_factor=cfg["spike_factor"], far=FAR,
                     integrator="heyoka Taylor, tolerance and arithmetic per run",
                     energy_max_rel_drift=float(np.nanmax(out[:, 3])), tol_max=float(tol.max()),
-                    fit_rule=" ".join((fitted.__doc__ + " " + fit.__doc__).split()),
+                    fit_rule=f"{FITTED_RULE} {FIT_RULE}",
                     wall_time_s=time.perf_counter() - start)
     return ds
 

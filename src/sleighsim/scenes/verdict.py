@@ -45,7 +45,7 @@ from sleighsim.model.symmetries import state_at_label
 from sleighsim.precision import Precision
 from sleighsim.scenes import memory
 from sleighsim.scenes.checks import ConfigError
-from sleighsim.scenes.common import realization_states
+from sleighsim.scenes.common import REALIZATION_STATES_RULE, realization_states
 from sleighsim.scenes.kind import SceneKind
 from sleighsim.scenes.verdict_dataset import set_attrs, variables
 from sleighsim.scenes.verdict_decisive import decisive_spike_period, decisive_state, with_decisive
@@ -277,7 +277,7 @@ def gather(paths, cfg: dict, scene: str = "") -> xr.Dataset:
     ds = ds.assign_coords(realization=np.arange(len(chunks)))
     ds.attrs.pop("chunk", None)
     ds.attrs.update(n_realizations=len(chunks), realization_rel=cfg["realization_rel"],
-                    realization_rule=" ".join((realization_states.__doc__ + " " + agree.__doc__).split()),
+                    realization_rule=" ".join((REALIZATION_STATES_RULE, " ".join(agree.__doc__.split()))),
                     wall_time_s=float(sum(c.attrs["wall_time_s"] for c in chunks)))
     return ds
 

@@ -10,12 +10,12 @@ import numpy as np
 import xarray as xr
 
 from sleighsim.chaos.faithfulness import cycle_gains, follows
-from sleighsim.chaos.frequency import drift, frequency_log_ratio, judge_frequency
+from sleighsim.chaos.frequency import DRIFT_RULE, FREQUENCY_LOG_RATIO_RULE, JUDGE_FREQUENCY_RULE
 from sleighsim.chaos.loschmidt import (
-    judge_loschmidt,
-    judge_loschmidt_run,
-    loschmidt_fit,
-    loschmidt_indicator,
+    JUDGE_LOSCHMIDT_RULE,
+    JUDGE_LOSCHMIDT_RUN_RULE,
+    LOSCHMIDT_FIT_RULE,
+    LOSCHMIDT_INDICATOR_RULE,
 )
 from sleighsim.chaos.megno import judge_megno
 from sleighsim.chaos.rule import (
@@ -24,14 +24,14 @@ from sleighsim.chaos.rule import (
     consistent,
     faithful_gate,
 )
-from sleighsim.chaos.tangent import judge_benettin
-from sleighsim.chaos.two_trajectory import d0_independent
+from sleighsim.chaos.tangent import JUDGE_BENETTIN_RULE
+from sleighsim.chaos.two_trajectory import D0_INDEPENDENT_RULE
 from sleighsim.io import cf
 from sleighsim.precision import Precision
 from sleighsim.scenes.common import nan_padded
-from sleighsim.scenes.verdict_frequency import frequency_indicator
-from sleighsim.scenes.verdict_orbits import loschmidt_settings, r_image
-from sleighsim.scenes.verdict_tangent import precision_check
+from sleighsim.scenes.verdict_frequency import FREQUENCY_INDICATOR_RULE
+from sleighsim.scenes.verdict_orbits import R_IMAGE_RULE, loschmidt_settings
+from sleighsim.scenes.verdict_tangent import PRECISION_CHECK_RULE
 
 
 def variables(per_state, out: list, ind: list, ft: dict) -> dict:
@@ -189,10 +189,9 @@ def set_attrs(ds: xr.Dataset, cfg: dict, params, per_state, start: float) -> Non
         rule=DECISION_RULE + "; then " + " ".join(consistent.__doc__.split()),
         class_rule=" ".join(classify.__doc__.split()),
         faithful_rule=" ".join(faithful_gate.__doc__.split()),
-        precision_rule=" ".join(precision_check.__doc__.split()),
-        d0_rule=" ".join(d0_independent.__doc__.split()), T_long_double=cfg["T_long_double"],
+        precision_rule=PRECISION_CHECK_RULE, d0_rule=D0_INDEPENDENT_RULE, T_long_double=cfg["T_long_double"],
         tol_long_double=Precision.LONG_DOUBLE.epsilon, compact_mode=int(cfg["compact_mode"]),
-        benettin_rule=" ".join(judge_benettin.__doc__.split()), R_rule=" ".join(r_image.__doc__.split()),
+        benettin_rule=JUDGE_BENETTIN_RULE, R_rule=R_IMAGE_RULE,
         uncertainty="Benettin: standard error over independent replicas along the settled orbit; FTLE: window "
                     "standard error; MEGNO: 2 x (slope of <Y> over the second half, least-squares error, "
                     "correlated residuals: understated); two-trajectory: consecutive blocks (value at the middle d0); "
@@ -201,14 +200,12 @@ def set_attrs(ds: xr.Dataset, cfg: dict, params, per_state, start: float) -> Non
                     "ln-error 1/sqrt(2 (K - 1)) for K windows (sample standard deviation of K values); long double: "
                     "consecutive blocks of one replica's MEGNO run",
         megno_rule=" ".join(judge_megno.__doc__.split()),
-        frequency_rule=" ".join((frequency_indicator.__doc__ + " " + judge_frequency.__doc__ + " "
-                                 + frequency_log_ratio.__doc__).split()),
-        frequency_method=" ".join(drift.__doc__.split()), frequency_T=fc["T"], frequency_dt=fc["dt"],
+        frequency_rule=" ".join((FREQUENCY_INDICATOR_RULE, JUDGE_FREQUENCY_RULE, FREQUENCY_LOG_RATIO_RULE)),
+        frequency_method=DRIFT_RULE, frequency_T=fc["T"], frequency_dt=fc["dt"],
         frequency_component=fc["component"], frequency_min_cycles=fc["min_cycles"], frequency_quad_T=fc["quad_T"],
         frequency_tol_quad=Precision.QUAD.epsilon,
-        loschmidt_rule=" ".join((loschmidt_indicator.__doc__ + " " + judge_loschmidt_run.__doc__ + " "
-                                 + judge_loschmidt.__doc__).split()),
-        loschmidt_fit=" ".join(loschmidt_fit.__doc__.split()), **loschmidt_settings(), T_megno=cfg["T_megno"],
+        loschmidt_rule=" ".join((LOSCHMIDT_INDICATOR_RULE, JUDGE_LOSCHMIDT_RUN_RULE, JUDGE_LOSCHMIDT_RULE)),
+        loschmidt_fit=LOSCHMIDT_FIT_RULE, **loschmidt_settings(), T_megno=cfg["T_megno"],
         loschmidt_T=list(cfg["loschmidt_T"]), loschmidt_n=cfg["loschmidt_n"], T_gain=cfg["T_gain"],
         tau_gain=cfg["tau_gain"], gain_rule=" ".join((cycle_gains.__doc__ + " " + follows.__doc__).split()),
         param_eps=params.eps, param_b=params.b, param_K2=params.K2, energy_label=cfg["energy_label"], tol=cfg["tol"],

@@ -176,16 +176,20 @@ def stage_one_verdicts(stage1: xr.Dataset) -> dict:
                                                        stage1.indicator_reason.values[0])}
 
 
-# the docstring is written into the chaos_verdict dataset (attribute decisive_rule)
+#: Written into the chaos_verdict dataset (attribute decisive_rule).
+DECIDE_AGAIN_RULE = (
+    "The state's verdict with the decisive stage: the first stage's indicator verdicts (each already set aside "
+    "there where its arithmetic did not follow closely enough for it), those of DECISIVE replaced by the "
+    "decisive stage's (``judged``: name -> dict with verdict and resolved), each of which is set aside unless "
+    "the decisive arithmetic follows the orbit closely enough for it (the first stage's ln G per cycle, "
+    "``faithfulness.indicator_limit``), and set aside unless it votes (``voters``, ``chaos.rule.vote_gate``); "
+    "then ``chaos.rule.decide`` and ``consistent``. Returns (verdict, reason, the verdicts decided from)."
+)
+
+
 def decide_again(stage1: xr.Dataset, judged: dict, precision: str, sigma: float,
                  voters: frozenset) -> tuple[str, str, dict]:
-    """The state's verdict with the decisive stage: the first stage's indicator verdicts (each already
-    set aside there where its arithmetic did not follow closely enough for it), those of DECISIVE
-    replaced by the decisive stage's (``judged``: name -> dict with verdict and resolved), each of
-    which is set aside unless the decisive arithmetic follows the orbit closely enough for it (the
-    first stage's ln G per cycle, ``faithfulness.indicator_limit``), and set aside unless it votes
-    (``voters``, ``chaos.rule.vote_gate``); then ``chaos.rule.decide`` and ``consistent``. Returns
-    (verdict, reason, the verdicts decided from)."""
+    """Applies :data:`DECIDE_AGAIN_RULE`, the rule as the datasets record it (just above)."""
     verdicts = stage_one_verdicts(stage1)
     verdicts.update({k: judged[k]["verdict"] for k in judged})
     ln_gain = float(stage1.ln_gain_max.values[0])
@@ -244,7 +248,7 @@ def decisive_state(cfg: dict, stage1: xr.Dataset, scene: str = "", *, voters: fr
                     decisive_dt=dc["dt"], decisive_megno_samples=dc["megno_samples"], decisive_steps=orbit["steps"],
                     decisive_splits=list(dc["splits"]), decisive_vote_horizon=float(dc["vote_horizon"]),
                     decisive_voters=sorted(voters), decisive_tangent=int(tangent),
-                    decisive_rule=" ".join(decide_again.__doc__.split()), backend=_backend(dc["precision"]),
+                    decisive_rule=DECIDE_AGAIN_RULE, backend=_backend(dc["precision"]),
                     wall_time_s=time.perf_counter() - start, stage="decisive")
     return ds
 

@@ -38,17 +38,21 @@ def frequency_run(params, y, cfg: dict, precision: Precision = Precision.DOUBLE)
                            splits=fc["splits"], min_cycles=fc["min_cycles"], callback=integrators.bounded(flow))
 
 
-# the docstring is written into the chaos_verdict dataset (attribute frequency_rule)
+#: Written into the chaos_verdict dataset (attribute frequency_rule).
+FREQUENCY_INDICATOR_RULE = (
+    "The frequency-analysis indicator (``chaos.frequency.judge_frequency``): the double run first; while the "
+    "leading frequency has not converged (and the last run had at least two usable splits), the next precision:"
+    " long double, then quad when frequency.quad_T > 0 (costs per time unit in benchmarks/precision_cost.yaml; "
+    "the cluster config makes it). Each run's drift is compared with the previous one's against the ratio of "
+    "their tolerances. Value: the relative frequency drift per unit time, D / W at the longest window of the "
+    "last run (1/time); error: that times D's ln-error. Without ``long_double`` (a state the decisive stage "
+    "judges again) only the double run is made. Returns value, error, verdict ((verdict, reason)) and runs "
+    "(precision -> run, for the runs made)."
+)
+
+
 def frequency_indicator(params, y, cfg: dict, sigma: float, *, long_double: bool = True) -> dict:
-    """The frequency-analysis indicator (``chaos.frequency.judge_frequency``): the double run first; while
-    the leading frequency has not converged (and the last run had at least two usable splits),
-    the next precision: long double, then quad when frequency.quad_T > 0 (costs per time unit in
-    benchmarks/precision_cost.yaml; the cluster config makes it). Each run's drift is compared with
-    the previous one's against the ratio of their tolerances. Value: the relative frequency drift
-    per unit time, D / W at the longest window of the last run (1/time); error: that times D's
-    ln-error. Without ``long_double`` (a state the decisive stage judges again) only the double run is
-    made. Returns value, error, verdict ((verdict, reason)) and runs (precision -> run, for the runs
-    made)."""
+    """Applies :data:`FREQUENCY_INDICATOR_RULE`, the rule as the datasets record it (just above)."""
     made, judged, judgement = {}, [], None  # judgement: set by the double run, which is always made
     for prev, precision in zip((None, *PRECISIONS[:-1]), PRECISIONS):
         if prev is not None and (judgement[0] == REGULAR or made[prev]["splits"].size < 2):

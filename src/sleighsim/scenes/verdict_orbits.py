@@ -26,11 +26,16 @@ from sleighsim.scenes.common import stored_state, tolerance
 R = np.array([-1.0, -1.0, -1.0, 1.0])
 
 
-# the docstring is written into the chaos_verdict dataset (attribute R_rule)
+#: Written into the chaos_verdict dataset (attribute R_rule).
+R_IMAGE_RULE = (
+    "Where R sends a point of the state: integrate R y forward over T and compare the time means of (u, omega) "
+    "over the second half with R applied to the state's own means. \"stays\" when within rtol of the scale of the"
+    " means, else \"leaves\" (the image of the state is not visited: a repeller)."
+)
+
+
 def r_image(params, y, ref_mean, *, T: float, tol: float, rtol: float, scene: str) -> tuple[str, float]:
-    """Where R sends a point of the state: integrate R y forward over T and compare the time means of
-    (u, omega) over the second half with R applied to the state's own means. "stays" when within rtol
-    of the scale of the means, else "leaves" (the image of the state is not visited: a repeller)."""
+    """Applies :data:`R_IMAGE_RULE`, the rule as the datasets record it (just above)."""
     run = integrate(params, R * np.asarray(y), sample_grid(0.0, T, T / 2000), tol=tol, scene=f"{scene}.R", progress=1)
     half = run.time.values >= T / 2
     got = np.array([run.u.values[half].mean(), run.omega.values[half].mean()])

@@ -103,19 +103,22 @@ def megno_run(params, y, cfg: dict, *, precision: Precision = Precision.DOUBLE) 
                  callback=integrators.bounded(ta))
 
 
-# the docstring is written into the chaos_verdict dataset (attribute precision_rule)
+#: Written into the chaos_verdict dataset (attribute precision_rule).
+PRECISION_CHECK_RULE = (
+    "One replica (from y, model variables) in long double over T_long_double, with MEGNO: a tangent-based "
+    "chaotic verdict stands only if its tangent vector, too, grows exponentially: lambda_1 (log growth after "
+    "t_align / its time) - sigma stderr (N_BLOCKS consecutive blocks) > 2 ln(T / tau) / T. On the sleigh, "
+    "rounding noise off the leading direction is amplified by many orders at every spike, which inflates "
+    "double-precision exponents and MEGNO. The run's MEGNO replaces the double-precision one as the MEGNO "
+    "indicator. The check runs only when a tangent-based indicator says chaotic in double (it costs about 4 "
+    "min), so MEGNO's precision depends on the other tangent-based verdicts: the one place where a larger "
+    "uncertainty elsewhere (a Benettin rate no longer resolved) can change which MEGNO run is judged. Returns "
+    "lambda_1, stderr, check (\"confirmed\" | \"not confirmed\"), the reason and the run (``megno``)."
+)
+
+
 def precision_check(params, y, cfg: dict, scene: str) -> dict:
-    """One replica (from y, model variables) in long double over T_long_double, with MEGNO: a
-    tangent-based chaotic verdict stands only if its tangent vector, too, grows exponentially:
-    lambda_1 (log growth after t_align / its time) - sigma stderr (N_BLOCKS consecutive blocks) >
-    2 ln(T / tau) / T.
-    On the sleigh, rounding noise off the leading direction is amplified by many orders at every
-    spike, which inflates double-precision exponents and MEGNO. The run's MEGNO replaces the
-    double-precision one as the MEGNO indicator. The check runs only when a tangent-based indicator
-    says chaotic in double (it costs about 4 min), so MEGNO's precision depends on the other
-    tangent-based verdicts: the one place where a larger uncertainty elsewhere (a Benettin rate
-    no longer resolved) can change which MEGNO run is judged. Returns lambda_1, stderr, check
-    ("confirmed" | "not confirmed"), the reason and the run (``megno``)."""
+    """Applies :data:`PRECISION_CHECK_RULE`, the rule as the datasets record it (just above)."""
     tau, sigma, T = cfg["tau"], cfg["sigma"], cfg["T_long_double"]
     m = megno_run(params, y, cfg, precision=Precision.LONG_DOUBLE)
     g = m["log_growth"][math.ceil(cfg["t_align"] / tau):]  # the alignment of the vector left out
