@@ -6,7 +6,7 @@ import pytest
 
 from sleighsim.io.netcdf import read_dataset, write_dataset
 from sleighsim.ops.resultdiff import compare_datasets
-from sleighsim.scenes import exponents
+from sleighsim.scenes import energy_sweep as exponents
 
 # three labels, a short pre-run and horizon: a second or two in long double
 SWEEP = {"kind": "lyapunov_energy", "params": {"eps": 0.1, "b": 1.0, "K2": 1.1}, "y0": [0.0, 0.1, 1.0, 0.0],
