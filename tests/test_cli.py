@@ -34,3 +34,13 @@ def test_diff_returns_the_comparison_status(tmp_path):
 
 def test_claims_refuses_an_absent_data_directory(tmp_path):
     assert cli.main(["claims", "--data", str(tmp_path / "absent")]) == 2
+
+
+@pytest.mark.parametrize("name", ["claims", "diff", "costs", "configdoc", "verify"])
+def test_each_subcommands_help_names_it_in_plain_text(name, capsys):
+    """`sleighsim NAME --help` prints a usage naming `sleighsim NAME` (it printed `__main__.py` or
+    `python -m ...`) and no reStructuredText markup."""
+    assert cli.main([name, "--help"]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith(f"usage: sleighsim {name} ")
+    assert "``" not in out and ":mod:" not in out and ":func:" not in out

@@ -42,8 +42,9 @@ def _parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     """Run ``sleighsim SUBCOMMAND [OPTIONS]``; returns the subcommand's exit status."""
     argv = sys.argv[1:] if argv is None else list(argv)
-    run, _ = COMMANDS[_parser().parse_args(argv[:1]).command]  # the subcommand parses the rest
+    name = _parser().parse_args(argv[:1]).command
+    run, _ = COMMANDS[name]  # the subcommand parses the rest, its usage naming it
     try:
-        return int(run(argv[1:]) or 0)
+        return int(run(argv[1:], prog=f"sleighsim {name}") or 0)
     except SystemExit as stop:  # argparse's usage errors and --help inside a subcommand
         return stop.code if isinstance(stop.code, int) else 1

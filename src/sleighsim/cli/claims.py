@@ -18,8 +18,8 @@ from sleighsim.report.figures.catalog import FIGURES, figures_built
 from sleighsim.scenes.catalog import run_datasets
 
 
-def _parser() -> argparse.ArgumentParser:
-    ap = argparse.ArgumentParser(prog="sleighsim claims",
+def _parser(prog: str = "sleighsim claims") -> argparse.ArgumentParser:
+    ap = argparse.ArgumentParser(prog=prog,
                                  description="Judge every claim of CLAIMS.md from a results tree; write the ledger.")
     ap.add_argument("--claims", default=str(REPO / "paper" / "CLAIMS.md"),
                     help="the claims list (default: the project's paper/CLAIMS.md)")
@@ -54,10 +54,10 @@ def _checked(ap: argparse.ArgumentParser, argv) -> argparse.Namespace:
     return a
 
 
-def main(argv=None) -> int:
+def main(argv=None, prog: str = "sleighsim claims") -> int:
     """Judge the claims of a results tree and write the ledger (``argv``: the command line without the
     program, default sys.argv). Returns the exit status: 0, or 3 when products of the run are missing."""
-    a = _checked(_parser(), argv)
+    a = _checked(_parser(prog), argv)
     out = Path(a.out)
     config = merged_config(a.config)
     rows = ledger(a.claims, a.data, a.figures, config, FIGURES)

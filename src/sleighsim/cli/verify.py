@@ -8,11 +8,12 @@ import argparse
 from pathlib import Path
 
 from sleighsim.io.checksum import verify_tree
+from sleighsim.ops.helptext import summary
 
 
-def main(argv=None) -> int:
+def main(argv=None, prog: str = "sleighsim verify") -> int:
     """Verify the netCDF files under RESULTS_DIR (``argv``, default sys.argv[1:]); the exit status."""
-    ap = argparse.ArgumentParser(prog="sleighsim verify", description=__doc__.split("\n\n")[0])
+    ap = argparse.ArgumentParser(prog=prog, description=summary(__doc__))
     ap.add_argument("results", metavar="RESULTS_DIR", help="the results directory (every *.nc under it is checked)")
     args = ap.parse_args(argv)
     if not Path(args.results).is_dir():

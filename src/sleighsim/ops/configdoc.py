@@ -12,6 +12,8 @@ from pathlib import Path
 
 import yaml
 
+from sleighsim.ops.helptext import summary
+
 HEADER = """# Configuration
 
 Generated from `workflow/schemas/config.schema.yaml` by `python -m sleighsim.ops.configdoc`;
@@ -90,10 +92,10 @@ def render(schema: dict) -> str:
     return "\n".join(lines)
 
 
-def main(argv=None) -> int:
+def main(argv=None, prog: str | None = None) -> int:
     """Write config/README.md from the schema (``--check``: compare only); exit status 0, or 1 when
     ``--check`` finds the file out of date. ``argv``: the arguments (default sys.argv[1:])."""
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser = argparse.ArgumentParser(prog=prog, description=summary(__doc__))
     parser.add_argument("--schema", type=Path, default=Path("workflow/schemas/config.schema.yaml"))
     parser.add_argument("--out", type=Path, default=Path("config/README.md"))
     parser.add_argument("--check", action="store_true", help="exit 1 when --out differs from the schema's text")

@@ -23,6 +23,7 @@ from pathlib import Path
 
 from sleighsim.ops.config import BASE_CONFIG, REPO, merged_config
 from sleighsim.ops.estimate import changed_keys, estimate, format_estimate
+from sleighsim.ops.helptext import summary
 from sleighsim.ops.summary import SCHEMA, read_summary
 from sleighsim.report.figures.costs import plot_costs
 
@@ -30,8 +31,8 @@ DEFAULT_MEASURED = REPO / "benchmarks" / "full_run.yaml"
 PROG = "python -m sleighsim.ops.costs"
 
 
-def _parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog=PROG, description=__doc__.split("\n\n")[0])
+def _parser(prog: str = PROG) -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog=prog, description=summary(__doc__))
     sub = parser.add_subparsers(dest="command", required=True)
     p = sub.add_parser("estimate", help="estimated core-hours of the full run a config would launch")
     p.add_argument("--configfile", nargs="*", default=[],
@@ -64,10 +65,10 @@ def _read_inputs(args, measured: Path) -> tuple[dict | None, str | None]:
     return summary, None
 
 
-def main(argv=None) -> int:
+def main(argv=None, prog: str = PROG) -> int:
     """The ``plot`` and ``estimate`` commands (``argv``: the arguments, default sys.argv[1:]). Exit
     status 0; 1 when the estimate is not finite; 2 when its inputs are refused."""
-    args = _parser().parse_args(argv)
+    args = _parser(prog).parse_args(argv)
     if args.command == "plot":
         plot_costs(read_summary(args.summary), args.png, args.pdf or str(Path(args.png).with_suffix(".pdf")))
         return 0

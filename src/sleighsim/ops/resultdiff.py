@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from sleighsim.io.netcdf import read_dataset
+from sleighsim.ops.helptext import summary
 
 #: Names of attributes and variables that measure the run, not its result.
 # history and source (CF) carry the time of writing and the commit; lock_ the lock file installed from
@@ -96,10 +97,10 @@ def compare_trees(old: Path, new: Path, module_paths: bool = False) -> dict[str,
     return out
 
 
-def main(argv=None) -> int:
+def main(argv=None, prog: str | None = None) -> int:
     """Compare the datasets of two results trees and print each one's differences (``argv``: OLD NEW,
     default sys.argv[1:]). Exit status 0 when all are identical, 1 when any differs."""
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser = argparse.ArgumentParser(prog=prog, description=summary(__doc__))
     parser.add_argument("old", type=Path, help="results directory before the change")
     parser.add_argument("new", type=Path, help="results directory after the change")
     parser.add_argument("--module-paths", action="store_true",
