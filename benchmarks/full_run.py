@@ -42,6 +42,12 @@ from sleighsim.ops.config import BASE_CONFIG, merged_config
 from sleighsim.report.figures import costs as plots
 
 
+def portable(text, workdir: Path) -> str:
+    """``text`` with this machine's paths made portable: the repository as <repo>, the run's directory as
+    <run>, this Python as python (a record read on another machine names no path of this one)."""
+    return str(text).replace(str(workdir), "<run>").replace(str(REPO), "<repo>").replace(sys.executable, "python")
+
+
 def say(msg: str) -> None:
     """A progress line on stderr, tagged with the time."""
     print(f"[full_run {dt.datetime.now():%H:%M:%S}] {msg}", file=sys.stderr, flush=True)
@@ -163,10 +169,11 @@ def main(argv=None) -> int:
                        for f in configfiles) or None
     config = merged_config(configfiles)
     summary = costsummary.summarize(workdir, wall, label, config=config)
-    summary["config"]["files"] = [str(BASE_CONFIG), *configfiles]
+    summary["config"]["files"] = [portable(f, workdir) for f in (BASE_CONFIG, *configfiles)]
+    summary["workdir"] = "<run>"
     sum_wall = sum(j["wall_s"] for j in summary["jobs"])
     crit = (summary["critical_path"] or {}).get("wall_s") or 0.0
-    summary["run"] = {"command": cmd, "cores": args.cores, "workdir": str(workdir), "wall_source": source,
+    summary["run"] = {"command": portable(cmd, workdir), "cores": args.cores, "workdir": "<run>", "wall_source": source,
                       # no schedule on these cores can beat the longer of these two
                       "lower_bound_s": round(max(crit, sum_wall / args.cores), 3),
                       "job_wall_sum_s": round(sum_wall, 3)}
