@@ -101,3 +101,16 @@ def test_the_refined_frequency_does_not_depend_on_the_number_of_blas_threads():
                              env={**os.environ, "OPENBLAS_NUM_THREADS": n, "OMP_NUM_THREADS": n}).stdout
            for n in ("1", "2")}
     assert out["1"] and out["1"] == out["2"], out
+
+
+@pytest.mark.parametrize("splits, least, ok", [([4, 2], 1, [2, 4]), ([2], 1, [2]), ([2], 2, None), ([2, 2, 4], 1, None),
+                                               ([1, 2], 1, None), ([2.5, 4], 1, None), (["a"], 1, None), ([], 1, None)])
+def test_one_check_of_window_counts_serves_frequency_analysis_and_birkhoff(splits, least, ok):
+    """chaos.common.check_splits (frequency analysis asks one count, Birkhoff two): sorted, distinct, >= 2."""
+    from sleighsim.chaos.common import check_splits
+
+    if ok is None:
+        with pytest.raises(ValueError, match="splits"):
+            check_splits(splits, least)
+    else:
+        assert check_splits(splits, least) == ok

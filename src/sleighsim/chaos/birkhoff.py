@@ -33,7 +33,7 @@ import math
 
 import numpy as np
 
-from sleighsim.chaos.common import _state
+from sleighsim.chaos.common import _state, check_splits
 from sleighsim.chaos.verdicts import REGULAR, UNDECIDED, _g, _is_finite
 from sleighsim.engine.orbits import grid_samples
 from sleighsim.model.params import positive
@@ -78,17 +78,6 @@ def window_averages(X, n_windows: int) -> np.ndarray:
     return np.einsum("k,jko->jo", w, blocks)
 
 
-def check_splits(splits) -> list[int]:
-    """The window counts K, sorted; ValueError unless there are at least two, each an integer >= 2."""
-    try:
-        out = sorted({int(k) for k in splits if int(k) == k})
-    except (TypeError, ValueError):
-        raise ValueError(f"splits must be integers >= 2, got {splits!r}") from None
-    if len(out) < 2 or out[0] < 2 or len(out) != len(list(splits)):
-        raise ValueError(f"splits must be at least two distinct integers >= 2, got {splits!r}")
-    return out
-
-
 def digits(X, dt: float, splits=(2, 4, 8)) -> dict:
     """Digits of agreement of the weighted Birkhoff averages of consecutive windows, for each column of X
     (samples every dt x observables) and windows of W = T / K, K in ``splits`` (T = n dt, the record).
@@ -104,7 +93,7 @@ def digits(X, dt: float, splits=(2, 4, 8)) -> dict:
     if X.ndim != 2 or not np.all(np.isfinite(X)):
         raise ValueError(f"X must be a finite (samples x observables) array, got shape {X.shape}")
     dt = positive("dt", dt)
-    splits = check_splits(splits)
+    splits = check_splits(splits, least=2)
     scale = X.std(axis=0)
     if not np.all(scale > 0):
         raise ValueError(f"observables {np.flatnonzero(~(scale > 0)).tolist()} are constant over the record")

@@ -30,6 +30,18 @@ def _n_intervals(T, tau, name_T="T", name_tau="tau"):
     return k
 
 
+def check_splits(splits, least: int = 1) -> list[int]:
+    """The window counts K (windows T / K of a record), sorted; ValueError unless there are at least
+    ``least``, each an integer >= 2, none repeated."""
+    try:
+        out = sorted({int(k) for k in splits if int(k) == k})
+    except (TypeError, ValueError):
+        raise ValueError(f"splits must be integers >= 2, got {splits!r}") from None
+    if len(out) < least or (out and out[0] < 2) or len(out) != len(list(splits)):
+        raise ValueError(f"splits must be at least {least} distinct integers >= 2, got {splits!r}")
+    return out
+
+
 def linfit(x, y):
     """Least-squares line y = a + b x: (slope, slope stderr, rms residual, intercept).
 

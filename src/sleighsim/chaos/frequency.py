@@ -21,7 +21,7 @@ import math
 
 import numpy as np
 
-from sleighsim.chaos.common import _state
+from sleighsim.chaos.common import _state, check_splits
 from sleighsim.chaos.verdicts import REGULAR, UNDECIDED, _g, _is_finite
 from sleighsim.engine.orbits import grid_samples
 from sleighsim.model.params import positive
@@ -33,17 +33,6 @@ from sleighsim.model.params import positive
 PRECISION = 1e-11
 MIN_SAMPLES = 8  # samples a window needs at least
 MIN_WINDOWS = 4  # windows a split needs to enter the convergence exponent (slope)
-
-
-def check_splits(splits) -> list[int]:
-    """The window counts K, sorted; ValueError unless there is at least one and each is an integer >= 2."""
-    try:
-        out = sorted({int(k) for k in splits if int(k) == k})
-    except (TypeError, ValueError):
-        raise ValueError(f"splits must be integers >= 2, got {splits!r}") from None
-    if not out or out[0] < 2 or len(out) != len(set(splits)):
-        raise ValueError(f"splits must be integers >= 2, got {splits!r}")
-    return out
 
 
 def _check(x, dt, n_min):
