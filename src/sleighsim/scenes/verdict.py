@@ -100,8 +100,9 @@ def one_state(params, y0, cfg: dict, scene: str, voters: set, *, decisive: bool)
     two = two_trajectory_indicator(tts, cfg["d0"], tau, sigma)
     values["two_trajectory"], errors["two_trajectory"] = two["value"], two["error"]
     verdicts["two_trajectory"] = two["verdict"]
-    arithmetic = {"benettin": "double", "ftle": "double", "megno": megno_precision, "two_trajectory": "double",
-                  "loschmidt": "long double", "frequency": list(freq["runs"])[-1]}
+    D = Precision.DOUBLE
+    arithmetic = {"benettin": D, "ftle": D, "megno": megno_precision, "two_trajectory": D,
+                  "loschmidt": Precision.LONG_DOUBLE, "frequency": list(freq["runs"])[-1]}
     faithful_gate(verdicts, arithmetic, indicator_follows(gain["ln_gain_max"], arithmetic,
                                                           {"frequency": frequency_resolved(freq)}))
     vote_gate(verdicts, voters)
@@ -175,7 +176,7 @@ def verdict(cfg: dict, scene: str = "", *, voters: frozenset) -> xr.Dataset:
     ds = xr.Dataset(
         variables(per_state, out, ind, ft),
         coords={"state": names, "indicator": ind, "i": np.arange(1, 5), "d0": np.asarray(cfg["d0"], float),
-                "T_loschmidt": loschmidt_T(cfg), "precision": ["double", "long double"],
+                "T_loschmidt": loschmidt_T(cfg), "precision": [Precision.DOUBLE, Precision.LONG_DOUBLE],
                 "split": np.asarray(fc["splits"], int), "frequency_precision": list(PRECISIONS),
                 "arithmetic": [p.value for p in Precision], "component": list(equations.STATE_NAMES),
                 "tangent_based": ("indicator", [int(i in TANGENT_BASED) for i in ind])},

@@ -195,7 +195,7 @@ def decide_again(stage1: xr.Dataset, judged: dict, precision: str, sigma: float,
     ln_gain = float(stage1.ln_gain_max.values[0])
     follows = indicator_follows(ln_gain, dict.fromkeys(judged, precision),
                                 {k: judged[k].get("resolved", math.nan) for k in judged})
-    faithful_gate(verdicts, {**dict.fromkeys(verdicts, "double"), **dict.fromkeys(judged, precision)}, follows)
+    faithful_gate(verdicts, {**dict.fromkeys(verdicts, Precision.DOUBLE), **dict.fromkeys(judged, precision)}, follows)
     vote_gate(verdicts, voters)
     verdict, reason, _ = decide(verdicts, TANGENT_BASED)
     values = dict(zip(map(str, stage1.indicator.values), stage1.indicator_value.values[0]))
