@@ -14,18 +14,18 @@ ledger written from an incomplete results tree.
 from __future__ import annotations
 
 import argparse
+import importlib
 import sys
 
-from sleighsim.cli import claims, verify
-from sleighsim.ops import configdoc, costs, resultdiff
-
-#: subcommand -> (the main it runs, its one-line help)
+#: subcommand -> (the module whose main it runs, imported only for that subcommand: `verify` then
+#: loads neither matplotlib nor heyoka, which want a writable HOME; its one-line help)
 COMMANDS = {
-    "claims": (claims.main, "judge every claim of CLAIMS.md from a results tree; write the ledger"),
-    "diff": (resultdiff.main, "compare two result trees dataset by dataset (exit 1 when they differ)"),
-    "costs": (costs.main, "the run's measured cost, its estimate for another config, and the cost plot"),
-    "configdoc": (configdoc.main, "write config/README.md from the schema (--check: exit 1 when out of step)"),
-    "verify": (verify.main, "check every dataset of a results tree against its recorded checksum (exit 1 on any)"),
+    "claims": ("sleighsim.cli.claims", "judge every claim of CLAIMS.md from a results tree; write the ledger"),
+    "diff": ("sleighsim.ops.resultdiff", "compare two result trees dataset by dataset (exit 1 when they differ)"),
+    "costs": ("sleighsim.ops.costs", "the run's measured cost, its estimate for another config, and the cost plot"),
+    "configdoc": ("sleighsim.ops.configdoc", "write config/README.md from the schema (--check: exit 1 when out of step)"),
+    "verify": ("sleighsim.cli.verify", "check every dataset of a results tree against its recorded checksum (exit 1 on "
+               "any)"),
 }
 
 
@@ -42,7 +42,8 @@ def _parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     """Run ``sleighsim SUBCOMMAND [OPTIONS]``; returns the subcommand's exit status."""
     argv = sys.argv[1:] if argv is None else list(argv)
-    run, _ = COMMANDS[_parser().parse_args(argv[:1]).command]  # the subcommand parses the rest
+    module, _ = COMMANDS[_parser().parse_args(argv[:1]).command]  # the subcommand parses the rest
+    run = importlib.import_module(module).main
     try:
         return int(run(argv[1:]) or 0)
     except SystemExit as stop:  # argparse's usage errors and --help inside a subcommand
