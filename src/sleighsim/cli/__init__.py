@@ -23,7 +23,8 @@ COMMANDS = {
     "claims": ("sleighsim.cli.claims", "judge every claim of CLAIMS.md from a results tree; write the ledger"),
     "diff": ("sleighsim.ops.resultdiff", "compare two result trees dataset by dataset (exit 1 when they differ)"),
     "costs": ("sleighsim.ops.costs", "the run's measured cost, its estimate for another config, and the cost plot"),
-    "configdoc": ("sleighsim.ops.configdoc", "write config/README.md from the schema (--check: exit 1 when out of step)"),
+    "configdoc": ("sleighsim.ops.configdoc",
+                  "write config/README.md from the schema (--check: exit 1 when out of step)"),
     "verify": ("sleighsim.cli.verify", "check every dataset of a results tree against its recorded checksum (exit 1 on "
                "any)"),
 }
