@@ -106,3 +106,21 @@ def test_a_results_directory_at_the_root_is_refused_naming_the_key(tmp_path, res
     res = snakemake(tmp_path, bad, "-n", timeout=120)
     out = res.stdout + res.stderr
     assert res.returncode != 0 and f"results = '{results}': resolves to the file-system root" in out, out[-2000:]
+
+
+def _limited_memory():  # the old order expanded the bomb below: 6 GB
+    import resource
+
+    resource.setrlimit(resource.RLIMIT_DATA, (2 * 2**30, 2 * 2**30))
+
+
+def test_an_alias_bomb_in_the_working_directorys_config_is_refused_before_snakemake_merges_it(tmp_path):
+    """Issue 55: config/config.yaml of the working directory, which the Snakefile's configfile merges,
+    is read strictly before that merge (a --configfile overlay Snakemake merges before the Snakefile runs)."""
+    (tmp_path / "config").mkdir()
+    (tmp_path / "config" / "config.yaml").write_text("l0: &l0 {" + ", ".join(f"k{j}: lol" for j in range(9)) + "}\n" + "".join(
+        f"l{i}: &l{i} {{" + ", ".join(f"k{j}: *l{i - 1}" for j in range(9)) + "}\n" for i in range(1, 9)))
+    cmd = [sys.executable, "-m", "snakemake", "-s", str(ROOT / "workflow" / "Snakefile"), "-d", str(tmp_path), "-n"]
+    res = subprocess.run(cmd, capture_output=True, text=True, timeout=300, preexec_fn=_limited_memory)
+    out = res.stdout + res.stderr
+    assert res.returncode != 0 and "config.yaml: its aliases expand to more than" in out, out[-2000:]
