@@ -118,8 +118,9 @@ def test_an_alias_bomb_in_the_working_directorys_config_is_refused_before_snakem
     """Issue 55: config/config.yaml of the working directory, which the Snakefile's configfile merges,
     is read strictly before that merge (a --configfile overlay Snakemake merges before the Snakefile runs)."""
     (tmp_path / "config").mkdir()
-    (tmp_path / "config" / "config.yaml").write_text("l0: &l0 {" + ", ".join(f"k{j}: lol" for j in range(9)) + "}\n" + "".join(
-        f"l{i}: &l{i} {{" + ", ".join(f"k{j}: *l{i - 1}" for j in range(9)) + "}\n" for i in range(1, 9)))
+    bomb = "l0: &l0 {" + ", ".join(f"k{j}: lol" for j in range(9)) + "}\n" + "".join(
+        f"l{i}: &l{i} {{" + ", ".join(f"k{j}: *l{i - 1}" for j in range(9)) + "}\n" for i in range(1, 9))
+    (tmp_path / "config" / "config.yaml").write_text(bomb)  # 810 bytes, 9**9 mappings expanded
     cmd = [sys.executable, "-m", "snakemake", "-s", str(ROOT / "workflow" / "Snakefile"), "-d", str(tmp_path), "-n"]
     res = subprocess.run(cmd, capture_output=True, text=True, timeout=300, preexec_fn=_limited_memory)
     out = res.stdout + res.stderr
