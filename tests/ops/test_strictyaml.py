@@ -107,8 +107,8 @@ def test_a_mapping_alias_bomb_is_refused_quickly():
 
 @pytest.mark.parametrize("text", ["a: " + "[" * 5000 + "]" * 5000 + "\n",
                                   "".join(" " * i + f"k{i}:\n" for i in range(900)) + " " * 900 + "x: 1\n",
-                                  "- " * 5000 + "x\n"], ids=["flow", "block mappings 900 deep (5000 exceed the size limit)",
-                                                        "block sequences"])
+                                  "- " * 5000 + "x\n"],
+                         ids=["flow", "block mappings 900 deep (5000 exceed the size limit)", "block sequences"])
 def test_a_document_nested_5000_deep_is_refused_naming_the_line(text):
     with pytest.raises(ConfigError, match=r"deep.yaml: line \d+: nested more than 64 levels deep"):
         loads(text, "deep.yaml")
