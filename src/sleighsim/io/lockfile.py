@@ -4,9 +4,10 @@ whether this environment was installed from one: then every dataset names the lo
 An environment counts as installed from a lock when the file is a lock (UTF-8 text whose every pin
 carries a hash, as pip-compile --generate-hashes writes, pinning every requirement of sleighsim) and
 every package it pins is installed at exactly the pinned version (checked, not assumed); a file that
-is not a lock (``SLEIGHSIM_LOCK`` naming a one-line file or a binary) is passed over with a warning. The locks looked at are those of the running
-Python in this checkout's ``requirements/`` (the test lock first: it pins more), or the file the
-environment variable ``SLEIGHSIM_LOCK`` names (for an install outside a checkout)."""
+is not a lock (``SLEIGHSIM_LOCK`` naming a one-line file or a binary) is passed over with a warning.
+The locks looked at are those of the running Python in this checkout's ``requirements/`` (the test
+lock first: it pins more), or the file the environment variable ``SLEIGHSIM_LOCK`` names (for an
+install outside a checkout)."""
 
 from __future__ import annotations
 
