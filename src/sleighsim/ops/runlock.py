@@ -13,6 +13,7 @@ is left to the user to remove. Only a run that executes jobs takes it (:func:`re
 
 from __future__ import annotations
 
+import atexit
 import contextlib
 import fcntl
 import getpass
@@ -218,3 +219,20 @@ def before_planning(workflow, action) -> None:
         return build(*args, **kwargs)
 
     workflow._build_dag = planning
+
+
+def prepare_run(results, products, dirs, checkout) -> None:
+    """What a run that executes jobs does before planning: take the lock of ``results`` (released
+    when the process ends, also when the plan fails), remove the workflow's stale temporary files
+    in ``results`` and its subdirectories ``dirs`` (sleighsim.io.integrity.sweep_stale_temps), and set
+    aside the ``products`` that are not valid netCDF (sleighsim.io.integrity.set_aside); each said on
+    stderr. ``checkout``: the clone whose Snakefile runs."""
+    from sleighsim.io.integrity import set_aside, sweep_stale_temps
+
+    started = time.time()
+    acquire(results, checkout=checkout)
+    atexit.register(release, Path(results).absolute())
+    for gone in sweep_stale_temps(results, started, dirs):
+        print(f"removed a stale temporary file: {gone}", file=sys.stderr)
+    for bad, to in set_aside(results, products):
+        print(f"unreadable: {bad} -> {to}; a run that needs it builds it again", file=sys.stderr)
