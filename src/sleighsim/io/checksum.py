@@ -37,7 +37,7 @@ class ChecksumError(ValueError):
 
 def identity(path) -> str:
     """The name a dataset is known by in a results tree: its path from the last ``data`` or
-    ``chunks`` directory on (``data/precision/long_double/fig9_ref.nc``), else its file name; moving
+    ``chunks`` directory on (``data/precision/long_double/<scene>.nc``), else its file name; moving
     a whole results tree keeps it."""
     parts = Path(path).parts
     anchors = [i for i, p in enumerate(parts[:-1]) if p in ANCHORS]
