@@ -27,7 +27,7 @@ import os
 
 from sleighsim.ops.config import REPO
 from sleighsim.ops.names import check_scene_names
-from sleighsim.ops.plancheck import check_distinct_eps, check_labelled_states, check_pre_run
+from sleighsim.ops.plancheck import check_distinct_eps, check_labelled_states, check_magnitudes, check_pre_run
 from sleighsim.ops.workmodel import chunk_work, work
 from sleighsim.precision import Precision
 from sleighsim.scenes.catalog import KINDS, scene_config
@@ -183,6 +183,7 @@ def _scene(name: str, cfg: dict, scenes: dict) -> None:
 def check(config: dict, available_memory: float | None = None) -> None:
     """Raise :class:`ConfigError` naming the first offending key."""
     check_scene_names(config)
+    check_magnitudes(config)
     check_numbers(config)
     available = machine_memory() if available_memory is None else available_memory
     scenes = config["scenes"]
