@@ -222,7 +222,7 @@ def _jet(Xh, Xl, ops, lin_src, coef, p, n_vars, yh, yl):
 
 
 @jit
-def _shift_angle(hi, lo, n):
+def shift_angle(hi, lo, n):
     """Column 3 of the pair arrays (rows) minus n pi (triple-double pi)."""
     for r in range(hi.shape[0]):
         hi[r, 3], lo[r, 3] = dd.sub_triple(hi[r, 3], lo[r, 3], dd.PI, n)
@@ -248,7 +248,7 @@ def as_pair(y, n: int = 4) -> tuple[np.ndarray, np.ndarray]:
     return hi, lo
 
 
-def _grid(t_grid) -> np.ndarray:
+def check_grid(t_grid) -> np.ndarray:
     """The sample times (from the initial state, time units): finite, >= 0, non-decreasing, at least one."""
     grid = np.array(t_grid, dtype=float).reshape(-1)
     if grid.size == 0 or not np.all(np.isfinite(grid)) or grid[0] < 0 or np.any(np.diff(grid) < 0):
@@ -301,13 +301,13 @@ class DDFlow:
         if status != OK:
             why = "more than max_steps steps" if status == TOO_MANY_STEPS else "a non-finite step or state"
             raise RuntimeError(f"double-double Taylor integration failed at t = {t:.17g}: {why}")
-        _shift_angle(out_h, out_l, 1)
+        shift_angle(out_h, out_l, 1)
         return out_h, out_l, out_e
 
     def propagate_grid(self, y0, t_grid) -> tuple[np.ndarray, np.ndarray]:
         """(hi, lo), each (n, 4): the states (u, Omega, omega, delta) at the times t_grid (from y0, time
         units; delta as integrated between the step ends, where it is reduced into [-pi, pi))."""
-        out_h, out_l, _ = self._run(*as_pair(y0), _grid(t_grid), tangent=False)
+        out_h, out_l, _ = self._run(*as_pair(y0), check_grid(t_grid), tangent=False)
         return out_h, out_l
 
     def propagate(self, y0, T: float) -> tuple[np.ndarray, np.ndarray]:
@@ -323,7 +323,7 @@ class DDFlow:
         (yh, yl), (vh, vl) = as_pair(y0), as_pair(v0)
         if not np.any(vh):
             raise ValueError("the tangent vector v0 must be non-zero")
-        out_h, out_l, out_e = self._run(np.r_[yh, vh], np.r_[yl, vl], _grid(t_grid), tangent=True)
+        out_h, out_l, out_e = self._run(np.r_[yh, vh], np.r_[yl, vl], check_grid(t_grid), tangent=True)
         v = out_h[:, 4:] + out_l[:, 4:]
         norm = np.linalg.norm(v, axis=1)
         return out_h[:, :4], out_l[:, :4], out_e * math.log(2.0) + np.log(norm), v / norm[:, None]
