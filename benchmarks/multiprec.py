@@ -6,20 +6,20 @@ contrast, double-double and real128, over one spike cycle of the torus against a
     taskset -c 1 python benchmarks/multiprec.py --find-torus   # once: writes benchmarks/torus_state.yaml
     taskset -c 1 python benchmarks/multiprec.py [--out benchmarks/multiprec.yaml] [--quick]
 
---find-torus: eps 0.1, b 1, K2 1.1 from the reference state (0, 0.1, 1, 0), heyoka's real at 320 bits (tol
-2^-300) over 14000 time units sampled every 0.5; spikes of Omega by transient.spike_times (the project's
-settings); the escape is the first spike after t = 1000; the torus start is the 320-bit state 200 time units after
-the escape, the cycle P the interval from the escape's spike to the next. Saved with 100 digits, with the 320-bit
-state at start + P. The first passage (start to 7000) is also followed at 256 bits (tol 1e-60) and in
-triple-double (tol 1e-47): their separations from the 320-bit orbit at the sample times show how much that
-passage amplifies.
+--find-torus: eps 0.1, b 1, K2 1.1 from the reference state (0, 0.1, 1, 0), heyoka's real at 256 bits (tol
+1e-60) over 20000 time units sampled every 0.5; spikes of Omega by transient.spike_times (the project's
+settings); the escape is the first spike after t = 1000; the torus start is that orbit's state 200 time units after
+the escape, the cycle P the interval from the escape's spike to the next. Saved with 100 digits, with the state at
+start + P. The first passage (start to 7000) amplifies so much that no arithmetic up to 256 bits follows it: the
+256-bit orbit and triple-double (tol 1e-47) are compared with a 320-bit orbit (tol 2^-300) at sample times up to
+7000, so the saved torus is the 256-bit orbit's, one realisation of where the escape leads.
 
 Measurement (reads torus_state.yaml): every candidate starts from the saved state rounded to its arithmetic and
 runs one cycle P sampled at 9 times; error = ddtaylor.separation at 400 bits from a fresh 320-bit run (tol 2^-300)
 at each sample time (its own check: its end against the saved end state). Cost per time unit: CPU seconds
 (process time, pinned to one core) over a 200-time-unit window from the torus start, the median of 3 runs, the
 candidates interleaved, after a warm-up; per cycle: that times P, beside the CPU seconds of the cycle run itself.
-Triple-double also at 16 lanes (16 starts along the 320-bit reference cycle, the cost per orbit). The gain: the
+Triple-double also at 16 lanes (16 starts along its own orbit over the cycle, the cost per orbit). The gain: the
 largest growth over the cycle of 16 random tangent vectors (triple-double, from the torus start), a lower bound on
 ln G of the gauge (chaos.faithfulness), and G x rounding per arithmetic with it. The recommendation is the cheapest
 candidate per cycle whose error after the cycle is below 1e-20 and whose G x rounding is below FAITHFUL_MAX.
@@ -29,8 +29,10 @@ from __future__ import annotations
 
 import datetime as dt
 import math
+import pickle
 import statistics
 import sys
+import tempfile
 import time
 from functools import partial
 from pathlib import Path
@@ -63,7 +65,8 @@ TORUS_FILE = REPO / "benchmarks" / "torus_state.yaml"
 PARAMS = {"eps": 0.1, "b": 1.0, "K2": 1.1}
 SPIKES = {"factor": 1.8, "block": 50.0, "min_separation": 300.0}
 REF = (320, 2.0**-300)
-FIND = {"t_search": 14000.0, "dt": 0.5, "offset": 200.0, "t_first": 7000.0,
+SEARCH = (256, 1e-60)
+FIND = {"t_search": 20000.0, "dt": 0.5, "offset": 200.0, "t_first": 7000.0,
         "first_times": [1000, 3000, 5000, 5500, 6000, 6500, 7000]}
 #: (name, arithmetic, bits or None, tol, rounding unit): the candidates on the torus.
 CANDIDATES = (("real 160", "real", 160, 2.0**-159, 2.0**-160), ("real 192", "real", 192, 2.0**-191, 2.0**-192),
@@ -124,34 +127,54 @@ def td_rows(states) -> list:
         return [[sum(mpmath.mpf(float(c)) for c in v) for v in row] for row in states]
 
 
-def find_torus(params) -> dict:
-    """The 320-bit orbit from the reference state: spikes, the torus start and cycle, the first passage."""
+def search_orbit(params) -> tuple[np.ndarray, list, float]:
+    """The searching orbit (real at SEARCH bits) from the reference state, sampled every dt: (grid, rows, CPU s);
+    kept in the temporary directory (keyed by its settings) so that a failed search is not paid twice."""
     grid = FIND["dt"] * np.arange(round(FIND["t_search"] / FIND["dt"]) + 1)
-    y0 = [mpmath.mpf(v) for v in REFERENCE_STATE]
+    cache = Path(tempfile.gettempdir()) / f"multiprec_search_{SEARCH[0]}_{SEARCH[1]:g}_{FIND['t_search']:g}.pkl"
+    if cache.exists():
+        rows, cpu = pickle.loads(cache.read_bytes())
+        return grid, rows, cpu
     c0 = time.process_time()
-    orbit = real_grid(params, y0, grid, *REF)
+    rows = real_grid(params, [mpmath.mpf(v) for v in REFERENCE_STATE], grid, *SEARCH)
     cpu = time.process_time() - c0
+    cache.write_bytes(pickle.dumps((rows, cpu)))
+    return grid, rows, cpu
+
+
+def first_passage(params, grid, orbit) -> dict:
+    """How the first passage (start to 7000) amplifies: the separations of the searching orbit and of
+    triple-double (tol 1e-47) from the 320-bit orbit (REF) at the sample times."""
+    times = np.array([0.0] + FIND["first_times"], dtype=float)
+    y0 = [mpmath.mpf(v) for v in REFERENCE_STATE]
+    ref = real_grid(params, y0, times, *REF)[1:]
+    search = [orbit[int(round(t / FIND["dt"]))] for t in times[1:]]
+    td = td_rows(TDBatch(params, 1e-47).propagate_grid([REFERENCE_STATE], times)[0])[1:]
+    return {"times": times[1:].tolist(),
+            f"real {SEARCH[0]} tol {SEARCH[1]:g}": [ar.separation(r, x) for r, x in zip(ref, search)],
+            "triple-double tol 1e-47": [ar.separation(r, x) for r, x in zip(ref, td)]}
+
+
+def find_torus(params) -> dict:
+    """The searching orbit from the reference state: spikes, the torus start and cycle, the first passage."""
+    grid, orbit, cpu = search_orbit(params)
     spikes = transient.spike_times(grid, np.array([float(r[1]) for r in orbit]), **SPIKES)
-    escape = float(next(s for s in spikes if s > 1000.0))
-    nxt = float(next(s for s in spikes if s > escape))
+    say(f"spikes {list(spikes)}")
+    after = [float(s) for s in spikes if s > 1000.0]
+    if len(after) < 2 or after[1] + FIND["offset"] > grid[-1]:
+        raise RuntimeError(f"no full cycle after the escape within {grid[-1]:g}: spikes {list(spikes)}")
+    escape, nxt = after[0], after[1]
     i_start, P = int(round((escape + FIND["offset"]) / FIND["dt"])), nxt - escape
     i_end = i_start + int(round(P / FIND["dt"]))
-    say(f"spikes {list(spikes)}; torus start {grid[i_start]:g}, cycle {P:g}")
-    times = np.array([0.0] + FIND["first_times"], dtype=float)
-    first = {"times": times[1:].tolist()}
-    ref = [orbit[int(round(t / FIND["dt"]))] for t in times[1:]]
-    first["real 256 tol 1e-60"] = [ar.separation(r, x) for r, x in zip(ref, real_grid(params, y0, times, 256,
-                                                                                        1e-60)[1:])]
-    td = td_rows(TDBatch(params, 1e-47).propagate_grid([REFERENCE_STATE], times)[0])
-    first["triple-double tol 1e-47"] = [ar.separation(r, x) for r, x in zip(ref, td[1:])]
+    say(f"torus start {grid[i_start]:g}, cycle {P:g}")
     return {"schema": TORUS_SCHEMA, "date": dt.datetime.now(dt.UTC).isoformat(timespec="seconds"),
             "git_commit": facts.git_commit(), "machine": facts.machine_facts(),
             "versions": {"heyoka": hy.__version__, "numba": numba.__version__},
-            "params": PARAMS, "y0": list(REFERENCE_STATE), "reference": {"bits": REF[0], "tol": REF[1]},
+            "params": PARAMS, "y0": list(REFERENCE_STATE), "search": {"bits": SEARCH[0], "tol": SEARCH[1]},
             "search_cpu_s": cpu, "spike_times": [float(s) for s in spikes], "escape_spike": escape,
             "next_spike": nxt, "cycle": P, "t_start": float(grid[i_start]),
             "start": [digits(v) for v in orbit[i_start]], "end": [digits(v) for v in orbit[i_end]],
-            "first_passage_separation_from_320_bits": first}
+            "first_passage_separation_from_320_bits": first_passage(params, grid, orbit)}
 
 
 def measure_cost(params, names, y0, opts) -> dict:
@@ -222,8 +245,8 @@ def measure(params, torus: dict, opts) -> dict:
                      "error_along_cycle": err, "error_after_cycle": err[-1],
                      "log10_G_x_rounding": log10_gr, "follows": bool(log10_gr < math.log10(FAITHFUL_MAX))})
     load["after_cycles"] = benchio.loadavg()
-    starts = [r for r in real_grid(params, y0, np.linspace(0.0, P, opts["lanes"] + 1)[:-1], *REF)] \
-        if opts["lanes"] > 1 else [y0]
+    starts = td_rows(TDBatch(params, 1e-47).propagate_grid([[tdarith.expansion(v) for v in y0]],
+                                                           np.linspace(0.0, P, opts["lanes"] + 1)[:-1])[0])
     td16 = lanes_cost(params, starts, min(P, 4 * opts["window"]), opts)
     load["end"] = benchio.loadavg()
     good = [r for r in rows if r["follows"] and r["error_after_cycle"] < 1e-20]
