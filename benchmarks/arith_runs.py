@@ -19,7 +19,7 @@ import numpy as np
 from sleighsim.engine import integrators
 from sleighsim.engine.ddbatch import DDBatch
 from sleighsim.engine.ddtaylor import DDFlow
-from sleighsim.engine.precision import Precision
+from sleighsim.precision import Precision
 from sleighsim.model import equations
 
 WORKPREC = 400
