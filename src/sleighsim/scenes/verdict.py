@@ -103,7 +103,8 @@ def one_state(params, y0, cfg: dict, scene: str, voters: set, *, decisive: bool)
     arithmetic = {"benettin": "double", "ftle": "double", "megno": megno_precision, "two_trajectory": "double",
                   "loschmidt": "long double", "frequency": list(freq["runs"])[-1]}
     faithful_gate(verdicts, arithmetic, indicator_follows(gain["ln_gain_max"], arithmetic,
-                                                          {"frequency": frequency_resolved(freq)}))
+                                                          {"frequency": frequency_resolved(freq)},
+                                                          steps_per_cycle=gain["steps_per_cycle"]))
     vote_gate(verdicts, voters)
     verdict, reason, _ = decide(verdicts, TANGENT_BASED)
     others = {k: (values[k], errors[k]) for k in INDICATORS if k not in TANGENT_BASED and verdicts[k][0] == CHAOTIC}
