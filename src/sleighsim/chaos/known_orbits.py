@@ -189,6 +189,15 @@ def unspiked(y, i: int = 0, j: int = 2) -> np.ndarray:
     return x
 
 
+def spiked_perturb(base, rng):
+    """A spiked Henon-Heiles base state with its base part perturbed on its level (``perturbed``), the phase
+    and w kept on their invariant (w = exp(c g(phase)))."""
+    y = np.asarray(base, float)
+    x = unspiked(y)
+    x = hh_on_level(perturbed(x, rng), hh_energy(x))
+    return spiked_state(x, math.atan2(y[-2], y[-3]))
+
+
 def spiked_flip(s):
     """Time reversal of a spiked natural system: the base's momenta and the phase's sine flip (dtype kept)."""
     s = np.array(s, dtype=np.result_type(np.asarray(s).dtype, float))
@@ -328,10 +337,10 @@ SYSTEMS: dict[str, System] = {s.name: s for s in (
              perturb=on_level(hh_energy, hh_on_level)),
     _chaotic("lorenz", lorenz_sys, LORENZ0, 0.75, 2),
     _chaotic("nose-hoover sticky", nose_hoover_sys, NH0, 8.6, 0, flip_nose_hoover),
-    _chaotic("forced pendulum sticky", forced_sys, FORCED0, 16.0, 1, flip_forced, angles=(0,)),
+    _chaotic("forced pendulum sticky", forced_sys, FORCED0, 20.0, 1, flip_forced, angles=(0,)),
     _chaotic("x2y2 sticky", x2y2_sys, X2Y2_0, 7.5, 1, flip_momenta),
     _chaotic("spiked henon-heiles E=1/8", _spiked_hh, spiked_state(HH_STICKY, math.pi, SPIKE_C), SPIKE_PERIOD, _SPIKE,
-             spiked_flip, arithmetic="long double"),
+             spiked_flip, perturb=spiked_perturb, arithmetic="long double"),
     _tori("henon-heiles E=1/12", hh_sys, 6.5, 0, flip_momenta, lambda rng: hh_section(1.0 / 12.0, rng)),
     _tori("quartic oscillators", lambda hy: oscillators(hy, True), 4.5, 0, flip_momenta, oscillator_box,
           integrable=True),

@@ -139,7 +139,7 @@ def main(argv=None) -> int:
     """Write the record from the dataset given; print its table."""
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("dataset", nargs="?", help="the judge_power dataset")
-    parser.add_argument("--empty", action="store_true", help="write a record of no audit (every judge votes by nothing)")
+    parser.add_argument("--empty", action="store_true", help="a record of no audit (every judge votes by nothing)")
     parser.add_argument("--out", default=str(REPO / "benchmarks" / "judge_power.yaml"))
     args = parser.parse_args(argv)
     if args.empty == bool(args.dataset):
