@@ -11,8 +11,9 @@ Rules (per horizon factor): DIG_MIN is the smallest multiple of STEP_DIG at leas
 every chaotic realization's digits at the longest window in the tuning sample; y_regular_max is the largest
 multiple of STEP_Y at most MARGIN_Y below every chaotic realization's <Y> + sigma resid (the quantity MEGNO's
 regular verdict compares) among those whose <Y> did not grow over the horizon, and never above 2.5 (a
-torus with shear tends to 2). On the held-out sample: the largest chaotic value, the margin to the
-threshold (negative: the threshold would have been crossed) and the share of tori that reach it."""
+torus with shear tends to 2). The judges keep their thresholds where those are at least as strict as the
+chosen ones. On the held-out sample: the largest chaotic value, the margin to the threshold the judges use
+(negative: it would have been crossed) and the share of tori that reach it."""
 
 from __future__ import annotations
 
@@ -78,25 +79,40 @@ def choose(rows) -> dict:
         for judge in MEGNO_JUDGES:
             low = _y_upper(rows, "chaotic", h, judge)
             floor = float(low.min()) if low.size else math.inf
-            entry[judge] = {"y_regular_max": min(Y_CAP, STEP_Y * math.floor((floor - MARGIN_Y) / STEP_Y)),
+            y = Y_CAP if math.isinf(floor) else min(Y_CAP, STEP_Y * math.floor((floor - MARGIN_Y) / STEP_Y))
+            entry[judge] = {"y_regular_max": y,
                             "chaotic_without_growth": int(low.size), "chaotic_y_upper_min": floor}
         out[h] = entry
     return out
 
 
+def in_code() -> dict:
+    """The thresholds the judges use (birkhoff.DIG_MIN; judge_megno's y_regular_max default)."""
+    import inspect
+
+    from sleighsim.chaos.birkhoff import DIG_MIN
+    from sleighsim.chaos.megno import judge_megno
+
+    y = float(inspect.signature(judge_megno).parameters["y_regular_max"].default)
+    return {"dig_min": DIG_MIN, **{j: {"y_regular_max": y} for j in MEGNO_JUDGES}}
+
+
 def held_out(chosen: dict, rows) -> dict:
-    """The held-out sample's largest chaotic values, margins and the tori's share reaching each threshold."""
-    out = {}
+    """The held-out sample's largest chaotic values, and for the thresholds the judges use (``in_code``,
+    which must be at least as strict as the chosen ones) the margins and the tori's share reaching them."""
+    out, code = {}, in_code()
     for h, c in chosen.items():
         chaos, tori = _digits(rows, "chaotic", h), _digits(rows, "tori", h)
         entry = {"chaotic_digits_max": float(chaos.max()) if chaos.size else math.nan,
-                 "dig_margin": c["dig_min"] - float(chaos.max()) if chaos.size else math.nan,
-                 "tori_reaching_dig_min": float(np.mean(tori >= c["dig_min"])) if tori.size else math.nan}
+                 "dig_min_used": code["dig_min"], "at_least_as_strict": code["dig_min"] >= c["dig_min"],
+                 "dig_margin": code["dig_min"] - float(chaos.max()) if chaos.size else math.nan,
+                 "tori_reaching_dig_min": float(np.mean(tori >= code["dig_min"])) if tori.size else math.nan}
         for judge in MEGNO_JUDGES:
             low = _y_upper(rows, "chaotic", h, judge)
             yt = _y_upper(rows, "tori", h, judge)
-            y = c[judge]["y_regular_max"]
-            entry[judge] = {"chaotic_y_upper_min": float(low.min()) if low.size else math.inf,
+            y = code[judge]["y_regular_max"]
+            entry[judge] = {"y_regular_max_used": y, "at_least_as_strict": y <= c[judge]["y_regular_max"],
+                            "chaotic_y_upper_min": float(low.min()) if low.size else math.inf,
                             "y_margin": float(low.min()) - y if low.size else math.inf,
                             "tori_below": float(np.mean(yt < y)) if yt.size else math.nan}
         out[h] = entry
