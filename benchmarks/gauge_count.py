@@ -29,8 +29,27 @@ from sleighsim.ops import benchio
 NAME = "gauge_count"
 REPO = Path(__file__).resolve().parents[1]
 ARITHMETICS = (Precision.DOUBLE, Precision.LONG_DOUBLE)
+LD = np.longdouble  # the runs are compared in long double: a comparison in double would floor at 1e-16
 FULL = {"states": ["main", "rotor_a", "rotor_b"], "systems": list(known_orbits.SYSTEMS), "samples": 200}
 QUICK = {"states": ["main"], "systems": ["henon-heiles E=1/6", "spiked quartic oscillators"], "samples": 50}
+
+
+def _ld(Y) -> np.ndarray:
+    """Y in long double; a real128 array through its leading and trailing doubles (NumPy has no cast)."""
+    Y = np.asarray(Y)
+    if Y.dtype in (np.dtype(float), np.dtype(LD)):
+        return Y.astype(LD)
+    import heyoka as hy
+
+    hi = Y.astype(float)
+    return hi.astype(LD) + (Y - hi.astype(hy.real128)).astype(float).astype(LD)
+
+
+def _base(Y):
+    """The base coordinates of spiked states (``known_orbits.unspiked``), in long double."""
+    X = Y[:, :-3].copy()
+    X[:, 0], X[:, 2] = X[:, 0] / Y[:, -1], X[:, 2] * Y[:, -1]
+    return X
 
 
 def _predicted(ln_gain: float, steps: float, p: Precision) -> dict:
@@ -41,10 +60,10 @@ def _predicted(ln_gain: float, steps: float, p: Precision) -> dict:
 
 def _separation(runs: dict, ref, scale_cols, half: int) -> dict:
     """Per arithmetic: the separation from ``ref`` at the first cycle's end (sample ``half``) and its max."""
-    scale = float(np.max(np.abs(ref[:, scale_cols])))
+    scale = np.max(np.abs(ref[:, scale_cols]))
     out = {}
     for p, Y in runs.items():
-        d = np.max(np.abs(Y[:, scale_cols] - ref[:, scale_cols]), axis=1) / scale
+        d = (np.max(np.abs(Y[:, scale_cols] - ref[:, scale_cols]), axis=1) / scale).astype(float)
         out[p] = {"after_one_cycle": float(d[half]), "max_over_two": float(d.max())}
     return out
 
@@ -56,7 +75,7 @@ def _sleigh_run(params, y, T: float, n: int, p: Precision, tol: float):
     ta.time = fp(0)
     integrators.load(ta, np.asarray(y, float))
     res = ta.propagate_grid(np.linspace(0.0, T, n).astype(ta.state.dtype), callback=integrators.bounded(ta))
-    return integrators.samples(ta, res[-1]).astype(float), int(res[3])
+    return _ld(integrators.samples(ta, res[-1])), int(res[3])
 
 
 def sleigh_state(cfg: dict, name: str, samples: int) -> dict:
@@ -104,10 +123,10 @@ def audit_system(system: str, samples: int) -> dict:
         ta.state[:] = np.array([fp(v) for v in o.y0], dtype=ta.state.dtype)
         grid = np.array([fp(t) for t in np.linspace(0.0, 2 * s.period, 2 * samples + 1)], dtype=ta.state.dtype)
         res = ta.propagate_grid(grid)
-        runs[p.value] = np.asarray(res[-1]).astype(float)
+        runs[p.value] = _ld(res[-1])
         steps[p.value] = int(res[3]) / 2
     if system.startswith("spiked"):  # compare in the base coordinates: w swings the scale by e^15
-        runs = {p: np.array([known_orbits.unspiked(y) for y in Y]) for p, Y in runs.items()}
+        runs = {p: _base(Y) for p, Y in runs.items()}
     ref = runs.pop("quad")
     cols = list(range(ref.shape[1]))
     return {"class": s.cls, "arithmetic_audited": s.arithmetic,
