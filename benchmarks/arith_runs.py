@@ -19,8 +19,8 @@ import numpy as np
 from sleighsim.engine import integrators
 from sleighsim.engine.ddbatch import DDBatch
 from sleighsim.engine.ddtaylor import DDFlow
-from sleighsim.precision import Precision
 from sleighsim.model import equations
+from sleighsim.precision import Precision
 
 WORKPREC = 400
 

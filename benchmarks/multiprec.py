@@ -51,11 +51,11 @@ import yaml  # noqa: E402
 from sleighsim.chaos.faithfulness import FAITHFUL_MAX  # noqa: E402
 from sleighsim.engine import ddarith, integrators, tdarith, transient  # noqa: E402
 from sleighsim.engine.ddbatch import DDBatch  # noqa: E402
-from sleighsim.precision import Precision  # noqa: E402
 from sleighsim.engine.tdtaylor import TDBatch  # noqa: E402
 from sleighsim.model.params import Params  # noqa: E402
 from sleighsim.model.symmetries import REFERENCE_STATE  # noqa: E402
 from sleighsim.ops import benchio, facts  # noqa: E402
+from sleighsim.precision import Precision  # noqa: E402
 
 say = partial(benchio.say, "multiprec")
 
