@@ -28,11 +28,11 @@ candidate per cycle whose error after the cycle is below 1e-20 and whose G x rou
 from __future__ import annotations
 
 import datetime as dt
+import json
 import math
-import pickle
+import os
 import statistics
 import sys
-import tempfile
 import time
 from functools import partial
 from pathlib import Path
@@ -52,6 +52,7 @@ from sleighsim.chaos.faithfulness import FAITHFUL_MAX  # noqa: E402
 from sleighsim.engine import ddarith, integrators, tdarith, transient  # noqa: E402
 from sleighsim.engine.ddbatch import DDBatch  # noqa: E402
 from sleighsim.engine.tdtaylor import TDBatch  # noqa: E402
+from sleighsim.io.cachedir import private_directory  # noqa: E402
 from sleighsim.model.params import Params  # noqa: E402
 from sleighsim.model.symmetries import REFERENCE_STATE  # noqa: E402
 from sleighsim.ops import benchio, facts  # noqa: E402
@@ -129,16 +130,23 @@ def td_rows(states) -> list:
 
 def search_orbit(params) -> tuple[np.ndarray, list, float]:
     """The searching orbit (real at SEARCH bits) from the reference state, sampled every dt: (grid, rows, CPU s);
-    kept in the temporary directory (keyed by its settings) so that a failed search is not paid twice."""
+    kept as JSON decimal strings (never pickle: read back, a pickle runs code) in a directory only this user
+    controls ($SLEIGHSIM_CACHE, default ~/.cache/sleighsim; io.cachedir.private_directory), keyed by its
+    settings, so that a failed search is not paid twice."""
     grid = FIND["dt"] * np.arange(round(FIND["t_search"] / FIND["dt"]) + 1)
-    cache = Path(tempfile.gettempdir()) / f"multiprec_search_{SEARCH[0]}_{SEARCH[1]:g}_{FIND['t_search']:g}.pkl"
+    root = os.environ.get("SLEIGHSIM_CACHE") or Path.home() / ".cache" / "sleighsim"
+    where = private_directory(root, "SLEIGHSIM_CACHE" if os.environ.get("SLEIGHSIM_CACHE") else "~/.cache/sleighsim")
+    cache = where / f"multiprec_search_{SEARCH[0]}_{SEARCH[1]:g}_{FIND['t_search']:g}.json"
     if cache.exists():
-        rows, cpu = pickle.loads(cache.read_bytes())
-        return grid, rows, cpu
+        saved = json.loads(cache.read_text())
+        with mpmath.workprec(ar.WORKPREC):
+            return grid, [[mpmath.mpf(str(v)) for v in row] for row in saved["rows"]], float(saved["cpu"])
     c0 = time.process_time()
     rows = real_grid(params, [mpmath.mpf(v) for v in REFERENCE_STATE], grid, *SEARCH)
     cpu = time.process_time() - c0
-    cache.write_bytes(pickle.dumps((rows, cpu)))
+    with mpmath.workprec(ar.WORKPREC):
+        text = [[digits(v) for v in row] for row in rows]
+    cache.write_text(json.dumps({"rows": text, "cpu": cpu}))
     return grid, rows, cpu
 
 
