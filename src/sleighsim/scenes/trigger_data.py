@@ -16,6 +16,7 @@ from sleighsim.analysis import fate
 from sleighsim.io import cf
 from sleighsim.model.equations import STATE_NAMES
 from sleighsim.scenes import trigger_fate
+from sleighsim.scenes.common import nan_padded
 
 
 def _column(fates, key: str, missing=math.nan) -> list:
@@ -34,6 +35,8 @@ def _fate_variables(fates) -> dict:
     return {
         "landed_arithmetic": (*text(_column(fates, "arithmetic", "")),
                               cf.attrs("arithmetic the landed torus was followed and recorded in", "text")),
+        "landed_spike_time": (("run", "spike"), nan_padded([[] if r is None else r["times"] for r in fates], 1),
+                              cf.attrs("refined spike times on the torus reached, from the post-escape state", "time")),
         "landed_interval": ("run", _column(fates, "interval"),
                             cf.attrs("mean refined spike interval of the torus reached", "time")),
         "landed_interval_scatter": ("run", _column(fates, "scatter"),
