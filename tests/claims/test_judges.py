@@ -509,3 +509,11 @@ def _audit(**over):
 ])
 def test_model_items(judge, over, want):
     assert judges.JUDGES[judge.upper()](PAPER[judge.upper()], _audit(**over)).verdict == want
+
+
+def test_rows_are_listed_by_their_eps_and_no_row_never_reads_as_a_value():
+    from sleighsim.claims.judges.lyapunov import at_eps
+
+    assert at_eps([0.0, 0.05]) == "at eps 0, 0.05"
+    assert at_eps([]) == "at no eps row"
+    assert "none" not in at_eps(np.array([]))
