@@ -28,8 +28,8 @@ def _train(*times, err=1e-5):
 def test_the_landing_check_on_each_branch(monkeypatch, dd, td, confirmed):
     monkeypatch.setattr(tf, "follow", lambda batch, jets, starts, cfg: ([td], None))
     rows = [dict(dd)]
-    tf.check(P, None, rows, np.zeros((1, 4, 3)), CFG)
-    assert rows[0]["confirmed"] == confirmed
+    tf.check(None, rows, None, np.zeros((1, 4, 3)), CFG)
+    assert rows[0]["confirmed"] == confirmed and rows[0]["check_cpu_s"] >= 0
     assert math.isfinite(rows[0]["check_difference"]) == (confirmed == 1 or td["times"].size >= dd["times"].size > 0)
 
 
@@ -55,7 +55,7 @@ def _row(arithmetic, follows, log10_gr, **extra):
       "; followed by triple-double (G x steps x rounding 10^-8.2), at 12.5 CPU-s"]),
     (_row(tf.TD, DOES_NOT_FOLLOW, 2.5, instead_of=_row(tf.DD, DOES_NOT_FOLLOW, -1.9)),
      ["not followed by triple-double (G x steps x rounding 10^2.5): needs rounding below 10^-50.7"]),
-    (_row(tf.TD, FOLLOWS, -20.0, confirmed=0, instead_of=_row(tf.DD, FOLLOWS, -9.0)),
+    (_row(tf.TD, FOLLOWS, -20.0, instead_of=_row(tf.DD, FOLLOWS, -9.0, confirmed=0)),
      ["followed by double-double (G x steps x rounding 10^-9.0), but triple-double lands elsewhere; followed by "
       "triple-double"]),
 ])
@@ -66,21 +66,27 @@ def test_what_the_dataset_says_of_each_run(row, words):
 
 def test_runs_double_double_does_not_follow_are_followed_again_in_triple_double(monkeypatch):
     """Four runs (one without an escape): the landing check sends the second elsewhere, the gauge the third; both
-    are followed again in triple-double and keep their double-double rows and check; the first stays."""
+    are followed again in triple-double, checked against twins perturbed by TWIN_REL, and keep their
+    double-double rows; the first stays."""
+    checked = []
+
     def followed(batch, jets, starts, cfg, arithmetic):
         n = len(starts[0]) if isinstance(starts, tuple) else len(starts)
         follows = [FOLLOWS, FOLLOWS, DOES_NOT_FOLLOW] if arithmetic == tf.DD else [FOLLOWS] * n
         return [{"arithmetic": arithmetic, "follows": f, "cycles": 3} for f in follows[:n]]
 
-    def check(params, jets, rows, triples, cfg):
-        for r, c in zip(rows, (1, 0, 1)):
-            r.update(confirmed=c, check_difference=0.0 if c else 57.0)
+    def check(jets, rows, twin, starts, cfg):
+        checked.append(starts)
+        for r, c in zip(rows, (1, 0, 1) if rows[0]["arithmetic"] == tf.DD else (1, 1)):
+            r.update(confirmed=c)
 
     monkeypatch.setattr(tf, "followed", followed)
     monkeypatch.setattr(tf, "check", check)
-    after = [np.array([0.07, 0.009, 2.16, 2.09])] * 2 + [None, np.array([0.07, 0.009, 2.16, 2.09])]
-    rows = tf.landed(P, after, CFG)
+    y = np.array([0.07, 0.009, 2.16, 2.09])
+    rows = tf.landed(P, [y, y, None, y], CFG)
     assert rows[2] is None and [r["arithmetic"] for r in (rows[0], rows[1], rows[3])] == [tf.DD, tf.TD, tf.TD]
-    assert rows[1]["confirmed"] == 0 and rows[1]["instead_of"]["follows"] == FOLLOWS
-    assert rows[3]["instead_of"]["follows"] == DOES_NOT_FOLLOW and "check_cpu_s" in rows[3]
+    assert rows[1]["instead_of"]["confirmed"] == 0 and rows[1]["confirmed"] == 1
+    assert rows[3]["instead_of"]["follows"] == DOES_NOT_FOLLOW
+    assert len(checked) == 2 and checked[1].shape == (2, 4, 3)
+    assert np.allclose(checked[1][:, :, 2] - checked[0][1:, :, 2], tf.TWIN_REL * y, rtol=1e-6)  # the twins' kick
     assert tf.landed(P, [None, None], CFG) == [None, None]

@@ -59,25 +59,24 @@ def trigger(sources):
 
 def fate(sources):
     """Top: the refined spike interval of the torus each escape lands on against the injected error (marker: the
-    arithmetic it was followed in; open where that arithmetic does not follow it, x where its train is not strictly
-    periodic); bottom: the first spike. ``sources``: the paths of its datasets, in the order of its declaration.
-    Returns the matplotlib Figure."""
+    arithmetic it was followed in; filled where that arithmetic follows the torus and a twin confirms the landing,
+    open otherwise; x where its train is not strictly periodic); bottom: the first spike. ``sources``: the paths
+    of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     ds = read_dataset(sources[0])
     fig, (ax, bx) = subplots(8, 8, 2, 1, sharex=True)
-    marker = {"double-double": "o", "triple-double": "s"}
-    for arith, m in marker.items():
-        sel = ds.landed_arithmetic.values == arith
+    sure = (ds.landed_follows.values == "follows") & (ds.landing_confirmed.values == 1)
+    for arith, m in {"double-double": "o", "triple-double": "s"}.items():
         for ok, kw in ((True, {}), (False, {"mfc": "none"})):
-            pick = sel & ((ds.landed_follows.values == "follows") == ok)
+            pick = (ds.landed_arithmetic.values == arith) & (sure == ok)
             if pick.any():
                 ax.errorbar(ds.tol.values[pick], ds.landed_interval.values[pick],
                             yerr=ds.landed_interval_scatter.values[pick], fmt=m, color="tab:green",
-                            label=f"followed in {arith}" + ("" if ok else ": does not follow"), **kw)
+                            label=f"{arith}" + ("" if ok else ": not followed, or landing not confirmed"), **kw)
     odd = ds.landed_class.values == "not strictly periodic"
     ax.semilogx(ds.tol.values[odd], ds.landed_interval.values[odd], "x", color="k", ms=10,
                 label="not strictly periodic" if odd.any() else None)
     ax.set_ylabel("landed torus: refined spike interval (time units)")
-    ax.set_title("The torus each escape lands on (open: its arithmetic does not follow it)")
+    ax.set_title("The torus each escape lands on, and the arithmetic that followed it there")
     ax.legend()
     _first_spikes(bx, ds)
     bx.set_title("The escape: first spike (open: not in the slopes)")
