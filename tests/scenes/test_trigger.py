@@ -5,6 +5,7 @@ import math
 
 import numpy as np
 import pytest
+from conftest import ROOT
 
 from sleighsim.io import cf
 from sleighsim.precision import Precision, parsed
@@ -50,10 +51,10 @@ def test_trigger_scene_on_a_short_run():
     others with one interval undetermined); every variable has its CF attributes."""
     cfg = dict(params={"eps": 0.2, "b": 1.0, "K2": 1.2}, y0=[0.0, 0.1, 1.0, 0.0], t_end=2000.0, dt=1.0, t_min=250.0,
                spike_factor=1.8, half_width=25.0, tols={"double": [1e-8, 1e-12], "long double": [1e-12]},
-               saturation={"spike": 1.0, "drift": 2.0}, range_decades=4.0,
+               saturation={"spike": 1.0, "drift": 2.0}, range_decades=4.0, price_record="benchmarks/multiprec.yaml",
                fate={"offset": 100.0, "T": 2600.0, "dt": 0.5, "tol": 1e-32, "td_tol": 1e-47, "tau": 20.0,
                      "lead": 50.0, "min_intervals": 2, "periodic_factor": 3.0})
-    ds = trigger.trigger_law(parsed(cfg), "t")
+    ds = trigger.trigger_law(parsed(cfg), {"price": ROOT / cfg["price_record"]}, "t")
     assert ds.in_slopes.values.tolist() == [1, 0, 1] and not ds.saturated.values.any()
     assert abs(ds.first_spike.values[1] - ds.first_spike.values[2]) < 0.1 < ds.first_spike.values[1] - 900.0
     assert np.all(ds.first_spike_err.values < 0.1) and np.all(ds.run_energy_max_rel_drift.values < 1e-6)  # dt = 1
@@ -65,3 +66,4 @@ def test_trigger_scene_on_a_short_run():
     assert ds.sizes["range"] == 1 and ds.range_slope.values[0] < 0
     assert cf.missing(cf.complete(ds)) == []
     assert "fate_T" in ds.attrs and "saturation_rule" in ds.attrs and ds.attrs["cpu_s"] > 0
+    assert "price" not in " ".join(ds.follows.values)  # every torus followed: no price to name

@@ -25,13 +25,14 @@ import xarray as xr
 
 from sleighsim.analysis import fate
 from sleighsim.analysis.trigger_law import SATURATION_RULE, SLOPES_RULE, saturated, slopes
+from sleighsim.chaos import faithfulness
 from sleighsim.engine import ddsection, ddtaylor, integrators
 from sleighsim.engine.ddbatch import DDBatch
 from sleighsim.engine.orbits import grid_samples
 from sleighsim.engine.transient import spike_times
 from sleighsim.model.params import Params
 from sleighsim.precision import Precision
-from sleighsim.scenes import memory, trigger_data, trigger_fate
+from sleighsim.scenes import memory, trigger_data, trigger_fate, trigger_price
 from sleighsim.scenes.kind import SceneKind
 
 log = logging.getLogger("sleighsim")
@@ -105,23 +106,36 @@ def law(runs, escapes, cfg: dict) -> dict:
     return {"saturated": sat, "in_slopes": in_slopes, **found}
 
 
-def trigger_law(cfg: dict, scene: str = "") -> xr.Dataset:
+def priced(fates, record: dict) -> None:
+    """Adds to each fate row whose arithmetic does not follow its torus the price of the one it would need
+    (sleighsim.scenes.trigger_price)."""
+    for r in fates:
+        if r is not None and r["follows"] == faithfulness.DOES_NOT_FOLLOW:
+            needed = trigger_price.log10_needed(r["log10_gain_rounding"], trigger_fate.ROUNDING[r["arithmetic"]],
+                                                faithfulness.FAITHFUL_MAX)
+            r["price"] = trigger_price.price(record, 10.0**needed, r["interval"])
+
+
+def trigger_law(cfg: dict, inputs: dict, scene: str = "") -> xr.Dataset:
     """First spike, saturation and the landed torus per (precision, tol) of ``cfg["tols"]`` from y0, and the local
-    slopes (:mod:`this module <sleighsim.scenes.trigger>`)."""
+    slopes (:mod:`this module <sleighsim.scenes.trigger>`); ``inputs["price"]``: the price record's path."""
     start, cpu = time.perf_counter(), time.process_time()
     params = Params.from_config(cfg["params"])
+    record = trigger_price.load(inputs["price"])
     runs = [(p, float(t)) for p, tols in cfg["tols"].items() for t in tols]
     jets = DDBatch(params, cfg["fate"]["tol"])
     escapes = [escape(params, p, t, cfg, jets, scene) for p, t in runs]
     found = law(runs, escapes, cfg)
     fates = trigger_fate.landed(params, [e["after"] for e in escapes],
                                 {**cfg["fate"], "spike_factor": cfg["spike_factor"], "half_width": cfg["half_width"]})
+    priced(fates, record)
     ds = trigger_data.dataset(runs, escapes, found, fates)
     ds.attrs.update(params.attrs())
     ds.attrs.update(trigger_data.settings(cfg))
     ds.attrs.update(slopes_scatter=found["scatter"], slopes_dof=found["dof"], far=FAR, drift_every=DRIFT_EVERY,
-                    chosen_rule=CHOSEN_RULE, saturation_rule=SATURATION_RULE, slopes_rule=SLOPES_RULE, scene=scene,
-                    wall_time_s=time.perf_counter() - start, cpu_s=time.process_time() - cpu)
+                    chosen_rule=CHOSEN_RULE, saturation_rule=SATURATION_RULE, slopes_rule=SLOPES_RULE,
+                    price_rule=trigger_price.PRICE_RULE, price_record_commit=str(record.get("git_commit", "")),
+                    scene=scene, wall_time_s=time.perf_counter() - start, cpu_s=time.process_time() - cpu)
     return ds
 
 
@@ -129,6 +143,6 @@ TRIGGER_LAW = SceneKind(
     name="trigger_law",
     title="the first spike and the torus reached against the size of the injected error (tolerance and "
           "arithmetic) (claim C04)",
-    compute=trigger_law,
+    compute=trigger_law, inputs=("price",),
     records=lambda c: [memory.span(c, "t_end", "dt"),
                        memory.span(c, "fate.T", "fate.dt", 8, ("runs", sum(len(t) for t in c["tols"].values())))])

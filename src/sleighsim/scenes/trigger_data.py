@@ -113,7 +113,8 @@ def settings(cfg: dict) -> dict:
     """The global attributes of the block's settings and the fate's rules."""
     f = cfg["fate"]
     return {**{f"y0_{n}": float(v) for n, v in zip(STATE_NAMES, cfg["y0"])},
-            **{k: cfg[k] for k in ("t_end", "dt", "t_min", "spike_factor", "half_width", "range_decades")},
+            **{k: cfg[k] for k in ("t_end", "dt", "t_min", "spike_factor", "half_width", "range_decades",
+                                   "price_record")},
             "saturation_spike": cfg["saturation"]["spike"], "saturation_drift": cfg["saturation"]["drift"],
             **{f"fate_{k}": v for k, v in f.items()},
             "peak_rule": fate.PEAK_RULE, "class_rule": fate.TRAIN_RULE, "fate_rule": trigger_fate.FATE_RULE,

@@ -31,6 +31,7 @@ from sleighsim.engine.ddtaylor import as_pair
 from sleighsim.engine.tdtaylor import TDBatch, as_triples
 from sleighsim.engine.transient import spike_times
 from sleighsim.precision import Precision
+from sleighsim.scenes.trigger_price import log10_needed
 
 log = logging.getLogger("sleighsim")
 DD, TD = Precision.DOUBLE_DOUBLE.value, "triple-double"
@@ -191,12 +192,6 @@ def landed(params, after, cfg: dict) -> list[dict | None]:
     return [rows.get(k) for k in range(len(after))]
 
 
-def _needed(r: dict) -> str:
-    """The rounding below which the gauge would accept an arithmetic on row r's torus."""
-    log10_gain_steps = r["log10_gain_rounding"] - math.log10(ROUNDING[r["arithmetic"]])
-    return f"needs rounding below 10^{math.log10(faithfulness.FAITHFUL_MAX) - log10_gain_steps:.1f}"
-
-
 def follows_text(r: dict | None) -> str:
     """What the gauge says of row r's arithmetic(s) on the torus, with log10 G x steps x rounding and, for a
     level followed again in triple-double, double-double's answer and the price paid."""
@@ -208,7 +203,8 @@ def follows_text(r: dict | None) -> str:
     if math.isfinite(r["log10_gain_rounding"]):
         text += f" (G x steps x rounding 10^{r['log10_gain_rounding']:.1f})"
     if r["follows"] == faithfulness.DOES_NOT_FOLLOW:
-        text += f": {_needed(r)}"
+        needed = log10_needed(r["log10_gain_rounding"], ROUNDING[r["arithmetic"]], faithfulness.FAITHFUL_MAX)
+        text += f": needs rounding below 10^{needed:.1f}" + (f"; {r['price']}" if "price" in r else "")
     if "instead_of" in r:
         elsewhere = "" if r["instead_of"]["confirmed"] != 0 else ", but triple-double lands elsewhere"
         text = f"{follows_text(r['instead_of'])}{elsewhere}; {text}, at {r['cpu_s']:.3g} CPU-s"
