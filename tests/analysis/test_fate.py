@@ -40,17 +40,20 @@ def test_a_spike_whose_stencil_runs_off_the_record_or_across_a_gap_is_dropped():
     assert fate.refined_peaks(t, X, [peaks[1] + 1000.0], 25.0)[0].size == 0  # no crossing near it
 
 
-@pytest.mark.parametrize("jitter, n, want", [
-    (0.0, 6, fate.PERIODIC),      # a strict train: intervals agree to within their resolution
-    (0.05, 6, fate.NOT_PERIODIC),  # intervals 0.05 apart, resolved to 1e-5
-    (0.0, 2, fate.UNDETERMINED),  # too few intervals to say
+@pytest.mark.parametrize("offsets, want, approach", [
+    ([0, 0, 0, 0, 0, 0, 0], fate.PERIODIC, 0),            # a strict train: intervals agree within their resolution
+    ([0, 0.05, -0.05, 0.05, -0.05, 0.05, -0.05], fate.NOT_PERIODIC, 0),  # 0.05 apart, resolved to 1e-5
+    ([40.0, 0, 0, 0, 0, 0, 0], fate.PERIODIC, 1),          # one interval of approach, then strict
+    ([60.0, 20.0, 0, 0, 0, 0, 0], fate.PERIODIC, 2),       # two
+    ([0, 0, 0, 0, 0, 0, 30.0], fate.NOT_PERIODIC, 0),      # a late change is no approach
+    ([0, 0, 0], fate.UNDETERMINED, 0),                     # too few intervals to say
 ])
-def test_the_train_class_on_each_branch(jitter, n, want):
-    times = 500.0 + PERIOD * np.arange(n + 1) + jitter * np.array([0, 1, -1, 1, -1, 1, -1])[: n + 1]
-    errors = np.full(n + 1, 1e-5)
-    got = fate.train(times, errors, min_intervals=3, factor=3.0)
-    assert got["class"] == want and got["cycles"] == n
-    assert got["interval"] == pytest.approx(PERIOD, abs=0.1)
+def test_the_train_class_and_its_approach_on_each_branch(offsets, want, approach):
+    n = len(offsets) - 1
+    times = 500.0 + PERIOD * np.arange(n + 1) + np.array(offsets)
+    got = fate.train(times, np.full(n + 1, 1e-5), min_intervals=3, factor=3.0)
+    assert got["class"] == want and got["approach"] == approach and got["cycles"] == n - approach
+    assert got["interval"] == pytest.approx(PERIOD, abs=0.1 if want == fate.PERIODIC else 10)
     assert got["resolution"] == pytest.approx(math.sqrt(2) * 1e-5)
 
 

@@ -60,25 +60,33 @@ CLASSES = (PERIODIC, NOT_PERIODIC, UNDETERMINED)
 
 #: Written into the trigger_law dataset (attribute class_rule).
 TRAIN_RULE = (
-    "The landed torus from its refined spikes t_0 .. t_N (PEAK_RULE, errors e_n): the intervals d_n = t_n+1 - "
-    "t_n, their mean (the refined interval) and scatter (standard deviation, ddof 1), and their resolution S = "
-    "rms over n of sqrt(e_n^2 + e_n+1^2). \"strictly periodic\" when the scatter is at most factor x S (the "
-    "intervals agree to within what the refinement resolves), \"not strictly periodic\" otherwise, "
-    "\"undetermined\" with fewer than min_intervals intervals (N)."
+    "The landed torus from its refined spikes t_0 .. t_N (PEAK_RULE, errors e_n): the intervals d_n = t_n+1 - t_n "
+    "and their resolution, the rms over n of sqrt(e_n^2 + e_n+1^2). The approach: the fewest leading intervals k "
+    "such that the rest (at least min_intervals of them) agree, their scatter (standard deviation, ddof 1) at most "
+    "factor x their resolution; the train is then \"strictly periodic\" from interval k on, and the refined interval "
+    "is the mean over those. \"not strictly periodic\" when no such rest exists (interval and scatter then over "
+    "all N), \"undetermined\" with fewer than min_intervals intervals."
 )
+
+
+def _tail(d, e, k: int) -> tuple[float, float, float]:
+    """(mean, scatter, resolution) of the intervals d[k:] with spike errors e[k:]."""
+    d, e = d[k:], e[k:]
+    S = float(np.sqrt(np.mean(e[1:] ** 2 + e[:-1] ** 2))) if d.size else math.nan
+    return (float(d.mean()) if d.size else math.nan), (float(d.std(ddof=1)) if d.size > 1 else math.nan), S
 
 
 def train(times, errors, *, min_intervals: int, factor: float) -> dict:
     """Applies :data:`TRAIN_RULE`, the rule as the datasets record it (just above): interval, scatter,
-    resolution, cycles (N) and class."""
+    resolution, cycles (the intervals it rests on), approach (the leading intervals left out) and class."""
     times, errors = np.asarray(times, float), np.asarray(errors, float)
     d = np.diff(times)
-    n = int(d.size)
-    mean = float(d.mean()) if n else math.nan
-    scatter = float(d.std(ddof=1)) if n > 1 else math.nan
-    S = float(np.sqrt(np.mean(errors[1:] ** 2 + errors[:-1] ** 2))) if n else math.nan
-    if n < max(min_intervals, 2):
-        klass = UNDETERMINED
-    else:
-        klass = PERIODIC if scatter <= factor * S else NOT_PERIODIC
-    return {"interval": mean, "scatter": scatter, "resolution": S, "cycles": n, "class": klass}
+    n, need = int(d.size), max(min_intervals, 2)
+    for k in range(0, n - need + 1):
+        mean, scatter, S = _tail(d, errors, k)
+        if scatter <= factor * S:
+            return {"interval": mean, "scatter": scatter, "resolution": S, "cycles": n - k, "approach": k,
+                    "class": PERIODIC}
+    mean, scatter, S = _tail(d, errors, 0)
+    return {"interval": mean, "scatter": scatter, "resolution": S, "cycles": n, "approach": 0,
+            "class": NOT_PERIODIC if n >= need else UNDETERMINED}

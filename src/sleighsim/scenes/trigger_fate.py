@@ -41,7 +41,7 @@ FATE_RULE = (
     "Each run's sample fate_offset after its refined first spike, in the run's own arithmetic, starts one lane of "
     "a double-double batch (tolerance fate_tol) over fate_T sampled every fate_dt; its spikes (the transient rule) "
     "refined (peak_rule) give the landed torus' train (class_rule). The gauge: from the sample fate_lead before "
-    "the first refined spike, the orbit with its 4 x 4 tangent map over two refined intervals and MARGIN (5) QR "
+    "the train's first spike past its approach, the orbit with its 4 x 4 tangent map over two refined intervals and MARGIN (5) QR "
     "steps (QR every fate_tau; sleighsim.chaos.lane_gain), ln G the largest over its complete cycles placed at the "
     "plain run's refined spikes (faithfulness.cycle_gains), steps per cycle the plain run's Taylor steps per time "
     "unit times the refined interval, and the arithmetic follows the torus when G x steps x rounding < "
@@ -72,16 +72,18 @@ def _train(jets: DDBatch, hi, lo, grid, cfg: dict) -> dict:
 
 def follow(batch, jets: DDBatch, starts, cfg: dict) -> tuple[list[dict], object]:
     """Every lane from ``starts`` (the batch's form) over T: (per lane its train, steps per time unit and the
-    gain run's start (row of the sample ``lead`` before the first refined spike) and horizon (two intervals
-    past that spike and MARGIN QR steps more; 0 without an interval); the samples in the batch's form)."""
+    gain run's start (row of the sample ``lead`` before the train's first periodic spike, past its approach) and
+    horizon (two intervals past that spike and MARGIN QR steps more; 0 without an interval); the samples in the
+    batch's form)."""
     grid = np.arange(0.0, cfg["T"] + 0.5 * cfg["dt"], cfg["dt"])
     out = batch.propagate_grid(starts, grid)
     hi, lo = _pairs(out)
     rows = []
     for k in range(hi.shape[0]):
         tr = _train(jets, hi[k], lo[k], grid, cfg)
-        row = int(max(0.0, tr["times"][0] - cfg["lead"]) // cfg["dt"]) if tr["times"].size else 0
-        span = tr["times"][0] - grid[row] + 2 * tr["interval"] + MARGIN * cfg["tau"] if tr["cycles"] else 0.0
+        first = tr["times"][tr["approach"]] if tr["times"].size else 0.0
+        row = int(max(0.0, first - cfg["lead"]) // cfg["dt"])
+        span = first - grid[row] + 2 * tr["interval"] + MARGIN * cfg["tau"] if tr["cycles"] else 0.0
         rows.append({**tr, "steps_per_tu": batch.steps[k] / cfg["T"], "gain_row": row, "gain_span": span})
     return rows, out
 
@@ -94,7 +96,7 @@ def gauge(batch, out, rows, cfg: dict, arithmetic: str) -> None:
     if todo:
         picks = [rows[k]["gain_row"] for k in todo]
         starts = (out[0][todo, picks], out[1][todo, picks]) if isinstance(out, tuple) else out[todo, picks]
-        spikes = [rows[k]["times"] - rows[k]["gain_row"] * cfg["dt"] for k in todo]
+        spikes = [t[t >= 0] for t in (rows[k]["times"] - rows[k]["gain_row"] * cfg["dt"] for k in todo)]
         found = lane_gains(batch, starts, [rows[k]["gain_span"] for k in todo], spikes, tau=cfg["tau"])
         gains = dict(zip(todo, found))
     for k, r in enumerate(rows):
