@@ -6,7 +6,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 import xarray as xr
-from conftest import smoke_config
+from conftest import SMOKE_RESULTS, smoke_config
 
 from sleighsim.io import layout
 from sleighsim.io.netcdf import write_dataset
@@ -97,7 +97,7 @@ def figure_source(results, name):
 
 @pytest.mark.workflow
 def test_every_smoke_figure_is_legible_and_saved_for_a_paper(smoke_run):
-    results = smoke_run / "results"
+    results = smoke_run / SMOKE_RESULTS
     problems = {}
     for name in figure_catalog.figures_built(SMOKE_CFG):
         assert (results / "figures" / f"{name}.pdf").read_bytes()[:5] == b"%PDF-", name
