@@ -169,3 +169,11 @@ def test_scipy_outside_double_is_refused_before_any_work():
     p = Params.from_config({"eps": 0.1, "b": 1.0, "K2": 1.1})
     with pytest.raises(ValueError, match="double only"):
         integrate(p, REFERENCE_STATE, [0.0, 1.0], backend="scipy", precision=Precision.LONG_DOUBLE)
+
+
+def test_a_run_without_a_scene_is_named_in_the_log(caplog):
+    """The log never starts with an empty label (': done in ...'): a run its caller left unnamed says so."""
+    with caplog.at_level("INFO", logger="sleighsim"):
+        integrate(P, REF, [0.0, 1.0])
+    done = [r.getMessage() for r in caplog.records if "done in" in r.getMessage()]
+    assert done and all(m.startswith("an unnamed run") for m in done), done
