@@ -37,7 +37,7 @@ import yaml
 
 import sleighsim
 from sleighsim.analysis.observables import gauge
-from sleighsim.chaos.power import record_voting
+from sleighsim.chaos.power import stage_vote
 from sleighsim.engine.transient import settle, spike_train
 from sleighsim.ops.config import REPO, merged_config
 from sleighsim.precision import Precision
@@ -147,11 +147,12 @@ for p in Precision:
 # `sleighsim.scenes.verdict.verdict` is the workflow's judge for one or more states: independent
 # indicators (Benettin over replicas, finite-time exponents, MEGNO, two nearby orbits, the Loschmidt
 # return error, frequency analysis), each gated by the gauge, and those the judge-power audit lets vote
-# (its record, `benchmarks/judge_power.yaml`) combined by `sleighsim.chaos.rule`.
+# with this block's settings (its record, `benchmarks/judge_power.yaml`; `sleighsim.chaos.power.stage_vote`)
+# combined by `sleighsim.chaos.rule`.
 
 # %%
 record = yaml.safe_load((REPO / verdict_block["vote_record"]).read_text())
-voters = frozenset(record_voting(record, 1.0))
+voters = frozenset(stage_vote(record, verdict_block, "first")["voters"])
 block = {**verdict_block, "states": {"mine": mine}, "decisive": {**verdict_block["decisive"], "states": []}}
 judged = verdict(block, "tutorial", voters=voters)
 print("voters:", sorted(voters))

@@ -9,6 +9,7 @@ import pytest
 import xarray as xr
 
 from sleighsim.analysis import observables
+from sleighsim.precision import parsed
 from sleighsim.scenes import catalog
 from sleighsim.scenes.steady_state import poincare_maps
 
@@ -98,7 +99,7 @@ def test_poincare_scene_in_double_and_long_double_from_one_settled_point():
                t_settle=300.0, t_map=150.0, attractor_span=20.0, attractor_dt=0.1, max_stored_pi2=1000,
                loop_knn=10, return_time_tie_tol=1e-7, tol=2.0**-52,
                transient=dict(dt=0.5, window=100.0, rtol=0.02, spike_factor=1.8, t_min=50.0))
-    runs = [poincare_maps({**cfg, "precision": p}, scene="t") for p in ("double", "long double")]
+    runs = [poincare_maps(parsed({**cfg, "precision": p}), scene="t") for p in ("double", "long double")]
     assert [r.attrs["precision"] for r in runs] == ["double", "long double"]
     assert runs[1].attrs["tol"] == 2.0**-63 and runs[1].attrs["transient_tol"] == 2.0**-52
     ds = observables.ladder("poincare", catalog.KINDS["poincare"].observables, runs, ["double", "long double"],
@@ -167,7 +168,7 @@ def test_trajectory_scene_in_double_and_long_double_from_one_settled_point():
     cfg = dict(params={"eps": 0.1, "b": 1.0, "K2": 1.1}, y0=[0.0, 0.1, 1.0, 0.0], t_sample_start=200.0, t_end=300.0,
                dt=0.1, keep=["u", "Omega", "x", "y"], tol=2.0**-52,
                transient=dict(dt=0.5, window=50.0, rtol=0.05, spike_factor=1.8, t_min=50.0))
-    runs = [trajectory({**cfg, "precision": p}, scene="t") for p in ("double", "long double")]
+    runs = [trajectory(parsed({**cfg, "precision": p}), scene="t") for p in ("double", "long double")]
     assert [(r.attrs["precision"], r.attrs["transient_precision"]) for r in runs] == [("double", "double"),
                                                                                    ("long double", "double")]
     assert runs[1].attrs["tol"] == 2.0**-63

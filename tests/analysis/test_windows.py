@@ -102,7 +102,7 @@ def test_drift_scene_at_smoke_size_in_each_precision(precision):
     from sleighsim.scenes.drift import drift_windows
 
     config = smoke_config()
-    cfg = {**scene_config(config, "main_drift"), "T": 100.0, "window": 50.0, "precision": precision.value}
+    cfg = {**scene_config(config, "main_drift"), "T": 100.0, "window": 50.0, "precision": precision}
     ds = drift_windows(cfg, "main_drift")
     assert ds.sizes["window"] == 2 and np.all(np.isfinite(ds.lambda_1.values))
     # the precision is read from the integrator's state, not from the config

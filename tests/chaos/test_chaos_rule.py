@@ -129,42 +129,53 @@ def test_agree_on_each_branch():
         agree([])
 
 
-def test_the_faithful_gate_sets_aside_only_indicators_of_an_arithmetic_shown_not_to_follow():
+def test_the_faithful_gate_keeps_only_indicators_of_an_arithmetic_shown_to_follow():
+    """The gauge fails closed: "does not follow", "unknown" and a missing answer all set a decided verdict
+    aside; "follows" keeps it; an undecided verdict is unchanged and not counted."""
     from sleighsim.chaos.rule import faithful_gate
 
     verdicts = {"benettin": ("chaotic", "rate 1e-3"), "megno": ("regular", "Y -> 2"),
-                "loschmidt": ("chaotic", "exp"), "frequency": ("undecided", "too short")}
-    arithmetic = {"benettin": "double", "megno": "long double", "loschmidt": "quad", "frequency": "double"}
+                "loschmidt": ("chaotic", "exp"), "frequency": ("undecided", "too short"), "ftle": ("regular", "r")}
+    arithmetic = {"benettin": "double", "megno": "long double", "loschmidt": "quad", "frequency": "double",
+                  "ftle": "double"}
     follows = {"benettin": "does not follow", "megno": "follows", "loschmidt": "unknown",
                "frequency": "does not follow"}
     aside = faithful_gate(verdicts, arithmetic, follows)
-    assert aside == ["benettin"]
+    assert aside == ["benettin", "loschmidt", "ftle"]
     assert verdicts["benettin"][0] == "undecided" and "judged in double" in verdicts["benettin"][1]
     assert "it said chaotic: rate 1e-3" in verdicts["benettin"][1]
     assert verdicts["megno"] == ("regular", "Y -> 2")        # follows: kept
-    assert verdicts["loschmidt"] == ("chaotic", "exp")       # unknown: kept
+    assert verdicts["loschmidt"][0] == "undecided" and "(unknown)" in verdicts["loschmidt"][1]
+    assert verdicts["ftle"][0] == "undecided" and "(no answer)" in verdicts["ftle"][1]
     assert verdicts["frequency"] == ("undecided", "too short")  # undecided already: unchanged, not counted
 
 
 def test_the_loschmidt_test_needs_two_decades_below_saturation_where_other_indicators_need_the_cycle_gauge():
-    """At ln G = 36 (the main state's torus) long double's G x rounding is 2.3e-4: it follows the orbit
-    through a cycle (< 1e-3), but the Loschmidt return error would start within two decades of
-    saturation; quad follows for both; without a measured cycle nothing is set aside."""
+    """The rounding each arithmetic injects over a cycle of n steps, amplified by G: at ln G = 30 and
+    n = 100 long double's G n r is 5.8e-5: it follows the orbit (< 1e-3) but the Loschmidt return error
+    would start within two decades of saturation (limit 1e-4 is met only below); at ln G = 36 and
+    1.8e4 steps (the main state) it follows for neither, quad for both; without a measured cycle or a
+    step count every answer is unknown."""
     from sleighsim.chaos.faithfulness import indicator_follows
 
     arithmetic = {"megno": "long double", "loschmidt": "long double"}
-    assert indicator_follows(36.0, arithmetic) == {"megno": "follows", "loschmidt": "does not follow"}
-    assert indicator_follows(36.0, {"loschmidt": "quad"}) == {"loschmidt": "follows"}
-    assert indicator_follows(31.0, {"loschmidt": "long double"}) == {"loschmidt": "follows"}  # G r = 1.6e-6
-    assert indicator_follows(float("nan"), arithmetic) == {"megno": "unknown", "loschmidt": "unknown"}
+    assert indicator_follows(30.0, arithmetic, steps_per_cycle=100) == {"megno": "follows", "loschmidt": "follows"}
+    assert indicator_follows(31.5, arithmetic, steps_per_cycle=100) == {"megno": "follows",
+                                                                      "loschmidt": "does not follow"}
+    assert indicator_follows(36.0, arithmetic, steps_per_cycle=1.8e4) == {"megno": "does not follow",
+                                                                        "loschmidt": "does not follow"}
+    assert indicator_follows(36.0, {"loschmidt": "quad"}, steps_per_cycle=1.8e4) == {"loschmidt": "follows"}
+    nan = float("nan")
+    assert indicator_follows(nan, arithmetic, steps_per_cycle=100) == {"megno": "unknown", "loschmidt": "unknown"}
+    assert indicator_follows(30.0, arithmetic, steps_per_cycle=nan) == {"megno": "unknown", "loschmidt": "unknown"}
 
 
 def test_an_indicator_that_resolves_a_small_quantity_needs_the_rounding_amplified_below_it():
-    """The frequency analysis (and the weighted Birkhoff average) are judged only where G x rounding
-    stays 100 times below the spread they resolve: at ln G = 36 long double (G r = 10^-3.6) does not
-    follow for a spread of 5.8e-5, quad does for 1.3e-8; a spread larger than 0.1 falls back to the
-    cycle gauge's 1e-3; no spread (NaN) or a zero one: the cycle gauge's limit; the tangent-based
-    indicators ignore a resolved quantity."""
+    """The frequency analysis (and the weighted Birkhoff average) are judged only where G x steps x rounding
+    stays 100 times below the spread they resolve: at ln G = 30 and 100 steps long double (G n r = 5.8e-5)
+    does not follow for a spread of 5.8e-5, quad (1e-19) does for 1.3e-8; a spread larger than 0.1 falls
+    back to the cycle gauge's 1e-3; no spread (NaN) or a zero one: the cycle gauge's limit; the
+    tangent-based indicators ignore a resolved quantity."""
     from sleighsim.chaos.faithfulness import FAITHFUL_MAX, indicator_follows, indicator_limit
 
     assert indicator_limit("frequency", 5.8e-5) == pytest.approx(5.8e-7)
@@ -173,10 +184,11 @@ def test_an_indicator_that_resolves_a_small_quantity_needs_the_rounding_amplifie
     assert indicator_limit("frequency", float("nan")) == FAITHFUL_MAX
     assert indicator_limit("frequency", 0.0) == FAITHFUL_MAX
     assert indicator_limit("megno", 1e-9) == FAITHFUL_MAX
-    assert indicator_follows(36.0, {"frequency": "long double"}, {"frequency": 5.8e-5}) == {
+    assert indicator_follows(30.0, {"frequency": "long double"}, {"frequency": 5.8e-5}, steps_per_cycle=100) == {
         "frequency": "does not follow"}
-    assert indicator_follows(36.0, {"frequency": "quad"}, {"frequency": 1.3e-8}) == {"frequency": "follows"}
-    assert indicator_follows(36.0, {"frequency": "long double"}) == {"frequency": "follows"}  # cycle gauge only
+    assert indicator_follows(30.0, {"frequency": "quad"}, {"frequency": 1.3e-8}, steps_per_cycle=100) == {
+        "frequency": "follows"}
+    assert indicator_follows(30.0, {"frequency": "long double"}, steps_per_cycle=100) == {"frequency": "follows"}
 
 
 def test_only_judges_whose_measured_wrong_rate_is_at_most_one_in_a_hundred_vote():

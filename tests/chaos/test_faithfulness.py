@@ -45,15 +45,25 @@ def test_spike_steps_must_increase():
         fa.cycle_gains(np.array([np.eye(4)] * 10), [5, 2])
 
 
-@pytest.mark.parametrize("ln_gain, rounding, want", [
-    (36.0, Precision.DOUBLE.rounding, fa.DOES_NOT_FOLLOW),   # G r = 0.5
-    (36.0, Precision.LONG_DOUBLE.rounding, fa.FOLLOWS),      # G r = 2.3e-4
-    (36.0, Precision.QUAD.rounding, fa.FOLLOWS),
-    (math.log(1e-3 / 2.0**-53), Precision.DOUBLE.rounding, fa.DOES_NOT_FOLLOW),  # exactly at the bound
-    (math.nan, Precision.QUAD.rounding, fa.UNKNOWN),          # no complete cycle: never counted as following
+@pytest.mark.parametrize("ln_gain, rounding, steps, want", [
+    (36.0, Precision.DOUBLE.rounding, 1.8e4, fa.DOES_NOT_FOLLOW),        # G n r = 8e3
+    (36.0, Precision.LONG_DOUBLE.rounding, 1.0, fa.FOLLOWS),             # one rounding: G r = 2.3e-4
+    (36.0, Precision.LONG_DOUBLE.rounding, 1.8e4, fa.DOES_NOT_FOLLOW),   # counted per step: 4
+    (36.0, Precision.DOUBLE_DOUBLE.rounding, 1.8e4, fa.FOLLOWS),          # 9e-13
+    (math.log(1.001e-3 / 2.0**-53 / 10), Precision.DOUBLE.rounding, 10.0, fa.DOES_NOT_FOLLOW),  # just above the bound
+    (math.log(0.999e-3 / 2.0**-53 / 10), Precision.DOUBLE.rounding, 10.0, fa.FOLLOWS),  # just below
+    (math.nan, Precision.QUAD.rounding, 100.0, fa.UNKNOWN),              # no complete cycle
+    (20.0, Precision.QUAD.rounding, math.nan, fa.UNKNOWN),               # no step count: never counted as following
 ])
-def test_follows_on_each_branch(ln_gain, rounding, want):
-    assert fa.follows(ln_gain, rounding) == want
+def test_follows_on_each_branch(ln_gain, rounding, steps, want):
+    assert fa.follows(ln_gain, rounding, steps_per_cycle=steps) == want
+
+
+def test_the_injected_rounding_is_counted_per_step():
+    assert fa.injected_rounding(2.0**-53, 1.8e4) == pytest.approx(1.8e4 * 2.0**-53)
+    assert math.isnan(fa.injected_rounding(2.0**-53, math.nan)) and math.isnan(fa.injected_rounding(2.0**-53, 0.5))
+    assert fa.log10_gain_rounding(36.0, 2.0**-64, 1.8e4) == pytest.approx(
+        (36.0 + math.log(1.8e4 * 2.0**-64)) / math.log(10))
 
 
 def test_tangent_run_refuses_a_horizon_shorter_than_two_steps():
@@ -79,6 +89,9 @@ def test_the_main_state_amplifies_rounding_beyond_double_precision(hy):
     assert 3 <= g["ln_gain"].size <= 4 and np.all((g["ln_gain"] > 25) & (g["ln_gain"] < 50))
     assert g["follows"]["double"] == fa.DOES_NOT_FOLLOW and g["follows"]["quad"] == fa.FOLLOWS
     assert g["log10_gain_rounding"]["double"] - g["log10_gain_rounding"]["quad"] == pytest.approx(60 * math.log10(2))
+    assert 5e3 < g["steps_per_cycle"] < 5e4  # a spike cycle takes about 1.8e4 Taylor steps
+    assert g["log10_gain_rounding"]["double"] - g["log10_gain_unit_rounding"]["double"] == pytest.approx(
+        math.log10(g["steps_per_cycle"]))
 
 
 def test_the_report_names_the_arithmetic_that_follows_each_orbit(tmp_path):
@@ -143,9 +156,9 @@ def test_the_first_screen_says_who_decided_and_what_would_decide_the_rest():
     assert _to_decide(ds, 2, U).startswith("no decisive stage ran for this state")
     assert _to_decide(ds, 1, "fragile").startswith("the decisive stage")
     assert _decided_in(ds, 0) == "double-double (G x rounding = 10^-16.3; decisive stage over T = 100000)"
-    power = {"counts": {h: {j: {"chaotic": {"N": 10, "correct": 9, "wrong": int(h == 1.0 and j == "section_megno"),
+    power = {"counts": {h: {j: {"chaotic": {"N": 60, "correct": 59, "wrong": int(h == 1.0 and j == "section_megno"),
                                             "undecided": 1 - int(h == 1.0 and j == "section_megno")},
-                                "tori": {"N": 10, "correct": 10, "wrong": 0, "undecided": 0}}
+                                "tori": {"N": 60, "correct": 60, "wrong": 0, "undecided": 0}}
                             for j in ("birkhoff", "section_megno")} for h in (1.0, 4.0)}}
     ds.attrs["decisive_vote_horizon"] = 1.0
     text = _to_decide(ds, 1, U, power)

@@ -1,68 +1,138 @@
-"""The judge-power record the chaos verdict votes by (sleighsim.chaos.power.record, merged_records,
-record_rates, record_voting; sleighsim.ops.powerrecord writes it): counts per horizon, judge and class
-from an audit dataset, records of separate audits side by side, and the vote on each branch."""
+"""The judge-power record (sleighsim.ops.powerrecord writes it from the audit's dataset; chaos.power reads the
+vote from it): its counts, voters and rule counts from a gathered run table, what it refuses, and the
+committed record itself: complete, from a clean commit, its counts and votes the tally of its own runs,
+and two of its realizations judged again to the same verdicts and numbers."""
+
+import json
+from pathlib import Path
 
 import numpy as np
 import pytest
 import yaml
 
-from sleighsim.chaos import power
+from sleighsim.chaos import indicators, power, power_audit
 from sleighsim.chaos.known_orbits import CHAOTIC_ORBITS, TORI
+from sleighsim.io.netcdf import write_dataset
+from sleighsim.ops import powerrecord
+from sleighsim.scenes import judge_power
+
+ROOT = Path(__file__).resolve().parents[2]
+RECORD = ROOT / "benchmarks" / "judge_power.yaml"
+JUDGES = [i.name for i in indicators.audited(indicators.DECISIVE)]
+BLOCK = {"stream": 0, "spike_period": 2400.0, "samples": 60,
+         "decisive": {"T": 1e5, "dt": 0.5, "splits": [2, 4, 8], "min_cycles": 8.0, "sigma": 3.0,
+                      "horizons": [{"factor": 1.0, "megno_samples": 100}]},
+         "systems": ["henon-heiles E=1/6", "quartic oscillators"]}
 
 
-def _dataset(judges=("megno", "two-trajectory")):
-    """Counts: megno right on every chaotic orbit and torus but once wrong on a torus at horizon 4;
-    two-trajectory right always (named as the first audits named it)."""
+def _rows(n=60, megno_wrong=0):
+    """n realizations per system: on chaos MEGNO and section MEGNO say chaotic (MEGNO regular on the first
+    ``megno_wrong``), frequency undecided, Birkhoff undecided; on tori all four regular."""
     rows = []
-    for h in (1.0, 4.0):
-        for _ in range(50):
-            rows += [(j, "henon-heiles E=1/6", h, "chaotic") for j in judges]
-            rows += [(j, "henon-heiles E=1/12", h, "regular") for j in judges]
-    if "megno" in judges:
-        rows[-len(judges)] = ("megno", "henon-heiles E=1/12", 4.0, "chaotic")
-    return power.counts(rows, list(judges), ["henon-heiles E=1/6", "henon-heiles E=1/12"], [1.0, 4.0])
+    for system, cls in (("henon-heiles E=1/6", CHAOTIC_ORBITS), ("quartic oscillators", TORI)):
+        for k in range(n):
+            for j in JUDGES:
+                v = ("chaotic" if j in ("megno_log_norm", "section_megno") else "undecided") if cls == CHAOTIC_ORBITS \
+                    else "regular"
+                if cls == CHAOTIC_ORBITS and j == "megno_log_norm" and k < megno_wrong:
+                    v = "regular"
+                rows.append({"system": system, "index": k, "horizon": 1.0, "judge": j, "raw": v, "follows": "follows",
+                             "verdict": v, "reason": "r", "numbers": json.dumps({"value": 1.0}),
+                             "context": json.dumps({"confirmed": 1.0}), "wall_s": 0.5})
+    return rows
 
 
-def test_the_record_counts_per_horizon_judge_and_class():
-    rec = power.record(_dataset())
-    assert set(rec["counts"]) == {1.0, 4.0} and set(rec["counts"][1.0]) == {"megno", "two_trajectory"}
-    assert rec["counts"][4.0]["megno"][TORI] == {"N": 50, "correct": 49, "wrong": 1, "undecided": 0}
-    assert rec["counts"][1.0]["megno"][CHAOTIC_ORBITS]["correct"] == 50
-    assert set(rec["source"]) == {"git_commit", "created_utc", "cost_total_s"}
+def _gathered(tmp_path, rows, commit="0123456789" * 4):
+    path = write_dataset(judge_power._table(rows).assign_attrs(chunk=0), tmp_path / "c0.nc")
+    ds = judge_power.gather([path], BLOCK)
+    ds.attrs["git_commit"] = commit
+    return ds
 
 
-def test_the_vote_by_a_record_on_each_branch():
-    """The vote at a run's horizon factor uses the counts at the largest audited factor not above it:
-    megno, 1 wrong in 50 tori at factor 4 (over 1 in 100), votes at factors 1 to 3.99 but not from 4 on;
-    below every audited factor no judge votes; a judge measured on one class only does not vote; records
-    of the same judge cannot be merged."""
-    rec = power.merged_records([power.record(_dataset())])
-    rows = {(r["judge"], r["class"]): r for r in power.record_rates(rec)}
-    assert rows[("megno", TORI)]["wrong"] == 1 and rows[("megno", TORI)]["N"] == 100
-    assert rows[("megno", TORI)]["wrong_upper95"] == pytest.approx(0.0466, abs=1e-3)
-    assert power.record_voting(rec, 1.0) == power.record_voting(rec, 3.99) == {"megno", "two_trajectory"}
-    assert power.record_voting(rec, 4.0) == power.record_voting(rec, 10.0) == {"two_trajectory"}
-    assert power.record_voting(rec, 0.5) == set()
-    one_class = yaml.safe_load(yaml.safe_dump(rec))
-    for h in one_class["counts"]:
-        one_class["counts"][h]["megno"].pop(TORI)
-    assert power.record_voting(one_class, 1.0) == {"two_trajectory"}
-    with pytest.raises(ValueError, match="in two records"):
-        power.merged_records([power.record(_dataset()), power.record(_dataset(("megno",)))])
-    both = power.merged_records([power.record(_dataset(("megno",))), power.record(_dataset(("birkhoff",)))])
-    assert set(both["counts"][4.0]) == {"megno", "birkhoff"} and len(both["sources"]) == 2
+def test_the_record_holds_counts_voters_rule_and_every_run(tmp_path):
+    """60 chaotic orbits and 60 tori, every judge right or undecided: each votes (0 of 60, bound 4.9%); the
+    rule says chaotic on every chaotic orbit (MEGNO and section MEGNO; no non-tangent voter says chaotic:
+    undecided) and regular on every torus; with MEGNO wrong once on chaos it no longer votes, and the rule
+    rests on the section MEGNO."""
+    rec = powerrecord.record(_gathered(tmp_path, _rows()))
+    assert rec["voting"][1.0] == sorted(JUDGES)
+    assert rec["counts"][1.0]["megno_log_norm"][CHAOTIC_ORBITS] == {"N": 60, "correct": 60, "wrong": 0, "undecided": 0}
+    assert rec["rule"][1.0][TORI] == {"N": 60, "correct": 60, "wrong": 0, "undecided": 0}
+    assert rec["rule"][1.0][CHAOTIC_ORBITS]["undecided"] == 60  # chaos needs a non-tangent voter saying so
+    assert len(rec["runs"][1.0]) == 120 and rec["runs"][1.0][0]["judges"]["birkhoff"]["value"] == 1.0
+    assert rec["estimators"] == {j: indicators.REGISTRY[j].estimator for j in JUDGES}
+    assert power.check_record(yaml.safe_load(yaml.safe_dump(rec))) == []
+    rec = powerrecord.record(_gathered(tmp_path, _rows(megno_wrong=1)))
+    assert rec["voting"][1.0] == sorted(set(JUDGES) - {"megno_log_norm"})
+    assert rec["rule"][1.0][TORI]["correct"] == 60
+    assert "| x1 | megno_log_norm | chaotic | 60 | 59 (0.98, >= " in powerrecord.markdown(rec)
 
 
-def test_the_record_writer(tmp_path):
-    from sleighsim.io.netcdf import write_dataset
-    from sleighsim.ops import powerrecord
+def test_a_dirty_or_unnamed_commit_makes_no_record(tmp_path):
+    with pytest.raises(ValueError, match="full clean commit"):
+        powerrecord.record(_gathered(tmp_path, _rows(2), commit="0123456789" * 4 + "-dirty"))
+    with pytest.raises(ValueError, match="full clean commit"):
+        powerrecord.record(_gathered(tmp_path, _rows(2), commit="unknown"))
 
-    ds = _dataset()
-    ds.attrs.update(cost_total_s=1.0)
-    write_dataset(ds, tmp_path / "a.nc")
-    out = tmp_path / "rec.yaml"
-    assert powerrecord.main([str(tmp_path / "a.nc"), "--out", str(out)]) == 0
-    rec = yaml.safe_load(out.read_text())
-    assert rec["voting"] == {1.0: ["megno", "two_trajectory"], 4.0: ["two_trajectory"]}
-    assert np.isclose(rec["sources"][0]["cost_total_s"], 1.0)
-    assert "| x4 | megno | tori | 50 | 49 (0.98) | 1 (0.020" in powerrecord.markdown(rec)
+
+def test_a_missing_unreadable_or_empty_record(tmp_path):
+    assert "no such file" in powerrecord.problems(tmp_path / "none.yaml")[0]
+    (tmp_path / "bad.yaml").write_text("a: [")
+    assert powerrecord.problems(tmp_path / "bad.yaml")[0].startswith("not YAML")
+    (tmp_path / "empty.yaml").write_text(yaml.safe_dump(powerrecord.empty()))
+    assert powerrecord.problems(tmp_path / "empty.yaml") == []
+    block = {"sigma": 3.0, "frequency": {"min_cycles": 8.0},
+             "decisive": {"T": 1e5, "dt": 0.5, "megno_samples": 100, "splits": [2, 4, 8]}}
+    assert power.stage_vote(powerrecord.empty(), block, "decisive")["voters"] == set()
+
+
+# ----------------------------------------------------------------------------- the committed record
+
+@pytest.fixture(scope="module")
+def record():
+    return yaml.safe_load(RECORD.read_text())
+
+
+def test_the_committed_record_is_complete_and_from_a_clean_commit(record):
+    assert power.check_record(record) == [] and record["sources"], "the record must name its clean source"
+    assert record["stream"] == 0 and set(record["counts"]) == set(record["horizons"]) == set(record["runs"])
+    assert record["estimators"] == {j: indicators.REGISTRY[j].estimator for j in JUDGES}
+
+
+def test_the_committed_counts_votes_and_rule_are_the_tally_of_its_runs(record):
+    for h, runs in record["runs"].items():
+        tally = {}
+        for r in runs:
+            cls = power.SYSTEMS[r["system"]].cls
+            for j, v in r["judges"].items():
+                c = tally.setdefault(j, {}).setdefault(cls, dict.fromkeys(power.KEEP, 0))
+                c["N"] += 1
+                c["correct" if v["verdict"] == power.RIGHT[cls] else "wrong" if v["verdict"] == power.WRONG[cls]
+                  else "undecided"] += 1
+        assert tally == record["counts"][h]
+        assert sorted(j for j, by in tally.items() if power.votes(by)) == record["voting"][h]
+        rows = [{"system": r["system"], "index": r["index"], "horizon": h, "judge": j, "verdict": v["verdict"]}
+                for r in runs for j, v in r["judges"].items()]
+        rule = {}
+        for system, _, v in power_audit.rule_counts(rows, {h: set(record["voting"][h])}):
+            cls = power.SYSTEMS[system].cls
+            c = rule.setdefault(cls, dict.fromkeys(power.KEEP, 0))
+            c["N"] += 1
+            c["correct" if v == power.RIGHT[cls] else "wrong" if v == power.WRONG[cls] else "undecided"] += 1
+        assert rule == record["rule"][h]
+
+
+@pytest.mark.parametrize("system", ["henon-heiles E=1/6", "quartic oscillators"])
+def test_two_recorded_realizations_judged_again_give_the_same_verdicts_and_numbers(hy, record, system):
+    """Realization 0 of a chaotic and of a torus system at the record's horizons, from its settings: every
+    judge's gated verdict as recorded, its value to 1e-9 (relative)."""
+    settings = dict(record["settings"])
+    block = {"spike_period": record["spike_period"],
+             "decisive": {**settings, "horizons": [{"factor": h, **o} for h, o in record["horizons"].items()]}}
+    rows = power_audit.realization_rows(block, system, record["stream"], 0)
+    for r in rows:
+        want = next(x for x in record["runs"][r["horizon"]] if x["system"] == system and x["index"] == 0)
+        w = want["judges"][r["judge"]]
+        assert r["verdict"] == w["verdict"], (r["horizon"], r["judge"], r["reason"])
+        got = json.loads(r["numbers"])["value"]
+        assert (got is None and w["value"] is None) or np.isclose(got, w["value"], rtol=1e-9, atol=0)

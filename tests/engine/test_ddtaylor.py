@@ -339,8 +339,9 @@ def test_faithfulness_gauge_puts_double_double_far_below_the_bound(gauge):
 
     ln_g = gauge["ln_gain_max"]
     assert (ln_g + np.log(dd.ROUNDING)) / np.log(10) < -12
-    assert faithfulness.follows(ln_g, dd.ROUNDING) == faithfulness.FOLLOWS
-    assert faithfulness.follows(ln_g, Precision.DOUBLE.rounding) == faithfulness.DOES_NOT_FOLLOW
+    n = gauge["steps_per_cycle"]  # the rounding injected per cycle is counted per Taylor step
+    assert faithfulness.follows(ln_g, dd.ROUNDING, steps_per_cycle=n) == faithfulness.FOLLOWS
+    assert faithfulness.follows(ln_g, Precision.DOUBLE.rounding, steps_per_cycle=n) == faithfulness.DOES_NOT_FOLLOW
 
 
 def test_energy_drift_over_a_cycle_is_at_the_1e_30_level(cycle_runs):

@@ -45,3 +45,38 @@ def test_a_parent_others_can_write_is_refused_unless_sticky(tmp_path):
         private_directory(parent / "cache", "SETTING")
     parent.chmod(0o1777)
     assert mode(private_directory(parent / "cache", "SETTING")) == 0o700
+
+
+def test_a_cache_reached_through_a_link_in_a_directory_others_can_write_is_refused(tmp_path):
+    """Issue 55: the way to the cache is checked, not only where it resolves (before: accepted)."""
+    mine = tmp_path / "mine"
+    mine.mkdir(mode=0o700)
+    shared = tmp_path / "shared"
+    shared.mkdir()
+    shared.chmod(0o777)  # anyone may replace the link after the check
+    (shared / "cache").symlink_to(mine)
+    with pytest.raises(UnsafeDirectory, match=rf"since {shared} is writable by its group or by others"):
+        private_directory(shared / "cache", "SETTING")
+    with pytest.raises(UnsafeDirectory, match=rf"since {shared} is writable"):
+        private_directory(shared / "cache" / "sub", "SETTING")  # nothing created through it
+    assert not (mine / "sub").exists()
+
+
+def test_a_link_owned_by_another_user_in_a_sticky_directory_is_refused(tmp_path, monkeypatch):
+    sticky = tmp_path / "tmp"
+    sticky.mkdir()
+    sticky.chmod(0o1777)
+    (tmp_path / "mine").mkdir(mode=0o700)
+    (sticky / "cache").symlink_to(tmp_path / "mine")
+    assert private_directory(sticky / "cache", "SETTING")  # my own link: accepted
+    real_lstat = os.lstat
+
+    def others_link(p):  # the link as another user's (the tests run as one user)
+        st = real_lstat(p)
+        if os.fspath(p) == str(sticky / "cache"):
+            return os.stat_result((st.st_mode, st.st_ino, st.st_dev, st.st_nlink, 4242, *tuple(st)[5:]))
+        return st
+
+    monkeypatch.setattr(os, "lstat", others_link)
+    with pytest.raises(UnsafeDirectory, match=rf"{sticky / 'cache'} is a symbolic link owned by uid 4242"):
+        private_directory(sticky / "cache", "SETTING")

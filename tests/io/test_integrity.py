@@ -79,7 +79,7 @@ def test_valid_reads_the_signature_before_opening(tree):
 
 def test_stale_temps_older_than_the_run_and_not_open_are_swept(tree):
     d = tree / "data"
-    old, held, fresh = d / ".fig4.a1.nc.tmp", d / ".fig2.b2.nc.tmp", d / ".fig3.c3.nc.tmp"
+    old, held, fresh = d / ".fig4.a1a1a1a1.nc.tmp", d / ".fig2.b2b2b2b2.nc.tmp", d / ".fig3.c3c3c3c3.nc.tmp"
     for p in (old, held, fresh):
         p.write_bytes(b"partial")
     for p in (old, held):
@@ -89,3 +89,28 @@ def test_stale_temps_older_than_the_run_and_not_open_are_swept(tree):
         assert sweep_stale_temps(tree, start) == [old]
     assert not old.exists() and held.exists() and fresh.exists()
     assert (d / "notes.nc").exists()
+
+
+def test_the_sweep_removes_only_its_own_temporary_names_in_the_workflows_directories(tmp_path):
+    """Issue 55: with results = ".", the sweep deleted .thesis.tmp and .git/.index.tmp; it now
+    removes only atomic_path's names (.<stem>.<8 random><suffix>.tmp), in results itself and the
+    directories the workflow writes, never in hidden directories or through links."""
+    from sleighsim.io.netcdf import atomic_path
+
+    project = tmp_path / "project"
+    own = project / "data" / ".fig4.a1b2c3d4.nc.tmp"
+    mine = [project / ".thesis.tmp", project / ".git" / ".index.tmp", project / ".git" / ".x.abcdefgh.nc.tmp",
+            project / "docs" / ".notes.abcdefgh.md.tmp", project / "data" / "notes.tmp"]
+    for p in [own, *mine]:
+        p.parent.mkdir(parents=True, exist_ok=True)
+        p.write_bytes(b"x")
+        os.utime(p, (time.time() - 3600,) * 2)
+    (project / "figures").symlink_to(project / "docs")
+    assert sweep_stale_temps(project, time.time(), ["data", "figures"]) == [own]
+    assert all(p.exists() for p in mine)
+    assert sweep_stale_temps(project, time.time()) == [project / "docs" / ".notes.abcdefgh.md.tmp"]  # dirs not given
+    assert (project / ".thesis.tmp").exists() and (project / ".git" / ".index.tmp").exists()
+    with atomic_path(project / "data" / "fig3.nc") as tmp:  # the names atomic_path gives are the ones swept
+        tmp.write_bytes(b"partial")
+        os.utime(tmp, (time.time() - 3600,) * 2)
+        assert integrity.stale_temps(project, time.time(), ["data"]) == [tmp]

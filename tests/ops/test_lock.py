@@ -65,7 +65,8 @@ def _lock(path, pins):
 
 def test_datasets_name_the_lock_only_when_the_environment_matches_it_pin_for_pin(tmp_path, monkeypatch):
     have = lockfile.installed()
-    matching = _lock(tmp_path / "a.lock", {"NumPy": have["numpy"], "netCDF4": have["netcdf4"]})
+    required = {name: have[name] for name in lockfile.required()}  # a lock pins every requirement (issue 55)
+    matching = _lock(tmp_path / "a.lock", {**required, "NumPy": have["numpy"], "netCDF4": have["netcdf4"]})
     monkeypatch.setenv("SLEIGHSIM_LOCK", str(matching))
     lockfile.lock_attrs.cache_clear()
     assert lockfile.lock_attrs() == {"lock_file": "a.lock",

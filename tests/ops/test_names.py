@@ -75,3 +75,24 @@ def test_every_name_is_accepted_exactly_when_it_is_a_safe_file_name(name):
 @given(st.from_regex(SCENE_NAME, fullmatch=True).filter(lambda n: n not in RESERVED))
 def test_every_name_of_the_pattern_passes_the_schema_and_the_checks(name):
     assert not refused(_renamed(name, old="fig2")), name
+
+
+def test_a_link_under_results_leading_outside_is_refused_naming_the_key(tmp_path, monkeypatch):
+    """Issue 55: judged on resolved paths (before: lexically, so results/data -> /elsewhere passed)."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "elsewhere").mkdir()
+    (tmp_path / "results").mkdir()
+    (tmp_path / "results" / "data").symlink_to(tmp_path / "elsewhere")
+    assert not under("results", "results/data/fig3.nc") and under("results", "results/figures/fig3.png")
+    with pytest.raises(ConfigError, match=r"^rule scene: writes 'results/data/\{scene\}\.nc', outside the results "
+                                          r"directory 'results' \(through a symbolic link\)"):
+        check_under("results", [("rule scene", "results/data/{scene}.nc")])
+    (tmp_path / "big").mkdir()  # the results directory itself a link: what lies under it stays under it
+    (tmp_path / "linked").symlink_to(tmp_path / "big")
+    check_under("linked", [("rule scene", "linked/data/{scene}.nc")])
+
+
+@pytest.mark.parametrize("results", ["/", "/.", "/tmp/..", "//", "/tmp/../tmp/.."])
+def test_a_results_directory_resolving_to_the_root_is_refused(results):
+    with pytest.raises(ConfigError, match=r"^results = .*: resolves to the file-system root"):
+        check_under(results, [("rule scene", "/data/{scene}.nc")])

@@ -56,3 +56,20 @@ def test_spike_block_is_the_spike_rules_default_block():
     from sleighsim.engine.transient import spike_times
 
     assert inspect.signature(spike_times).parameters["block"].default == SPIKE_BLOCK
+
+
+# Issue 55: every bad value refused at plan time naming its key.
+HOSTILE = [
+    (("scenes", "fig4", "spikes_after"), 10**400, r"^scenes\.fig4\.spikes_after = an integer of about 401 digits"),
+    (("scenes", "fig4", "levels", 0, "states", 0), [0.0, 0.0, 0.0, 0.0],
+     r"^scenes\.fig4\.levels\[0\]\.states\[0\] = .*Omega = omega = 0"),
+    (("scenes", "fig4", "levels", 1, "states", 0), [1e200, 0.1, 1.0, 0.0],
+     r"^scenes\.fig4\.levels\[1\]\.states\[0\] = .*kinetic energy is non-finite"),
+]
+
+
+@pytest.mark.parametrize("path, value, message", HOSTILE, ids=["400-digit spikes_after", "all-zero level state",
+                                                               "overflowing level state"])
+def test_hostile_values_are_refused_at_plan_time_naming_the_key(path, value, message):
+    out = refused(with_value(path, value))
+    assert re.search(message, out), out

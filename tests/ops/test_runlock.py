@@ -56,16 +56,24 @@ def test_a_stale_lock_of_a_dead_process_is_taken_over_with_a_warning(tmp_path, c
 def test_a_lock_file_that_names_no_pid_is_refused_not_signalled(tmp_path):
     results = tmp_path / "results"
     _held_by(results, pid=0)
-    with pytest.raises(LockError, match="in use by pid 0"):
+    with pytest.raises(LockError, match="a lock file naming no valid process"):
         acquire(results)
     (results / LOCK_NAME).write_text("{not json")
     with pytest.raises(LockError, match="a lock file that cannot be read"):
         acquire(results)
 
 
-@pytest.mark.parametrize("argv, real", [
-    (["-c2"], True), (["-c1", "--configfile", "x.yaml", "fig3"], True), (["--cores", "2", "--rerun-incomplete"], True),
-    (["-n"], False), (["-npc2"], False), (["--dry-run", "-c2"], False), (["--unlock"], False), (["--lint"], False),
-    (["--touch", "-c1"], False), (["--list-rules"], False), (["--summary"], False), (["--no-such-option"], False)])
-def test_real_runs_are_told_from_dry_runs_and_other_commands(argv, real):
-    assert real_run(argv) is real
+class _Workflow:
+    """What real_run reads of a Snakemake Workflow."""
+
+    def __init__(self, executor=True, dryrun=False, touch=False, main=True):
+        self.executor_plugin, self.dryrun, self.touch, self.is_main_process = (object() if executor else None), \
+            dryrun, touch, main
+
+
+@pytest.mark.parametrize("workflow, real", [
+    (_Workflow(), True), (_Workflow(dryrun=True), False), (_Workflow(touch=True), False),
+    (_Workflow(executor=False), False), (_Workflow(main=False), False)],
+    ids=["executing", "dry run", "touch", "no executor (a listing, --summary, --lint)", "a job's process"])
+def test_real_runs_are_told_from_dry_runs_and_other_commands(workflow, real):
+    assert real_run(workflow) is real

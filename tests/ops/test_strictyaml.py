@@ -90,3 +90,36 @@ def test_every_deep_alias_chain_beyond_the_bound_is_refused(width, depth):
             loads(text)
     elif expanded < 20_000:
         assert loads(text)["l0"] == ["x"] * width
+
+
+# Issue 55: limits checked on the raw text, bombs of mappings, long plain documents.
+MAPPING_BOMB = "l0: &l0 {" + ", ".join(f"k{j}: lol" for j in range(9)) + "}\n" + "".join(
+    f"l{i}: &l{i} {{" + ", ".join(f"k{j}: *l{i - 1}" for j in range(9)) + "}\n" for i in range(1, 9))
+
+
+def test_a_mapping_alias_bomb_is_refused_quickly():
+    assert len(MAPPING_BOMB) < 1000
+    start = time.perf_counter()
+    with pytest.raises(ConfigError, match="aliases expand to more than"):
+        loads(MAPPING_BOMB, "bomb.yaml")
+    assert time.perf_counter() - start < 1.0
+
+
+@pytest.mark.parametrize("text", ["a: " + "[" * 5000 + "]" * 5000 + "\n",
+                                  "".join(" " * i + f"k{i}:\n" for i in range(900)) + " " * 900 + "x: 1\n",
+                                  "- " * 5000 + "x\n"],
+                         ids=["flow", "block mappings 900 deep (5000 exceed the size limit)", "block sequences"])
+def test_a_document_nested_5000_deep_is_refused_naming_the_line(text):
+    with pytest.raises(ConfigError, match=r"deep.yaml: line \d+: nested more than 64 levels deep"):
+        loads(text, "deep.yaml")
+
+
+def test_a_long_document_without_aliases_is_not_an_alias_bomb():
+    assert loads("x: [" + ", ".join(["1"] * 60_000) + "]\n")["x"] == [1] * 60_000
+
+
+def test_a_text_over_the_size_limit_is_refused_before_parsing(tmp_path):
+    big = tmp_path / "big.yaml"
+    big.write_text("# " + "x" * 1_000_000 + "\n")
+    with pytest.raises(ConfigError, match=r"big.yaml: 1000003 bytes, more than a config file may have"):
+        load(big)

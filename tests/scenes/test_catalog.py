@@ -112,3 +112,26 @@ def test_a_kind_is_named_as_a_string_only_in_its_own_module():
             if re.search(rf"""["']{kind.name}["']""", p.read_text()):
                 found.append((rel, kind.name))
     assert found == []
+
+
+def test_every_kind_is_exercised_by_the_smoke_run_or_tests_of_its_own():
+    """Each kind has a scene in the smoke configuration; one the smoke run does not build (on request) is
+    run by a test module that imports its scene module (the smoke run's datasets are checked end to end by
+    tests/workflow and tests/io/test_cf.py)."""
+    import re
+    import sys
+    from pathlib import Path
+
+    from conftest import smoke_config
+
+    cfg = smoke_config()
+    built = set(catalog.datasets(cfg))
+    tests = [p.read_text() for p in (Path(__file__).parents[1]).rglob("test_*.py")]
+    for kind in catalog.KINDS.values():
+        scenes = [n for n, b in cfg["scenes"].items() if b["kind"] == kind.name]
+        assert scenes, f"no scene of kind {kind.name} in the smoke configuration"
+        if kind.dataset and not set(scenes) & built:
+            fn = next(f for f in (kind.compute, kind.chunk, kind.gather) if f is not None)
+            module = sys.modules[fn.__module__].__name__
+            short = module.rsplit(".", 1)[-1]
+            assert any(re.search(rf"{module}|scenes import (\w+, )*{short}\b", t) for t in tests), kind.name

@@ -6,14 +6,15 @@ import pytest
 
 from sleighsim.io.netcdf import read_dataset, write_dataset
 from sleighsim.ops.resultdiff import compare_datasets
+from sleighsim.precision import parsed
 from sleighsim.scenes import energy_sweep as exponents
 
 # three labels, a short pre-run and horizon: a second or two in long double
-SWEEP = {"kind": "lyapunov_energy", "params": {"eps": 0.1, "b": 1.0, "K2": 1.1}, "y0": [0.0, 0.1, 1.0, 0.0],
+SWEEP = parsed({"kind": "lyapunov_energy", "params": {"eps": 0.1, "b": 1.0, "K2": 1.1}, "y0": [0.0, 0.1, 1.0, 0.0],
          "labels": [0.01, 0.1127, 10.0], "reference_label": 0.1127, "t_transient": 100.0,
          "transient": {"dt": 0.5, "window": 20.0, "rtol": 0.05, "spike_factor": 1.8, "t_min": 20.0},
          "t_align": 10.0, "T": 200.0, "tau": 10.0, "n_blocks": 4, "compact_mode": True, "precision_chunks": 2,
-         "tol": 2.220446049250313e-16, "precision": "long double"}
+         "tol": 2.220446049250313e-16, "precision": "long double"})
 
 
 def _chunk_files(cfg, tmp_path):

@@ -1,6 +1,7 @@
-"""The judge_power scene (sleighsim.scenes.judge_power): its config agrees with the sleigh's chaos_verdict,
-its chunks cover every task once, its checks refuse what they must, and the smoke config's chunks gather
-into a dataset whose counts, rates and vote agree with the run table."""
+"""The judge_power scene (sleighsim.scenes.judge_power): the audited settings are the chaos verdict's decisive
+stage's (paper config at factor 1, the cluster overlay at factor 5), the smoke config votes by nothing, its
+work units cover every realization once, its checks refuse what they must, and the smoke config's chunks
+gather into a dataset whose counts, votes and rule agree with its run table."""
 
 from pathlib import Path
 
@@ -9,67 +10,93 @@ import pytest
 from snakemake.common.configfile import load_configfile
 from snakemake.utils import update_config
 
-from sleighsim.chaos import power
+from sleighsim.chaos import indicators, power
+from sleighsim.chaos.audit_orbits import WINDOWS_PER_BASE
+from sleighsim.chaos.known_orbits import CHAOTIC_ORBITS, SYSTEMS
 from sleighsim.io import cf
 from sleighsim.io.netcdf import read_dataset, write_dataset
 from sleighsim.scenes import catalog, judge_power
 from sleighsim.scenes.checks import ConfigError
 
 ROOT = Path(__file__).resolve().parents[2]
-PAPER = load_configfile(str(ROOT / "config" / "config.yaml"))
 
 
-def _block(smoke: bool) -> dict:
+def _config(*overlays) -> dict:
     cfg = load_configfile(str(ROOT / "config" / "config.yaml"))
-    if smoke:
-        update_config(cfg, load_configfile(str(ROOT / "config" / "smoke.yaml")))
-    return catalog.scene_config(cfg, "judge_power")
+    for o in overlays:
+        update_config(cfg, load_configfile(str(ROOT / o)))
+    return cfg
 
 
-def test_the_sleigh_settings_are_chaos_verdicts():
-    verdict, mine = PAPER["scenes"]["chaos_verdict"], PAPER["scenes"]["judge_power"]["sleigh"]
-    shared = [k for k in mine if k in verdict and k not in ("frequency", "decisive")]
-    assert len(shared) >= 13
-    assert {k: mine[k] for k in shared} == {k: verdict[k] for k in shared}
-    for nested in ("frequency", "decisive"):
-        assert mine[nested] == {k: verdict[nested][k] for k in mine[nested]}
+def _record_of(block: dict) -> dict:
+    """A record of the block's audit in which every judge is right on 300 orbits per class."""
+    d = block["decisive"]
+    judges = [i.name for i in indicators.audited(indicators.DECISIVE)]
+    clean = {c: {"N": 300, "correct": 300, "wrong": 0, "undecided": 0} for c in power.CLASSES}
+    return {"schema": power.SCHEMA, "stage": "decisive", "spike_period": block["spike_period"],
+            "settings": {k: d[k] for k in ("T", "dt", "splits", "min_cycles", "sigma")},
+            "horizons": {float(e["factor"]): {"megno_samples": e["megno_samples"]} for e in d["horizons"]},
+            "counts": {float(e["factor"]): dict.fromkeys(judges, clean) for e in d["horizons"]}}
 
 
-@pytest.mark.parametrize("smoke", [False, True])
-def test_the_chunks_hold_every_task_once_and_mix_the_systems(smoke):
-    block = _block(smoke)
-    tasks = judge_power.tasks(block)
-    per = [tasks[k::block["n_chunks"]] for k in range(block["n_chunks"])]
-    assert sorted(map(str, sum(per, []))) == sorted(map(str, tasks))
-    judged = [t for t in tasks if t[0] == "judge"]
-    assert len(judged) == len(block["systems"]) * len(block["horizons"]) * block["samples"]
-    assert all(any(t[0] == "judge" for t in p) for p in per)
-    if not smoke:  # coprime chunking: no chunk holds one system only
-        assert all(len({t[1] for t in p if t[0] == "judge"}) > 1 for p in per)
+@pytest.mark.parametrize("overlays, factor", [((), 1.0), (("config/cluster.yaml",), 5.0)])
+def test_the_audit_covers_the_decisive_stage_of_the_paper_and_cluster_configs(overlays, factor):
+    """Every decisive judge votes at the audited horizon equal to the config's own; its settings are the
+    chaos verdict's (T, dt, splits, MEGNO samples, min_cycles, sigma)."""
+    cfg = _config(*overlays)
+    verdict, audit = catalog.scene_config(cfg, "chaos_verdict"), catalog.scene_config(cfg, "judge_power")
+    v = power.stage_vote(_record_of(audit), verdict, "decisive", 2337.6)
+    assert v["voters"] == {"megno", "section_megno", "frequency", "birkhoff"}
+    assert set(v["factor"].values()) == {factor}
+
+
+def test_the_smoke_config_votes_by_nothing():
+    cfg = _config("config/smoke.yaml")
+    verdict = catalog.scene_config(cfg, "chaos_verdict")
+    paper_audit = catalog.scene_config(_config(), "judge_power")
+    assert power.stage_vote(_record_of(paper_audit), verdict, "decisive")["voters"] == set()
+    assert power.stage_vote(_record_of(paper_audit), verdict, "first")["voters"] == set()
+
+
+@pytest.mark.parametrize("overlays", [(), ("config/smoke.yaml",)])
+def test_the_work_units_hold_every_realization_once_and_mix_the_systems(overlays):
+    block = catalog.scene_config(_config(*overlays), "judge_power")
+    units = judge_power.units(block)
+    realizations = sorted((s, k) for s, first, n in units for k in range(first, first + n))
+    assert realizations == sorted((s, k) for s in block["systems"] for k in range(block["samples"]))
+    assert all(n <= (WINDOWS_PER_BASE if SYSTEMS[s].cls == CHAOTIC_ORBITS else 1) for s, _, n in units)
+    per = [units[k::block["n_chunks"]] for k in range(block["n_chunks"])]
+    assert all(per)
+    if not overlays:  # no chunk holds one system only
+        assert all(len({u[0] for u in p}) > 1 for p in per)
     assert sum(judge_power.chunk_work(block)) == pytest.approx(judge_power.work(block))
 
 
 @pytest.mark.parametrize("change, message", [
-    ({"systems": ["pendulum"]}, "unknown"), ({"judges": ["tarot"]}, "unknown"), ({"n_chunks": 1000}, "n_chunks"),
+    ({"systems": ["pendulum"]}, "unknown"), ({"systems": ["lorenz"]}, "chaotic systems and tori"),
+    ({"n_chunks": 1000}, "n_chunks"),
 ])
 def test_the_checks_refuse_bad_blocks(change, message):
-    judge_power._checks("judge_power", _block(True))  # the smoke block passes
+    block = catalog.scene_config(_config("config/smoke.yaml"), "judge_power")
+    judge_power._checks("judge_power", block)  # the smoke block passes
     with pytest.raises(ConfigError, match=message):
-        judge_power._checks("judge_power", {**_block(True), **change})
+        judge_power._checks("judge_power", {**block, **change})
+    twice = {**block, "decisive": {**block["decisive"], "horizons": block["decisive"]["horizons"] * 2}}
+    with pytest.raises(ConfigError, match="distinct"):
+        judge_power._checks("judge_power", twice)
 
 
-def test_the_smoke_chunks_gather_into_counts_rates_and_a_vote(hy, tmp_path):
-    block = _block(True)
+def test_the_smoke_chunks_gather_into_counts_votes_and_a_rule(hy, tmp_path):
+    block = catalog.scene_config(_config("config/smoke.yaml"), "judge_power")
     paths = [write_dataset(catalog.chunk("judge_power", block, k), tmp_path / "chunks" / "judge_power" / f"{k}.nc")
              for k in range(block["n_chunks"])]
     ds = catalog.gather("judge_power", block, paths)
-    n_runs = ds.sizes["run"]
-    assert n_runs == sum(len([j for j in power.JUDGES if power.applies(j, power.SYSTEMS[s])]) for s in block["systems"])
-    assert int(ds.counts.sum()) == n_runs and int(ds.rate_N.sum()) == n_runs
-    for j in ds.judge.values:  # the table of runs and the counts agree
+    judges = [i.name for i in indicators.audited(indicators.DECISIVE)]
+    assert ds.sizes["run"] == len(block["systems"]) * block["samples"] * len(judges)
+    assert int(ds.counts.sum()) == ds.sizes["run"] and int(ds.rule_counts.sum()) == len(block["systems"])
+    for j in judges:  # the run table and the counts agree
         mine = ds.run_verdict.values[ds.run_judge.values == j]
         assert [int(ds.counts.sel(judge=j).sum(["orbit_class", "system", "horizon"]).sel(verdict=v)) for v in
                 ds.verdict.values] == [int(np.sum(mine == v)) for v in ds.verdict.values]
-    assert {str(j) for j, v in zip(ds.judge.values, ds.votes.values) if v} == power.voting(ds)
-    assert list(ds.chaotic_system.values) == ["henon-heiles E=1/6"] and ds.confirm_confirmed.values[0] == 1
+    assert not ds.votes.values.any()  # one realization per class bounds nothing: nobody votes
     assert cf.missing(read_dataset(write_dataset(ds, tmp_path / "data" / "judge_power.nc"))) == []

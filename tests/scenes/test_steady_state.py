@@ -12,6 +12,7 @@ from sleighsim.model import equations
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import REFERENCE_STATE
 from sleighsim.ops.resultdiff import compare_datasets
+from sleighsim.precision import parsed
 from sleighsim.scenes import steady_state
 
 
@@ -160,11 +161,11 @@ def test_block_fluctuation_tells_a_drift_from_a_scatter():
 
 
 # the reference orbit's maps in long double, tiny: about a second
-MAPS = {"kind": "poincare", "params": {"eps": 0.1, "b": 1.0, "K2": 1.1}, "y0": [0.0, 0.1, 1.0, 0.0],
+MAPS = parsed({"kind": "poincare", "params": {"eps": 0.1, "b": 1.0, "K2": 1.1}, "y0": [0.0, 0.1, 1.0, 0.0],
         "energy_label": 0.1127, "t_settle": 300.0, "t_map": 100.0, "attractor_span": 20.0, "attractor_dt": 0.1,
         "max_stored_pi2": 1000, "loop_knn": 10, "return_time_tie_tol": 1.0e-7,
         "transient": {"dt": 0.5, "window": 100.0, "rtol": 0.02, "spike_factor": 1.8, "t_min": 50.0},
-        "tol": 2.220446049250313e-16, "precision": "long double", "precision_chunks": 2}
+        "tol": 2.220446049250313e-16, "precision": "long double", "precision_chunks": 2})
 
 
 def _parts(tmp_path):

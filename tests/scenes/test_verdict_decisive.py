@@ -51,7 +51,7 @@ def _stage1(verdicts: dict, ln_gain=36.0):
                                                               dtype=object)),
         "indicator_value": (("state", "indicator"), [[7e-4, 7e-4, 1.0, 1e-2, 1e-3, 1e-5]]),
         "indicator_uncertainty": (("state", "indicator"), [[5e-5, 5e-5, 0.1, 1e-3, 1e-4, 1e-6]]),
-        "ln_gain_max": ("state", [ln_gain]),
+        "ln_gain_max": ("state", [ln_gain]), "gain_steps_per_cycle": ("state", [1.8e4]),
         "exponent": (("state", "i"), [[7e-4, 0.0, -1e-4, -6e-4]]),
         "sum_exponents": ("state", [0.0]), "sum_exponents_stderr": ("state", [1e-5]),
         "R_image": ("state", np.array(["stays"], dtype=object)),
@@ -88,11 +88,14 @@ def test_a_regular_verdict_needs_both_kinds_of_indicator():
 
 
 def test_an_indicator_judged_in_an_arithmetic_that_does_not_follow_closely_enough_is_set_aside():
-    """In long double (G x rounding = e^36 x 2^-64 = 2.3e-4) MEGNO follows (< 1e-3) but the Birkhoff
-    average resolving 1e-8 does not (its limit 1e-10): set aside, so no regular verdict."""
+    """In long double the rounding injected over a cycle of 1.8e4 steps, amplified by G, is e^36 x 1.8e4 x
+    2^-64 = 4: neither MEGNO nor the Birkhoff average follows (limits 1e-3 and 1e-10): both set aside, so no
+    regular verdict; in double-double (9e-13) both follow."""
     v, _, used = verdict_decisive.decide_again(_stage1({}), _judged(megno=G, birkhoff=G), "long double", 3.0, ALL)
-    assert v == U and used["birkhoff"][0] == U and used["birkhoff"][1].startswith("set aside: judged in long double")
-    assert used["megno"] == (G, "m")
+    assert v == U and all(used[k][0] == U and used[k][1].startswith("set aside: judged in long double")
+                          for k in ("megno", "birkhoff"))
+    v, _, _ = verdict_decisive.decide_again(_stage1({}), _judged(megno=G, birkhoff=G), "double-double", 3.0, ALL)
+    assert v == G
 
 
 def test_indicators_that_disagree_leave_the_state_undecided():

@@ -53,7 +53,9 @@ REPORT_DATA = sorted(
     {d for f in FIGURES_BUILT for d in figure_catalog.FIGURES[f].data}
     | {t.data for t in TABLES.values() if t.data in DATASETS}
     | set(LADDER_DATA)
-    | set(scene_catalog.scenes_of(config, PAPER_SETUP, on_request=False))  # the findings' setup paragraph
+    | set(
+        scene_catalog.scenes_of(config, PAPER_SETUP, on_request=False)
+    )  # the findings' setup paragraph
 )
 
 
@@ -195,7 +197,9 @@ def benchmark_files(datasets, figures):
 def chunk_products(scene):
     """The chunk files of a chunked scene and of its chunked finer-precision variants."""
     finer = LADDERED.get(scene, [])[1:] if scene in LADDERED_CHUNKED else []
-    folders = [scene] * (scene in CHUNKED) + [layout.chunk_folder(scene, p) for p in finer]
+    folders = [scene] * (scene in CHUNKED) + [
+        layout.chunk_folder(scene, p) for p in finer
+    ]
     n = scene_catalog.chunk_count(SCENES[scene])
     return [f"{R}/chunks/{f}/{k}.nc" for f in folders for k in range(n)]
 
@@ -231,5 +235,7 @@ CLAIMS_MD = str(ROOT / "paper" / "CLAIMS.md")
 # A chaos verdict measured with config/cluster.yaml (ops.verdictrecord), cited on the report's first screen.
 CLUSTER_RECORD = {"cluster_record": str(ROOT / "benchmarks" / "cluster_verdict.yaml")}
 POWER_RECORD = {
-    "power_record": str(ROOT / b["vote_record"]) for b in SCENES.values() if "vote_record" in b
+    "power_record": str(ROOT / b["vote_record"])
+    for b in SCENES.values()
+    if "vote_record" in b
 }

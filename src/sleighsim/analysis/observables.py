@@ -93,7 +93,7 @@ def converged(agree: np.ndarray, precisions: list[str]) -> str:
     """Applies :data:`CONVERGED_RULE`, the rule as the datasets record it (just above)."""
     for i in range(len(precisions) - 1):
         if all(agree[i, j] for j in range(i + 1, len(precisions))):
-            return precisions[i]
+            return str(precisions[i])
     return "not converged"
 
 

@@ -19,8 +19,14 @@ Import from the submodules (nothing is re-exported here):
   ``window_frequencies``, ``drift``), on an orbit (``frequency_drift``) and its judge
   (``judge_frequency``, ``frequency_log_ratio``, ``judged_run``).
 * ``faithfulness``: the faithfulness gauge: how much one spike cycle amplifies rounding
-  (``spike_cycle_gains``, ``cycle_gains``) and whether an arithmetic follows the orbit (``follows``,
-  ``FAITHFUL_MAX``).
+  (``spike_cycle_gains``, ``cycle_gains``), the rounding it injects (``injected_rounding``) and whether an
+  arithmetic follows the orbit (``follows``, ``FAITHFUL_MAX``).
+* ``indicators``: the registry of indicators (stage, tangent-based or not, estimator, settings, judged);
+  ``decisive``: the decisive stage's estimators on one sampled orbit; ``decision``: the sequence gauge,
+  vote, decide, consistency, realizations; ``bounds``: what a regular verdict bounds.
+* ``power``: the judges' rates, their Clopper-Pearson bounds and the vote by a record (``stage_vote``);
+  ``known_orbits``, ``audit_orbits``, ``power_audit``: the judge-power audit's systems, its independent
+  confirmed realizations and its runs.
 * ``rule``: the decision rule (``DECISION_RULE``, ``decide``, ``consistent``, ``precision_gate``,
   ``faithful_gate``), the indicator names (``INDICATORS``, ``TANGENT_BASED``), the state's class
   (``classify``) and the realizations' agreement (``agree``).

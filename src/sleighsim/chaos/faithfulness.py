@@ -1,19 +1,26 @@
-"""Does an arithmetic follow the exact orbit? The gain of the tangent map over each spike cycle.
+"""Does an arithmetic follow the exact orbit? The gain of the tangent map over each spike cycle, and the
+rounding an arithmetic injects over it.
 
 Once per spike cycle the sleigh's flow amplifies a perturbation by up to the largest singular value
 G of the tangent map over one period (maximised over where in the cycle the period starts: most of
-the gain builds up over the slow approach before each spike). An integration whose unit
-roundoff is r injects errors of relative size r at every step, so it follows the exact orbit
-through the cycle only where G r << 1; where G r is of order 1 or more, the computed orbit is one
-realization of the rounding, not the exact dynamics. :data:`FAITHFUL_MAX` is the bound this
-project uses (G r below 1e-3: the amplified rounding stays a thousand times below the state).
+the gain builds up over the slow approach before each spike). An integration whose unit roundoff is r
+injects an error of relative size r at every Taylor step, n steps per cycle: at most n r per cycle
+(errors that add coherently; a random walk gives about sqrt(n) r), each amplified by at most G. So the
+separation of the computed orbit from the exact one grows by at most G n r per cycle
+(:func:`injected_rounding`), and the arithmetic follows the orbit through the cycle only where that is
+small; where it is of order 1 or more, the computed orbit is one realization of the rounding, not the
+exact dynamics. :data:`FAITHFUL_MAX` is the bound this project uses (G n r below 1e-3: the amplified
+rounding stays a thousand times below the state). The count is validated against the measured
+separation of two arithmetics over a cycle (``benchmarks/gauge_count.py``).
 
 Conventions: time in the flow's time unit, G dimensionless (ln G stored), r the unit roundoff of
-each precision (``Precision.rounding``: 2^-53, 2^-64, 2^-113). The tangent map is propagated with the
-orbit (heyoka's variational equations, 4 vectors) and re-orthonormalised every ``tau`` by QR; the
-map over a cycle is Q_end (R_m ... R_1) Q_start^T, so its singular values are those of the product
-of the R factors between the two spikes, which never holds the full growth in the state that
-heyoka's step control sees.
+each precision (``Precision.rounding``: 2^-53, 2^-64, 2^-106, 2^-113), n the Taylor steps of one
+cycle, counted in the gauge's own double run and taken for every arithmetic (heyoka's order grows like
+-ln(tolerance) / 2 at a tolerance of the arithmetic's epsilon, so its step length hardly changes with
+the arithmetic). The tangent map is propagated with the orbit (heyoka's variational equations, 4
+vectors) and re-orthonormalised every ``tau`` by QR; the map over a cycle is Q_end (R_m ... R_1)
+Q_start^T, so its singular values are those of the product of the R factors between the two spikes,
+which never holds the full growth in the state that heyoka's step control sees.
 """
 
 from __future__ import annotations
@@ -59,13 +66,30 @@ def cycle_gains(R_steps, spike_steps) -> np.ndarray:
     return np.array(out)
 
 
-def follows(ln_gain: float, rounding: float, limit: float = FAITHFUL_MAX) -> str:
+def injected_rounding(rounding: float, steps_per_cycle: float) -> float:
+    """The relative error an arithmetic of unit roundoff ``rounding`` injects over one cycle of
+    ``steps_per_cycle`` Taylor steps, counted coherently: steps x rounding (NaN when the steps are not
+    known)."""
+    if not (math.isfinite(steps_per_cycle) and steps_per_cycle >= 1):
+        return math.nan
+    return float(steps_per_cycle) * rounding
+
+
+def follows(ln_gain: float, rounding: float, limit: float = FAITHFUL_MAX, *, steps_per_cycle: float) -> str:
     """Whether an arithmetic of unit roundoff ``rounding`` follows the exact orbit through a cycle of
-    gain exp(ln_gain): FOLLOWS when G r < limit, DOES_NOT_FOLLOW when G r >= limit, UNKNOWN when
-    the gain was not measured (NaN: no complete cycle)."""
-    if not math.isfinite(ln_gain):
+    gain exp(ln_gain) and ``steps_per_cycle`` Taylor steps: FOLLOWS when G x steps x rounding < limit,
+    DOES_NOT_FOLLOW when it is at or above, UNKNOWN when the gain or the steps were not measured (NaN: no
+    complete cycle)."""
+    injected = injected_rounding(rounding, steps_per_cycle)
+    if not (math.isfinite(ln_gain) and math.isfinite(injected)):
         return UNKNOWN
-    return FOLLOWS if ln_gain + math.log(rounding) < math.log(limit) else DOES_NOT_FOLLOW
+    return FOLLOWS if ln_gain + math.log(injected) < math.log(limit) else DOES_NOT_FOLLOW
+
+
+def log10_gain_rounding(ln_gain: float, rounding: float, steps_per_cycle: float) -> float:
+    """log10(G x steps x rounding), NaN when unknown."""
+    injected = injected_rounding(rounding, steps_per_cycle)
+    return (ln_gain + math.log(injected)) / math.log(10) if math.isfinite(ln_gain + injected) else math.nan
 
 
 #: How far below what an indicator resolves the amplified rounding must stay (G x rounding at most
@@ -95,21 +119,24 @@ def indicator_limit(name: str, resolved: float = math.nan) -> float:
     return FAITHFUL_MAX
 
 
-def indicator_follows(ln_gain_max: float, arithmetic: dict, resolved: dict | None = None) -> dict:
+def indicator_follows(ln_gain_max: float, arithmetic: dict, resolved: dict | None = None, *,
+                      steps_per_cycle: float) -> dict:
     """{indicator: does its arithmetic follow the orbit closely enough for it (``follows`` with
     ``indicator_limit``)}. ``arithmetic``: indicator -> the arithmetic (a Precision or its name) its
-    verdict was judged in; ``resolved``: indicator -> the relative quantity it resolves (optional)."""
+    verdict was judged in; ``resolved``: indicator -> the relative quantity it resolves (optional);
+    ``steps_per_cycle``: the Taylor steps of one cycle (NaN: not measured, every answer UNKNOWN)."""
     resolved = resolved or {}
-    return {name: follows(ln_gain_max, Precision.parse(a).rounding, indicator_limit(name, resolved.get(name, math.nan)))
+    return {name: follows(ln_gain_max, Precision.parse(a).rounding, indicator_limit(name, resolved.get(name, math.nan)),
+                          steps_per_cycle=steps_per_cycle)
             for name, a in arithmetic.items()}
 
 
 def tangent_run(ta, y0, *, T: float, tau: float, component: int = 1) -> dict:
     """Propagate the orbit from ``y0`` with the 4 x 4 tangent map of ``ta`` (``integrators.sleigh_tangent``
     with k = 4, parameters set) over T in steps of tau, re-orthonormalising by QR after each step.
-    Returns t (the step ends), x (component ``component`` of the state there: Omega by default) and
-    R (n_steps, 4, 4), the R factors in double."""
-    from sleighsim.chaos.propagate import _propagate
+    Returns t (the step ends), x (component ``component`` of the state there: Omega by default), R
+    (n_steps, 4, 4), the R factors in double, and steps (heyoka's Taylor steps in all)."""
+    import heyoka as hy
 
     n = 4
     n_steps = int(round(T / tau))
@@ -119,29 +146,37 @@ def tangent_run(ta, y0, *, T: float, tau: float, component: int = 1) -> dict:
     ta.time = 0.0
     integrators.load(ta, np.asarray(y0))
     ta.state[n:] = np.eye(n).ravel()
-    x, R_steps = np.empty(n_steps), np.empty((n_steps, n, n))
+    x, R_steps, taylor_steps = np.empty(n_steps), np.empty((n_steps, n, n)), 0
     for i in range(n_steps):
-        _propagate(ta, tau, callback, i * tau)
+        res = ta.propagate_for(tau, callback=callback)
+        if res[0] != hy.taylor_outcome.time_limit or not np.all(np.isfinite(ta.state)):
+            raise RuntimeError(f"gauge run stopped at t = {i * tau:.6g} (+{float(ta.time):.6g}): {res[0]}")
+        taylor_steps += int(res[3])
         ta.time = 0.0  # autonomous: keep the clock small
         q, r = np.linalg.qr(np.asarray(ta.state[n:], float).reshape(n, n))
         ta.state[n:] = q.ravel()
         R_steps[i] = r
         x[i] = float(ta.state[component])
-    return {"t": tau * np.arange(1, n_steps + 1), "x": x, "R": R_steps}
+    return {"t": tau * np.arange(1, n_steps + 1), "x": x, "R": R_steps, "steps": taylor_steps}
 
 
 def spike_cycle_gains(ta, y0, *, T: float, tau: float = 5.0, spike_factor: float = 1.8) -> dict:
     """The gain of every complete spike cycle along the orbit from ``y0`` over T (``tangent_run``;
     spikes of Omega by ``transient.spike_times`` on the step ends). Returns spike_times, ln_gain (one
-    per cycle; empty with fewer than two spikes), ln_gain_max (NaN without a cycle) and, per
-    precision (keyed by :class:`Precision`), log10 of G_max x rounding and whether it follows the orbit."""
+    per cycle; empty with fewer than two spikes), ln_gain_max (NaN without a cycle), steps_per_cycle (the
+    run's Taylor steps per time unit times the mean spike interval; NaN without a cycle) and, per
+    precision (keyed by :class:`Precision`), log10 of G_max x steps x rounding, log10 of G_max x rounding
+    (one rounding, not counted per step) and whether it follows the orbit."""
     run = tangent_run(ta, y0, T=T, tau=tau)
     spikes = transient.spike_times(run["t"], run["x"], factor=spike_factor, block=10 * tau)
     steps = np.searchsorted(run["t"], spikes)
     ln_gain = cycle_gains(run["R"], steps) if len(steps) >= 2 else np.array([])
     ln_max = float(ln_gain.max()) if ln_gain.size else math.nan
+    per_time = run["steps"] / (run["t"].size * tau)
+    per_cycle = per_time * float(np.mean(np.diff(spikes))) if len(spikes) >= 2 else math.nan
     return {
-        "spike_times": spikes, "ln_gain": ln_gain, "ln_gain_max": ln_max,
-        "log10_gain_rounding": {p: (ln_max + math.log(p.rounding)) / math.log(10) for p in Precision},
-        "follows": {p: follows(ln_max, p.rounding) for p in Precision},
+        "spike_times": spikes, "ln_gain": ln_gain, "ln_gain_max": ln_max, "steps_per_cycle": per_cycle,
+        "log10_gain_rounding": {p: log10_gain_rounding(ln_max, p.rounding, per_cycle) for p in Precision},
+        "log10_gain_unit_rounding": {p: (ln_max + math.log(p.rounding)) / math.log(10) for p in Precision},
+        "follows": {p: follows(ln_max, p.rounding, steps_per_cycle=per_cycle) for p in Precision},
     }

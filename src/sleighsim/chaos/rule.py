@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 
+from sleighsim.chaos.faithfulness import FOLLOWS
 from sleighsim.chaos.verdicts import CHAOTIC, REGULAR, UNDECIDED, VERDICTS
 
 # written into the chaos_verdict dataset (attribute rule, with ``consistent``'s docstring)
@@ -79,39 +80,59 @@ def precision_gate(verdicts: dict, ld: dict) -> None:
                 verdicts[k] = (UNDECIDED, f"{ld['reason']}; in double precision: {verdicts[k][1]}")
 
 
+#: What ``faithful_gate`` does (the text a dataset records for the rule).
+FAITHFUL_RULE = (
+    "every indicator's verdict is set aside (becomes undecided, naming the arithmetic) unless the faithfulness "
+    "gauge shows that the arithmetic it was judged in follows the state's orbit closely enough for it (G x the "
+    "rounding injected per cycle below the indicator's limit, chaos.faithfulness.indicator_limit); a gauge that "
+    "measured nothing (unknown) or gave no answer for the indicator sets it aside too"
+)
+
+
 # the docstring is written into the chaos_verdict dataset (attribute faithful_rule)
 def faithful_gate(verdicts: dict, arithmetic: dict, follows: dict) -> list[str]:
-    """Set aside, in place, every indicator whose verdict was judged in an arithmetic shown not to
-    follow the state's orbit closely enough for that indicator (the faithfulness gauge,
-    ``sleighsim.chaos.faithfulness``: G x rounding in a spike cycle at or above the indicator's own
-    limit, ``faithfulness.indicator_limit``: 1e-3 for the tangent-based indicators and the two nearby
-    orbits, 1e-4 for the Loschmidt test, 1e-2 times the spread it resolves for the frequency analysis
-    and the weighted Birkhoff average): a chaotic or regular verdict becomes undecided, naming the
-    arithmetic. An indicator whose gauge is "unknown" (no complete cycle measured) is not set aside:
-    the gauge shows nothing either way. ``arithmetic``: indicator -> the arithmetic its verdict was
-    judged in; ``follows``: indicator -> the gauge's answer for it. Returns the names set aside."""
+    """Set aside, in place, every indicator whose verdict was judged in an arithmetic not shown to follow
+    the state's orbit closely enough for that indicator (the faithfulness gauge,
+    ``sleighsim.chaos.faithfulness``: G x the rounding injected per spike cycle below the indicator's own
+    limit, ``faithfulness.indicator_limit``): a chaotic or regular verdict becomes undecided, naming the
+    arithmetic, unless the gauge's answer for it is "follows". The gauge fails closed: "unknown" (no
+    complete cycle measured) and a missing answer set the verdict aside too. ``arithmetic``: indicator ->
+    the arithmetic its verdict was judged in; ``follows``: indicator -> the gauge's answer for it. Returns
+    the names set aside."""
     aside = []
     for name, (v, reason) in list(verdicts.items()):
-        a = arithmetic[name]
-        if v != UNDECIDED and follows.get(name) == "does not follow":
-            verdicts[name] = (UNDECIDED, f"set aside: judged in {a}, which does not follow this orbit closely "
-                                         f"enough for {name} (the faithfulness gauge); it said {v}: {reason}")
+        answer = follows.get(name, "no answer")
+        if v != UNDECIDED and answer != FOLLOWS:
+            verdicts[name] = (UNDECIDED, f"set aside: judged in {arithmetic.get(name, 'an unnamed arithmetic')}, "
+                                         f"which the faithfulness gauge does not show to follow this orbit closely "
+                                         f"enough for {name} ({answer}); it said {v}: {reason}")
             aside.append(name)
     return aside
 
 
+#: What ``vote_gate`` does (the text a dataset records for the rule).
+VOTE_RULE = (
+    "only a judge that votes at the run's horizon counts: one whose wrong-verdict rate, measured by the "
+    "judge-power audit on independent orbits of known class with the same estimator and settings at an audited "
+    "horizon no longer than the run's, has a one-sided 95% Clopper-Pearson upper bound of at most 5% on tori and "
+    "on chaotic orbits alike (chaos.power.stage_vote); every other indicator's verdict becomes undecided"
+)
+
+
 # the docstring is written into the chaos_verdict dataset (attribute vote_rule)
 def vote_gate(verdicts: dict, voters: set) -> list[str]:
-    """Set aside, in place, the verdict of every indicator that does not vote: only a judge whose
-    wrong-verdict rate, measured on orbits of known class (the judge-power audit,
-    ``sleighsim.chaos.power.voting``), is at most 1 in 100 on tori and on chaotic orbits alike votes; a
+    """Set aside, in place, the verdict of every indicator that does not vote (``voters``, from
+    ``sleighsim.chaos.power.stage_vote``: the judge-power audit measured its wrong-verdict rate, on
+    independent orbits of known class with the same estimator and settings at an audited horizon no longer
+    than the run's, with a one-sided 95% upper bound of at most 5% on tori and on chaotic orbits alike): a
     chaotic or regular verdict of any other indicator (one the audit did not measure included) becomes
     undecided, naming why. Returns the names set aside."""
     aside = []
     for name, (v, reason) in list(verdicts.items()):
         if v != UNDECIDED and name not in voters:
-            verdicts[name] = (UNDECIDED, f"does not vote (its measured wrong-verdict rate exceeds 1 in 100 on a class "
-                                         f"of known orbits, or was not measured); it said {v}: {reason}")
+            verdicts[name] = (UNDECIDED, f"does not vote (the judge-power record does not bound its wrong-verdict "
+                                         f"rate by 5% on every class at this horizon, or did not audit this "
+                                         f"estimator); it said {v}: {reason}")
             aside.append(name)
     return aside
 

@@ -122,9 +122,9 @@ class _Datasets:
         """The finest precision the config ladders every one of ``names`` in (double when any is
         not laddered, or when ``names`` is empty)."""
         if not names or any(n not in self.ladders for n in names):
-            return "double"
+            return Precision.DOUBLE
         common = set.intersection(*(set(self.ladders[n]) for n in names))
-        return max(common, key=PRECISIONS.index, default="double")
+        return max(common, key=PRECISIONS.index, default=Precision.DOUBLE)
 
     def variants(self, names, precision: str) -> list[str]:
         """Each of ``names`` in ``precision`` where the config ladders it in that precision, else as is."""
@@ -150,7 +150,7 @@ class _Datasets:
             c = ds.attrs["converged_precision"]
             text = f"{n}: " + (f"converged in {c}" if c != "not converged" else c)
             if "follows_orbit" in ds:
-                f = str(ds.follows_orbit.sel(precision="double").values)
+                f = str(ds.follows_orbit.sel(precision=Precision.DOUBLE).values)
                 text += ((", double " + f) if f != UNKNOWN
                          else ", double's faithfulness not measured (no full spike cycle)")
             out.append(text)
@@ -188,7 +188,7 @@ def judge_claim(row: Row, claim: Claim, load: _Datasets) -> None:
     row.precision = precision = load.finest(names)
     j = j_double = _judged(claim, load(names))
     row.verdict, row.reason = j.verdict, j.reason
-    if row.precision != "double":
+    if row.precision != Precision.DOUBLE:
         j = _judged(claim, load(load.variants(names, precision)))
         row.verdict, row.reason = in_precision(j_double, j, row.precision)
         row.double_value = j_double.measured
@@ -213,7 +213,8 @@ def judge_claim(row: Row, claim: Claim, load: _Datasets) -> None:
             row.cause = f"causes not yet computed: {missing}"
 
 
-def judge_realizations(row: Row, claim: Claim, names, load: _Datasets, first, judged_in: str = "double") -> None:
+def judge_realizations(row: Row, claim: Claim, names, load: _Datasets, first,
+                       judged_in: Precision = Precision.DOUBLE) -> None:
     """The claim judged again on every realization of its datasets (``_Datasets.realizations``;
     ``first`` is the judgement of realization 0 in double): the row keeps its verdict when all agree,
     else it is "fragile" with the count of each verdict (``chaos.rule.agree``). Realizations run in
@@ -224,7 +225,7 @@ def judge_realizations(row: Row, claim: Claim, names, load: _Datasets, first, ju
         return
     verdicts = [first.verdict] + [_judged(claim, load(s)).verdict for s in sets]
     answer, _, why = agree(verdicts)
-    if judged_in != "double":
+    if judged_in != Precision.DOUBLE:
         row.realizations = f"in double: {why}; {judged_in}: one run"
         return
     row.realizations = why

@@ -14,18 +14,19 @@ ledger written from an incomplete results tree.
 from __future__ import annotations
 
 import argparse
+import importlib
 import sys
 
-from sleighsim.cli import claims, verify
-from sleighsim.ops import configdoc, costs, resultdiff
-
-#: subcommand -> (the main it runs, its one-line help)
+#: subcommand -> (the module whose main it runs, imported only for that subcommand: `verify` then
+#: loads neither matplotlib nor heyoka, which want a writable HOME; its one-line help)
 COMMANDS = {
-    "claims": (claims.main, "judge every claim of CLAIMS.md from a results tree; write the ledger"),
-    "diff": (resultdiff.main, "compare two result trees dataset by dataset (exit 1 when they differ)"),
-    "costs": (costs.main, "the run's measured cost, its estimate for another config, and the cost plot"),
-    "configdoc": (configdoc.main, "write config/README.md from the schema (--check: exit 1 when out of step)"),
-    "verify": (verify.main, "check every dataset of a results tree against its recorded checksum (exit 1 on any)"),
+    "claims": ("sleighsim.cli.claims", "judge every claim of CLAIMS.md from a results tree; write the ledger"),
+    "diff": ("sleighsim.ops.resultdiff", "compare two result trees dataset by dataset (exit 1 when they differ)"),
+    "costs": ("sleighsim.ops.costs", "the run's measured cost, its estimate for another config, and the cost plot"),
+    "configdoc": ("sleighsim.ops.configdoc",
+                  "write config/README.md from the schema (--check: exit 1 when out of step)"),
+    "verify": ("sleighsim.cli.verify", "check every dataset of a results tree against its recorded checksum (exit 1 on "
+               "any)"),
 }
 
 
@@ -43,7 +44,8 @@ def main(argv: list[str] | None = None) -> int:
     """Run ``sleighsim SUBCOMMAND [OPTIONS]``; returns the subcommand's exit status."""
     argv = sys.argv[1:] if argv is None else list(argv)
     name = _parser().parse_args(argv[:1]).command
-    run, _ = COMMANDS[name]  # the subcommand parses the rest, its usage naming it
+    module, _ = COMMANDS[name]  # the subcommand parses the rest, its usage naming it
+    run = importlib.import_module(module).main
     try:
         return int(run(argv[1:], prog=f"sleighsim {name}") or 0)
     except SystemExit as stop:  # argparse's usage errors and --help inside a subcommand

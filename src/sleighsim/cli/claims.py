@@ -51,8 +51,8 @@ def _checked(ap: argparse.ArgumentParser, argv) -> argparse.Namespace:
             ap.error(f"{flag} {d}: no such directory")
     try:
         n_claims = len(parse_claims(a.claims))
-    except OSError as err:
-        ap.error(f"--claims {a.claims}: {err.strerror or err}")
+    except (OSError, UnicodeDecodeError) as err:  # /bin/ls: not UTF-8 text
+        ap.error(f"--claims {a.claims}: {getattr(err, 'strerror', None) or 'not a UTF-8 text file'}")
     if not n_claims:
         ap.error(f"--claims {a.claims}: no claim rows (table rows whose first cell is an id such as F1, C01, D1)")
     return a

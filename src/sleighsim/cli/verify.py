@@ -1,6 +1,9 @@
 """``sleighsim verify RESULTS_DIR``: check every dataset of a results tree against the checksum of its
-values recorded when it was written (:mod:`sleighsim.io.checksum`); print each file that fails, and
-why, then a count. Exit status 0 when all pass, 1 when any fails, 2 for a usage error."""
+values, attributes and dimensions and its identity recorded when it was written
+(:mod:`sleighsim.io.checksum`); print each file that fails, and why, then a count. Symlinked
+directories are followed; a directory that cannot be listed, a file that is not a regular file (a
+FIFO named *.nc) or cannot be read fails, and so does a tree holding no dataset. Exit status 0 when
+all pass, 1 when any fails or there is none, 2 for a usage error."""
 
 from __future__ import annotations
 
@@ -23,4 +26,7 @@ def main(argv=None, prog: str = "sleighsim verify") -> int:
     for why in failed:
         print(f"FAILED {why}")
     print(f"{len(checked)} datasets checked under {args.results}, {len(failed)} failed")
+    if not checked:
+        print(f"FAILED {args.results}: holds no dataset (*.nc); nothing was verified")
+        return 1
     return 1 if failed else 0

@@ -3,8 +3,10 @@
 
 The pair operations are built on error-free transformations: TwoSum (Knuth: a + b = s + e exactly),
 FastTwoSum (Dekker, for |a| >= |b|) and TwoProd (a b = p + e exactly, e = fma(a, b, -p) with the
-hardware fused multiply-add, reached through LLVM's ``llvm.fma.f64`` intrinsic). Everything is compiled
-by numba (``njit(cache=True)``: the compilation is kept on disk beside this module and paid once).
+hardware fused multiply-add, reached through LLVM's ``llvm.fma.f64`` intrinsic). The operations are written
+for doubles and compile unchanged for the lane vectors of :mod:`sleighsim.engine.ddsimd` (many pairs at once).
+Everything is compiled by numba (``njit(cache=True)``: the compilation is kept on disk beside this module and
+paid once).
 Algorithms as in Hida, Li and Bailey's QD library ("accurate" addition and division) and Ogita, Rump
 and Oishi's compensated dot product (Dot2), which :mod:`sleighsim.engine.ddtaylor` uses for the
 Cauchy products.
@@ -25,6 +27,7 @@ import numpy as np
 from numba.core import types
 from numba.extending import intrinsic
 
+from sleighsim.engine import ddsimd
 from sleighsim.io.cachedir import private_directory
 
 #: Unit roundoff of double-double (2^-106).
@@ -33,7 +36,11 @@ ROUNDING = 2.0**-106
 
 @intrinsic
 def fma(typingctx, a, b, c):
-    """a b + c with one rounding (LLVM's fma intrinsic: the CPU's fused multiply-add)."""
+    """a b + c with one rounding (LLVM's fma intrinsic: the CPU's fused multiply-add); lane by lane when an
+    operand is a vector of :mod:`sleighsim.engine.ddsimd` (the doubles among them broadcast)."""
+    vector = ddsimd.vector_signature(a, b, c)
+    if vector is not None:
+        return vector(a, b, c), ddsimd.fma_codegen
     sig = types.float64(types.float64, types.float64, types.float64)
 
     def codegen(context, builder, signature, args):

@@ -6,7 +6,10 @@ directory owned by the current user that no one else can write, and when each di
 owned by the user or by root and, if someone else can write it, sticky (as /tmp is: no one else can
 rename or replace what it holds). "Someone else" is others, and the group unless it is the user's
 private group (named after the user, with no other members: umask 002 systems make directories
-group-writable for it). Anything else is refused with the reason.
+group-writable for it). The way there is checked too, before the cache is created or resolved: each
+directory above the path as written, and each symbolic link on it, which must be the user's or
+root's (a link inside a directory others can write would let them point the cache elsewhere).
+Anything else is refused with the reason.
 """
 
 from __future__ import annotations
@@ -46,16 +49,38 @@ def _problem(path: Path, leaf: bool) -> str:
     return ""
 
 
+def _route_problem(path: Path) -> str:
+    """Why another user controls the way to ``path`` as written ("" when no one does): an existing
+    directory above it (:func:`_problem`) or a symbolic link on it owned by someone else."""
+    absolute = Path(os.path.abspath(path))
+    for p in (absolute, *absolute.parents):
+        try:
+            st = os.lstat(p)
+        except FileNotFoundError:
+            continue  # created below, 0700
+        if stat.S_ISLNK(st.st_mode) and st.st_uid not in (os.geteuid(), 0):
+            return f"{p} is a symbolic link owned by uid {st.st_uid}, not by you (uid {os.geteuid()}) or root"
+        if p != absolute and not stat.S_ISLNK(st.st_mode) and (why := _problem(p, leaf=False)):
+            return why
+    return ""
+
+
 def private_directory(path, what: str) -> Path:
     """``path`` as a cache directory only the current user controls: created 0700 when missing;
     :class:`UnsafeDirectory` naming ``what`` (the setting that chose it) and the reason otherwise.
     OSError when it cannot be created."""
     path = Path(path)
+    if why := _route_problem(path):
+        raise _refused(what, path, why)
     os.makedirs(path, mode=0o700, exist_ok=True)
     real = path.resolve()
     for directory in (real, *real.parents):
         if why := _problem(directory, leaf=directory == real):
-            raise UnsafeDirectory(f"{what} {path}: refused as a cache, since {why}; another user could put "
-                                  "code there that every job runs. Use a directory only you can write "
-                                  "(e.g. under ~/.cache), or chmod go-w it if it is yours")
+            raise _refused(what, path, why)
     return path
+
+
+def _refused(what: str, path: Path, why: str) -> UnsafeDirectory:
+    return UnsafeDirectory(f"{what} {path}: refused as a cache, since {why}; another user could put code there "
+                           "that every job runs. Use a directory only you can write (e.g. under ~/.cache), or chmod "
+                           "go-w it if it is yours")

@@ -124,7 +124,7 @@ def missing(ds: xr.Dataset) -> list[str]:
     return out
 
 
-def dataset_name(path, precision: str = "double") -> tuple[str, str]:
+def dataset_name(path, precision: str = Precision.DOUBLE) -> tuple[str, str]:
     """(name, variant) of a file of a results tree: the scene of ``data/<scene>.nc`` ("" variant),
     ``data/precision/<tag>/<scene>.nc``, ``data/ladder/<scene>.nc``, ``data/realization/<k>/<scene>.nc``,
     ``chunks/<scene>/<k>.nc`` or ``chunks/precision/<tag>/<scene>/<k>.nc``; any other file by its

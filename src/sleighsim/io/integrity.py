@@ -96,11 +96,40 @@ def set_aside(results, products) -> list[tuple[Path, Path]]:
     return moves
 
 
-def stale_temps(results, before: float) -> list[Path]:
-    """The workflow's temporary files under ``results`` (``.<name>.<random>.<suffix>.tmp``, from
-    sleighsim.io.netcdf.atomic_path) last modified before ``before`` (a time.time()) and open in no
-    process this user can see."""
-    old = [p for p in Path(results).rglob(".*.tmp") if p.is_file() and p.stat().st_mtime < before]
+def _own_temps(results: Path, dirs):
+    """The files named as :func:`sleighsim.io.netcdf.atomic_path` names its temporaries
+    (:data:`sleighsim.io.netcdf.TEMP_NAME`) directly in ``results`` and anywhere under its
+    subdirectories ``dirs`` (None: all), symbolic links not followed, hidden directories (.git,
+    .snakemake) not entered."""
+    from sleighsim.io.netcdf import TEMP_NAME
+
+    tops = [results] + [results / d for d in (dirs if dirs is not None else _subdirs(results))]
+    for i, top in enumerate(tops):
+        if i and (top.is_symlink() or not top.is_dir()):
+            continue
+        for here, subdirs, files in os.walk(top):
+            subdirs[:] = [] if i == 0 else [d for d in subdirs if not d.startswith(".")]
+            yield from (Path(here) / f for f in files if TEMP_NAME.fullmatch(f))
+
+
+def _subdirs(results: Path) -> list[str]:
+    try:
+        return [e.name for e in os.scandir(results) if not e.name.startswith(".") and e.is_dir(follow_symlinks=False)]
+    except OSError:
+        return []
+
+
+def stale_temps(results, before: float, dirs=None) -> list[Path]:
+    """The workflow's temporary files (:func:`_own_temps`: only its own names, only in ``results``
+    itself and its subdirectories ``dirs``, the ones the workflow writes) last modified before
+    ``before`` (a time.time()) and open in no process this user can see."""
+    old = []
+    for p in _own_temps(Path(results), dirs):
+        try:
+            if not p.is_symlink() and p.stat().st_mtime < before:
+                old.append(p)
+        except OSError:
+            continue  # gone meanwhile
     held = _open_files() if old else set()
     return [p for p in old if os.path.realpath(p) not in held]
 
@@ -121,9 +150,9 @@ def _open_files() -> set[str]:
     return held
 
 
-def sweep_stale_temps(results, before: float) -> list[Path]:
+def sweep_stale_temps(results, before: float, dirs=None) -> list[Path]:
     """Remove :func:`stale_temps` (left by killed writes); returns what was removed."""
-    gone = stale_temps(results, before)
+    gone = stale_temps(results, before, dirs)
     for p in gone:
         p.unlink(missing_ok=True)
     return gone

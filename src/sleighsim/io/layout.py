@@ -11,7 +11,7 @@ workflow, the catalog, the ledger, the report, the cost estimate, the CF titles)
     chunks/[precision/<tag>/]<scene>/<k>.nc   chunk k of a chunked scene (or of its finer variant)
     figures/, report/, logs/, benchmarks/, stability/, unreadable/, claims.{csv,nc}
 
-A dataset's *name* is its path under ``data/`` without the suffix (``precision/long_double/fig9_ref``);
+A dataset's *name* is its path under ``data/`` without the suffix (``precision/long_double/<scene>``);
 the patterns :data:`FINER`, :data:`LADDER_OF` and :data:`REALIZED` spell the names with Snakemake's
 wildcards (``tag``, ``scene``, ``k``), so the workflow's rules and the functions below share one spelling.
 """

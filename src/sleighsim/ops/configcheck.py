@@ -27,7 +27,7 @@ import os
 
 from sleighsim.ops.config import REPO
 from sleighsim.ops.names import check_scene_names
-from sleighsim.ops.plancheck import check_distinct_eps, check_labelled_states, check_pre_run
+from sleighsim.ops.plancheck import check_distinct_eps, check_labelled_states, check_magnitudes, check_pre_run
 from sleighsim.ops.workmodel import chunk_work, work
 from sleighsim.precision import Precision
 from sleighsim.scenes.catalog import KINDS, scene_config
@@ -167,9 +167,12 @@ def _scene(name: str, cfg: dict, scenes: dict) -> None:
     for role, source in cfg.get("inputs", {}).items():
         if source not in scenes or not KINDS[scenes[source]["kind"]].dataset:
             raise ConfigError(f"{w}.inputs.{role} = {source!r} is not a scene of the config that makes a dataset")
-    if "vote_record" in cfg and not (REPO / cfg["vote_record"]).is_file():
-        raise ConfigError(f"{w}.vote_record = {cfg['vote_record']!r}: no such file in the repository (write it with "
-                          "python -m sleighsim.ops.powerrecord)")
+    if "vote_record" in cfg:
+        from sleighsim.ops.powerrecord import problems
+
+        bad = problems(REPO / cfg["vote_record"])
+        if bad:
+            raise ConfigError(f"{w}.vote_record = {cfg['vote_record']!r}: {'; '.join(bad)}")
     check_jobs(name, kind.name, cfg)
     kind.checks(w, cfg)
     check_distinct_eps(w, cfg)
@@ -183,6 +186,7 @@ def _scene(name: str, cfg: dict, scenes: dict) -> None:
 def check(config: dict, available_memory: float | None = None) -> None:
     """Raise :class:`ConfigError` naming the first offending key."""
     check_scene_names(config)
+    check_magnitudes(config)
     check_numbers(config)
     available = machine_memory() if available_memory is None else available_memory
     scenes = config["scenes"]

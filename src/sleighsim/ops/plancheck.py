@@ -5,7 +5,10 @@
   something that turns (Omega = omega = 0 is a straight-line motion, an equilibrium: no spikes);
 - the eps values a sweep lists (a key ``eps`` or ``*_eps`` holding a list) are distinct;
 - a pre-run judged by the transient rules (sleighsim.engine.transient.settle) holds two of the
-  spike rule's blocks (sleighsim.scenes.checks.SPIKE_BLOCK time units each).
+  spike rule's blocks (sleighsim.scenes.checks.SPIKE_BLOCK time units each);
+- every integer of the config is at most :data:`MAX_INT` in magnitude (a 400-digit count overflowed
+  the float conversions of the checks), and the states of each energy level (``levels``) rescale
+  to its label as labelled start states do.
 
 Each error (:class:`sleighsim.scenes.checks.ConfigError`) names the key.
 """
@@ -25,6 +28,8 @@ from sleighsim.scenes.checks import SPIKE_BLOCK, ConfigError
 LABEL_KEYS = ("energy_label", "reference_label")
 #: Keys of a block holding start states: one state, or a list or mapping of states.
 STATE_KEYS = ("y0", "states", "references")
+#: The largest integer magnitude a config may hold (every integer below it is exact as a float).
+MAX_INT = 2**53
 
 
 def _states(cfg: dict):
@@ -68,9 +73,11 @@ def check_state(where: str, y, label_key: str, label: float, params: Params) -> 
 
 
 def check_labelled_states(w: str, cfg: dict) -> None:
-    """Every start state of the block ``w`` (``scenes.<name>``) with a positive label (:func:`check_state`)."""
+    """Every start state of the block ``w`` (``scenes.<name>``) with a positive label, and every
+    state of each of its energy ``levels`` (a list of {label, states}) (:func:`check_state`)."""
     labels = [(k, cfg[k]) for k in LABEL_KEYS if isinstance(cfg.get(k), (int, float)) and cfg[k] > 0]
-    if not labels:
+    levels = cfg.get("levels") if isinstance(cfg.get("levels"), list) else []
+    if not labels and not levels:
         return
     try:
         params = _params(cfg)
@@ -79,6 +86,25 @@ def check_labelled_states(w: str, cfg: dict) -> None:
     for key, y in _states(cfg):
         for label_key, label in labels:
             check_state(f"{w}.{key}", y, label_key, float(label), params)
+    for i, level in enumerate(levels):
+        label = level.get("label") if isinstance(level, dict) else None
+        if isinstance(label, (int, float)) and not isinstance(label, bool) and label > 0:
+            for key, y in _states(level):
+                check_state(f"{w}.levels[{i}].{key}", y, f"{w}.levels[{i}].label", float(label), params)
+
+
+def check_magnitudes(node, path: str = "") -> None:
+    """Every integer in the config ``node`` at most :data:`MAX_INT` in magnitude, naming its key."""
+    if isinstance(node, dict):
+        for k, v in node.items():
+            check_magnitudes(v, f"{path}.{k}" if path else str(k))
+    elif isinstance(node, list):
+        for i, v in enumerate(node):
+            check_magnitudes(v, f"{path}[{i}]")
+    elif isinstance(node, int) and not isinstance(node, bool) and abs(node) > MAX_INT:
+        digits = int(node.bit_length() * math.log10(2)) + 1  # str() of a huge int is itself refused (4300 digits)
+        raise ConfigError(f"{path} = an integer of about {digits} digits: larger than any this config can use (at "
+                          f"most 2**53 = {MAX_INT})")
 
 
 def check_distinct_eps(w: str, node, path: str = "") -> None:

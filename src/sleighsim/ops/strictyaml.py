@@ -1,8 +1,12 @@
 """The strict YAML loader of config files: plain data only, read the way a reviewer reads it.
 
+- a text longer than :data:`MAX_BYTES` or nested deeper than :data:`MAX_DEPTH` is refused from its
+  raw text, before it is parsed (PyYAML builds nested nodes recursively: 5,000 levels raise
+  RecursionError);
 - a mapping that repeats a key is refused (PyYAML keeps the last value silently);
-- a document whose aliases would expand to more than :data:`MAX_NODES` nodes is refused before it is
-  built (a "billion laughs" bomb), and so is an alias that refers to itself;
+- a document whose aliases would add more than :data:`MAX_NODES` nodes when expanded is refused
+  before it is built (a "billion laughs" bomb, of lists or of mappings), and so is an alias that
+  refers to itself; a long document without aliases is not a bomb;
 - ``__use_yte__`` (Snakemake's YTE templating, which runs code from the config) is refused unless the
   environment sets :data:`YTE_OPT_IN` to 1.
 
@@ -19,8 +23,12 @@ import yaml
 
 from sleighsim.scenes.checks import ConfigError
 
-#: Nodes a document may expand to, its aliases counted at every use (config/config.yaml: about 2200).
+#: Nodes a document's aliases may add when expanded, each counted at every use (config/config.yaml: a few hundred).
 MAX_NODES = 50_000
+#: Bytes of a config file (config/config.yaml: about 30 kB).
+MAX_BYTES = 1_000_000
+#: Nesting of collections (config/config.yaml: 6).
+MAX_DEPTH = 64
 #: The environment variable that lets a config use Snakemake's YTE templating (it executes code).
 YTE_OPT_IN = "SLEIGHSIM_ALLOW_YTE"
 
@@ -44,8 +52,9 @@ class _Loader(yaml.SafeLoader):
 
 
 def expanded_size(node, limit: int = MAX_NODES, where: str = "<yaml>") -> int:
-    """Nodes of ``node`` with every alias expanded (shared nodes counted at each use); refuses more
-    than ``limit`` and a node that contains itself, without expanding anything."""
+    """Nodes of ``node`` with every alias expanded (shared nodes counted at each use); refuses a
+    document whose aliases add more than ``limit`` nodes to its own, and a node that contains
+    itself, without expanding anything (each distinct node is visited once)."""
     sizes, open_ = {}, set()
 
     def size(n):
@@ -61,17 +70,39 @@ def expanded_size(node, limit: int = MAX_NODES, where: str = "<yaml>") -> int:
         else:
             total = 1
         open_.discard(id(n))
-        if total > limit:
-            raise ConfigError(f"{where}: its aliases expand to more than {limit} nodes (an alias bomb?); "
-                              "write the values out")
         sizes[id(n)] = total
         return total
 
-    return size(node)
+    total = size(node)
+    if total - len(sizes) > limit:
+        raise ConfigError(f"{where}: its aliases expand to more than {limit} nodes (an alias bomb?); "
+                          "write the values out")
+    return total
+
+
+def check_raw(text: str, where: str = "<yaml>") -> None:
+    """Refuse, from the raw text and before any parsing, a text longer than :data:`MAX_BYTES` or
+    collections nested deeper than :data:`MAX_DEPTH` (counted on PyYAML's token stream, which is
+    read without recursion)."""
+    if len(text.encode()) > MAX_BYTES:
+        raise ConfigError(f"{where}: {len(text.encode())} bytes, more than a config file may have ({MAX_BYTES})")
+    opening = (yaml.BlockMappingStartToken, yaml.BlockSequenceStartToken, yaml.FlowMappingStartToken,
+               yaml.FlowSequenceStartToken)
+    closing = (yaml.BlockEndToken, yaml.FlowMappingEndToken, yaml.FlowSequenceEndToken)
+    depth = 0
+    try:
+        for token in yaml.scan(text, Loader=yaml.SafeLoader):
+            depth += isinstance(token, opening) - isinstance(token, closing)
+            if depth > MAX_DEPTH:
+                line = token.start_mark.line + 1
+                raise ConfigError(f"{where}: line {line}: nested more than {MAX_DEPTH} levels deep")
+    except yaml.YAMLError:
+        return  # the parser names the fault
 
 
 def loads(text: str, where: str = "<yaml>", limit: int = MAX_NODES):
     """The data of one YAML document ``text`` (``where`` names it in errors), strictly."""
+    check_raw(text, where)
     loader = _Loader(text)
     loader.name = where
     try:
@@ -102,6 +133,8 @@ def load(path):
     """The data of the YAML file at ``path``, strictly (:func:`loads`)."""
     path = Path(path)
     try:
+        if path.stat().st_size > MAX_BYTES:
+            raise ConfigError(f"{path}: {path.stat().st_size} bytes, more than a config file may have ({MAX_BYTES})")
         text = path.read_text()
     except (OSError, UnicodeDecodeError) as err:
         raise ConfigError(f"{path}: cannot be read ({err})") from None
@@ -110,6 +143,7 @@ def load(path):
 
 def check_files(paths) -> None:
     """Read each config file at ``paths`` strictly (Snakemake's own loader keeps a repeated key's
-    last value and expands aliases unbounded); raises :class:`ConfigError` naming the file."""
+    last value, recurses without bound and its config merge expands aliases unbounded); raises
+    :class:`ConfigError` naming the file."""
     for path in paths:
         load(path)

@@ -13,6 +13,7 @@ import numpy as np
 from sleighsim.chaos.known_orbits import CHAOTIC_ORBITS, TORI
 from sleighsim.chaos.power import record_rates, record_voting
 from sleighsim.io.netcdf import read_dataset
+from sleighsim.precision import Precision
 from sleighsim.report.page import Table
 
 
@@ -75,7 +76,8 @@ def _decided_by(ds, i: int, power: dict | None = None) -> str:
     verdict = str(ds.verdict.values[i])
     if verdict not in ("chaotic", "regular") or "indicator_verdict" not in ds.data_vars:
         return ""
-    names = {str(k): "double" for k, v in zip(ds.indicator.values, ds.indicator_verdict.values[i]) if v == verdict}
+    names = {str(k): Precision.DOUBLE
+             for k, v in zip(ds.indicator.values, ds.indicator_verdict.values[i]) if v == verdict}
     if _decisive_ran(ds, i):
         names = {k: a for k, a in names.items() if k not in set(map(str, ds.decisive_indicator.values))}
         names.update({str(k): ds.attrs["decisive_precision"] for k, v in

@@ -18,6 +18,7 @@ from sleighsim.model import equations
 from sleighsim.model.attrs import state_attrs
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import state_at_label
+from sleighsim.precision import Precision
 from sleighsim.scenes import memory
 from sleighsim.scenes.checks import multiple
 from sleighsim.scenes.common import steady_arithmetic
@@ -79,7 +80,7 @@ def drift_windows(cfg: dict, scene: str = "") -> xr.Dataset:
     tol = arith["tol"]
     ta, compile_s = integrators.sleigh_tangent(1, tol, cfg["compact_mode"], arith["precision"])
     integrators.set_pars(ta, params)
-    precision = ("double" if ta.state.dtype == np.float64
+    precision = (Precision.DOUBLE if ta.state.dtype == np.float64
                  else f"long double (epsilon {float(np.finfo(ta.state.dtype).eps):.2g})")
     (t_start, interval, interval_sd, n_spikes, lam, drift), n_windows, steps = _windowed(ta, y, params, cfg, scene)
     t_mid = t_start + cfg["window"] / 2

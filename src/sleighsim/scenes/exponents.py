@@ -21,6 +21,7 @@ from sleighsim.model import equations
 from sleighsim.model.attrs import state_attrs
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import state_at_label
+from sleighsim.precision import Precision
 from sleighsim.scenes import memory
 from sleighsim.scenes.checks import blocks
 from sleighsim.scenes.common import steady_arithmetic
@@ -44,7 +45,7 @@ def lyapunov_attrs(params, y0, cfg, scene):
     """The attributes every Lyapunov scene records: the state, the method, the arithmetic and the horizons."""
     out = state_attrs(params, y0)
     out.update(scene=scene, backend="heyoka", method="Benettin QR on var_ode_sys (QR of the tangent vectors in double)",
-               **steady_arithmetic(cfg), transient_tol=cfg["tol"], transient_precision="double",
+               **steady_arithmetic(cfg), transient_tol=cfg["tol"], transient_precision=Precision.DOUBLE,
                tau=cfg["tau"], t_align=cfg["t_align"])
     return out
 

@@ -25,6 +25,7 @@ from sleighsim.io import cf
 from sleighsim.io.netcdf import read_dataset
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import b_image, state_at_label
+from sleighsim.precision import Precision
 from sleighsim.scenes import memory
 from sleighsim.scenes.checks import ConfigError, increasing
 from sleighsim.scenes.common import steady_arithmetic
@@ -221,7 +222,8 @@ def gather(paths, cfg: dict, scene: str = "") -> xr.Dataset:
         n_rows=int(eps.size), n_points=int(eps.size * bs.size), fraction_flagged=float(flagged.mean()),
         min_lambda_1=float(np.nanmin(ds.lambda_1.values)), max_lambda_1=float(np.nanmax(ds.lambda_1.values)),
         min_lambda_1_unflagged=float(np.nanmin(ds.lambda_1.values[ok])) if ok.any() else math.nan,
-        cost_total_s=float(np.nansum(ds.wall_time_s.values)), transient_tol=cfg["tol"], transient_precision="double",
+        cost_total_s=float(np.nansum(ds.wall_time_s.values)), transient_tol=cfg["tol"],
+        transient_precision=Precision.DOUBLE,
         resolve_budget_s=float(cfg.get("resolve_budget_s", math.nan)),
         **steady_arithmetic(cfg), energy_label=cfg["energy_label"], scene=scene,
         settled_state=ds.row_settled_state.values.ravel(), **_observed(ds, ref),

@@ -1,161 +1,122 @@
-"""The judges' power and false rates on orbits of known class (``sleighsim.chaos.power``), as independent
-chunk jobs gathered into one dataset: verdict counts (judge x orbit class x system x horizon x verdict),
-every realization's verdict and reason, the rates per judge and class with their 95% bounds, the
-judges that vote, and each chaotic system's long-run confirmation (lambda_1, how sticky).
+"""The judges' power and false rates on independent orbits of known class (``sleighsim.chaos.power_audit``),
+as chunk jobs gathered into one dataset: every realization's verdicts (raw, the gauge's answer, gated),
+the numbers behind them, its confirmation and gauge; the verdict counts per judge, class, system and
+horizon; the voters per horizon (on the bound) and the decision rule's own counts with them.
 
-Tasks: every (horizon factor, realization, system) of the block, and one long confirmation run per
-chaotic system; chunk k takes tasks k, k + n_chunks, ... (the confirmations last)."""
+Work units: a chaotic base orbit (its WINDOWS_PER_BASE disjoint windows: the base orbit and its
+confirmation are computed once) or one torus realization, every horizon of the block each; chunk k
+takes units k, k + n_chunks, ... (the systems cycle fastest)."""
 
 from __future__ import annotations
 
+import json
 import logging
+import math
 import time
 
 import numpy as np
 import xarray as xr
 
-from sleighsim.chaos import power
+from sleighsim.chaos import indicators, power, power_audit
+from sleighsim.chaos.audit_orbits import WINDOWS_PER_BASE
+from sleighsim.chaos.decision import SEQUENCE
 from sleighsim.chaos.known_orbits import CHAOTIC_ORBITS, SYSTEMS
 from sleighsim.io import cf
 from sleighsim.io.netcdf import read_dataset
 from sleighsim.scenes.checks import ConfigError
 from sleighsim.scenes.kind import SceneKind
-from sleighsim.scenes.memory import Span
 
 log = logging.getLogger("sleighsim")
-STREAM = 0  # the realizations' random stream (tests/chaos/test_judge_power.py draws from others)
-CONFIRM_FIELDS = ("lambda_1", "stderr", "bound", "confirmed", "sticky_fraction", "T")
+TEXT = ("system", "judge", "raw", "follows", "verdict", "reason", "numbers", "context")
+RUN_ATTRS = {"system": cf.attrs("system of the realization", "text"),
+             "index": cf.attrs("realization index in its stream"),
+             "horizon": cf.attrs("horizon factor on the audited decisive settings"),
+             "judge": cf.attrs("judge (chaos.indicators.REGISTRY)", "text"),
+             "raw": cf.attrs("the judge's verdict before the gauge", "text"),
+             "follows": cf.attrs("the faithfulness gauge's answer for the judge in the system's arithmetic", "text"),
+             "verdict": cf.attrs("the verdict after the gauge (what counts)", "text"),
+             "reason": cf.attrs("the judge's reason", "text"),
+             "numbers": cf.attrs("the numbers the verdict rests on (JSON)", "text"),
+             "context": cf.attrs("the realization's confirmation and gauge (JSON)", "text"),
+             "wall_s": cf.attrs("wall time of the realization's runs at every horizon", "s")}
 
 
-def tasks(cfg: dict) -> list[tuple]:
-    """("judge", system, factor, index) for every realization, longest horizon first, the systems
-    cycling fastest (with n_chunks coprime to the number of systems, every chunk holds a mix of
-    systems), then ("confirm", system) per chaotic system."""
-    out = [("judge", s, float(h), k) for h in sorted(cfg["horizons"], reverse=True) for k in range(cfg["samples"])
-           for s in cfg["systems"]]
-    return out + [("confirm", s) for s in cfg["systems"] if SYSTEMS[s].cls == CHAOTIC_ORBITS]
+def units(cfg: dict) -> list[tuple]:
+    """(system, first realization, count) work units: a chaotic system's base orbits (WINDOWS_PER_BASE
+    windows each, the last one cut to ``samples``), a torus system's realizations one by one; the systems
+    cycling fastest."""
+    per = {}
+    for s in cfg["systems"]:
+        step = WINDOWS_PER_BASE if SYSTEMS[s].cls == CHAOTIC_ORBITS else 1
+        per[s] = [(s, k, min(step, cfg["samples"] - k)) for k in range(0, cfg["samples"], step)]
+    longest = max(len(v) for v in per.values())
+    return [per[s][i] for i in range(longest) for s in cfg["systems"] if i < len(per[s])]
 
 
-def _runs(cfg: dict, mine: list) -> list[dict]:
-    """Every judge on the realizations of the judge tasks ``mine``, one row per judge."""
+def _rows(cfg: dict, unit: tuple) -> list[dict]:
+    system, first, count = unit
     rows = []
-    for _, system, factor, k in mine:
-        orbit = power.realizations(system, 1, STREAM, first=k)[0]
-        hz = power.Horizon.from_config(cfg, factor)
-        for judge in cfg.get("judges", power.JUDGES):
-            if not power.applies(judge, orbit.known):
-                continue
-            start = time.perf_counter()
-            verdict, reason = power.JUDGES[judge](orbit, hz, orbit.index)
-            rows.append({"system": system, "horizon": factor, "index": k, "judge": judge, "verdict": verdict,
-                         "reason": reason, "wall_s": time.perf_counter() - start})
-        log.info("judge_power: %s @ %g #%d done", system, factor, k)
+    for k in range(first, first + count):
+        start = time.perf_counter()
+        mine = power_audit.realization_rows(cfg, system, cfg["stream"], k)
+        wall = time.perf_counter() - start
+        rows += [{**r, "wall_s": wall / len(mine)} for r in mine]
+        log.info("judge_power: %s #%d in %.1f s", system, k, wall)
     return rows
 
 
-RUN_ATTRS = {"system": cf.attrs("system of the realization", "text"),
-             "horizon": cf.attrs("horizon factor on the scaled sleigh horizons"),
-             "index": cf.attrs("realization index (its seed)"), "judge": cf.attrs("judge", "text"),
-             "verdict": cf.attrs("verdict", "text"), "reason": cf.attrs("the judge's reason", "text"),
-             "wall_s": cf.attrs("wall time of the judge's runs", "s")}
-CONFIRM_ATTRS = {"lambda_1": cf.attrs("largest Lyapunov exponent of the long confirmation run", "rate"),
-                 "stderr": cf.attrs("its standard error over 10 consecutive blocks", "rate"),
-                 "bound": cf.attrs("rate polynomial growth can fake over the run", "rate"),
-                 "confirmed": cf.attrs("chaos confirmed (lambda_1 - sigma stderr above the bound; 1 yes)"),
-                 "sticky_fraction": cf.attrs("share of windows of 20 / lambda_1 with FTLE below lambda_1 / 4"),
-                 "T": cf.attrs("length of the confirmation run", "time")}
-
-
 def chunk(cfg: dict, index: int, scene: str = "") -> xr.Dataset:
-    """Tasks index, index + n_chunks, ... of :func:`tasks`: the run table (dim run) and the
-    confirmations (dim chaotic_system)."""
-    mine = tasks(cfg)[index::cfg["n_chunks"]]
-    rows = _runs(cfg, [t for t in mine if t[0] == "judge"])
-    conf = {t[1]: power.confirm(t[1], cfg["confirm_periods"], cfg["sleigh"]["sigma"]) for t in mine
-            if t[0] == "confirm"}
-    ds = xr.Dataset({f"run_{k}": ("run", np.array([r[k] for r in rows], dtype=object if k in
-                                                   ("system", "judge", "verdict", "reason") else None), a)
-                     for k, a in RUN_ATTRS.items()})
-    for k, a in CONFIRM_ATTRS.items():
-        ds[f"confirm_{k}"] = ("chaotic_system", np.array([float(c[k]) for c in conf.values()], float), a)
-    ds = ds.assign_coords(chaotic_system=("chaotic_system", np.array(list(conf), dtype=object),
-                                          cf.attrs("chaotic system confirmed", "text")))
+    """Work units index, index + n_chunks, ... of :func:`units`: the run table (dim run)."""
+    rows = [r for u in units(cfg)[index::cfg["n_chunks"]] for r in _rows(cfg, u)]
+    ds = _table(rows)
     ds.attrs.update(chunk=index, n_chunks=cfg["n_chunks"], scene=scene)
     return ds
 
 
-def _table(parts: list[xr.Dataset], prefix: str, dim: str) -> dict:
-    """The variables ``prefix``* of the chunks along ``dim``, joined as lists."""
-    names = [v for v in parts[0].data_vars if v.startswith(prefix)]
-    return {v: sum((p[v].values.tolist() for p in parts if p.sizes.get(dim, 0)), []) for v in names}
+def _table(rows: list[dict]) -> xr.Dataset:
+    return xr.Dataset({f"run_{k}": ("run", np.array([r[k] for r in rows], dtype=object if k in TEXT else float), a)
+                       for k, a in RUN_ATTRS.items()})
 
 
 def gather(paths, cfg: dict, scene: str = "") -> xr.Dataset:
-    """Every chunk's runs and confirmations, the verdict counts (``power.counts``), the rates per judge
-    and class (``power.rates``) and the vote (``power.voting``)."""
+    """Every chunk's runs, the gated verdict counts per judge (``power.counts``), the voters per horizon
+    (``power.voting`` on the bound), the decision rule's counts with them (``power_audit.rule_counts``) and
+    the rates per judge and class."""
     parts = [read_dataset(p) for p in paths]
-    runs, conf = _table(parts, "run_", "run"), _table(parts, "confirm_", "chaotic_system")
-    judges = list(cfg.get("judges", power.JUDGES))
-    ds = power.counts(zip(runs["run_judge"], runs["run_system"], runs["run_horizon"], runs["run_verdict"]), judges,
-                      cfg["systems"], [float(h) for h in cfg["horizons"]])
+    rows = [{k: p[f"run_{k}"].values[i] for k in RUN_ATTRS} for p in parts for i in range(p.sizes.get("run", 0))]
+    factors = [float(e["factor"]) for e in cfg["decisive"]["horizons"]]
+    judges = [i.name for i in indicators.audited(indicators.DECISIVE)]
+    ds = power.counts([(r["judge"], r["system"], float(r["horizon"]), r["verdict"]) for r in rows], judges,
+                      cfg["systems"], factors)
+    voters = {h: power.voting(ds.sel(horizon=[h])) for h in factors}
+    rule = power.counts([("rule", s, h, v) for s, h, v in power_audit.rule_counts(rows, voters)], ["rule"],
+                        cfg["systems"], factors)
+    ds["rule_counts"] = rule.counts.isel(judge=0, drop=True).assign_attrs(
+        long_name="realizations the decision rule (with each horizon's voters) gave each verdict", units="1")
+    ds = xr.merge([ds, _table(rows)])
+    ds["votes"] = (("judge", "horizon"), np.array([[int(j in voters[h]) for h in factors] for j in judges]),
+                   cf.attrs("the judge votes at that horizon (its wrong rate's 95% bound at most 5% on each class)"))
     ds["system_class"] = ("system", [SYSTEMS[s].cls for s in cfg["systems"]], cf.attrs("orbit class", "text"))
-    ds["period"] = ("system", [SYSTEMS[s].period for s in cfg["systems"]],
-                    cf.attrs("characteristic period P of the system (its component's leading line)", "time"))
-    for k, a in RUN_ATTRS.items():
-        ds[f"run_{k}"] = ("run", np.array(runs[f"run_{k}"], dtype=object if k in ("system", "judge", "verdict",
-                                                                                   "reason") else None), a)
-    order = [n for p in parts for n in (p.chaotic_system.values.tolist() if p.sizes.get("chaotic_system") else [])]
-    ds = ds.assign_coords(chaotic_system=("chaotic_system", np.array(order, dtype=object),
-                                          cf.attrs("chaotic system confirmed", "text")))
-    for k, a in CONFIRM_ATTRS.items():
-        ds[f"confirm_{k}"] = ("chaotic_system", np.array(conf[f"confirm_{k}"], float), a)
-    _rates_into(ds)
-    ds.attrs.update(scene=scene, horizon_rule=HORIZON_RULE, vote_rule=power.voting.__doc__.strip(),
-                    spike_period=float(cfg["spike_period"]), samples=int(cfg["samples"]),
-                    cost_total_s=float(np.sum(runs["run_wall_s"])))
+    ds["period"] = ("system", [SYSTEMS[s].period for s in cfg["systems"]], cf.attrs("characteristic period P", "time"))
+    ds["arithmetic"] = ("system", [SYSTEMS[s].arithmetic for s in cfg["systems"]],
+                        cf.attrs("the arithmetic the audit follows the system in", "text"))
+    ds.attrs.update(scene=scene, vote_rule=power.VOTE_RULE, sequence=SEQUENCE, spike_period=float(cfg["spike_period"]),
+                    stream=int(cfg["stream"]), samples=int(cfg["samples"]), settings=json.dumps(cfg["decisive"]),
+                    estimators=json.dumps({j: indicators.REGISTRY[j].estimator for j in judges}),
+                    cost_total_s=float(np.sum([r["wall_s"] for r in rows])))
     return ds
-
-
-HORIZON_RULE = ("the sleigh's chaos_verdict settings (sleigh block) times s = P / spike_period for every time "
-                "(tau, windows, spacing, t_align, dt, horizons), the horizons (T_megno, T_two, T_round, the last "
-                "Loschmidt T, frequency T) also times the horizon factor")
-
-
-def _rates_into(ds: xr.Dataset) -> None:
-    """N, correct, wrong, undecided and the 95% upper bound on the wrong rate per (judge, orbit_class);
-    ``votes`` per judge."""
-    rows = {(r["judge"], r["class"]): r for r in power.rates(ds)}
-    shape = (ds.sizes["judge"], ds.sizes["orbit_class"])
-    for key, long_name in (("N", "realizations judged"), ("correct", "correct verdicts"),
-                           ("wrong", "wrong verdicts"), ("undecided", "undecided verdicts"),
-                           ("wrong_upper95", "one-sided 95% Clopper-Pearson upper bound on the wrong rate")):
-        v = np.array([[rows[(j, c)][key] for c in ds.orbit_class.values] for j in ds.judge.values]).reshape(shape)
-        ds[f"rate_{key}"] = (("judge", "orbit_class"), v, cf.attrs(long_name))
-    vote = power.voting(ds)
-    ds["votes"] = ("judge", np.array([int(j in vote) for j in ds.judge.values]),
-                   cf.attrs("the judge votes (wrong at most 1 in 100 on every class; 1 yes)"))
-
-
-def _samples(cfg: dict) -> float:
-    """Realizations judged: systems x horizons x samples."""
-    return len(cfg["systems"]) * len(cfg["horizons"]) * cfg["samples"]
 
 
 def work(cfg: dict) -> float:
     """Time units integrated, in the sleigh's time unit before the scaling by P / spike_period (which a
-    system's step size undoes, roughly): per realization and horizon factor h, h x (T_megno + T_two x 2
-    + replicas x (T_round x max_rounds + replica_spacing) + 2 x the last Loschmidt T + frequency T x 2,
-    double and long double), plus confirm_periods x spike_period per chaotic system."""
-    c = cfg["sleigh"]
-    per = (c["T_megno"] + 2 * c["T_two"] + c["replicas"] * (c["T_round"] * c["max_rounds"] + c["replica_spacing"])
-           + 2 * c["loschmidt_T"][1] + 2 * c["frequency"]["T"])
-    n_chaotic = sum(SYSTEMS[s].cls == CHAOTIC_ORBITS for s in cfg["systems"])
-    mean_h = sum(cfg["horizons"]) / len(cfg["horizons"])
-    return _samples(cfg) * mean_h * per + n_chaotic * cfg["confirm_periods"] * cfg["spike_period"]
+    system's step size undoes, roughly): per realization the sum of the horizons (decisive T x factor);
+    the chaotic base orbits and torus references (2000 periods each) are not modelled."""
+    d = cfg["decisive"]
+    return len(cfg["systems"]) * cfg["samples"] * d["T"] * sum(float(e["factor"]) for e in d["horizons"])
 
 
 def chunk_work(cfg: dict) -> list[float]:
-    """Work of each chunk job: the total shared equally (the round-robin mixes systems and horizons)."""
+    """Work of each chunk job: the total shared equally."""
     return [work(cfg) / cfg["n_chunks"]] * cfg["n_chunks"]
 
 
@@ -163,24 +124,34 @@ def _checks(w: str, cfg: dict) -> None:
     unknown = [s for s in cfg["systems"] if s not in SYSTEMS]
     if unknown:
         raise ConfigError(f"{w}.systems: unknown {unknown}; known: {list(SYSTEMS)}")
-    bad = [j for j in cfg.get("judges", ()) if j not in power.JUDGES]
-    if bad:
-        raise ConfigError(f"{w}.judges: unknown {bad}; known: {list(power.JUDGES)}")
-    n_judged = len([t for t in tasks(cfg) if t[0] == "judge"])
-    if not 1 <= cfg["n_chunks"] <= n_judged:
-        raise ConfigError(f"{w}.n_chunks = {cfg['n_chunks']} must lie in [1, {n_judged}] (systems x horizons x "
-                          "samples: every chunk judges at least one realization)")
+    classes = {SYSTEMS[s].cls for s in cfg["systems"]}
+    if classes != set(power.CLASSES):
+        raise ConfigError(f"{w}.systems: {cfg['systems']} must hold chaotic systems and tori alike")
+    factors = [float(e["factor"]) for e in cfg["decisive"]["horizons"]]
+    if len(set(factors)) != len(factors) or not all(math.isfinite(f) and f > 0 for f in factors):
+        raise ConfigError(f"{w}.decisive.horizons: factors {factors} must be distinct and positive")
+    n_units = len(units(cfg))
+    if not 1 <= cfg["n_chunks"] <= n_units:
+        raise ConfigError(f"{w}.n_chunks = {cfg['n_chunks']} must lie in [1, {n_units}] (the work units: chaotic "
+                          f"base orbits of {WINDOWS_PER_BASE} windows and torus realizations)")
 
 
 #: Keys (leaves) the work model reads.
-WORK_KEYS = ("T_megno", "T_two", "replicas", "T_round", "max_rounds", "replica_spacing", "loschmidt_T", "T", "systems",
-             "horizons", "samples", "confirm_periods", "spike_period", "n_chunks")
+WORK_KEYS = ("T", "factor", "systems", "samples", "n_chunks")
+
+def _records(c: dict) -> list:
+    """One realization's orbit at the longest horizon: T x factor / dt samples of about 16 values (states,
+    tangent, observables and their long-double copies)."""
+    from sleighsim.scenes.memory import Span
+
+    d = c["decisive"]
+    longest = d["T"] * max(float(e["factor"]) for e in d["horizons"])
+    return [Span(("decisive.T x the largest factor", longest), ("decisive.dt", d["dt"]), 16)]
+
 
 JUDGE_POWER = SceneKind(
     name="judge_power",
-    title=("the chaos judges' power and false rates on orbits of known class (sticky chaos, slow-fast tori, "
-           "textbook orbits) and the judges that vote"),
-    chunk=chunk, gather=gather, integrates=False,
-    records=lambda c: [Span(("sleigh.frequency.T x max(horizons)", c["sleigh"]["frequency"]["T"] * max(c["horizons"])),
-                            ("sleigh.frequency.dt", c["sleigh"]["frequency"]["dt"]), 4)],
+    title=("the chaos judges' power and false rates on independent orbits of known class (sticky chaos, slow-fast "
+           "and spiked tori, textbook orbits) and the judges that vote"),
+    chunk=chunk, gather=gather, integrates=False, records=_records,
     work=work, chunk_work=chunk_work, modelled=lambda leaf: leaf in WORK_KEYS, checks=_checks)

@@ -61,7 +61,7 @@ def converged_precision(runs: list[dict], names: list[str], dt: float) -> str:
     """Applies :data:`CONVERGED_PRECISION_RULE`, the rule as the datasets record it (just above)."""
     for i in range(len(runs) - 1):
         if all(agrees(runs[i], later, dt) for later in runs[i + 1:]):
-            return names[i]
+            return str(names[i])
     return "not converged"
 
 

@@ -20,6 +20,7 @@ from sleighsim.io.vocabulary import STATE_KINDS
 from sleighsim.model import equations
 from sleighsim.model.attrs import state_attrs
 from sleighsim.model.params import Params
+from sleighsim.precision import Precision
 from sleighsim.scenes import memory
 from sleighsim.scenes.checks import ConfigError
 from sleighsim.scenes.common import initial_state, steady_arithmetic
@@ -89,7 +90,7 @@ def _maps(cfg: dict, s: dict, scene: str) -> xr.Dataset:
     ds.attrs.update(rot)
     ds.attrs.update(
         scene=scene, backend="heyoka", method="taylor_adaptive + nt_event sin(2 delta)", **arith,
-        transient_tol=cfg["tol"], transient_precision="double", settled_state=np.asarray(y_settled, float),
+        transient_tol=cfg["tol"], transient_precision=Precision.DOUBLE, settled_state=np.asarray(y_settled, float),
         energy_max_rel_drift=float(np.max(np.abs(E / E0 - 1))) if E.size else float("nan"),
         t_map_start=t0, t_map_end=t1, attractor_dt=cfg["attractor_dt"], n_p2pi=int(is2pi.sum()), n_ppi2=int(len(pts)),
         ppi2_stride=stride,
@@ -216,7 +217,7 @@ def psd(cfg: dict, scene: str = "") -> xr.Dataset:
     ds.attrs.update(out_attrs)
     ds.attrs.update(
         scene=scene, backend="heyoka", method="taylor_adaptive", **arith,
-        transient_tol=cfg["tol"], transient_precision="double", settled_state=np.asarray(y_settled, float),
+        transient_tol=cfg["tol"], transient_precision=Precision.DOUBLE, settled_state=np.asarray(y_settled, float),
         energy_max_rel_drift=max(run.attrs["energy_max_rel_drift"], attrs["pre_run_energy_max_rel_drift"]),
         record_start=t0, record_duration=cfg["duration"], sample_dt=cfg["dt"], check_dt=cfg["check_dt"],
         check_duration=cfg["check_duration"], psd_method="scipy.signal.welch", psd_window="hann",

@@ -17,6 +17,7 @@ from sleighsim.model.attrs import state_attrs
 from sleighsim.model.params import Params
 from sleighsim.model.sleigh0 import closed_form
 from sleighsim.model.sleigh0 import rhs as sleigh0_rhs
+from sleighsim.precision import Precision
 from sleighsim.scenes import memory
 from sleighsim.scenes.checks import SPIKE_BLOCK, ConfigError, increasing
 from sleighsim.scenes.common import initial_state, steady_arithmetic
@@ -47,7 +48,7 @@ def trajectory(cfg: dict, scene: str = "") -> xr.Dataset:
     ds.attrs.update(pre)
     ds.attrs.update(observed(run, pre_run=bool(pre), spike_factor=cfg.get("transient", {}).get("spike_factor", 1.8)))
     ds.attrs.update(**arith, settled_state=np.asarray(y0, float)[:4],
-                    transient_precision="double" if pre else arith["precision"], transient_tol=cfg["tol"])
+                    transient_precision=Precision.DOUBLE if pre else arith["precision"], transient_tol=cfg["tol"])
     if pre:
         ds.attrs.update(state_attrs(params, initial_state(cfg, params)),
                         path_origin="the window's start (t_sample_start)")

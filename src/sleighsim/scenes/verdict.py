@@ -21,7 +21,7 @@ import yaml
 from sleighsim.chaos.faithfulness import indicator_follows
 from sleighsim.chaos.loschmidt import loschmidt_indicator
 from sleighsim.chaos.megno import megno_rate
-from sleighsim.chaos.power import record_voting
+from sleighsim.chaos.power import stage_vote
 from sleighsim.chaos.rule import (
     INDICATORS,
     TANGENT_BASED,
@@ -100,10 +100,12 @@ def one_state(params, y0, cfg: dict, scene: str, voters: set, *, decisive: bool)
     two = two_trajectory_indicator(tts, cfg["d0"], tau, sigma)
     values["two_trajectory"], errors["two_trajectory"] = two["value"], two["error"]
     verdicts["two_trajectory"] = two["verdict"]
-    arithmetic = {"benettin": "double", "ftle": "double", "megno": megno_precision, "two_trajectory": "double",
-                  "loschmidt": "long double", "frequency": list(freq["runs"])[-1]}
+    D = Precision.DOUBLE
+    arithmetic = {"benettin": D, "ftle": D, "megno": megno_precision, "two_trajectory": D,
+                  "loschmidt": Precision.LONG_DOUBLE, "frequency": list(freq["runs"])[-1]}
     faithful_gate(verdicts, arithmetic, indicator_follows(gain["ln_gain_max"], arithmetic,
-                                                          {"frequency": frequency_resolved(freq)}))
+                                                          {"frequency": frequency_resolved(freq)},
+                                                          steps_per_cycle=gain["steps_per_cycle"]))
     vote_gate(verdicts, voters)
     verdict, reason, _ = decide(verdicts, TANGENT_BASED)
     others = {k: (values[k], errors[k]) for k in INDICATORS if k not in TANGENT_BASED and verdicts[k][0] == CHAOTIC}
@@ -175,7 +177,7 @@ def verdict(cfg: dict, scene: str = "", *, voters: frozenset) -> xr.Dataset:
     ds = xr.Dataset(
         variables(per_state, out, ind, ft),
         coords={"state": names, "indicator": ind, "i": np.arange(1, 5), "d0": np.asarray(cfg["d0"], float),
-                "T_loschmidt": loschmidt_T(cfg), "precision": ["double", "long double"],
+                "T_loschmidt": loschmidt_T(cfg), "precision": [Precision.DOUBLE, Precision.LONG_DOUBLE],
                 "split": np.asarray(fc["splits"], int), "frequency_precision": list(PRECISIONS),
                 "arithmetic": [p.value for p in Precision], "component": list(equations.STATE_NAMES),
                 "tangent_based": ("indicator", [int(i in TANGENT_BASED) for i in ind])},
@@ -192,16 +194,20 @@ def chunk(cfg: dict, index: int, scene: str = "", reads=(), inputs=None) -> xr.D
     per realization and state of decisive.states after those: ``verdict_decisive.decisive_state`` on
     the first stage's dataset of that state (``reads``: its path, :func:`_chunk_reads`). In both, the
     indicators that vote are those the judge-power audit's record (``inputs["power"]``, the block's
-    vote_record) lets vote (``chaos.power.record_voting``) at the stage's horizon: the audit's own (factor
-    1) in the first stage, decisive.vote_horizon in the decisive stage."""
+    vote_record) lets vote with the stage's settings at its horizon (``chaos.power.stage_vote``; the decisive
+    stage's states no longer in spike cycles than audited)."""
     names, base = list(cfg["states"]), _stage_one_count(cfg)
     record = yaml.safe_load(Path(inputs["power"]).read_text())
     if index >= base:
         r, j = divmod(index - base, len(cfg["decisive"]["states"]))
-        voters = frozenset(record_voting(record, cfg["decisive"]["vote_horizon"]))
-        ds = decisive_state(cfg, read_dataset(reads[0]), scene=f"{scene}#{r}", voters=voters)
+        stage1 = read_dataset(reads[0])
+        vote = stage_vote(record, cfg, "decisive", float(stage1.spike_period.values[0]))
+        voters = frozenset(vote["voters"])
+        factor = max(vote["factor"].values(), default=math.nan)  # the audited horizon voted at (NaN: none)
+        ds = decisive_state({**cfg, "decisive": {**cfg["decisive"], "vote_horizon": factor}}, stage1,
+                            scene=f"{scene}#{r}", voters=voters)
     else:
-        voters = frozenset(record_voting(record, 1.0))
+        voters = frozenset(stage_vote(record, cfg, "first")["voters"])
         r, k = divmod(index, len(names))
         start = realization_states(cfg["states"], cfg["realization_rel"], r)[names[k]]
         ds = verdict({**cfg, "states": {names[k]: start}}, scene=f"{scene}#{r}", voters=voters)

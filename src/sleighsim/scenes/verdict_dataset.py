@@ -172,12 +172,15 @@ def _gain_vars(out: list) -> dict:
         "spike_period": ("state", [spike_period(g["spike_times"]) for g in gains],
                          cf.attrs("median interval between the spikes of the gauge's run: which torus of the family "
                                   "the state reached (to about tau_gain)", "time")),
+        "gain_steps_per_cycle": ("state", [g["steps_per_cycle"] for g in gains],
+                                 cf.attrs("Taylor steps per spike cycle of the gauge's run (the count of roundings "
+                                          "injected per cycle)")),
         "log10_gain_rounding": (("state", "arithmetic"),
                                 [[g["log10_gain_rounding"][a] for a in Precision] for g in gains],
-                                cf.attrs("log10(G_max x unit roundoff of the arithmetic)")),
+                                cf.attrs("log10(G_max x steps per cycle x unit roundoff of the arithmetic)")),
         "follows_orbit": (("state", "arithmetic"), np.array([[g["follows"][a] for a in Precision] for g in gains],
                                                             dtype=object),
-                          {"long_name": "does the arithmetic follow the exact orbit (G x rounding below "
+                          {"long_name": "does the arithmetic follow the exact orbit (G x steps x rounding below "
                                         "faithfulness.FAITHFUL_MAX; unknown without a complete cycle)"}),
     }
 

@@ -19,12 +19,11 @@ import time
 import numpy as np
 import xarray as xr
 
-from sleighsim.chaos.birkhoff import digits, judge_birkhoff, observables
-from sleighsim.chaos.faithfulness import indicator_follows
-from sleighsim.chaos.frequency import PRECISION, drift, judge_frequency, judged_run
-from sleighsim.chaos.megno import judge_megno_run, megno, megno_from_log_norm, megno_rate
+from sleighsim.chaos import decisive
+from sleighsim.chaos.birkhoff import observables
+from sleighsim.chaos.faithfulness import FOLLOWS, indicator_follows, injected_rounding
+from sleighsim.chaos.megno import megno, megno_from_log_norm
 from sleighsim.chaos.rule import TANGENT_BASED, classify, consistent, decide, faithful_gate, vote_gate
-from sleighsim.chaos.section_megno import judge_section_megno, section_megno, section_rate
 from sleighsim.chaos.verdicts import CHAOTIC, UNDECIDED
 from sleighsim.engine import ddtaylor, integrators, transient
 from sleighsim.engine.ddtaylor import DDFlow
@@ -110,19 +109,10 @@ def heyoka_orbit(params, y, dc: dict, precision: Precision) -> dict:
 
 
 def section_megno_judged(orbit: dict, dc: dict, sigma: float) -> dict:
-    """The return map's MEGNO at the spike section (``chaos.section_megno``: the tangent log-norm read at
-    the spikes of Omega, ``spike_train``'s section), judged by ``judge_section_megno``; value: the
-    exponent it implies (1/time) and its error."""
+    """The return map's MEGNO at the spike section (``chaos.decisive.section_megno_judged`` at the spikes of
+    Omega, ``spike_train``'s section); value: the exponent it implies (1/time) and its error."""
     spikes = transient.spike_times(orbit["t"], orbit["Y"][:, 1], factor=dc["spike_factor"])
-    if spikes.size < 2:
-        return {"run": None, "value": math.nan, "error": math.nan,
-                "verdict": (UNDECIDED, f"{spikes.size} spikes within T = {dc['T']:g}: no return map")}
-    try:
-        m = section_megno(orbit["t"], orbit["log_norm"], spikes)
-    except ValueError as err:
-        return {"run": None, "value": math.nan, "error": math.nan, "verdict": (UNDECIDED, str(err))}
-    value, error = section_rate(m, spikes)
-    return {"run": m, "value": value, "error": error, "verdict": judge_section_megno(m, sigma)}
+    return decisive.section_megno_judged(orbit["t"], orbit["log_norm"], spikes, dc["T"], sigma)
 
 
 def not_run(name: str, dc: dict) -> dict:
@@ -132,34 +122,25 @@ def not_run(name: str, dc: dict) -> dict:
                                    "judge-power record), so the stage integrates no tangent vector")}
 
 
-def megno_judged(m: dict, dc: dict, sigma: float) -> dict:
-    """The MEGNO indicator from the decisive run ``m`` over dc["T"] (``judge_megno_run``)."""
-    value, error = megno_rate(m)
-    return {"run": m, "value": value, "error": error, "verdict": judge_megno_run(m, dc["T"], sigma)}
+def megno_judged(orbit: dict, dc: dict, sigma: float) -> dict:
+    """The MEGNO indicator from the decisive orbit's tangent log-norm over dc["T"]
+    (``chaos.decisive.megno_judged``: the trapezoid rule on the log-norm, dc["megno_samples"] points)."""
+    return decisive.megno_judged(orbit["t"], orbit["log_norm"], dc["megno_samples"], dc["T"], sigma)
 
 
 def frequency_stage(orbit: dict, dc: dict, sigma: float) -> dict:
-    """The frequency analysis (``chaos.frequency.drift`` and ``judge_frequency``) of the orbit's
-    component dc["component"] over windows dc["T"] / K, K in dc["splits"]. Value: the spread D at the
-    longest window kept (relative), error: D times its ln-error; resolved: D, at least the
-    refinement's precision (the quantity ``faithfulness.indicator_limit`` compares with)."""
+    """The frequency analysis (``chaos.decisive.frequency_judged``) of the orbit's component dc["component"]
+    over windows dc["T"] / K, K in dc["splits"]."""
     x = orbit["Y"][:-1, equations.STATE_NAMES.index(dc["component"])]
-    run = drift(x, dc["dt"], dc["splits"], min_cycles=dc["min_cycles"])
-    verdict = judge_frequency([judged_run(dc["precision"], run)], sigma=sigma)
-    D = float(run["D"][0]) if run["D"].size else math.nan
-    return {"run": run, "value": D, "error": D * float(run["D_log_err"][0]) if run["D"].size else math.nan,
-            "verdict": verdict, "resolved": max(D, PRECISION) if math.isfinite(D) else math.nan}
+    return decisive.frequency_judged(x, dc["dt"], dc["splits"], dc["min_cycles"], dc["precision"], sigma)
 
 
 def birkhoff_stage(orbit: dict, dc: dict, gain_rounding: float) -> dict:
-    """The weighted Birkhoff averages (``chaos.birkhoff.digits``) of the orbit's smooth observables (u,
-    Omega, omega, cos delta, sin delta) over windows dc["T"] / K, K in dc["splits"], judged by
-    ``judge_birkhoff`` with the decisive arithmetic's G x rounding. Value: the digits at the longest
-    window (the worst observable's), error: their spread over the observables; resolved: 10^-digits."""
-    run = digits(observables(orbit["Y"][:-1], angles=[equations.DELTA]), dc["dt"], dc["splits"])
-    dig = float(run["dig"][0])
-    return {"run": run, "value": dig, "error": float(run["dig_err"][0]),
-            "verdict": judge_birkhoff(run, gain_rounding=gain_rounding), "resolved": 10.0**-dig}
+    """The weighted Birkhoff averages (``chaos.decisive.birkhoff_judged``) of the orbit's smooth observables
+    (u, Omega, omega, cos delta, sin delta) over windows dc["T"] / K, K in dc["splits"], with the decisive
+    arithmetic's G x injected rounding."""
+    obs = observables(orbit["Y"][:-1], angles=[equations.DELTA])
+    return decisive.birkhoff_judged(obs, dc["dt"], dc["splits"], gain_rounding)
 
 
 def spike_train(orbit: dict, dc: dict) -> np.ndarray:
@@ -194,8 +175,11 @@ def decide_again(stage1: xr.Dataset, judged: dict, precision: str, sigma: float,
     verdicts.update({k: judged[k]["verdict"] for k in judged})
     ln_gain = float(stage1.ln_gain_max.values[0])
     follows = indicator_follows(ln_gain, dict.fromkeys(judged, precision),
-                                {k: judged[k].get("resolved", math.nan) for k in judged})
-    faithful_gate(verdicts, {**dict.fromkeys(verdicts, "double"), **dict.fromkeys(judged, precision)}, follows)
+                                {k: judged[k].get("resolved", math.nan) for k in judged},
+                                steps_per_cycle=_steps_per_cycle(stage1))
+    first = dict.fromkeys((k for k in verdicts if k not in judged), FOLLOWS)  # gated by the first stage's gauge
+    faithful_gate(verdicts, {**dict.fromkeys(verdicts, Precision.DOUBLE), **dict.fromkeys(judged, precision)},
+                  {**first, **follows})
     vote_gate(verdicts, voters)
     verdict, reason, _ = decide(verdicts, TANGENT_BASED)
     values = dict(zip(map(str, stage1.indicator.values), stage1.indicator_value.values[0]))
@@ -229,9 +213,10 @@ def decisive_state(cfg: dict, stage1: xr.Dataset, scene: str = "", *, voters: fr
     start = time.perf_counter()
     params, dc, sigma = Params.from_config(cfg["params"]), decisive_config(cfg), cfg["sigma"]
     y, tangent = stage1.settled_state.values[0], needs_tangent(voters)
-    orbit, m = orbit_and_megno(params, y, dc, tangent=tangent)
-    gain_rounding = math.exp(float(stage1.ln_gain_max.values[0])) * dc["precision"].rounding
-    judged = {"megno": megno_judged(m, dc, sigma) if tangent else not_run("megno", dc),
+    orbit, _ = orbit_and_megno(params, y, dc, tangent=tangent)
+    gain_rounding = math.exp(float(stage1.ln_gain_max.values[0])) * injected_rounding(
+        dc["precision"].rounding, _steps_per_cycle(stage1))
+    judged = {"megno": megno_judged(orbit, dc, sigma) if tangent else not_run("megno", dc),
               "section_megno": section_megno_judged(orbit, dc, sigma) if tangent else not_run("section_megno", dc),
               "frequency": frequency_stage(orbit, dc, sigma), "birkhoff": birkhoff_stage(orbit, dc, gain_rounding)}
     verdict, reason, _ = decide_again(stage1, judged, dc["precision"], sigma, voters)
@@ -270,9 +255,10 @@ def _decisive_vars(stage1, judged: dict, orbit: dict, dc: dict, verdict: str, re
     """The decisive stage's variables for its one state (names prefixed decisive_)."""
     names = list(judged)
     ln_gain = float(stage1.ln_gain_max.values[0])
-    log10_gr = (ln_gain + math.log(dc["precision"].rounding)) / math.log(10)
+    steps = _steps_per_cycle(stage1)
+    log10_gr = math.log10(math.exp(ln_gain) * injected_rounding(dc["precision"].rounding, steps))
     follows = indicator_follows(ln_gain, dict.fromkeys(names, dc["precision"]),
-                                {k: judged[k].get("resolved", math.nan) for k in names})
+                                {k: judged[k].get("resolved", math.nan) for k in names}, steps_per_cycle=steps)
     m = judged["megno"]["run"] or {"t": np.full(1, math.nan), "Y_mean": np.full(1, math.nan)}
     return {
         "decisive_verdict": ("state", np.array([verdict], dtype=object)),
@@ -344,6 +330,11 @@ def decisive_spike_period(ds: xr.Dataset) -> np.ndarray:
     torus the realization is on, in the decisive arithmetic; NaN without the stage or two spikes)."""
     x = np.asarray(ds.decisive_spike_interval.values, float)
     return np.array([np.nanmedian(row) if np.isfinite(row).any() else math.nan for row in x])
+
+
+def _steps_per_cycle(stage1: xr.Dataset) -> float:
+    """The gauge's Taylor steps per spike cycle of the first stage's state (NaN when not stored)."""
+    return float(stage1.gain_steps_per_cycle.values[0]) if "gain_steps_per_cycle" in stage1 else math.nan
 
 
 def _backend(precision: str) -> str:

@@ -77,7 +77,7 @@ def tangent_indicators(params, replicas, res: dict, cfg: dict, scene: str, value
     m = megno_run(params, replicas[0], cfg)
     values["megno"], errors["megno"] = megno_rate(m)
     verdicts["megno"] = megno_double = judge_megno_run(m, cfg["T_megno"], sigma)
-    megno_precision = "double"
+    megno_precision = Precision.DOUBLE
     ld = {"lambda_1": math.nan, "stderr": math.nan, "check": "not run", "megno": None,
           "reason": "long-double check not made: the decisive stage judges this state"}
     if not long_double:
@@ -86,7 +86,7 @@ def tangent_indicators(params, replicas, res: dict, cfg: dict, scene: str, value
         ld = precision_check(params, replicas[0], cfg, scene)
         precision_gate(verdicts, ld)
         values["megno"], errors["megno"] = megno_rate(ld["megno"])
-        megno_precision = "long double"
+        megno_precision = Precision.LONG_DOUBLE
         verdicts["megno"] = megno_in_long_double(judge_megno_run(ld["megno"], cfg["T_long_double"], sigma), ld,
                                                  megno_double, cfg["T_long_double"], cfg["T_megno"])
     return m, ld, megno_double, megno_precision

@@ -9,13 +9,15 @@ from matplotlib.lines import Line2D
 from matplotlib.ticker import NullFormatter
 
 from sleighsim.io.netcdf import read_dataset
+from sleighsim.precision import Precision
 from sleighsim.report.figures.common import LABELS, RATE, WIDTH, finish
 from sleighsim.report.figures.figure import Figure
 from sleighsim.report.page import CHAOS_COLOURS
 
 #: The chaotic classes of a state (chaos.rule.classify), drawn in the chaotic colour.
 CHAOTIC_CLASSES = ("strange attractor", "conservative-type chaos", "mixed dynamics")
-PRECISION_LINES = {"double": "o:", "long double": "s-", "double-double": "d-.", "quad": "^--"}
+PRECISION_LINES = {Precision.DOUBLE: "o:", Precision.LONG_DOUBLE: "s-", Precision.DOUBLE_DOUBLE: "d-.",
+                   Precision.QUAD: "^--"}
 
 
 def _shade(word: str) -> str:
@@ -105,21 +107,21 @@ def _megno(ax, ds) -> None:
     ax.set_ylabel("MEGNO <Y> (unitless)")
     ax.set_title("MEGNO: 2 on a torus (dotted),\ngrows like lambda t / 2 under chaos", loc="left")
     if np.isfinite(ds.megno_Y_mean_long_double.values).any():
-        ax.legend(handles=[Line2D([], [], color="k", ls="-", label="double"),
-                           Line2D([], [], color="k", ls="--", label="long double")])
+        ax.legend(handles=[Line2D([], [], color="k", ls="-", label=Precision.DOUBLE),
+                           Line2D([], [], color="k", ls="--", label=Precision.LONG_DOUBLE)])
 
 
 def _loschmidt(ax, ds) -> None:
     """The Loschmidt return error against T per state, in double and long double (the one judged)."""
     for k in range(ds.sizes["state"]):
-        ax.loglog(ds.T_loschmidt.values, ds.loschmidt_rel_error.values[k], PRECISION_LINES["double"], ms=3,
+        ax.loglog(ds.T_loschmidt.values, ds.loschmidt_rel_error.values[k], PRECISION_LINES[Precision.DOUBLE], ms=3,
                   color=f"C{k}")
         ax.loglog(ds.T_loschmidt.values, ds.loschmidt_rel_error_long_double.values[k],
-                  PRECISION_LINES["long double"], ms=3, color=f"C{k}")
+                  PRECISION_LINES[Precision.LONG_DOUBLE], ms=3, color=f"C{k}")
     ax.set_xlabel("T (time units; forward T, apply R, forward T)")
     ax.set_ylabel("return error (relative)")
     ax.set_title("Loschmidt: a power of T when regular,\nexponential up to saturation under chaos", loc="left")
-    ax.legend(handles=[Line2D([], [], color="k", ls=":", marker="o", ms=3, label="double"),
+    ax.legend(handles=[Line2D([], [], color="k", ls=":", marker="o", ms=3, label=Precision.DOUBLE),
                        Line2D([], [], color="k", ls="-", marker="s", ms=3, label="long double (judged)")])
 
 

@@ -9,6 +9,7 @@ import numpy as np
 from matplotlib.ticker import NullFormatter
 
 from sleighsim.io.netcdf import read_dataset
+from sleighsim.precision import Precision
 from sleighsim.report.figures.common import MIN_PT, PRECISION_STYLE, RATE, WIDTH, finer_precisions, finish, subplots
 from sleighsim.report.figures.figure import Figure
 
@@ -24,7 +25,7 @@ def fig10(sources):
     lam, err, E = ds.lambda_1.values, ds.stderr.values, ds.label.values
     pos = lam > 0
     ax.errorbar(E[pos], lam[pos], yerr=err[pos], fmt="o", capsize=3, label="direct (Benettin, k = 1), double",
-                **PRECISION_STYLE["double"])
+                **PRECISION_STYLE[Precision.DOUBLE])
     for k, ((_, precision), other) in enumerate(finer_precisions(others).items(), start=1):
         ok = other.lambda_1.values > 0
         ax.errorbar(other.label.values[ok] * 1.08**k, other.lambda_1.values[ok], yerr=other.stderr.values[ok], fmt="s",
@@ -95,7 +96,7 @@ def fig11(sources):
         sel = ds.status.values == status
         if sel.any():
             ax.errorbar(eps[sel], np.abs(lam[sel]), yerr=err[sel], fmt=marker, ms=5, capsize=3,
-                        label=f"|lambda_1|, {status}, double", **PRECISION_STYLE["double"])
+                        label=f"|lambda_1|, {status}, double", **PRECISION_STYLE[Precision.DOUBLE])
     for k, ((_, precision), other) in enumerate(finer_precisions(others).items(), start=1):
         ax.errorbar(other.eps.values * 1.05**k, np.abs(other.lambda_1.values), yerr=other.stderr.values, fmt="d",
                     ms=4, capsize=2, label=f"|lambda_1|, {precision}", **PRECISION_STYLE[precision])

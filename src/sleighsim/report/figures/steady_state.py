@@ -9,6 +9,7 @@ from matplotlib.lines import Line2D
 from matplotlib.ticker import MaxNLocator
 
 from sleighsim.io.netcdf import read_dataset
+from sleighsim.precision import Precision
 from sleighsim.report.figures.common import (
     FREQUENCY,
     LABELS,
@@ -79,7 +80,7 @@ def fig12(sources):
     finer = finer_precisions(data[2:])
     fig, axes = subplots(WIDTH, 4.4, 1, 2)
     for ax, ds, tag in zip(axes, data, "ab"):
-        ax.plot(ds.return_time, ".", ms=1.2, label="double", **PRECISION_STYLE["double"])
+        ax.plot(ds.return_time, ".", ms=1.2, label=Precision.DOUBLE, **PRECISION_STYLE[Precision.DOUBLE])
         for (scene, precision), other in finer.items():
             if scene == ds.attrs["scene"]:
                 ax.plot(other.return_time, ".", ms=1.0, label=precision, **PRECISION_STYLE[precision])
@@ -119,7 +120,7 @@ def psd(sources):
     fig, axes = subplots(10, 7, 2, 2, width_ratios=[3, 1])
     for (ax, zoom), v in zip(axes, ("u", "Omega")):
         f, S = ds.frequency.values[1:], ds[f"psd_{v}"].values[1:]
-        ax.semilogy(f, S, lw=0.5, label="double", **PRECISION_STYLE["double"])
+        ax.semilogy(f, S, lw=0.5, label=Precision.DOUBLE, **PRECISION_STYLE[Precision.DOUBLE])
         for (_, precision), other in finer.items():
             ax.semilogy(other.frequency.values[1:], other[f"psd_{v}"].values[1:], lw=0.5, label=precision,
                         **PRECISION_STYLE[precision])

@@ -8,6 +8,7 @@ import numpy as np
 from matplotlib import patches
 
 from sleighsim.io.netcdf import read_dataset
+from sleighsim.precision import Precision
 from sleighsim.report.figures.common import LABELS, PRECISION_STYLE, finer_precisions, finish, subplots
 from sleighsim.report.figures.figure import Figure
 
@@ -82,7 +83,7 @@ def _time_panels(axes, ds, names, lw=0.3, finer=None):
     """One panel per variable against time: double, and over it every finer precision in ``finer``
     ({(scene, precision): dataset}, the same window from the same start)."""
     for axk, name in zip(axes, names):
-        axk.plot(ds.time, ds[name], lw=lw, label="double", **PRECISION_STYLE["double"])
+        axk.plot(ds.time, ds[name], lw=lw, label=Precision.DOUBLE, **PRECISION_STYLE[Precision.DOUBLE])
         for (_, precision), other in (finer or {}).items():
             axk.plot(other.time, other[name], lw=lw, label=precision, **PRECISION_STYLE[precision])
         if finer:
@@ -142,7 +143,7 @@ def fig8(sources):
     ds, *others = (read_dataset(s) for s in sources)
     fig, ax = subplots(7, 6.5)
     ax.plot(ds.x, ds.y, lw=0.4, label=f"double (reach {ds.attrs.get('path_reach', float('nan')):.4g})",
-            **PRECISION_STYLE["double"])
+            **PRECISION_STYLE[Precision.DOUBLE])
     for (_, precision), other in finer_precisions(others).items():
         ax.plot(other.x, other.y, lw=0.3,
                 label=f"{precision} (reach {other.attrs.get('path_reach', float('nan')):.4g})",
