@@ -55,6 +55,8 @@ def _problems(build) -> str:
     (lambda fig, ax: (ax.plot([0, 1]), ax.set_title("one\ntwo\nthree")), "a title of 3 lines"),
     (lambda fig, ax: (ax.plot([0, 1]), ax.set_title("tail ~T^nan")), "NaN in a text"),
     (lambda fig, ax: ax.set_title("nothing here"), "an empty panel: 'nothing here'"),
+    (lambda fig, ax: (ax.axhline(0.5), ax.axvspan(0.2, 0.4), ax.set_title("references only")),
+     "an empty panel: 'references only'"),
     (lambda fig, ax: (ax.plot(np.linspace(0, 1, 50), np.linspace(0, 1, 50)),
                       ax.inset_axes([0.3, 0.3, 0.4, 0.4]).plot([0, 1])), "an inset over the data"),
     (lambda fig, ax: (ax.plot([0, 1]), fig.text(0.8, 0.5, "a note far too long to fit " * 3)),
@@ -69,6 +71,7 @@ def test_the_rule_refuses_what_a_journal_would(build, problem):
     lambda fig, ax: (ax.plot(np.linspace(0, 1, 50), np.linspace(0, 1, 50)),
                      ax.inset_axes([0.05, 0.6, 0.3, 0.35]).plot([0, 1])),  # an inset off the data
     lambda fig, ax: (ax.plot([0, 1]), ax.set_title("financial nano-scale")),
+    lambda fig, ax: ax.barh(["a", "b"], [3.0, 1.0]),  # bars are data (a patch's transform holds its shape)
 ])
 def test_the_rule_passes_a_figure_a_journal_would_take(build):
     assert _problems(build) == ""

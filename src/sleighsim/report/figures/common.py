@@ -231,7 +231,8 @@ def _empty(ax) -> bool:
     """Whether the visible axes ``ax`` shows its frame and no data (an empty panel): no line, patch or point
     cloud in data coordinates holding a point (a reference line such as axhline does not count), no image,
     no table."""
-    drawn = [a for a in (*ax.lines, *ax.patches) if a.get_transform() == ax.transData
+    drawn = [a for a in (*ax.lines, *ax.patches)  # a patch's own transform holds its shape: ask its data's
+             if getattr(a, "get_data_transform", a.get_transform)() == ax.transData
              and (len(a.get_xdata()) if hasattr(a, "get_xdata") else True)]
     clouds = [c for c in ax.collections if len(c.get_offsets()) or len(c.get_paths())]
     return ax.get_visible() and ax.axison and not (drawn or clouds or ax.images or ax.tables)
