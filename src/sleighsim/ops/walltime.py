@@ -32,10 +32,11 @@ def dry_run_graph(configfiles: list, base=BASE_CONFIG, saved: Path | None = None
     with tempfile.TemporaryDirectory(prefix="sleighsim-dag-") as work:
         for extra in (["--dag"], []):
             cmd = [sys.executable, "-m", "snakemake", "-s", str(REPO / "workflow" / "Snakefile"), "-d", work,
-                   "--configfile", str(base), *map(str, configfiles), "--forceall", "-n", *extra]
+                   "--configfile", *(str(Path(f).resolve()) for f in (base, *configfiles)), "--forceall", "-n", *extra]
             proc = subprocess.run(cmd, capture_output=True, text=True, check=False, cwd=work)
             if proc.returncode != 0:
-                raise RuntimeError(f"`{' '.join(cmd)}` failed (exit {proc.returncode}): {proc.stderr[-800:]}")
+                raise RuntimeError(f"`{' '.join(cmd)}` failed (exit {proc.returncode}): "
+                                   f"{(proc.stdout + proc.stderr)[-800:]}")
             texts.append(proc.stdout + ("" if extra else proc.stderr))
     return job_graph(*texts)
 
