@@ -111,7 +111,8 @@ def _record(args, target: dict, est: dict, sched: dict | None, summary: dict) ->
             "measured": {"file": rel(args.measured), "date": summary.get("date"),
                          "git_commit": summary.get("git_commit"), "wall_s": summary.get("wall_s")},
             "total_cpu_s": round(est["total_cpu_s"], 1), "jobs_estimated": len(est["jobs"]),
-            "unmeasured": est["unmeasured"], "schedule": sched, "warnings": est["warnings"]}
+            "unmeasured": est["unmeasured"], "schedule": sched,
+            "warnings": [w.replace(f"{REPO}/", "") for w in est["warnings"]]}  # no path of this machine
 
 
 def _estimate(args) -> int:
