@@ -61,3 +61,19 @@ def test_the_smoke_report_and_ledger_say_they_are_no_reproduction(smoke_run):
             assert not hit, (page, shown[max(0, hit.start() - 200): hit.end() + 100])
     for verdict, mark in MARKS.items():  # the legend: every verdict, its mark and its meaning
         assert f"{mark} {verdict}" in text and MEANINGS[verdict] in text
+
+
+@pytest.mark.workflow
+def test_the_smoke_report_opens_with_its_finding_which_says_it_finds_nothing_about_the_paper(smoke_run):
+    import yaml
+
+    from sleighsim.report.finding import paragraph
+
+    report = smoke_run / SMOKE_RESULTS / "report"
+    facts = yaml.safe_load((report / "finding.yaml").read_text())
+    assert not facts["reproduction"] and facts["config_label"] == "smoke" and facts["states"]
+    text = paragraph(facts)
+    assert "NOT a reproduction and finds nothing about the paper" in text
+    page = _visible_text((report / "index.html").read_text())
+    assert page.index(f"The finding. {text}") < page.index("Which of the paper's claims hold?")
+    assert f"**The finding.** {text}" in (report / "README.md").read_text()

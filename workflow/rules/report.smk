@@ -41,6 +41,7 @@ rule report:
     output:
         html=f"{R}/report/index.html",
         md=f"{R}/report/README.md",
+        finding=f"{R}/report/finding.yaml",
         standalone=report(
             f"{R}/report/standalone.html",
             caption="../report/report.rst",

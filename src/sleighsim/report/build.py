@@ -2,7 +2,8 @@
 templates of ``report/templates`` (:mod:`sleighsim.report.page`).
 
 Its first line names the run's configuration (label and hash, :mod:`sleighsim.claims.fidelity`) and, for a
-run not at the paper's fidelity (the smoke run), says that it is not a reproduction.
+run not at the paper's fidelity (the smoke run), says that it is not a reproduction; then the finding in one
+paragraph (:mod:`sleighsim.report.finding`).
 The first screen answers a referee's two questions: which of the paper's claims hold (every claim
 and model item as a badge by verdict, linked to its ledger row) and whether the steady state is
 chaotic (per state, with the arithmetic it was decided in and the figure that shows why). Then the
@@ -27,6 +28,7 @@ from sleighsim.claims import fidelity
 from sleighsim.claims.ledger import Row
 from sleighsim.claims.rules import DIFFERING, MEANINGS, VERDICTS
 from sleighsim.io.netcdf import atomic_path, read_dataset, write_text
+from sleighsim.report import finding
 from sleighsim.report.chaos_answers import chaos_answers, elsewhere, power_table
 from sleighsim.report.figures import costs as plots
 from sleighsim.report.figures.catalog import FIGURES
@@ -143,7 +145,8 @@ def run_line(identity: dict) -> dict:
 
 def build(rows: list[Row], *, out_dir, tex_path, labels: dict, figures: dict, datasets: dict, kinds: dict,
           benchmarks: dict, identity: dict, power_record=None, cluster_record=None) -> None:
-    """Write index.html and README.md into ``out_dir`` with the figures copied beside them.
+    """Write index.html and README.md into ``out_dir`` with the figures copied beside them, and the
+    finding's facts as finding.yaml (:mod:`sleighsim.report.finding`; its paragraph opens the page).
 
     identity: the run's configuration (its label and hash, :func:`sleighsim.claims.fidelity.identity`);
     labels: {figure: paper LaTeX label}; figures: {figure: PNG path} of the figures built;
@@ -155,10 +158,14 @@ def build(rows: list[Row], *, out_dir, tex_path, labels: dict, figures: dict, da
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     power = yaml.safe_load(Path(power_record).read_text()) if power_record else None
+    cluster = yaml.safe_load(Path(cluster_record).read_text()) if cluster_record else None
+    first = answers(rows, datasets, figures, power, cluster=cluster)
+    found = finding.facts(rows, first["chaos"], cluster, identity, finding.provenance(datasets))
+    write_text(out_dir / "finding.yaml", yaml.safe_dump(found, sort_keys=False, width=120))
     context = {
         "run": run_line(identity),
-        "answers": answers(rows, datasets, figures, power,
-                           cluster=yaml.safe_load(Path(cluster_record).read_text()) if cluster_record else None),
+        "finding": finding.paragraph(found),
+        "answers": first,
         "findings": precision_findings(rows, datasets, kinds),
         "paper_figures": paper_figures(rows, out_dir=out_dir, tex_path=tex_path, labels=labels, figures=figures,
                                        datasets=datasets, benchmarks=benchmarks),
