@@ -285,7 +285,7 @@ def integrate(
     kinematics: bool = False,
     backend: str = "heyoka",
     tol: float = DEFAULT_TOL,
-    precision: Precision = Precision.DOUBLE,
+    precision: Precision | str = Precision.DOUBLE,
     method: str = "DOP853",
     rtol: float = 1e-12,
     atol: float = 1e-14,
@@ -298,7 +298,8 @@ def integrate(
 
     ``y0``: (u, Omega, omega, delta), or with (theta, x, y) appended when
     ``kinematics`` (zeros if omitted). ``tol`` is heyoka's tolerance and ``precision`` its
-    arithmetic (samples are returned in double); ``method``,
+    arithmetic (a :class:`~sleighsim.precision.Precision` or its name, "quad"; samples are returned in
+    double); ``method``,
     ``rtol``, ``atol`` apply to the SciPy backend, whose right-hand side is the lambdified
     NumPy one (independent of heyoka) or, with ``compiled``, heyoka's cfunc (for speed
     studies of the integrator itself). Progress is logged ``progress``
@@ -316,6 +317,7 @@ def integrate(
     if not isinstance(params, Params):
         raise TypeError(f"params = {params!r} must be a Params (Params.paper or Params.physical)")
     equations.check_coefficients(params)
+    precision = Precision.parse(precision)
     max_steps, progress = integer("max_steps", max_steps, 1, MAX_STEPS), integer("progress", progress, 0, MAX_STEPS)
     if backend == "heyoka":
         check_tol(tol, precision)
