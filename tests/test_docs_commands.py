@@ -166,7 +166,7 @@ RUN = {
     "python -m sleighsim.scenes.bench results/data/bench.nc": ("--quick",),
     "sleighsim verify results": (),
 }
-SUBCOMMANDS = ("claims", "diff", "costs", "estimate", "plot", "times", "configdoc", "finding", "verify")
+SUBCOMMANDS = ("claims", "diff", "costs", "estimate", "plot", "times", "configdoc", "finding", "judge", "verify")
 
 
 def _package(cmd: str, words: list[str], tmp_path: Path) -> None:
