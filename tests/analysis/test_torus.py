@@ -1,170 +1,129 @@
-"""The torus-stability rule (sleighsim.analysis.torus): spike refinement, the spike-section curve and its
-floor, and the classification on each branch, on synthetic data and on systems whose tori are known:
-two uncoupled Duffing oscillators (integrable: every perturbation gives a neighbouring torus), and a
-Stuart-Landau oscillator beside a linear one (the cycle r = 1 times a rotation is a torus that attracts
-for lam > 0, so a perturbed orbit comes back, and repels for lam < 0, so it leaves)."""
+"""The torus-stability rules (sleighsim.analysis.torus): event refinement on section data, the train test
+on each branch, the identity on each branch, the family's laws; and the train test on orbits of known
+class (sleighsim.analysis.torus_known: two uncoupled oscillators, the same seen through a three-reversal
+observable, chaotic Henon-Heiles and Lorenz orbits through a fast rotor, a Henon-Heiles 3-torus). Its
+power and false rates over 50 orbits per family: benchmarks/torus_power.py."""
 
 import math
 
 import numpy as np
 import pytest
-from scipy.integrate import solve_ivp
 
-from sleighsim.analysis import torus
+from sleighsim.analysis import torus, torus_known
 
-RULE = dict(min_spikes=5, leave=0.1, change=2.0, same=3.0, sigma=3.0, period_floor=1e-9)
-W2 = math.sqrt(2.0)
+RULE = dict(min_intervals=8, factor=10.0, max_intervals=4)
 
 
-def test_spike_peaks_find_the_envelope_peak_and_the_state_there(rng):
-    """A Gaussian envelope (width 25) sampled once per 'fast turn' (irregular steps near 1.9), beside a
-    linear coordinate: the fitted peak lies within 1e-3 of the true one (far closer than the nearest
-    sample) and the coordinate is interpolated to it; a spike whose window runs past the record's
-    start is dropped."""
-    t = np.cumsum(1.9 + 0.05 * rng.standard_normal(3000))
-    peaks = np.array([500.3, 2400.7, 4100.1])
-    X = np.c_[0.01 * t, sum(np.exp(-((t - p) / 25.0) ** 2) for p in peaks)]
-    times, points = torus.spike_peaks(t, X, peaks + 20.0, 50.0)
-    assert np.max(np.abs(times - peaks)) < 1e-3
-    assert np.max(np.abs(times - peaks)) < 0.01 * np.max(np.abs(t[np.searchsorted(t, peaks)] - peaks))
-    assert np.allclose(points[:, 0], 0.01 * times, rtol=0, atol=1e-9) and np.allclose(points[:, 1], 1.0, atol=1e-5)
-    edge = torus.spike_peaks(t, np.c_[t, np.exp(-((t - t[1]) / 5.0) ** 2)], [t[1]], 50.0)
-    assert edge[0].size == 0 and edge[1].shape == (0, 2)
+def _section(rng, P=500.0, n=4000):
+    """Irregular section times (steps near 1.9) and rows (sin(2 pi t / P), cos, t / P)."""
+    t = np.cumsum(1.9 + 0.05 * rng.standard_normal(n))
+    return t, np.c_[np.sin(2 * np.pi * t / P), np.cos(2 * np.pi * t / P), t / P]
 
 
-def test_section_curve_recovers_a_fourier_curve_and_its_thickness(rng):
-    """Points on x(phi) = (cos phi, 0.3 sin 2 phi, 1 + 0.1 cos 3 phi) plus noise of size s: the fitted
-    curve's floor is of order s (leave-one-out), and points of the curve itself lie within a few s."""
-    phi = rng.uniform(0, 2 * np.pi, 60)
-    exact = np.c_[np.cos(phi), 0.3 * np.sin(2 * phi), 1 + 0.1 * np.cos(3 * phi)]
-    s = 1e-6
-    curve = torus.section_curve(phi, exact + s * rng.standard_normal(exact.shape), 4)
-    assert curve["order"] == 4 and 0.5 * s < curve["floor"] < 5 * s
-    other = rng.uniform(0, 2 * np.pi, 20)
-    on = np.c_[np.cos(other), 0.3 * np.sin(2 * other), 1 + 0.1 * np.cos(3 * other)]
-    assert np.max(torus.curve_distance(curve, other, on)) < 5 * s
-    assert np.min(torus.curve_distance(curve, other, on + [1e-3, 0, 0])) > 0.9e-3
-    with pytest.raises(ValueError, match="at least 3"):
-        torus.section_curve(phi[:2], exact[:2], 4)
+@pytest.mark.parametrize("direction, phase", [(-1, 0.5), (+1, 0.0)])
+def test_crossings_refine_a_level_crossing_and_the_state_there(rng, direction, phase):
+    """sin(2 pi t / P) crosses 0 downward at t = (k + 1/2) P and upward at k P: the refined times within
+    1e-9 of the exact ones (the samples 1.9 apart), their error estimates positive and of that order at
+    most, the third column interpolated to t / P there."""
+    P = 500.0
+    t, X = _section(rng, P)
+    ev = torus.crossings(t, X, 0, 0.0, direction)
+    exact = (np.round(ev["times"] / P - phase) + phase) * P
+    assert ev["times"].size >= 10 and np.max(np.abs(ev["times"] - exact)) < 1e-9
+    assert np.all(ev["time_err"] > 0) and np.max(ev["time_err"]) < 1e-8
+    assert np.allclose(ev["points"][:, 2], ev["times"] / P, atol=1e-12)
+    assert ev["point_err"].shape == (ev["times"].size, 3)
 
 
-def test_section_curve_on_a_short_arc_is_the_points_mean(rng):
-    """Points whose phases cover 0.2 rad (a near-resonant torus): no harmonic is resolved, order 0,
-    the curve is their mean and the floor their scatter."""
-    phi = 1.0 + 0.2 * rng.uniform(size=40)
-    pts = np.array([0.3, -0.2, 3.1]) + 1e-7 * rng.standard_normal((40, 3))
-    curve = torus.section_curve(phi, pts, 10)
-    assert curve["order"] == 0 and 1e-7 < curve["floor"] < 5e-7
-    assert torus.curve_distance(curve, [4.0], [[0.3, -0.2, 3.1 + 1e-3]])[0] == pytest.approx(1e-3, rel=1e-3)
+def test_crossings_drop_events_at_the_record_ends_and_refuse_a_bad_direction(rng):
+    t, X = _section(rng)
+    edge = torus.crossings(t[:5], X[:5] - X[2], 0, 0.0, -1)
+    assert edge["times"].size == 0 and edge["points"].shape == (0, 3)
+    with pytest.raises(ValueError, match="direction"):
+        torus.crossings(t, X, 0, 0.0, 0)
 
 
-def test_mean_interval_and_quarters():
-    assert torus.mean_interval([0.0, 10.0, 21.0, 30.0]) == pytest.approx((10.0, 1.0 / math.sqrt(3)))
-    assert torus.late_interval([0.0, 5.0, 10.0, 20.0, 30.0, 40.0]) == pytest.approx((10.0, 0.0))
-    assert math.isnan(torus.mean_interval([0.0, 10.0])[1])
-    assert torus.quarters([5.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 9.0]) == (3.0, 5.0)
+def _train(rng, intervals, n, noise=1e-11):
+    """n event times with the repeating intervals, plus noise, and their errors (the noise's size)."""
+    d = np.resize(np.asarray(intervals, float), n - 1)
+    return np.r_[0.0, np.cumsum(d)] + 1000.0 + noise * rng.standard_normal(n), np.full(n, noise)
 
 
-@pytest.mark.parametrize("D, n, dT, err, want, why", [
-    (np.full(20, 1e-3), 3, 0.0, 1.0, "leaves", "fewer than"),
-    (np.r_[np.full(10, 1e-3), np.full(10, 0.2)], 20, 0.0, 1.0, "leaves", "D late >="),
-    (np.geomspace(1e-6, 1e-4, 20), 20, 0.0, 1.0, "leaves", "grew"),
-    (np.geomspace(1e-4, 1e-6, 20), 20, 0.5, 1.0, "same torus", "D decayed, same period"),
-    (np.geomspace(1e-4, 1e-6, 20), 20, 50.0, 1.0, "neighbouring torus", "period differs"),
-    (np.geomspace(3e-8, 5e-9, 20), 20, 0.5, 1.0, "same torus", "on the reference curve"),  # decay below 3 floors
-    (np.full(20, 2e-8), 20, 0.5, 1.0, "same torus", "on the reference curve, same period"),
-    (np.full(20, 2e-8), 20, 8.0, 1.0, "neighbouring torus", "period differs"),
-    (np.full(20, 2e-8), 20, 1e-10, 0.0, "same torus", "same period"),  # strictly periodic: the period floor
-    (np.full(20, 2e-8), 20, 1e-8, 0.0, "neighbouring torus", "period differs"),
-    (np.full(20, 1e-3), 20, 0.0, 1.0, "neighbouring torus", "neither grows nor decays"),
+def test_train_fit_recovers_the_period():
+    P, R, c = torus.train_fit(100.0 + 7.0 * np.arange(12), 1)
+    assert P == pytest.approx(7.0) and R < 1e-12 and c == pytest.approx(1 / math.sqrt(np.var(np.arange(12)) * 12))
+
+
+@pytest.mark.parametrize("intervals, n, want, k, why", [
+    ([2337.5], 8, torus.NOT_SHOWN, 0, "fewer than 8"),
+    ([2337.5], 12, torus.PERIODIC, 1, "every interval"),
+    ([2000.0, 2100.0, 2300.0], 12, torus.REPEATING, 3, "3 intervals repeating"),
+    ([2000.0, 2100.0, 2200.0, 2300.0, 2400.0], 12, torus.NOT_SHOWN, 0, "no train of 1 .. 4"),  # k > max_intervals
 ])
-def test_classify_on_each_branch(D, n, dT, err, want, why):
-    """Each branch of the rule (floor 1e-8: the on-curve branch needs D late <= 3e-8)."""
-    klass, reason = torus.classify(D, n, dT, err, 1e-8, **RULE)
-    assert klass == want and why in reason
+def test_classify_on_each_branch(rng, intervals, n, want, k, why):
+    t, e = _train(rng, intervals, n)
+    c = torus.classify(t, e, **RULE)
+    assert c["torus_class"] == want and c["train_intervals"] == k and why in c["class_reason"]
+    if want != torus.NOT_SHOWN:
+        assert c["period"] == pytest.approx(np.mean(intervals), abs=1e-9) and 0 < c["period_err"] < 1e-11
 
 
-# ---------------------------------------------------------------- systems with known tori
+def test_classify_tries_only_the_k_whose_offsets_each_hold_three_events(rng):
+    """Nine events of a 4-interval train: k = 4 would leave offsets with two events, so only 1 .. 3 are tried
+    (and none fits)."""
+    t, e = _train(rng, [2000.0, 2100.0, 2200.0, 2300.0], 9)
+    c = torus.classify(t, e, min_intervals=8, factor=10.0, max_intervals=4)
+    assert c["torus_class"] == torus.NOT_SHOWN and "no train of 1 .. 3 " in c["class_reason"]
+    assert "R_3" in c["class_reason"] and "R_4" not in c["class_reason"]
 
 
-def _duffing(t, y):
-    q1, p1, q2, p2 = y
-    return [p1, -q1 - q1**3, p2, -2.0 * q2 - q2**3]
+def test_a_wandering_train_is_not_shown_to_be_a_torus(rng):
+    """Intervals varying by 1e-6 of themselves (a chaotic train a million times more regular than the
+    sticky Henon-Heiles ones) against a resolution of 1e-11: no k fits; its period is the k = 1 fit's."""
+    t, e = _train(rng, 2337.5 * (1 + 1e-6 * rng.standard_normal(20)), 21)
+    c = torus.classify(t, e, **RULE)
+    assert c["torus_class"] == torus.NOT_SHOWN and "R_1" in c["class_reason"] and "R_4" in c["class_reason"]
+    assert c["period"] == pytest.approx(2337.5, rel=1e-5) and c["period_err"] > 1e-5
 
 
-def _landau(lam, c=0.5):
-    def f(t, y):
-        x, v, q2, p2 = y
-        r2 = x * x + v * v
-        nu = 1.0 + c * (r2 - 1.0)
-        return [lam * x * (1 - r2) - nu * v, lam * v * (1 - r2) + nu * x, p2, -2.0 * q2]
-    return f
+@pytest.mark.parametrize("klass, dP, offset, want, why", [
+    (torus.NOT_SHOWN, 0.0, 0.0, torus.UNDETERMINED, "not shown"),
+    (torus.PERIODIC, 2e-13, 1e-10, torus.SAME, "both within"),
+    (torus.PERIODIC, -26.3, 1e-10, torus.ANOTHER, "the period differs"),
+    (torus.REPEATING, 2e-13, 2.7e-3, torus.ANOTHER, "the spike point differs"),
+])
+def test_identity_on_each_branch(klass, dP, offset, want, why):
+    ident, reason = torus.identity(klass, dP, 1e-13, offset, 1e-10, 3.0)
+    assert ident == want and why in reason
 
 
-def _spike_section(f, y0, T, fast_omega):
-    """Spikes where the first oscillator's momentum-like coordinate y[1] falls through 0 with y[0] > 0
-    (DOP853, rtol 1e-12); phase: the second oscillator's angle; point: (y[0], y[2], y[3])."""
-    def event(t, y):
-        return y[1]
-    event.direction = -1.0 if f is _duffing else 1.0
-    sol = solve_ivp(f, (0.0, T), y0, method="DOP853", rtol=1e-12, atol=1e-12, events=event)
-    t, Y = sol.t_events[0], sol.y_events[0]
-    keep = Y[:, 0] > 0
-    t, Y = t[keep], Y[keep]
-    return t, np.mod(np.arctan2(-Y[:, 3] / fast_omega, Y[:, 2]), 2 * np.pi), Y[:, [0, 2, 3]]
+def test_family_law_from_independent_directions(rng):
+    """Per direction y = s_k log10 a + b_k, s_k = -85 + 5 z_k (four directions): the law's slope is their
+    mean, its error their spread over 2; a direction with one amplitude adds nothing; residual 0 on
+    straight lines, the curvature's size on bent ones."""
+    s = -85.0 + 5.0 * rng.standard_normal(4)
+    x = np.tile(np.arange(-6.0, -2.0), 4)
+    d = np.repeat(np.arange(4), 4)
+    law = torus.family_law(np.r_[x, -6.0], np.r_[s[d] * x + d, 1.0], np.r_[d, 9])
+    assert law["slope"] == pytest.approx(s.mean()) and law["slope_err"] == pytest.approx(s.std(ddof=1) / 2)
+    assert law["K"] == 4 and law["residual"] < 1e-9 and set(law["per_direction"]) == {0, 1, 2, 3}
+    bent = torus.family_law(x, s[d] * x + 2.0 * (x + 4.5) ** 2, d)
+    assert 1.0 < bent["residual"] < 2.0
+    one = torus.family_law([-6.0, -5.0], [1.0, 2.0], [0, 0])
+    assert one["slope"] == pytest.approx(1.0) and math.isnan(one["slope_err"]) and one["K"] == 1
 
 
-def _judge(f, y_ref, y_pert, T, fast_omega, T_ref=None):
-    t0, ph0, x0 = _spike_section(f, y_ref, T_ref or T, fast_omega)
-    curve = torus.section_curve(ph0, x0, 16)
-    t, ph, x = _spike_section(f, y_pert, T, fast_omega)
-    (m0, e0), (m, e) = torus.mean_interval(t0), torus.late_interval(t)
-    D = torus.curve_distance(curve, ph, x)
-    return torus.classify(D, t.size, m - m0, math.hypot(e, e0), curve["floor"], **RULE)
+# ---------------------------------------------------------------- orbits of known class
 
 
-def _duffing_level(q1, H):
-    """(q1, 0, q2, 0) with q2 > 0 from the total energy H = sum q'^2 / 2 + w^2 q^2 / 2 + q^4 / 4."""
-    h2 = H - (q1**2 / 2 + q1**4 / 4)
-    return [q1, 0.0, math.sqrt(-2.0 + math.sqrt(4.0 + 4.0 * h2)), 0.0]
-
-
-@pytest.mark.parametrize("a", [1e-6, 1e-4, 1e-3])
-def test_integrable_tori_are_neighbours(a):
-    """Duffing pair, energy moved between the oscillators at fixed total energy: a neighbouring torus
-    (measurably different period, offset that does not decay) at every size over 40 cycles."""
-    y_ref = _duffing_level(1.0, 1.5)
-    klass, why = _judge(_duffing, y_ref, _duffing_level(1.0 + a, 1.5), 200.0, W2, T_ref=400.0)
-    assert klass == "neighbouring torus", why
-
-
-def test_the_reference_against_itself_is_the_same_torus():
-    """The rule's control: the reference orbit over half its horizon, judged against its own curve."""
-    y_ref = _duffing_level(1.0, 1.5)
-    klass, why = _judge(_duffing, y_ref, y_ref, 200.0, W2, T_ref=400.0)
-    assert klass == "same torus", why
-
-
-@pytest.mark.parametrize("a", [1e-6, 1e-3])
-def test_neutral_cycles_are_neighbours(a):
-    """Stuart-Landau at lam = 0 (every circle r = const is invariant, its frequency 1 + 0.5 (r^2 - 1)):
-    the orbit started at r = 1 + a keeps its offset a and its shorter period."""
-    klass, why = _judge(_landau(0.0), [1.0, 0.0, 0.7, 0.0], [1.0 + a, 0.0, 0.7, 0.0], 250.0, W2)
-    assert klass == "neighbouring torus" and "neither grows nor decays" in why, why
-
-
-@pytest.mark.parametrize("a", [1e-6, 1e-3])
-def test_an_attracting_torus_is_found_again(a):
-    """Stuart-Landau at lam = 0.05 (the cycle attracts at rate 2 lam): the perturbed orbit is back."""
-    y = [1.0, 0.0, 0.7, 0.0]
-    klass, why = _judge(_landau(0.05), y, [1.0 + a, 0.0, 0.7, 0.0], 250.0, W2)
-    assert klass == "same torus", why
-
-
-@pytest.mark.parametrize("a", [1e-6, 1e-3])
-def test_a_repelling_torus_is_left(a):
-    """Stuart-Landau at lam = -0.05 (the cycle repels at rate 0.1): the orbit started inside spirals away;
-    over 150 (24 cycles) the reference's own integration error (1e-12) grows only to about 3e-6."""
-    y = [1.0, 0.0, 0.7, 0.0]
-    klass, why = _judge(_landau(-0.05), y, [1.0 - a, 0.0, 0.7, 0.0], 150.0, W2)
-    assert klass == "leaves", why
+@pytest.mark.parametrize("name", list(torus_known.FAMILIES))
+def test_the_train_test_on_orbits_of_known_class(name):
+    """Two orbits per family, 12 events each (the paper config's perturbed orbits have 11 or 12): the
+    2-tori are tori with their own number of intervals, everything else is not shown to be one."""
+    fam = torus_known.FAMILIES[name]
+    for draw in range(2):
+        d = torus_known.section(name, np.random.default_rng([52, draw]), 12)
+        ev = torus.crossings(d["t"], d["X"], fam.column, fam.level, fam.direction)
+        c = torus.classify(ev["times"][:12], ev["time_err"][:12], **RULE)
+        assert ev["times"].size >= 12
+        assert c["train_intervals"] == (fam.k if fam.torus else 0), c["class_reason"]

@@ -217,3 +217,20 @@ def test_the_first_screen_cites_a_verdict_measured_with_another_config():
     assert "tori reached (median spike interval) 2337.5, 2335.5" in line
     assert "commit abcdef123456, 2026-11-26" in line
     assert elsewhere(None) == []
+
+
+def test_a_state_settled_in_an_arithmetic_that_does_not_follow_is_named_a_torus_its_rounding_selected():
+    text = fa.state_origin(Precision.DOUBLE, fa.DOES_NOT_FOLLOW, 2337.4)
+    assert text.startswith("a torus that double's rounding selected (spike interval 2337)")
+    assert "does not follow" in text
+
+
+def test_a_state_settled_in_an_arithmetic_that_follows_is_its_starts_own_steady_state():
+    text = fa.state_origin(Precision.LONG_DOUBLE, fa.FOLLOWS, 1234.0)
+    assert text.startswith("the steady state of its start's orbit (spike interval 1234)")
+    assert "long double, which settled it, follows" in text
+
+
+def test_a_state_whose_gauge_is_unknown_is_not_named_either_way():
+    text = fa.state_origin(Precision.DOUBLE, fa.UNKNOWN, math.nan)
+    assert text.startswith("unknown") and "torus" not in text and "interval" not in text

@@ -5,6 +5,7 @@ import pytest
 import xarray as xr
 from test_judges import PAPER, _audit, _psd, _ref
 
+from sleighsim.analysis import torus
 from sleighsim.claims import causes
 from sleighsim.claims.rules import Judgement
 
@@ -126,10 +127,11 @@ def test_the_injected_error_explains_the_first_spike_only_at_a_level_some_arithm
     assert f"8700 would need an error of 10^{level}" in text
 
 
-def _torus_family(classes=("neighbouring torus", "neighbouring torus"), intervals=(2300.0, 2010.0)):
-    """A torus-stability dataset: the reference (interval 2337.6) and perturbed orbits of these classes."""
-    return xr.Dataset({"torus_class": ("orbit", ["reference", *classes]), "amplitude": ("orbit", [0.0, 1e-6, 1e-3]),
-                       "mean_interval": ("orbit", [2337.6, *intervals])}, attrs={"reference_interval": 2337.6})
+def _torus_family(identities=(torus.ANOTHER, torus.ANOTHER), periods=(2300.0, 2010.0)):
+    """A torus-stability dataset: the reference (period 2337.6) and perturbed orbits of these identities."""
+    return xr.Dataset({"torus_identity": ("orbit", [torus.REFERENCE, *identities]),
+                       "amplitude": ("orbit", [0.0, 1e-6, 1e-3]), "period": ("orbit", [2337.6, *periods])},
+                      attrs={"reference_period": 2337.6})
 
 
 def _fig4_groups(extra):
@@ -139,12 +141,13 @@ def _fig4_groups(extra):
 
 
 @pytest.mark.parametrize(("classes", "extra", "explained"), [
-    (("neighbouring torus", "neighbouring torus"), 2100.0, True),  # the extra group inside the family's span
-    (("neighbouring torus", "neighbouring torus"), 1295.0, False),  # outside it
-    (("neighbouring torus", "leaves"), 2100.0, False),  # an orbit leaves: no family of neutrally stable tori
+    ((torus.ANOTHER, torus.ANOTHER), 2100.0, True),  # the extra group inside the family's span
+    ((torus.ANOTHER, torus.ANOTHER), 1295.0, False),  # outside it
+    ((torus.ANOTHER, torus.UNDETERMINED), 2100.0, False),  # an orbit not shown to be on a torus: no family shown
+    ((torus.ANOTHER, torus.SAME), 2100.0, False),  # one back on the reference's torus: not each on its own
 ])
 def test_c06_a_family_of_tori_explains_extra_groups_only_within_its_span(classes, extra, explained):
     text = causes.c06(J, {}, _torus_family(classes), _fig4_groups(extra))
-    assert text.startswith("explained by a family of neutrally stable tori") == explained
+    assert text.startswith("explained by a family of tori, each orbit on its own") == explained
     assert text.startswith(causes.NONE) != explained
     assert f"the extra groups' {extra:.5g} " + ("within that span" if extra > 2000 else "outside it") in text

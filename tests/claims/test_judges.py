@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
+from sleighsim.analysis import torus
 from sleighsim.claims import judges
 from sleighsim.claims.judges import lyapunov, perturbation, sleigh0, steady_state, transients
 from sleighsim.claims.rules import CANNOT, DIFFERS, NOT_YET, REPRODUCED, all_of, digits, number
@@ -86,20 +87,41 @@ def _fig4(n_groups, reached=1):
     return ds
 
 
-def _torus():
-    """A torus-stability dataset: the reference and two perturbed orbits on neighbouring tori."""
-    return xr.Dataset({"amplitude": ("orbit", [0.0, 1e-6, 1e-3]), "mean_interval": ("orbit", [2337.6, 2422.2, 2155.3]),
-                       "distance_early": ("orbit", [NAN, 0.02, 0.05]), "distance_late": ("orbit", [NAN, 0.02, 0.049])},
-                      attrs=dict(n_perturbed=2, n_same_torus=0, n_neighbouring_torus=2, n_leaves=0, T=5e4,
-                                 reference_interval=2337.58))
+def _torus(directions=4, err=3.0):
+    """A torus-stability dataset: the reference and three perturbed orbits, two on other tori of the family, one
+    not shown to be on a torus; laws fitted over ``directions`` directions (none: not fitted)."""
+    return xr.Dataset({"amplitude": ("orbit", [0.0, 1e-6, 1e-3, 1e-3]),
+                       "period": ("orbit", [2337.575614, 2311.309838, 2010.833297, 2052.1]),
+                       "torus_class": ("orbit", [torus.PERIODIC, torus.PERIODIC, torus.PERIODIC, torus.NOT_SHOWN]),
+                       "torus_identity": ("orbit", [torus.REFERENCE, torus.ANOTHER, torus.ANOTHER,
+                                                    torus.UNDETERMINED])},
+                      attrs=dict(n_perturbed=3, T=2.5e4, T_reference=1e5, reference_class=torus.PERIODIC,
+                                 reference_period=2337.575613998, reference_period_err=2.8e-13, reference_n_cycles=42,
+                                 law_amplitudes=[1e-6, 1e-3], period_law_slope=-91.5, period_law_slope_err=err,
+                                 period_law_slope_residual=8.0, period_law_slope_directions=directions,
+                                 offset_law_exponent=0.31, offset_law_exponent_err=err / 100,
+                                 offset_law_exponent_residual=0.1, offset_law_exponent_directions=directions))
 
 
 @pytest.mark.parametrize("n_groups, reached, want", [(1, 1, REPRODUCED), (2, 1, DIFFERS), (1, 0, NOT_YET)])
 def test_c06(n_groups, reached, want):
     j = transients.c06(PAPER["C06"], _fig4(n_groups, reached), _torus())
     assert j.verdict == want and (want != DIFFERS or "extra steady state" in j.reason)
-    assert "0 back on its torus, 2 on neighbouring tori, 0 left" in j.measured and "2155.3 to 2422.2" in j.measured
-    assert "late over early 0.98 to 1" in j.measured
+    assert "torus (periodic train), period 2337.575614 +- 3e-13 over 42 reversal intervals" in j.measured
+    assert "2 torus (periodic train), 1 not shown to be a torus; 2 another torus of the family, 1 undetermined" \
+        in j.measured and "periods 2010.833 to 2311.31" in j.measured
+    assert "period changes per decade of a by -91.5 +- 3 (standard error over 4 directions" in j.measured
+    assert "spike point moves like a to the power 0.31 +- 0.03" in j.measured
+    assert "neutrally" not in j.measured and "neighbouring" not in j.measured
+
+
+@pytest.mark.parametrize("directions, err, want", [
+    (1, math.nan, "by -91.5 (standard error over 1 directions"),  # one direction: no spread to take
+    (0, math.nan, "period changes per decade of a by: not fitted"),
+])
+def test_c06_torus_laws_on_each_branch(directions, err, want):
+    j = transients.c06(PAPER["C06"], _fig4(1, 1), _torus(directions, err))
+    assert want in j.measured
 
 
 def _fig6(**over):
@@ -487,3 +509,11 @@ def _audit(**over):
 ])
 def test_model_items(judge, over, want):
     assert judges.JUDGES[judge.upper()](PAPER[judge.upper()], _audit(**over)).verdict == want
+
+
+def test_rows_are_listed_by_their_eps_and_no_row_never_reads_as_a_value():
+    from sleighsim.claims.judges.lyapunov import at_eps
+
+    assert at_eps([0.0, 0.05]) == "at eps 0, 0.05"
+    assert at_eps([]) == "at no eps row"
+    assert "none" not in at_eps(np.array([]))

@@ -21,7 +21,7 @@ def _oscillator():
 
 
 def _builders():
-    from sleighsim.chaos import power
+    from sleighsim.chaos import audit_orbits
     from sleighsim.engine import integrators, peers
     from sleighsim.model.params import Params
     from sleighsim.scenes import bench
@@ -30,7 +30,8 @@ def _builders():
         "tangent_integrator": lambda: integrators.tangent_integrator(_oscillator(), 1),
         "tangent_integrator_batch": lambda: integrators.tangent_integrator_batch(_oscillator(), 2),
         "megno_integrator": lambda: integrators.megno_integrator(_oscillator()),
-        "power._flow": lambda: power._flow.__wrapped__("lorenz", "double"),
+        "audit_orbits.flow": lambda: audit_orbits.flow.__wrapped__("lorenz", "double", 1),
+        "audit_orbits._megno_flow": lambda: audit_orbits._megno_flow.__wrapped__("lorenz", "double"),
         "bench.reference": lambda: bench.reference(Params.paper(eps=0.1), np.array([0.0, 0.1, 1.0, 0.0]), 1.0, 1e-15),
         "peers.require": lambda: peers.require("heyoka"),
     }

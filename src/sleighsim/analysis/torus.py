@@ -1,13 +1,14 @@
-"""Is a perturbed orbit on the reference torus, on a neighbouring one, or gone? The spike section and
-the classification rule of the torus-stability scene (sleighsim.scenes.torus_stability), on sampled data.
+"""Is an orbit on a 2-torus, and on which one of a family? The cycle events, the train test, the
+identity and the family's laws of the torus-stability scene (sleighsim.scenes.torus_stability), on
+sampled section data.
 
-Conventions. A spike-cycling orbit is cut once per cycle at its spikes: the spike section holds, per
-spike n, the fast phase phi_n in [0, 2 pi) (for the sleigh delta mod 2 pi at the spike) and a point x_n
-(for the sleigh (u, Omega, omega) at the spike). On a 2-torus these points lie on one closed curve
-x(phi), the spike-section curve. The reference's curve is a least-squares Fourier series in phi
-(:func:`section_curve`); a perturbed orbit's distance to it is D_n = |x_n - x(phi_n)| / scale (scale:
-the reference's velocity scale, so D is a relative distance like the perturbation's size).
-Times in the flow's time unit.
+Conventions. An orbit with a fast angle is cut by the section where that angle is 0 mod 2 pi: crossing
+times t_k and states X_k (rows), many per slow cycle. On a 2-torus the section is a closed curve
+that the crossings walk along by a fixed rotation of the slow angle, so a smooth coordinate X[:, c]
+of the crossings is a smooth function of the slow angle, which advances linearly in time: the times at
+which it crosses a level (interpolated between crossings) mark one fixed point of the section curve
+and come strictly periodically, whatever the fast phase. A train of such event times is the orbit's
+refined train; its intervals are the torus' slow period. Times in the flow's time unit.
 """
 
 from __future__ import annotations
@@ -16,133 +17,167 @@ import math
 
 import numpy as np
 
-CLASSES = ("same torus", "neighbouring torus", "leaves")
+PERIODIC, REPEATING, NOT_SHOWN = "torus (periodic train)", "torus (k-interval train)", "not shown to be a torus"
+CLASSES = (PERIODIC, REPEATING, NOT_SHOWN)
+REFERENCE, SAME, ANOTHER = "reference", "the reference's torus", "another torus of the family"
+UNDETERMINED = "undetermined"
+IDENTITIES = (REFERENCE, SAME, ANOTHER, UNDETERMINED)
+HALF_POINTS = 4  # section crossings on each side of an event: the interpolant has degree 2 x 4 - 1 = 7
 
-
-#: Written into the torus_stability dataset (attribute spike_rule).
-SPIKE_PEAKS_RULE = (
-    "Spike times refined to the peak of a smooth envelope, and the section's state there: for each coarse spike"
-    " time, the section crossing (rows of X, times t; one per fast turn) whose |X[:, 1]| is largest within "
-    "half_width of it; polynomials of ``degree`` in t through it and its ``half_points`` neighbours on each "
-    "side, per column of X; the spike time is the largest maximum of the fitted |X[:, 1]| among the fit "
-    "window's critical points, and the spike point the fitted X there. A spike whose window runs past the "
-    "record's ends is dropped. Returns (times (m,), points (m, columns))."
+#: Written into the torus_stability dataset (attribute crossing_rule).
+CROSSING_RULE = (
+    "Events of the section data (times t_k, rows X_k): each k where column c goes from below to at or above "
+    "level (direction +1; from above to at or below for -1) between crossings k and k + 1; the polynomial of "
+    "degree 2 m - 1 through the crossings k - m + 1 .. k + m (m = 4) in t, per column, is solved for the "
+    "level in [t_k, t_k+1] (Brent) and gives the event time and the event point (every column there). An "
+    "event whose stencils run past the record's ends is dropped. Its time's error: the largest difference from "
+    "the same solved on the stencils k - m + 2 .. k + m - 1 (degree 5; truncation) and k - m .. k + m - 1, "
+    "k - m + 2 .. k + m + 1 (shifted by one crossing: other samples, so their noise shows), at least one unit "
+    "in the last place of the time (the times are doubles); its point's error: the difference from the "
+    "degree-5 stencil's."
 )
 
 
-def spike_peaks(t, X, coarse, half_width: float, half_points: int = 3, degree: int = 4):
-    """Applies :data:`SPIKE_PEAKS_RULE`, the rule as the datasets record it (just above)."""
+def _event(t, X, k: int, lo: int, hi: int, column: int, level: float) -> tuple[float, np.ndarray]:
+    """(time, point): the interpolants of degree hi - lo - 1 through rows k + lo .. k + hi - 1 at column's
+    level crossing in [t_k, t_k+1] (the end nearer the level when rounding leaves no sign change)."""
+    sl = slice(k + lo, k + hi)
+    fits = [np.polynomial.Polynomial.fit(t[sl] - t[k], X[sl, j], hi - lo - 1) for j in range(X.shape[1])]
+    from scipy.optimize import brentq  # local: scipy.optimize is slow to import (the catalog's start-up)
+
+    h = t[k + 1] - t[k]
+    fa, fb = fits[column](0.0) - level, fits[column](h) - level
+    if fa * fb <= 0:
+        r = brentq(lambda x: fits[column](x) - level, 0.0, h, xtol=1e-15 * h, rtol=4 * np.finfo(float).eps)
+    else:
+        r = 0.0 if abs(fa) < abs(fb) else h
+    return t[k] + r, np.array([f(r) for f in fits])
+
+
+#: The stencils (first, last + 1 row relative to k) of an event: the event's, then its error's.
+STENCILS = ((-HALF_POINTS + 1, HALF_POINTS + 1), (-HALF_POINTS + 2, HALF_POINTS),
+            (-HALF_POINTS, HALF_POINTS), (-HALF_POINTS + 2, HALF_POINTS + 2))
+
+
+def crossings(t, X, column: int, level: float, direction: int) -> dict:
+    """Applies :data:`CROSSING_RULE`, the rule as the datasets record it (just above). Returns times (n,),
+    points (n, columns), time_err (n,) and point_err (n, columns)."""
     t, X = np.asarray(t, float), np.atleast_2d(np.asarray(X, float))
-    signal, h = np.abs(X[:, 1]), half_points
-    times, points = [], []
-    for c in np.asarray(coarse, float):
-        near = np.flatnonzero(np.abs(t - c) <= half_width)
-        if near.size == 0:
-            continue
-        i = near[np.argmax(signal[near])]
-        if i < h or i + h >= t.size:
-            continue
-        tau = t[i - h: i + h + 1] - t[i]
-        fit = np.polynomial.Polynomial.fit(tau, signal[i - h: i + h + 1], degree, domain=[tau[0], tau[-1]])
-        crit = [r.real for r in fit.deriv().roots() if abs(r.imag) < 1e-9 and tau[0] <= r.real <= tau[-1]]
-        best = max(crit + [0.0], key=fit)
-        times.append(t[i] + best)
-        points.append([np.polynomial.Polynomial.fit(tau, X[i - h: i + h + 1, k], degree,
-                                                    domain=[tau[0], tau[-1]])(best) for k in range(X.shape[1])])
-    return np.array(times), np.array(points).reshape(len(times), X.shape[1])
+    if direction not in (-1, 1):
+        raise ValueError(f"direction must be +1 or -1, got {direction!r}")
+    s = direction * (X[:, column] - level)
+    m = HALF_POINTS
+    ks = [k for k in np.flatnonzero((s[:-1] < 0) & (s[1:] >= 0)) if k - m >= 0 and k + m + 1 < t.size]
+    found = [[_event(t, X, k, lo, hi, column, level) for lo, hi in STENCILS] for k in ks]
+    ev = np.array([[time for time, _ in row] for row in found]).reshape(-1, len(STENCILS))
+    pts = np.array([[point for _, point in row[:2]] for row in found]).reshape(len(ks), 2, X.shape[1])
+    return {"times": ev[:, 0], "points": pts[:, 0],
+            "time_err": np.maximum(np.abs(ev[:, 1:] - ev[:, :1]).max(axis=1), np.spacing(np.abs(ev[:, 0]))),
+            "point_err": np.abs(pts[:, 0] - pts[:, 1])}
 
 
-def _design(phase, order: int) -> np.ndarray:
-    """Columns 1, cos(k phi), sin(k phi) for k = 1..order."""
-    phase = np.asarray(phase, float)[:, None]
-    k = np.arange(1, order + 1)[None, :]
-    return np.hstack([np.ones_like(phase), np.cos(k * phase), np.sin(k * phase)])
+def train_fit(times, k: int) -> tuple[float, float, float]:
+    """(P, R, c): least squares t_n = a_(n mod k) + n P over the train (k offsets, one period per event);
+    R the residuals' rms with n - k - 1 degrees of freedom, c = sqrt((A^T A)^-1) for P (P's standard
+    error is c times the residuals' scale)."""
+    times = np.asarray(times, float)
+    n = np.arange(times.size)
+    A = np.zeros((n.size, k + 1))
+    A[n, n % k] = 1.0
+    A[:, k] = n
+    coef, *_ = np.linalg.lstsq(A, times - times[0], rcond=None)
+    dof = n.size - k - 1
+    R = float(np.sqrt(np.sum((times - times[0] - A @ coef) ** 2) / dof)) if dof > 0 else math.nan
+    return float(coef[k]), R, float(math.sqrt(np.linalg.inv(A.T @ A)[k, k]))
 
 
-#: Written into the torus_stability dataset (attribute curve_rule).
-SECTION_CURVE_RULE = (
-    "The closed curve x(phi) through the spike-section points: per coordinate a Fourier series of order "
-    "min(max_order, (n - 2) // 4, pi / (the largest gap between the points' phases)) fitted by least squares "
-    "(at least twice as many points as coefficients, and no harmonic finer than the coverage resolves: points "
-    "on a short arc give order 0, their mean). ``floor``: the median over the points of the leave-one-out "
-    "residual's norm (each point against the fit without it), the curve's own thickness in the points' units."
+#: Written into the torus_stability dataset (attribute train_rule).
+TRAIN_RULE = (
+    "The class of an orbit from its refined train t_0 .. t_N (event times, CROSSING_RULE) and their errors "
+    "e_n: resolution S = rms of e_n. \"not shown to be a torus\" when N < min_intervals. For k = 1, 2, .. "
+    "max_intervals (while every offset class holds at least 3 events), the least-squares fit t_n = "
+    "a_(n mod k) + n P and its residual rms R_k (n - k - 1 degrees of freedom): the first k with R_k <= factor "
+    "x S is the class, \"torus (periodic train)\" for k = 1 (every interval P), \"torus (k-interval train)\" "
+    "for k > 1 (k intervals repeating, k P together); else \"not shown to be a torus\". On a 2-torus the "
+    "train is strictly periodic (the events mark one point of the section curve), and a train that repeats "
+    "only after k intervals marks k points of it. The period P +- c max(R_k, S) (c from the fit's normal "
+    "equations) from the chosen fit, from k = 1 when none fits."
 )
 
 
-def section_curve(phase, points, max_order: int) -> dict:
-    """Applies :data:`SECTION_CURVE_RULE`, the rule as the datasets record it (just above)."""
-    phase, points = np.asarray(phase, float), np.atleast_2d(np.asarray(points, float))
-    if phase.size < 3:
-        raise ValueError(f"a section curve needs at least 3 points, got {phase.size}")
-    ordered = np.sort(np.mod(phase, 2 * math.pi))
-    gap = max(np.max(np.diff(ordered), initial=0.0), ordered[0] + 2 * math.pi - ordered[-1])
-    order = max(0, min(max_order, (phase.size - 2) // 4, int(math.pi / gap)))
-    A = _design(phase, order)
-    coef, *_ = np.linalg.lstsq(A, points, rcond=None)
-    hat = np.einsum("ij,ji->i", A, np.linalg.pinv(A))
-    loo = (points - A @ coef) / (1.0 - hat)[:, None]
-    return {"order": order, "coef": coef, "floor": float(np.median(np.linalg.norm(loo, axis=1)))}
+def classify(times, errors, *, min_intervals: int, factor: float, max_intervals: int) -> dict:
+    """Applies :data:`TRAIN_RULE`, the rule as the datasets record it (just above). Returns torus_class,
+    train_intervals (k; 0 when not shown), period, period_err, train_residual (R_k), train_resolution (S)
+    and class_reason."""
+    times, errors = np.asarray(times, float), np.asarray(errors, float)
+    ok = np.isfinite(times)
+    times, errors = times[ok], errors[ok]
+    N = times.size - 1
+    S = float(np.sqrt(np.mean(errors**2))) if errors.size else math.nan
+    out = {"torus_class": NOT_SHOWN, "train_intervals": 0, "period": math.nan, "period_err": math.nan,
+           "train_residual": math.nan, "train_resolution": S}
+    if N < max(min_intervals, 2):
+        return {**out, "class_reason": f"{N} intervals, fewer than {min_intervals}"}
+    tried = []
+    for k in range(1, max_intervals + 1):
+        if times.size < 3 * k:
+            break
+        P, R, c = train_fit(times, k)
+        tried.append(f"R_{k} {R:.3g}")
+        if k == 1 or R <= factor * S:
+            out.update(period=P, period_err=c * max(R, S), train_residual=R)
+        if R <= factor * S:
+            what = "every interval" if k == 1 else f"{k} intervals repeating"
+            return {**out, "torus_class": PERIODIC if k == 1 else REPEATING, "train_intervals": k,
+                    "class_reason": f"{N} intervals: {what} to R_{k} {R:.3g} <= {factor:g} x resolution {S:.3g}"}
+    return {**out, "class_reason": f"{N} intervals: no train of 1 .. {len(tried)} repeating intervals fits "
+                                   f"({', '.join(tried)} against {factor:g} x resolution {S:.3g})"}
 
 
-def curve_distance(curve: dict, phase, points) -> np.ndarray:
-    """|x_n - x(phi_n)| of each section point from the fitted curve (the points' units)."""
-    fit = _design(phase, curve["order"]) @ curve["coef"]
-    return np.linalg.norm(np.atleast_2d(np.asarray(points, float)) - fit, axis=1)
-
-
-def mean_interval(spikes) -> tuple[float, float]:
-    """Mean spike interval and its standard error, std / sqrt(n) over the n intervals (NaN when fewer
-    than two intervals)."""
-    d = np.diff(np.asarray(spikes, float))
-    if d.size < 2:
-        return (float(d.mean()) if d.size else math.nan), math.nan
-    return float(d.mean()), float(d.std(ddof=1) / math.sqrt(d.size))
-
-
-def quarters(D) -> tuple[float, float]:
-    """(early, late): medians of the first and last quarter (at least one value each) of a sequence."""
-    D = np.asarray(D, float)
-    q = max(1, D.size // 4)
-    return float(np.median(D[:q])), float(np.median(D[-q:]))
-
-
-def late_interval(spikes) -> tuple[float, float]:
-    """:func:`mean_interval` over the second half of the spikes (where a returning orbit has converged)."""
-    spikes = np.asarray(spikes, float)
-    return mean_interval(spikes[spikes.size // 2:])
-
-
-#: Written into the torus_stability dataset (attribute classification_rule).
-CLASSIFY_RULE = (
-    "The class of a perturbed orbit from its distances D_n to the reference's spike-section curve (relative), "
-    "its spike count and the difference dT +- dT_err of its late mean spike interval (second half of its "
-    "spikes) from the reference's mean (dT_err: both standard errors combined). D_early, D_late: medians over "
-    "the first and last quarter of the spikes; the periods agree when |dT| <= max(sigma dT_err, period_floor), "
-    "the latter the resolution of the spike times. \"leaves\" when fewer than min_spikes spikes came, or D_late "
-    ">= leave, or D grew (D_late / D_early >= change); \"same torus\" when the periods agree and D came back: it "
-    "decayed (D_late / D_early <= 1 / change, from D_early above same x floor) or it lies within same x floor "
-    "(the reference curve's own relative thickness); else \"neighbouring torus\" (regular, at an offset that "
-    "neither grows nor decays by the factor change, or at a measurably different period)."
+#: Written into the torus_stability dataset (attribute identity_rule).
+IDENTITY_RULE = (
+    "Which torus a perturbed orbit shown to be on one is on: \"the reference's torus\" when its period differs "
+    "from the reference's by at most sigma combined standard errors and its spike point lies within sigma "
+    "combined scatters of the reference's (relative distance, the scatters: each orbit's median distance of "
+    "its spike points from their median); else \"another torus of the family\"; \"undetermined\" for an "
+    "orbit not shown to be on a torus."
 )
 
 
-def classify(D, n_spikes: int, dT: float, dT_err: float, floor: float, *, min_spikes: int, leave: float,
-             change: float, same: float, sigma: float, period_floor: float) -> tuple[str, str]:
-    """Applies :data:`CLASSIFY_RULE`, the rule as the datasets record it (just above)."""
-    if n_spikes < min_spikes:
-        return "leaves", f"{n_spikes} spikes (fewer than {min_spikes}): the spike train stopped"
-    early, late = quarters(D)
-    ratio = late / early if early > 0 else math.inf
-    facts = (f"D early {early:.3g}, late {late:.3g} (x{ratio:.3g}), floor {floor:.3g}; late period difference "
-             f"{dT:.4g} +- {dT_err:.2g}")
-    if late >= leave:
-        return "leaves", f"{facts}: D late >= {leave:g}"
-    if ratio >= change:
-        return "leaves", f"{facts}: D grew by {change:g} or more"
-    agrees = abs(dT) <= max(sigma * dT_err, period_floor)
-    decayed = ratio <= 1.0 / change and early > same * floor
-    on_curve = late <= same * floor
-    if agrees and (decayed or on_curve):
-        return "same torus", f"{facts}: {'D decayed' if decayed else 'on the reference curve'}, same period"
-    why = "the period differs" if decayed or on_curve else "offset neither grows nor decays"
-    return "neighbouring torus", f"{facts}: {why}"
+def identity(klass: str, dP: float, dP_err: float, offset: float, offset_err: float, sigma: float) -> tuple[str, str]:
+    """Applies :data:`IDENTITY_RULE`, the rule as the datasets record it (just above)."""
+    if klass == NOT_SHOWN:
+        return UNDETERMINED, "not shown to be a torus"
+    facts = f"period difference {dP:.6g} +- {dP_err:.2g}, spike-point offset {offset:.3g} +- {offset_err:.2g}"
+    if abs(dP) <= sigma * dP_err and offset <= sigma * offset_err:
+        return SAME, f"{facts}: both within {sigma:g} standard errors"
+    return ANOTHER, f"{facts}: {'the period' if abs(dP) > sigma * dP_err else 'the spike point'} differs"
+
+
+#: Written into the torus_stability dataset (attribute law_rule).
+LAW_RULE = (
+    "A law y = s log10(a) + b of the family, per direction (the perturbed orbits of one seeded direction, "
+    "one per amplitude a in the law's range, each shown to be on a torus): s by least squares when the "
+    "direction has at least two amplitudes. The law's slope: the mean of the directions' s, its uncertainty "
+    "their standard deviation over sqrt(K) (K directions, independent replicas; NaN for K < 2); its "
+    "residual: the rms of the points about their own direction's line (how far the law is from straight)."
+)
+
+
+def family_law(log10_a, y, direction) -> dict:
+    """Applies :data:`LAW_RULE`, the rule as the datasets record it (just above), on finite points. Returns
+    slope, slope_err, residual, K and per_direction ({direction: s})."""
+    x, y, d = (np.asarray(v, float) for v in (log10_a, y, direction))
+    ok = np.isfinite(x) & np.isfinite(y)
+    slopes, res = {}, []
+    for k in np.unique(d[ok]):
+        sel = ok & (d == k)
+        if np.unique(x[sel]).size >= 2:
+            p = np.polyfit(x[sel], y[sel], 1)
+            slopes[int(k)] = float(p[0])
+            res.extend(y[sel] - np.polyval(p, x[sel]))
+    s = np.array(list(slopes.values()))
+    return {"slope": float(s.mean()) if s.size else math.nan,
+            "slope_err": float(s.std(ddof=1) / math.sqrt(s.size)) if s.size >= 2 else math.nan,
+            "residual": float(np.sqrt(np.mean(np.square(res)))) if res else math.nan, "K": int(s.size),
+            "per_direction": slopes}

@@ -86,6 +86,21 @@ def follows(ln_gain: float, rounding: float, limit: float = FAITHFUL_MAX, *, ste
     return FOLLOWS if ln_gain + math.log(injected) < math.log(limit) else DOES_NOT_FOLLOW
 
 
+def state_origin(settled_by: Precision, follows_settled: str, spike_period: float) -> str:
+    """What a settled steady state is, from whether ``settled_by``, the arithmetic that settled it from its
+    start, follows the start's orbit (``follows_settled``, this gauge's answer) and its spike interval
+    (time units): the start's own steady state, or a torus the arithmetic's rounding selected (the
+    integration error decides where the orbit lands: a hypersensitive family of tori)."""
+    interval = f" (spike interval {spike_period:.0f})" if math.isfinite(spike_period) else ""
+    if follows_settled == FOLLOWS:
+        return (f"the steady state of its start's orbit{interval}: {settled_by.value}, which settled it, follows "
+                "that orbit")
+    if follows_settled == DOES_NOT_FOLLOW:
+        return (f"a torus that {settled_by.value}'s rounding selected{interval}: {settled_by.value}, which settled it, "
+                "does not follow its start's orbit, so the integration error picked where the orbit landed")
+    return f"unknown: whether {settled_by.value}, which settled it, follows its start's orbit was not measured"
+
+
 def log10_gain_rounding(ln_gain: float, rounding: float, steps_per_cycle: float) -> float:
     """log10(G x steps x rounding), NaN when unknown."""
     injected = injected_rounding(rounding, steps_per_cycle)

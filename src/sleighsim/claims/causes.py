@@ -9,6 +9,7 @@ import math
 
 import numpy as np
 
+from sleighsim.analysis.torus import ANOTHER
 from sleighsim.claims.rules import REL_TOL, band_tolerance, finite, fmt
 
 NONE = "not explained by the causes tested"
@@ -123,25 +124,26 @@ def _groups(fig4) -> dict[int, np.ndarray]:
 
 
 def c06(judgement, paper, torus, fig4):
-    """A family of neutrally stable tori as the cause of a differing C06 (extra interval groups on a
-    level): explained when every perturbed orbit of the torus-stability scene stays on a neighbouring
-    torus (none returns, none leaves) and every extra group's intervals lie within the span of spike
-    intervals that family was measured over (its perturbed orbits' and the reference's)."""
-    cls = torus.torus_class.values[1:]
-    family = bool(cls.size) and bool(np.all(cls == "neighbouring torus"))
-    span = np.r_[torus.mean_interval.values[1:], torus.attrs["reference_interval"]]
+    """A family of tori as the cause of a differing C06 (extra interval groups on a level): explained when
+    every perturbed orbit of the torus-stability scene is shown to be on a torus of the family other than
+    the reference's (sleighsim.analysis.torus: a periodic or k-interval reversal train, another period) and
+    every extra group's intervals lie within the span of periods that family was measured over (its
+    perturbed orbits' and the reference's)."""
+    ident = torus.torus_identity.values[1:]
+    family = bool(ident.size) and bool(np.all(ident == ANOTHER))
+    span = np.r_[torus.period.values[1:], torus.attrs["reference_period"]]
     lo, hi = float(np.nanmin(span)), float(np.nanmax(span))
     groups = _groups(fig4)
     main = max(groups, key=lambda k: groups[k].size)
     extra = np.concatenate([v for k, v in groups.items() if k != main] or [np.array([])])
     inside = bool(extra.size) and bool(np.all((extra >= lo) & (extra <= hi)))
     amps = torus.amplitude.values[1:]
-    text = (f"{int(np.sum(cls == 'neighbouring torus'))} of {cls.size} orbits perturbed by {amps.min():.0e} to "
-            f"{amps.max():.0e} stay on neighbouring tori, spike intervals {lo:.5g} to {hi:.5g}; the main group's "
+    text = (f"{int(np.sum(ident == ANOTHER))} of {ident.size} orbits perturbed by {amps.min():.0e} to "
+            f"{amps.max():.0e} are on other tori of the family, periods {lo:.5g} to {hi:.5g}; the main group's "
             f"intervals {groups[main].min():.5g} to {groups[main].max():.5g}, the extra groups' "
             + (", ".join(f"{v:.5g}" for v in extra) or "none")
             + (" within that span" if inside else " outside it"))
-    return _verdict([("a family of neutrally stable tori", family and inside, text)])
+    return _verdict([("a family of tori, each orbit on its own", family and inside, text)])
 
 
 def c09(judgement, paper, k2):

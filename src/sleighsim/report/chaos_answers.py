@@ -20,7 +20,8 @@ from sleighsim.report.page import Table
 class ChaosAnswer(NamedTuple):
     """One steady state's chaos verdict: its name, verdict, why, the arithmetic it was decided in (with
     G x rounding there), its class, the indicators that decided it (with their arithmetic), and, when it
-    is not decided, what would decide it and at what measured cost."""
+    is not decided, what would decide it and at what measured cost; and what the state is (its start's own
+    steady state or a torus the settling arithmetic's rounding selected)."""
 
     state: str
     verdict: str
@@ -29,6 +30,7 @@ class ChaosAnswer(NamedTuple):
     klass: str = ""
     decided_by: str = ""
     to_decide: str = ""
+    origin: str = ""
 
 def chaos_answers(datasets: dict, power: dict | None = None) -> list[ChaosAnswer]:
     """Per state of every dataset with per-state chaos verdicts (a ``state`` dimension with
@@ -48,9 +50,10 @@ def dataset_answers(ds, power: dict | None = None) -> list[ChaosAnswer]:
         reason = str(ds.reason.values[i]) if "reason" in ds.data_vars else ""
         verdict = str(ds.verdict.values[i])
         klass = str(ds.state_class.values[i]) if "state_class" in ds.data_vars else ""
+        origin = str(ds.state_origin.values[i]) if "state_origin" in ds.data_vars else ""
         out.append(ChaosAnswer(str(st), verdict, reason + _arithmetic_note(ds, i) + _tori_note(ds, i),
                                _decided_in(ds, i), klass, _decided_by(ds, i, power),
-                               _to_decide(ds, i, verdict, power)))
+                               _to_decide(ds, i, verdict, power), origin))
     return out
 
 

@@ -1,28 +1,25 @@
-"""What the steady state is (issue 39 item 4): do orbits started near a point of the main torus return
-to it, stay on neighbouring tori, or leave?
+"""What the steady state is (issue 39 item 4, issue 52 item 5): is each orbit started near the main torus
+on a torus, is it the reference's or another of a family, and how does the family move with the
+perturbation's size a?
 
 The settled point y* (the pre-run from y0 at the energy label, in double at ``tol``, judged by the
 transient rule) is integrated from there in double-double (sleighsim.engine.ddtaylor, tolerance
-``tol_dd``: it follows the exact orbit where G x rounding << 1, about 5e-17 per cycle on this torus):
-the reference over T_reference, and perturbed starts y* + d over T, d of relative size a (each amplitude
-of ``amplitudes``, times max |(u, Omega, omega)| of y*) in ``directions`` seeded random directions
-projected onto the tangent plane of the energy level, then put on the level exactly by rescaling the
-velocities (the time-scaling symmetry). Each orbit is sampled every dt; its spikes are found by the
-transient rule on Omega (``spike_factor``) and refined to the peak of |Omega| on the delta = 0 section
-(crossings from the samples' Taylor jets, one per fast turn; sleighsim.analysis.torus.spike_peaks);
-its spike section is (delta mod 2 pi; u, Omega, omega) at the refined spike times, the state taken on
-the delta = 0 section (interpolated to the spike time), so that on a torus it is one point (the
-section's slow phase fixed by the peak) whatever the fast phase at the spike: a fast-phase-dependent
-state would need the reference to cover every fast phase, which a near-resonant torus does not do in
-any affordable horizon. The gather fits the
-reference's spike-section curve, measures every perturbed orbit's distance to it and its period
-difference, and classifies it (sleighsim.analysis.torus.classify). Chunk jobs hold whole orbits.
+``tol_dd``: it follows the exact orbit where G x rounding << 1): the reference over T_reference, and
+perturbed starts y* + d over T, d of relative size a (each of ``amplitudes``) in ``directions`` seeded
+random directions on the energy level. Each orbit is sampled every dt and cut by the section delta = 0
+(mod 2 pi; one crossing per fast turn, from the samples' Taylor jets). Its cycle events are where u
+crosses 0 on the section (sleighsim.analysis.torus.crossings): downward mid-cycle (the reversal: the
+sleigh stops and starts backwards), upward inside the Omega spike (the flip). The reversal train is
+tested for strict periodicity (sleighsim.analysis.torus.classify); the flip's state (Omega, omega) is
+the spike point, one point per torus; the gather compares both with the reference's and fits the
+family's laws (period and spike-point offset against a). Chunk jobs hold whole orbits.
 """
 
 from __future__ import annotations
 
 import logging
 import math
+import re
 import time
 
 import numpy as np
@@ -31,7 +28,7 @@ import xarray as xr
 from sleighsim.analysis import torus
 from sleighsim.engine import ddtaylor
 from sleighsim.engine.ddtaylor import DDFlow
-from sleighsim.engine.transient import settle, spike_times
+from sleighsim.engine.transient import settle
 from sleighsim.io.netcdf import read_dataset
 from sleighsim.model.equations import energy
 from sleighsim.model.params import Params
@@ -43,7 +40,10 @@ from sleighsim.scenes.kind import SceneKind
 
 log = logging.getLogger("sleighsim")
 TWO_PI = 2.0 * math.pi
-SPIKE_VARIABLES = ("spike_time", "spike_phase", "spike_u", "spike_Omega", "spike_omega")
+#: The cycle events: (name, column of (u, Omega, omega), level, direction) on the delta = 0 section.
+EVENTS = (("reversal", 0, 0.0, -1), ("flip", 0, 0.0, +1))
+CYCLE_VARIABLES = ("reversal_time", "reversal_time_err", "reversal_Omega", "reversal_omega", "flip_time",
+                   "flip_time_err", "flip_Omega", "flip_omega", "flip_point_err")
 
 
 def settled_point(cfg: dict) -> tuple[Params, np.ndarray, dict]:
@@ -101,14 +101,15 @@ def jets_at(flow: DDFlow, hi, lo, rows) -> np.ndarray:
 def section(flow: DDFlow, hi, lo, grid) -> tuple[np.ndarray, np.ndarray]:
     """Crossings of delta = 0 (mod 2 pi): times (n,) and states (n, 3) (u, Omega, omega), each from the
     Taylor jet of the sample nearest it (|tau| <= dt / 2, well inside the series' radius), solved by
-    Newton's method in double."""
-    d = np.unwrap(hi[:, 3])
-    turn = np.floor(d / TWO_PI)
-    k = np.flatnonzero(np.diff(turn) != 0)
-    target = np.maximum(turn[k], turn[k + 1]) * TWO_PI
-    rows = np.where(np.abs(d[k] - target) <= np.abs(d[k + 1] - target), k, k + 1)
+    Newton's method in double. Each sample's delta is taken relative to its nearest multiple of 2 pi
+    (|r| <= pi, to a few units of 1e-16): an angle unwrapped over the whole record would carry the
+    rounding of a running sum of turns (about 1e-8 rad after 1e4 turns, growing with each binade), which
+    moved the section states by about 1e-10 and the events by up to 1e-5 time units."""
+    r = hi[:, 3] - TWO_PI * np.round(hi[:, 3] / TWO_PI) + lo[:, 3]
+    k = np.flatnonzero((np.sign(r[:-1]) != np.sign(r[1:])) & (np.abs(np.diff(r)) < math.pi))
+    rows = np.where(np.abs(r[k]) <= np.abs(r[k + 1]), k, k + 1)
     J = jets_at(flow, hi, lo, rows)
-    J[:, 3, 0] = (d[rows] - target) + lo[rows, 3]
+    J[:, 3, 0] = r[rows]
     tau = -J[:, 3, 0] / J[:, 3, 1]
     for _ in range(8):
         dcoef = J[:, 3, 1:] * np.arange(1, J.shape[2])
@@ -116,54 +117,60 @@ def section(flow: DDFlow, hi, lo, grid) -> tuple[np.ndarray, np.ndarray]:
     return grid[rows] + tau, np.stack([_horner(J[:, c], tau) for c in range(3)], axis=1)
 
 
-def fast_phase(flow: DDFlow, hi, lo, grid, t_spike) -> np.ndarray:
-    """delta mod 2 pi at the times t_spike, from the jets of the nearest samples."""
-    rows = np.clip(np.rint((t_spike - grid[0]) / (grid[1] - grid[0])).astype(int), 0, grid.size - 1)
-    J = jets_at(flow, hi, lo, rows)
-    return np.mod(_horner(J[:, 3], t_spike - grid[rows]), TWO_PI) if rows.size else np.empty(0)
+def propagate_orbits(flow: DDFlow, starts, horizons, dt: float) -> list[dict]:
+    """Every orbit from starts[i] over horizons[i], sampled every dt in double-double: per orbit its grid,
+    (hi, lo) samples, steps and CPU seconds. The one place the scene integrates (a batched engine, many
+    orbits as lanes, replaces this function alone)."""
+    out = []
+    for y0, T in zip(starts, horizons):
+        start = time.process_time()
+        grid = np.arange(0.0, T + 0.5 * dt, dt)
+        hi, lo = flow.propagate_grid(y0, grid)
+        out.append({"grid": grid, "hi": hi, "lo": lo, "steps": flow.steps, "cpu_s": time.process_time() - start})
+    return out
 
 
-def orbit(flow: DDFlow, y0, T: float, cfg: dict, label: str) -> dict:
-    """One orbit from y0 over T in double-double, sampled every dt: spike times (coarse by the transient
-    rule, refined on the delta = 0 section), its spike section (the section's state interpolated to the
-    spike time, and the fast phase delta mod 2 pi there), the energy drift over the samples (every
-    1000th, at 200 bits) and the wall time."""
-    start = time.perf_counter()
-    grid = np.arange(0.0, T + 0.5 * cfg["dt"], cfg["dt"])
-    hi, lo = flow.propagate_grid(y0, grid)
-    steps = flow.steps
-    coarse = spike_times(grid, hi[:, 1], factor=cfg["spike_factor"])
+def cycle_events(flow: DDFlow, run: dict, label: str) -> dict:
+    """One orbit's cycle events (:data:`EVENTS`, sleighsim.analysis.torus.crossings on the section): the
+    reversal and flip trains with their errors and states, the energy drift over the samples (every
+    1000th, at 200 bits) and the CPU seconds (integration and analysis)."""
+    start = time.process_time()
+    hi, lo, grid = run["hi"], run["lo"], run["grid"]
     t_sec, x_sec = section(flow, hi, lo, grid)
-    spikes, x = torus.spike_peaks(t_sec, x_sec, coarse, cfg["spike_half_width"])
-    phase = fast_phase(flow, hi, lo, grid, spikes)
+    out = {}
+    for name, column, level, direction in EVENTS:
+        ev = torus.crossings(t_sec, x_sec, column, level, direction)
+        out.update({f"{name}_time": ev["times"], f"{name}_time_err": ev["time_err"],
+                    f"{name}_Omega": ev["points"][:, 1], f"{name}_omega": ev["points"][:, 2]})
+        if name == "flip":
+            out["flip_point_err"] = ev["point_err"][:, 1:].max(axis=1) if ev["times"].size else np.empty(0)
     sub = np.r_[0:grid.size:1000, grid.size - 1]
-    drift = ddtaylor.energy_drift(flow.params, hi[sub], lo[sub])
-    out = {"spike_time": spikes, "spike_phase": phase, "spike_u": x[:, 0], "spike_Omega": x[:, 1],
-           "spike_omega": x[:, 2], "steps": steps, "energy_max_rel_drift": drift,
-           "wall_time_s": time.perf_counter() - start}
-    log.info("%s: %d spikes over %g, mean interval %.6g, %d steps, drift %.2g, %.1f s", label, spikes.size, T,
-             torus.mean_interval(spikes)[0], steps, drift, out["wall_time_s"])
+    out.update(steps=run["steps"], energy_max_rel_drift=ddtaylor.energy_drift(flow.params, hi[sub], lo[sub]),
+               cpu_s=run["cpu_s"] + time.process_time() - start)
+    log.info("%s: %d reversals, %d flips over %g, %d steps, drift %.2g, %.1f CPU-s", label,
+             out["reversal_time"].size, out["flip_time"].size, grid[-1], run["steps"], out["energy_max_rel_drift"],
+             out["cpu_s"])
     return out
 
 
 def chunk(cfg: dict, index: int, scene: str = "") -> xr.Dataset:
     """Orbits index, index + n_chunks, ... of :func:`orbits` (orbit 0, the reference, over T_reference;
     the others over T), each from the settled point (the pre-run repeated by every chunk: it is
-    deterministic), with their spike sections NaN-padded along ``spike``."""
+    deterministic), with their cycle events NaN-padded along ``cycle``."""
     params, y, pre = settled_point(cfg)
     flow = DDFlow(params, tol=cfg["tol_dd"])
     mine = list(range(len(orbits(cfg))))[index::cfg["n_chunks"]]
-    runs, starts = [], []
-    for i in mine:
-        a, k = orbits(cfg)[i]
-        y0 = y if i == 0 else perturbed_start(y, params, a, k, cfg["seed"])
-        T = cfg["T_reference"] if i == 0 else cfg["T"]
-        runs.append(orbit(flow, y0, T, cfg, f"{scene}[a={a:g}, direction {k}]"))
-        starts.append(y0)
-    ds = xr.Dataset({v: (("orbit", "spike"), nan_padded([r[v] for r in runs], 1)) for v in SPIKE_VARIABLES},
+    todo = [orbits(cfg)[i] for i in mine]
+    starts = [y if k < 0 else perturbed_start(y, params, a, k, cfg["seed"]) for a, k in todo]
+    horizons = [cfg["T_reference"] if k < 0 else cfg["T"] for _, k in todo]
+    runs = [cycle_events(flow, r, f"{scene}[a={a:g}, direction {k}]")
+            for r, (a, k) in zip(propagate_orbits(flow, starts, horizons, cfg["dt"]), todo)]
+    width = max(1, *(len(r[v]) for r in runs for v in CYCLE_VARIABLES))
+    ds = xr.Dataset({v: (("orbit", "cycle"), nan_padded([r[v] for r in runs], width)) for v in CYCLE_VARIABLES},
                     coords={"orbit": mine})
-    for v in ("steps", "energy_max_rel_drift", "wall_time_s"):
+    for v in ("steps", "energy_max_rel_drift"):
         ds[v] = ("orbit", [r[v] for r in runs])
+    ds["cpu_s"] = ("orbit", [r["cpu_s"] for r in runs])
     ds["y0"] = (("orbit", "component"), np.array(starts))
     ds["start_distance"] = ("orbit", ddtaylor.separation((np.tile(y, (len(mine), 1)), np.zeros((len(mine), 4))),
                                                          (np.array(starts), np.zeros((len(mine), 4)))))
@@ -171,79 +178,141 @@ def chunk(cfg: dict, index: int, scene: str = "") -> xr.Dataset:
     return ds
 
 
+def _median_points(ds: xr.Dataset, name: str, scale: float) -> tuple[np.ndarray, np.ndarray]:
+    """Per orbit the median of its ``name`` events' (Omega, omega) and its uncertainty relative to scale: the
+    larger of the points' median distance from it and (flips) their median interpolation error."""
+    P = np.stack([ds[f"{name}_Omega"].values, ds[f"{name}_omega"].values], axis=-1)
+    med = np.nanmedian(P, axis=1)
+    spread = np.nanmedian(np.linalg.norm(P - med[:, None, :], axis=-1), axis=1)
+    if name == "flip":
+        spread = np.maximum(spread, np.nanmedian(ds.flip_point_err.values, axis=1))
+    return med, spread / scale
+
+
+def _train(ds: xr.Dataset, i: int, name: str) -> tuple[np.ndarray, np.ndarray]:
+    t, e = ds[f"{name}_time"].values[i], ds[f"{name}_time_err"].values[i]
+    ok = np.isfinite(t)
+    return t[ok], e[ok]
+
+
+#: The per-orbit variables the gather adds (each in :data:`VOCABULARY`).
+JUDGED = ("n_cycles", "period", "period_err", "train_residual", "train_resolution", "train_intervals", "torus_class",
+          "class_reason", "period_difference", "period_difference_err", "n_spikes", "spike_interval",
+          "spike_interval_stderr", "spike_point_offset", "spike_point_err", "reversal_offset", "torus_identity",
+          "identity_reason")
+
+
+def _row(ds: xr.Dataset, i: int, c: dict, ref: dict, points: dict) -> dict:
+    """Orbit i's judged row from its reversal train's class c, the reference's ref and the median points."""
+    t, e = _train(ds, i, "flip")
+    P, R, cc = torus.train_fit(t, 1) if t.size >= 3 else (math.nan, math.nan, math.nan)
+    S = float(np.sqrt(np.mean(e**2))) if e.size else math.nan
+    (flip, flip_err), rev, scale = points["flip"], points["reversal"], points["scale"]
+    row = {**c, "n_cycles": _train(ds, i, "reversal")[0].size - 1, "n_spikes": t.size, "spike_interval": P,
+           "spike_interval_stderr": cc * max(R, S), "spike_point_offset": np.linalg.norm(flip[i] - flip[0]) / scale,
+           "spike_point_err": flip_err[i], "reversal_offset": np.linalg.norm(rev[i] - rev[0]) / scale,
+           "period_difference": c["period"] - ref["period"],
+           "period_difference_err": math.hypot(c["period_err"], ref["period_err"]) if i else 0.0}
+    return row
+
+
 def _judged(ds: xr.Dataset, cfg: dict) -> dict:
-    """Per orbit: spike count, mean interval +- standard error, the late mean interval's difference from the
-    reference's mean (:func:`sleighsim.analysis.torus.late_interval`), distance of each spike-section point to
-    the reference's curve (relative to the reference's max |(u, Omega, omega)|), its early and late
-    medians, and the class with its reason; and the reference curve's order and relative floor."""
-    x = np.stack([ds[v].values for v in ("spike_u", "spike_Omega", "spike_omega")], axis=-1)
-    phase, ok = ds.spike_phase.values, np.isfinite(ds.spike_time.values)
+    """Per orbit (:data:`JUDGED`): the reversal train's class and period (sleighsim.analysis.torus.classify),
+    the flips' mean interval, the period's and the spike point's difference from the reference's, and the
+    identity; and the velocity scale (max |(u, Omega, omega)| of the reference's start)."""
     scale = float(np.abs(ds.y0.values[0, :3]).max())
-    curve = torus.section_curve(phase[0, ok[0]], x[0, ok[0]], cfg["curve_order"])
-    floor = curve["floor"] / scale
-    T_ref, err_ref = torus.mean_interval(ds.spike_time.values[0, ok[0]])
-    rows = {k: [] for k in ("n_spikes", "mean_interval", "mean_interval_err", "distance_early", "distance_late",
-                            "period_difference", "period_difference_err", "torus_class", "class_reason")}
-    D = np.full(phase.shape, np.nan)
-    for i in range(ds.sizes["orbit"]):
-        n = int(ok[i].sum())
-        D[i, ok[i]] = torus.curve_distance(curve, phase[i, ok[i]], x[i, ok[i]]) / scale if n else []
-        T, err = torus.mean_interval(ds.spike_time.values[i, ok[i]])
-        T_late, err_late = torus.late_interval(ds.spike_time.values[i, ok[i]])
-        dT, dT_err = T_late - T_ref, math.hypot(err_late, err_ref)
-        klass, why = ("reference", "the reference orbit") if i == 0 else torus.classify(
-            D[i, ok[i]], n, dT, dT_err, floor, min_spikes=cfg["min_spikes"], leave=cfg["leave_distance"],
-            change=cfg["change_factor"], same=cfg["same_factor"], sigma=cfg["sigma"],
-            period_floor=cfg["period_rtol"] * T_ref)
-        early, late = torus.quarters(D[i, ok[i]]) if n else (math.nan, math.nan)
-        for k, v in zip(rows, (n, T, err, early, late, dT, dT_err, klass, why)):
-            rows[k].append(v)
-    return {"rows": rows, "D": D, "order": curve["order"], "floor": floor, "scale": scale, "T_ref": T_ref}
+    points = {"flip": _median_points(ds, "flip", scale), "reversal": _median_points(ds, "reversal", scale)[0],
+              "scale": scale}
+    rule = dict(min_intervals=cfg["min_intervals"], factor=cfg["train_factor"], max_intervals=cfg["max_intervals"])
+    trains = [torus.classify(*_train(ds, i, "reversal"), **rule) for i in range(ds.sizes["orbit"])]
+    rows = []
+    for i, c in enumerate(trains):
+        row = _row(ds, i, c, trains[0], points)
+        ident = (torus.REFERENCE, "the reference orbit") if i == 0 else torus.identity(
+            c["torus_class"], row["period_difference"], row["period_difference_err"], row["spike_point_offset"],
+            math.hypot(row["spike_point_err"], points["flip"][1][0]), cfg["sigma"])
+        rows.append({**row, "torus_identity": ident[0], "identity_reason": ident[1]})
+    return {"rows": {k: [r[k] for r in rows] for k in JUDGED}, "scale": scale}
+
+
+def laws(ds: xr.Dataset, cfg: dict) -> dict:
+    """The family's laws (sleighsim.analysis.torus.family_law) over the perturbed orbits shown to be on tori
+    with a in ``law_amplitudes``: the period difference against log10 a (slope per decade) and log10 of the
+    spike-point offset against log10 a (the power law's exponent)."""
+    lo, hi = cfg["law_amplitudes"]
+    a = ds.amplitude.values
+    sel = (a >= lo) & (a <= hi) & (ds.torus_class.values != torus.NOT_SHOWN) & (ds.orbit.values > 0)
+    x, d = np.log10(a[sel]), ds.direction.values[sel]
+    with np.errstate(divide="ignore"):
+        return {"period": torus.family_law(x, ds.period_difference.values[sel], d),
+                "offset": torus.family_law(x, np.log10(ds.spike_point_offset.values[sel]), d)}
+
+
+#: The per-orbit variables that hold text.
+TEXT = ("torus_class", "class_reason", "torus_identity", "identity_reason")
+
+
+def slug(text: str) -> str:
+    """A class's or identity's name as part of an attribute name (n_<slug>)."""
+    return re.sub(r"[^a-z0-9]+", "_", text.lower()).strip("_")
+
+
+def _law_attrs(ds: xr.Dataset, law: dict, cfg: dict) -> xr.Dataset:
+    """The laws' per-direction values as variables (law_direction: every seeded direction) and their
+    summaries as attributes."""
+    dirs = list(range(cfg["directions"]))
+    ds = ds.assign_coords(law_direction=dirs)
+    for name, key in (("period_law_slope", "period"), ("offset_law_exponent", "offset")):
+        ds[f"{name}_per_direction"] = ("law_direction", [law[key]["per_direction"].get(k, math.nan) for k in dirs])
+        ds.attrs.update({name: law[key]["slope"], f"{name}_err": law[key]["slope_err"],
+                         f"{name}_residual": law[key]["residual"], f"{name}_directions": law[key]["K"]})
+    ds.attrs.update(law_amplitudes=list(cfg["law_amplitudes"]), law_rule=torus.LAW_RULE)
+    return ds
 
 
 def gather(paths, cfg: dict, scene: str = "") -> xr.Dataset:
-    """Every orbit's spike section (chunks joined in orbit order), its distance to the reference's
-    spike-section curve, its period difference and its class (attribute classification_rule)."""
+    """Every orbit's cycle events (chunks joined in orbit order), its class, period and identity, and the
+    family's laws (attributes naming their rules)."""
     parts = [read_dataset(p) for p in paths]
-    width = max(d.sizes["spike"] for d in parts)
-    ds = xr.concat([d.pad(spike=(0, width - d.sizes["spike"])) for d in parts], dim="orbit",
+    width = max(d.sizes["cycle"] for d in parts)
+    ds = xr.concat([d.pad(cycle=(0, width - d.sizes["cycle"])) for d in parts], dim="orbit",
                    combine_attrs="drop_conflicts").sortby("orbit")
     expected = orbits(cfg)
     if ds.orbit.values.tolist() != list(range(len(expected))):
         raise ValueError(f"chunks hold orbits {ds.orbit.values.tolist()}, expected 0 ... {len(expected) - 1}")
-    j = _judged(ds, cfg)
     ds = ds.assign_coords(amplitude=("orbit", [a for a, _ in expected]), direction=("orbit", [k for _, k in expected]))
+    j = _judged(ds, cfg)
     for k, v in j["rows"].items():
-        ds[k] = ("orbit", np.array(v, dtype=object) if k in ("torus_class", "class_reason") else np.array(v, float))
-    ds["curve_distance"] = (("orbit", "spike"), j["D"])
-    classes = ds.torus_class.values[1:]
+        ds[k] = ("orbit", np.array(v, dtype=object) if k in TEXT else np.array(v, float))
+    ds = _law_attrs(ds, laws(ds, cfg), cfg)
+    classes, idents = ds.torus_class.values[1:], ds.torus_identity.values[1:]
     ds.attrs.pop("chunk", None)
     ds.attrs.update(
         Params.from_config(cfg["params"]).attrs(), scene=scene, energy_label=cfg["energy_label"], tol=cfg["tol"],
         tol_dd=cfg["tol_dd"], integrator="double-double Taylor (sleighsim.engine.ddtaylor) from the settled point; "
         "the pre-run heyoka in double", T=cfg["T"], T_reference=cfg["T_reference"], dt=cfg["dt"],
-        t_transient=cfg["t_transient"], seed=cfg["seed"], spike_factor=cfg["spike_factor"],
-        spike_half_width=cfg["spike_half_width"], curve_order=j["order"], curve_floor=j["floor"],
-        velocity_scale=j["scale"], reference_interval=j["T_ref"], min_spikes=cfg["min_spikes"],
-        leave_distance=cfg["leave_distance"], change_factor=cfg["change_factor"], same_factor=cfg["same_factor"],
-        sigma=cfg["sigma"], period_rtol=cfg["period_rtol"], classification_rule=torus.CLASSIFY_RULE,
-        perturbation_rule=PERTURBED_START_RULE, spike_rule=torus.SPIKE_PEAKS_RULE, curve_rule=torus.SECTION_CURVE_RULE,
-        energy_max_rel_drift=float(np.nanmax(ds.energy_max_rel_drift.values)),
-        wall_time_s=float(ds.wall_time_s.values.sum()), n_perturbed=int(classes.size),
-        **{f"n_{c.replace(' ', '_')}": int(np.sum(classes == c)) for c in torus.CLASSES},
-        summary=_summary(ds))
+        t_transient=cfg["t_transient"], seed=cfg["seed"], min_intervals=cfg["min_intervals"],
+        train_factor=cfg["train_factor"], max_intervals=cfg["max_intervals"], sigma=cfg["sigma"],
+        velocity_scale=j["scale"], reference_period=float(ds.period.values[0]),
+        reference_period_err=float(ds.period_err.values[0]), reference_n_cycles=int(ds.n_cycles.values[0]),
+        reference_class=str(ds.torus_class.values[0]), events=str(EVENTS), crossing_rule=torus.CROSSING_RULE,
+        train_rule=torus.TRAIN_RULE, identity_rule=torus.IDENTITY_RULE, perturbation_rule=PERTURBED_START_RULE,
+        energy_max_rel_drift=float(np.nanmax(ds.energy_max_rel_drift.values)), cpu_s=float(ds.cpu_s.values.sum()),
+        n_perturbed=int(classes.size), **{f"n_{slug(c)}": int(np.sum(classes == c)) for c in torus.CLASSES},
+        **{f"n_{slug(c)}": int(np.sum(idents == c)) for c in torus.IDENTITIES[1:]}, summary=_summary(ds))
     return ds
 
 
 def _summary(ds: xr.Dataset) -> str:
-    """One line per amplitude: the classes of its directions, their mean periods and late distances."""
+    """One line per amplitude: its directions' classes, identities and periods."""
     lines = []
     for a in np.unique(ds.amplitude.values[1:]):
         sel = np.flatnonzero(ds.amplitude.values == a)
         lines.append(f"a = {a:.0e}: " + "; ".join(
-            f"{ds.torus_class.values[i]} (period {ds.mean_interval.values[i]:.6g}, D late "
-            f"{ds.distance_late.values[i]:.2g})" for i in sel))
-    return f"reference period {ds.mean_interval.values[0]:.7g}. " + ". ".join(lines)
+            f"{ds.torus_class.values[i]}, {ds.torus_identity.values[i]} (period {ds.period.values[i]:.10g})"
+            for i in sel))
+    return (f"reference: {ds.torus_class.values[0]}, period {ds.period.values[0]:.12g} +- "
+            f"{ds.period_err.values[0]:.2g} over {int(ds.n_cycles.values[0])} cycles. " + ". ".join(lines))
 
 
 def _orbit_work(cfg: dict) -> list[float]:
@@ -264,38 +333,63 @@ def _checks(w: str, cfg: dict) -> None:
                           "len(amplitudes) x directions)")
     if cfg["T_reference"] < cfg["T"]:
         raise ConfigError(f"{w}.T_reference = {cfg['T_reference']} must be at least T = {cfg['T']}")
+    lo, hi = cfg["law_amplitudes"]
+    if not lo < hi:
+        raise ConfigError(f"{w}.law_amplitudes = {cfg['law_amplitudes']} must be [low, high] with low < high")
 
 
 #: The variables only this kind writes: name -> (long_name, kind of quantity) (``sleighsim.io.cf``).
 VOCABULARY = {
     "orbit": ("index of the orbit (0: the reference from the settled point, then the perturbed starts)", "1"),
     "direction": ("index of the perturbation's seeded random direction (-1: the reference)", "1"),
+    "law_direction": ("index of the seeded direction a law was fitted along", "1"),
     "start_distance": ("relative distance of the start from the settled point (sleighsim.engine.ddtaylor.separation)",
                        "1"),
-    "spike_phase": ("delta mod 2 pi at each spike, the fast phase of the spike section", "angle"),
-    "spike_u": ("u at each spike", "speed"),
-    "spike_Omega": ("Omega at each spike", "angular_velocity"),
-    "spike_omega": ("omega at each spike", "angular_velocity"),
-    "mean_interval": ("mean interval between the orbit's refined spikes", "time"),
-    "mean_interval_err": ("standard error of the mean spike interval, std / sqrt(n) over the intervals", "time"),
-    "curve_distance": ("distance of each spike-section point to the reference's spike-section curve, relative to the "
-                       "reference's max |(u, Omega, omega)|", "1"),
-    "distance_early": ("median distance to the reference's spike-section curve over the first quarter of spikes", "1"),
-    "distance_late": ("median distance to the reference's spike-section curve over the last quarter of spikes", "1"),
-    "period_difference": ("mean spike interval over the second half of the spikes minus the reference's mean", "time"),
-    "period_difference_err": ("standard error of the period difference (both orbits' combined)", "time"),
-    "torus_class": ("class of the orbit: same torus, neighbouring torus or leaves (reference: the reference)", "text"),
+    "cpu_s": ("CPU time of the orbit's integration and analysis", "s"),
+    "reversal_time": ("refined time of each reversal: u crossing 0 downward on the delta = 0 section", "time"),
+    "reversal_time_err": ("error of the refined reversal time (crossing_rule)", "time"),
+    "reversal_Omega": ("Omega at each reversal", "angular_velocity"),
+    "reversal_omega": ("omega at each reversal", "angular_velocity"),
+    "flip_time": ("refined time of each flip: u crossing 0 upward on the delta = 0 section, in the Omega spike",
+                  "time"),
+    "flip_time_err": ("error of the refined flip time (crossing_rule)", "time"),
+    "flip_Omega": ("Omega at each flip (the spike point's first coordinate)", "angular_velocity"),
+    "flip_omega": ("omega at each flip (the spike point's second coordinate)", "angular_velocity"),
+    "flip_point_err": ("interpolation error of the flip's (Omega, omega), the larger (crossing_rule)",
+                       "angular_velocity"),
+    "n_cycles": ("number of intervals of the reversal train", "1"),
+    "period": ("period of the reversal train (train_rule)", "time"),
+    "period_err": ("standard error of the period (train_rule)", "time"),
+    "train_residual": ("residual rms of the reversal train's chosen fit (train_rule)", "time"),
+    "train_resolution": ("rms of the reversal times' errors, the train's resolution (train_rule)", "time"),
+    "train_intervals": ("number of repeating intervals of the reversal train (0: none fits)", "1"),
+    "torus_class": ("class of the orbit (train_rule)", "text"),
     "class_reason": ("reason for the orbit's class", "text"),
+    "period_difference": ("period minus the reference's", "time"),
+    "period_difference_err": ("standard error of the period difference (both combined)", "time"),
+    "spike_point_offset": ("distance of the orbit's median spike point (Omega, omega at the flip) from the "
+                           "reference's, relative to the velocity scale", "1"),
+    "spike_point_err": ("uncertainty of the orbit's median spike point, relative to the velocity scale", "1"),
+    "reversal_offset": ("distance of the orbit's median (Omega, omega) at the reversal from the reference's, relative "
+                        "to the velocity scale", "1"),
+    "torus_identity": ("which torus the orbit is on (identity_rule)", "text"),
+    "identity_reason": ("reason for the orbit's identity", "text"),
+    "period_law_slope_per_direction": ("slope of the period difference per decade of a along one direction "
+                                       "(law_rule)", "time"),
+    "offset_law_exponent_per_direction": ("exponent of the spike-point offset against a along one direction "
+                                          "(law_rule)", "1"),
 }
 
 
 TORUS_STABILITY = SceneKind(
     name="torus_stability",
-    title=("what the steady state is: orbits started near the main torus in double-double, each on its torus, "
-           "a neighbouring one, or gone (issue 39 item 4, claim C06)"),
+    title=("what the steady state is: orbits started near the main torus in double-double, each shown to be on a "
+           "torus (periodic reversal train) or not, the reference's or another of the family, and the family's "
+           "laws against the perturbation (issue 39 item 4, issue 52 item 5, claim C06)"),
     vocabulary=VOCABULARY,
     chunk=chunk, gather=gather, pre_run="t_transient",
-    records=lambda c: [*memory.pre_run(c, "t_transient"), memory.span(c, "T_reference", "dt", 8)],
+    records=lambda c: [*memory.pre_run(c, "t_transient"), memory.span(c, "T_reference", "dt", 8),
+                       memory.span(c, "T", "dt", 8, ("orbits per chunk", -(-len(orbits(c)) // c["n_chunks"])))],
     work=lambda cfg: sum(chunk_work(cfg)), chunk_work=chunk_work,
     modelled=lambda leaf: leaf in ("T", "T_reference", "t_transient", "amplitudes", "directions", "n_chunks"),
     checks=_checks)

@@ -9,7 +9,7 @@ import time
 import numpy as np
 import xarray as xr
 
-from sleighsim.chaos.faithfulness import cycle_gains, follows
+from sleighsim.chaos.faithfulness import cycle_gains, follows, state_origin
 from sleighsim.chaos.frequency import DRIFT_RULE, FREQUENCY_LOG_RATIO_RULE, JUDGE_FREQUENCY_RULE
 from sleighsim.chaos.loschmidt import (
     JUDGE_LOSCHMIDT_RULE,
@@ -160,6 +160,10 @@ def spike_period(spike_times) -> float:
     return float(np.median(np.diff(t))) if t.size >= 2 else math.nan
 
 
+#: The arithmetic in which the chaos verdict settles its states (engine.transient.settle, heyoka's double).
+SETTLED_BY = Precision.DOUBLE
+
+
 def _gain_vars(out: list) -> dict:
     """The dataset's faithfulness gauge per state: ln G per spike cycle (NaN-padded), its maximum, and
     per arithmetic log10(G_max x rounding) and whether that arithmetic follows the orbit."""
@@ -182,6 +186,10 @@ def _gain_vars(out: list) -> dict:
                                                             dtype=object),
                           {"long_name": "does the arithmetic follow the exact orbit (G x steps x rounding below "
                                         "faithfulness.FAITHFUL_MAX; unknown without a complete cycle)"}),
+        "state_origin": ("state", np.array([state_origin(SETTLED_BY, g["follows"][SETTLED_BY],
+                                                         spike_period(g["spike_times"])) for g in gains], dtype=object),
+                         {"long_name": "what the settled state is: its start's own steady state, or a torus the "
+                                       "settling arithmetic's rounding selected (chaos.faithfulness.state_origin)"}),
     }
 
 

@@ -121,6 +121,13 @@ def _elsewhere(ds, eps) -> str:
     return f"; not computed in this run: eps {', '.join(f'{e:.3g}' for e in eps)} (computed by {where})"
 
 
+def at_eps(eps) -> str:
+    """Where rows are, as text: "at eps 0, 0.05" (every value printed, 0 included), "at no eps row" when there
+    is none (never "none" or a bare 0 that reads like a value)."""
+    eps = np.atleast_1d(np.asarray(eps, float))
+    return "at eps " + ", ".join(f"{e:.3g}" for e in eps) if eps.size else "at no eps row"
+
+
 def c21(paper, grid) -> Judgement:
     """C21, "max LE positive over the (eps, b) range of fig:LE; smallest value": judged from the paper's values
     ``paper`` and ``grid``; returns its Judgement."""
@@ -134,22 +141,22 @@ def c21(paper, grid) -> Judgement:
     verdict = DIFFERS if below.any() else (CANNOT if unresolved.any() else REPRODUCED)
 
     def listed(sel):
-        return ", ".join(f"{e:.3g}" for e in eps[sel]) or "none"
+        return at_eps(eps[sel])
 
     return Judgement(
         verdict, units="1/time",
         measured=f"{grid.attrs['n_rows']} eps rows (b is a symmetry): resolved above {floor:g} and above the "
-                 f"polynomial rate at eps {listed(above)}; below or regular at eps {listed(below)}; unresolved within "
-                 f"the run's horizon (below the polynomial rate, capped or not steady) at eps {listed(unresolved)}; "
+                 f"polynomial rate {listed(above)}; below or regular {listed(below)}; unresolved within "
+                 f"the run's horizon (below the polynomial rate, capped or not steady) {listed(unresolved)}; "
                  "smallest resolved lambda_1 "
                  f"{np.min(lam[above]) if above.any() else math.nan:.2g}" + _elsewhere(grid, eps[away]),
         rule=f"reproduced when every row resolves lambda_1 - {K_SIGMA:g} stderr above {floor:g} and above {_FAKE}; "
              f"differs when a steady row is resolved below {floor:g} or regular; cannot be reproduced when the rest "
              "are not resolved within the configured horizon (max_rounds) or are not steady",
         reason="" if verdict == REPRODUCED else
-        (f"lambda_1 is resolved below {floor:g} or regular at eps {listed(below)}" if below.any() else
-         f"lambda_1 is not resolved above {floor:g} and the polynomial rate (or the row is capped or not steady) at "
-         f"eps {listed(unresolved)}"))
+        (f"lambda_1 is resolved below {floor:g} or regular {listed(below)}" if below.any() else
+         f"lambda_1 is not resolved above {floor:g} and the polynomial rate (or the row is capped or not steady) "
+         f"{listed(unresolved)}"))
 
 
 def c25(paper, cost) -> Judgement:
@@ -277,7 +284,7 @@ def c27(paper, rows) -> Judgement:
     below = eps < first_chaos if finite(first_chaos) else np.ones(eps.size, bool)
 
     def listed(sel):
-        return ", ".join(f"{e:.3g}" for e in eps[sel]) or "none"
+        return at_eps(eps[sel])
 
     resolved_below = below & regular & chaotic.any()
     if not resolved_below.any():
@@ -286,12 +293,12 @@ def c27(paper, rows) -> Judgement:
         verdict, reason = REPRODUCED, ""
     else:
         verdict, reason = DIFFERS, (f"regular rows below the first chaotic eps ({first_chaos:.3g}) without a thin "
-                                    f"P_2pi curve (not a torus) at eps {listed(resolved_below & ~thin)}")
+                                    f"P_2pi curve (not a torus) {listed(resolved_below & ~thin)}")
     return Judgement(
         verdict,
         measured=f"{eps.size} eps rows in [{eps.min():.3g}, {eps.max():.3g}]: chaotic (lambda_1 resolved above the "
-                 f"polynomial rate) at eps "
-                 f"{listed(chaotic)}; regular at eps {listed(regular)}; regular with a thin P_2pi curve at eps "
+                 f"polynomial rate) "
+                 f"{listed(chaotic)}; regular {listed(regular)}; regular with a thin P_2pi curve "
                  f"{listed(regular & thin)}",
         rule=f"below the smallest chaotic eps (lambda_1 - {K_SIGMA:g} stderr > {_FAKE}), the rows resolved regular "
              "must have a thin P_2pi curve (thickness < 0.01: a torus): reproduced when at least one such row exists "

@@ -10,6 +10,7 @@ import math
 
 import numpy as np
 
+from sleighsim.analysis.torus import CLASSES, IDENTITIES
 from sleighsim.claims.rules import (
     DIFFERS,
     K_SIGMA,
@@ -68,18 +69,35 @@ def c05(paper, fig3) -> Judgement:
         note="(spike intervals, sleighsim.engine.transient.phases)")
 
 
+def _law(a: dict, name: str, what: str, fmt_: str) -> str:
+    """One of the torus family's laws (attributes of the torus-stability dataset) as text."""
+    k = a.get(f"{name}_directions", 0)
+    if not k:
+        return f"{what}: not fitted (no direction with two amplitudes on tori)"
+    err = a[f"{name}_err"]
+    return (f"{what} {a[name]:{fmt_}}" + (f" +- {err:.2g}" if math.isfinite(err) else "")
+            + f" (standard error over {k} directions; residual about each direction's line "
+            f"{a[f'{name}_residual']:.2g})")
+
+
 def torus_facts(torus) -> str:
-    """What the torus-stability scene measured around the main torus (sleighsim.scenes.torus_stability):
-    the classes of the perturbed orbits, their sizes, periods and late/early distance ratios, as text."""
+    """What the torus-stability scene measured around the main torus (sleighsim.scenes.torus_stability): the
+    reference's reversal train, the perturbed orbits' classes and identities, their periods and the family's
+    laws against the perturbation's size a, as text."""
     a, sel = torus.attrs, torus.amplitude.values > 0
-    ratio = torus.distance_late.values[sel] / torus.distance_early.values[sel]
-    periods = torus.mean_interval.values[sel]
-    return (f"torus stability ({a['n_perturbed']} orbits started {np.min(torus.amplitude.values[sel]):.0e} to "
-            f"{np.max(torus.amplitude.values[sel]):.0e} from the settled main state on its energy level, double-double "
-            f"over {a['T']:g}): {a['n_same_torus']} back on its torus, {a['n_neighbouring_torus']} on neighbouring "
-            f"tori, {a['n_leaves']} left; mean spike intervals {np.nanmin(periods):.6g} to {np.nanmax(periods):.6g} "
-            f"against the reference's {a['reference_interval']:.7g}; distance to the reference's spike-section curve "
-            f"late over early {np.nanmin(ratio):.3g} to {np.nanmax(ratio):.3g}")
+    cls, ident = torus.torus_class.values[sel], torus.torus_identity.values[sel]
+    classes = ", ".join(f"{int(np.sum(cls == c))} {c}" for c in CLASSES if np.any(cls == c))
+    idents = ", ".join(f"{int(np.sum(ident == c))} {c}" for c in IDENTITIES[1:] if np.any(ident == c))
+    periods = torus.period.values[sel]
+    lo, hi = a["law_amplitudes"]
+    return (f"torus stability (double-double; the reference from the settled main state over {a['T_reference']:g}: "
+            f"{a['reference_class']}, period {a['reference_period']:.12g} +- {a['reference_period_err']:.1g} over "
+            f"{a['reference_n_cycles']} reversal intervals; {a['n_perturbed']} orbits started "
+            f"{np.min(torus.amplitude.values[sel]):.0e} to {np.max(torus.amplitude.values[sel]):.0e} from it on its "
+            f"energy level, over {a['T']:g}): {classes}; {idents}; periods {np.nanmin(periods):.7g} to "
+            f"{np.nanmax(periods):.7g}; over a = {lo:.0e} to {hi:.0e} a family whose "
+            + _law(a, "period_law_slope", "period changes per decade of a by", ".3g") + ", and whose "
+            + _law(a, "offset_law_exponent", "spike point moves like a to the power", ".3g"))
 
 
 def c06(paper, fig4, torus) -> Judgement:

@@ -3,7 +3,17 @@ function that draws it), and which of them a config builds."""
 
 from __future__ import annotations
 
-from sleighsim.report.figures import audit, bench, chaos, exponents, precision, steady_state, trajectories, transients
+from sleighsim.report.figures import (
+    audit,
+    bench,
+    chaos,
+    exponents,
+    precision,
+    steady_state,
+    torus,
+    trajectories,
+    transients,
+)
 from sleighsim.report.figures.figure import Figure
 from sleighsim.scenes import catalog as scene_catalog
 
@@ -12,8 +22,8 @@ FIGURES: dict[str, Figure] = {f.name: f for f in (
     trajectories.FIG1, trajectories.FIG2, trajectories.FIG3, transients.FIG4, transients.FIG5, transients.FIG6,
     transients.TRANSIENTS, transients.PERTURBATION, trajectories.FIG7, trajectories.FIG8, steady_state.FIG9,
     steady_state.FIG12, steady_state.FIG13, steady_state.FIG14, exponents.FIG10, exponents.FIG11, exponents.LYAPUNOV,
-    chaos.CHAOS, exponents.REGIMES, transients.BASINS, precision.PRECISION, precision.TRIGGER, exponents.DRIFT,
-    audit.AUDIT, bench.BENCH,
+    chaos.CHAOS, exponents.REGIMES, transients.BASINS, torus.TORUS, precision.PRECISION, precision.TRIGGER,
+    exponents.DRIFT, audit.AUDIT, bench.BENCH,
 )}
 
 #: The atlas (on request: snakemake -c2 atlas): the figures of the large chaos surveys.
