@@ -85,7 +85,8 @@ def test_every_smoke_pdf_embeds_no_type3_font(smoke_run):
     assert all(found.values()) and not {n: t for n, t in found.items() if "Type3" in t}, found
 
 
-@pytest.mark.parametrize("horizon, words", [(float("nan"), "at any audited horizon"), (4.0, "at horizon 4")])
+@pytest.mark.parametrize("horizon, words", [(float("nan"), "no audited tangent judge votes"),
+                                            (4.0, "votes at horizon 4")])
 def test_the_chaos_figures_note_names_the_vote_horizon_never_nan(horizon, words):
     """The decisive stage records NaN as its vote horizon when no audited horizon lets a judge vote (the
     smoke run's case): the note says so in words."""

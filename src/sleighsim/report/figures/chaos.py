@@ -165,8 +165,9 @@ def _section_note(ds) -> str:
     """Why the decisive stage's return-map MEGNO has no panel (its vote horizon NaN: no audited one lets
     a judge vote)."""
     horizon = float(ds.attrs.get("decisive_vote_horizon", 1.0))
-    at = f"at horizon {horizon:g}" if np.isfinite(horizon) else "at any audited horizon"
-    return f"the map's MEGNO not run: no tangent judge votes {at}"
+    if not np.isfinite(horizon):
+        return "the map's MEGNO not run: no audited tangent judge votes"
+    return f"the map's MEGNO not run: no tangent judge votes at horizon {horizon:g}"
 
 
 def _section_megno(ax, ds) -> None:
