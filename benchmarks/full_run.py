@@ -16,13 +16,16 @@ The workdir is kept (pass it to --reuse to re-analyse). Progress goes to stderr;
 exits non-zero with the log to read.
 
 The committed summary (benchmarks/full_run.yaml) is measured at paper fidelity (no --configfile);
-``python -m sleighsim.ops.costs estimate`` scales it to other configs.
+``python -m sleighsim.ops.costs estimate`` scales it to other configs. The smoke run's
+(benchmarks/smoke_run.yaml) is ``--configfile config/smoke.yaml --out benchmarks/smoke_run.yaml``; the
+README's times table reads both (``sleighsim costs times``).
 """
 
 from __future__ import annotations
 
 import argparse
 import datetime as dt
+import os
 import re
 import shlex
 import subprocess
@@ -138,8 +141,9 @@ def main(argv=None) -> int:
                 sys.exit(f"full_run: {workdir} was run with --configfile {recorded['configfiles']}, not {configfiles}")
             configfiles = recorded["configfiles"]
             wall, source, cmd = recorded["wall_s"], "measured by full_run.py", recorded["command"]
+            load = recorded.get("load_average")
         else:
-            wall, source, cmd = wall_from_log(workdir), "span of the newest .snakemake log", None
+            wall, source, cmd, load = wall_from_log(workdir), "span of the newest .snakemake log", None, None
             if wall is None:
                 sys.exit(f"full_run: {workdir} holds no finished run (no costs/run.yaml, no .snakemake log)")
         say(f"reusing {workdir} (wall {wall:.1f} s, {source})")
@@ -156,12 +160,15 @@ def main(argv=None) -> int:
             workdir = Path(tempfile.mkdtemp(prefix="sleighsim-full-run-"))
         say(f"fresh workdir {workdir}")
         cmd = snakemake_cmd(workdir, args.cores, configfiles)
+        load = os.getloadavg()[0]
         wall = run_workflow(cmd, workdir)
+        load = [round(load, 2), round(os.getloadavg()[0], 2)]
         source = "measured by full_run.py"
         cmd = shlex.join(cmd)
         (workdir / jobgraph.COSTS_DIR).mkdir(exist_ok=True)
         (workdir / jobgraph.COSTS_DIR / "run.yaml").write_text(yaml.safe_dump(
-            {"wall_s": wall, "command": cmd, "configfiles": configfiles, "cores": args.cores}, sort_keys=False))
+            {"wall_s": wall, "command": cmd, "configfiles": configfiles, "cores": args.cores, "load_average": load},
+            sort_keys=False))
         save_job_graph(workdir, args.cores, configfiles)
 
     say("reading the benchmark files")
@@ -176,7 +183,10 @@ def main(argv=None) -> int:
     summary["run"] = {"command": portable(cmd, workdir), "cores": args.cores, "workdir": "<run>", "wall_source": source,
                       # no schedule on these cores can beat the longer of these two
                       "lower_bound_s": round(max(crit, sum_wall / args.cores), 3),
-                      "job_wall_sum_s": round(sum_wall, 3)}
+                      "job_wall_sum_s": round(sum_wall, 3),
+                      # the machine's 1-minute load average at the start and the end (a shared machine's
+                      # other work lengthens the wall): None when the run was not timed here
+                      "load_average": load}
     previous = costsummary.read_summary(args.out) if Path(args.out).exists() else None
     costsummary.write_summary(costsummary.with_history(summary, previous), args.out)
     say(f"wrote {args.out} (the run before it kept in its history)")

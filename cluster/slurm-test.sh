@@ -6,7 +6,7 @@
 #   cluster/slurm-test.sh [--local DIR] [--workdir DIR] [--keep]
 #
 #   --local DIR    compare with this existing local smoke run (its work directory, the one holding
-#                  results/) instead of running one
+#                  results-smoke/) instead of running one
 #   --workdir DIR  put the runs in DIR/slurm and DIR/local (default: a new directory under /tmp,
 #                  removed at the end when everything passed)
 #   --keep         keep the cluster's own directory (configuration, daemon logs, database) at the end
@@ -50,7 +50,7 @@ log() { printf '[slurm-test %s] %s\n' "$(date -u +%T)" "$*"; }
 die() { log "ERROR: $*" >&2; exit 1; }
 
 [[ $(id -u) -eq 0 ]] || die "needs root (apt-get, and the SLURM daemons run as root)"
-[[ -z $LOCAL || -d $LOCAL/results ]] || die "--local $LOCAL holds no results/"
+[[ -z $LOCAL || -d $LOCAL/results-smoke ]] || die "--local $LOCAL holds no results-smoke/ (config/smoke.yaml writes there)"
 "$PYTHON" -c "import sleighsim, snakemake_executor_plugin_slurm" 2>/dev/null \
     || die "$PYTHON lacks sleighsim or snakemake-executor-plugin-slurm (pip install -e '.[test]')"
 script_start=$(date +%s)
@@ -353,7 +353,7 @@ if [[ -z $LOCAL ]]; then
     log "local run finished in $(($(date +%s) - t0)) s (wall)"
 fi
 diff_rc=0
-"$PYTHON" -m sleighsim.resultdiff "$LOCAL_RUN/results" "$SLURM_RUN/results" >"$WORK/resultdiff.txt" 2>&1 || diff_rc=$?
+"$PYTHON" -m sleighsim.resultdiff "$LOCAL_RUN/results-smoke" "$SLURM_RUN/results-smoke" >"$WORK/resultdiff.txt" 2>&1 || diff_rc=$?
 if ((diff_rc)); then
     grep -v ': identical$' "$WORK/resultdiff.txt" >&2
 else

@@ -17,37 +17,37 @@
 #
 # This tutorial calls the functions the workflow's jobs call (no copies): the model and its energy,
 # one orbit in double and in long double from one settled point with their separation, the spike
-# times, the faithfulness gauge (does an arithmetic follow the exact orbit?) and the chaos verdict
-# with its reasons. Run it as a script from the repository's root (`python docs/tutorial.py`) or open
-# it as a notebook (`jupytext --to notebook docs/tutorial.py`; jupytext is not a dependency).
+# times, the faithfulness gauge (does an arithmetic follow the exact orbit?) and, in one call, the
+# chaos verdict with its reasons and what would decide it. Run it as a script from the repository's
+# root (`python docs/tutorial.py`) or open it as a notebook (`jupytext --to notebook docs/tutorial.py`;
+# jupytext is not a dependency).
 #
 # The horizons are the workflow's own: the blocks `precision_ladder` and `chaos_verdict` of
 # `config/config.yaml` (the paper's fidelity). Set `SLEIGHSIM_TUTORIAL_OVERLAY=config/smoke.yaml` to
 # merge the smoke overlay onto it, as `snakemake --configfile` does: the same code on tiny horizons
 # (the test suite runs it so, tests/test_tutorial.py, which states its run time). Figures are
-# written to `SLEIGHSIM_TUTORIAL_OUT` (default `tutorial_output/`).
+# written to `SLEIGHSIM_TUTORIAL_OUT` (default `results/tutorial/`, beside a run's results; git ignores both).
 
 # %%
+import logging
 import os
 from pathlib import Path
 
 import matplotlib.pyplot as plt
 import numpy as np
-import yaml
 
 import sleighsim
 from sleighsim.analysis.observables import gauge
-from sleighsim.chaos.power import stage_vote
-from sleighsim.engine.transient import settle
+from sleighsim.engine.transient import settle, spike_train
 from sleighsim.ops.config import REPO, merged_config
+from sleighsim.ops.judge import answer, judge_state
 from sleighsim.precision import Precision
 from sleighsim.scenes import ladder
 from sleighsim.scenes.catalog import scene_config
-from sleighsim.scenes.verdict import verdict
 
 overlay = os.environ.get("SLEIGHSIM_TUTORIAL_OVERLAY")
 config = merged_config([REPO / overlay] if overlay else [])
-out = Path(os.environ.get("SLEIGHSIM_TUTORIAL_OUT", "tutorial_output"))
+out = Path(os.environ.get("SLEIGHSIM_TUTORIAL_OUT", "results/tutorial"))
 out.mkdir(parents=True, exist_ok=True)
 ladder_block = {**scene_config(config, "precision_ladder"), "precisions": ["double", "long double"]}
 verdict_block = scene_config(config, "chaos_verdict")
@@ -107,14 +107,20 @@ fig.savefig(out / "tutorial-separation.png", dpi=100)
 # %% [markdown]
 # ## Spike times
 #
-# In the steady state Omega spikes at nearly regular intervals (`sleighsim.engine.transient.spike_times`:
-# block maxima of |Omega| above 1.8 times the typical one). Each arithmetic's spike train:
+# In the steady state Omega spikes at nearly regular intervals (`sleighsim.engine.transient.spike_train`,
+# which `spike_times` and the ladder call): isolated block maxima of |Omega| above 1.8 times the typical
+# one; then the period's check: a gap of about two median intervals is searched for a low spike the fixed
+# threshold missed (one median interval after the previous spike, standing above the gap's envelope), and
+# an interval still near twice the median is flagged. Each arithmetic's spike train:
 
 # %%
 for name, run in runs.items():
-    print(f"{name}: {run['spikes'].size} spikes at {np.round(run['spikes'], 1)}; "
-          f"mean interval {run['interval_mean']:.6g} +- {run['interval_sd']:.2g}")
-print("the lowest precision that agrees with every finer one:",
+    train = spike_train(t, run["velocities"][:, 1], factor=ladder_block["transient"]["spike_factor"])
+    print(f"{name}: {train.times.size} spikes at {np.round(train.times, 1)}; "
+          f"mean interval {run['interval_mean']:.6g} +- {run['interval_sd']:.2g}; threshold {train.threshold:.3g}; "
+          f"found below it by the period's check: {np.round(train.times[train.rescued], 1)} "
+          f"(peaks {np.round(train.heights[train.rescued], 4)}); intervals flagged: {train.doubled.size}")
+print("the lowest precision whose spike statistics agree with every finer one (ladder.AGREES_RULE):",
       ladder.converged_precision(list(runs.values()), list(runs), ladder_block["dt"]))
 
 # %% [markdown]
@@ -122,7 +128,10 @@ print("the lowest precision that agrees with every finer one:",
 #
 # Over each spike cycle the flow amplifies an error by up to G (the largest singular value of the
 # cycle's tangent map). An arithmetic of unit roundoff r follows the exact orbit only where
-# G r < 1e-3 (`sleighsim.chaos.faithfulness`). The verdict's own gauge, on our settled point:
+# G r < 1e-3 (`sleighsim.chaos.faithfulness`). This asks more than the spike statistics above: two
+# arithmetics may agree on the mean interval within its spread and still follow different orbits (the
+# separation above); the gauge says whether an arithmetic follows the orbit itself. The verdict's own
+# gauge, on our settled point:
 
 # %%
 faith = gauge(verdict_block["params"], settled,
@@ -133,21 +142,28 @@ for p in Precision:
     print(f"{p.value}: log10(G r) = {faith['log10_gain_rounding'][p]:.3g}: {faith['follows'][p]}")
 
 # %% [markdown]
-# ## The chaos verdict, with its reasons
+# ## The chaos verdict, with its reasons, in one call
 #
-# `sleighsim.scenes.verdict.verdict` is the workflow's judge for one or more states: independent
+# `sleighsim.ops.judge.judge_state` is the workflow's chaos verdict for one start state of your own
+# (on the command line: `sleighsim judge`), its settings the `chaos_verdict` block's. It runs the
+# workflow's jobs for that state in order: the first stage settles the orbit and computes independent
 # indicators (Benettin over replicas, finite-time exponents, MEGNO, two nearby orbits, the Loschmidt
-# return error, frequency analysis), each gated by the gauge, and those the judge-power audit lets vote
-# with this block's settings (its record, `benchmarks/judge_power.yaml`; `sleighsim.chaos.power.stage_vote`)
-# combined by `sleighsim.chaos.rule`.
+# return error, frequency analysis), each gated by the gauge above; the decisive stage runs the orbit
+# again in an arithmetic that follows it (double-double) over its horizon and judges it with the
+# indicators the judge-power audit lets vote there (`benchmarks/judge_power.yaml`,
+# `sleighsim.chaos.power.stage_vote`), combined by `sleighsim.chaos.rule`. Realizations from start
+# states perturbed at the rounding level must agree: the workflow runs `n_chunks` of them, this
+# tutorial one (`realizations=None` runs the block's). Its progress goes to the log, one line per job.
+# `answer` words the verdict as the report does and, for a state left undecided, says what would
+# decide it and at what measured cost.
 
 # %%
-record = yaml.safe_load((REPO / verdict_block["vote_record"]).read_text())
-voters = frozenset(stage_vote(record, verdict_block, "first")["voters"])
-block = {**verdict_block, "states": {"mine": mine}, "decisive": {**verdict_block["decisive"], "states": []}}
-judged = verdict(block, "tutorial", voters=voters)
-print("voters:", sorted(voters))
-print("verdict:", judged.verdict.item(), "| class:", judged.state_class.item())
-print("why:", judged.reason.item())
-for ind, v, why in zip(judged.indicator.values, judged.indicator_verdict.values[0], judged.indicator_reason.values[0]):
-    print(f"  {ind}: {v}: {why}")
+logging.basicConfig(level=logging.INFO, format="%(asctime)s %(message)s", datefmt="%H:%M:%S")
+judged = judge_state(verdict_block["params"], y0, realizations=1, configfiles=[REPO / overlay] if overlay else [])
+verdict_of_mine = answer(judged)
+print("verdict:", verdict_of_mine.verdict, "| class:", verdict_of_mine.klass)
+print("decided in:", verdict_of_mine.arithmetic)
+print("decided by:", verdict_of_mine.decided_by or "no judge")
+print("why:", verdict_of_mine.why)
+if verdict_of_mine.to_decide:
+    print("to decide it:", verdict_of_mine.to_decide)

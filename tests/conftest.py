@@ -36,6 +36,10 @@ def rng():
     return np.random.default_rng(20261121)
 
 
+#: Where a smoke run writes (its own results directory, never a paper run's results/).
+SMOKE_RESULTS = smoke_config()["results"]
+
+
 @pytest.fixture(scope="session")
 def smoke_run(tmp_path_factory, worker_id):
     """The smoke workflow, run once per test session and shared, read-only, by every test that reads
@@ -46,7 +50,7 @@ def smoke_run(tmp_path_factory, worker_id):
     workdir = base / "smoke_shared"
     with open(base / "smoke_shared.lock", "w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)
-        if not (workdir / "results" / "report" / "index.html").exists():
+        if not (workdir / SMOKE_RESULTS / "report" / "index.html").exists():
             res = snakemake(workdir, SMOKE)
             assert res.returncode == 0, res.stderr[-3000:]
     return workdir

@@ -36,7 +36,7 @@ def test_claims_refuses_an_absent_data_directory(tmp_path):
     assert cli.main(["claims", "--data", str(tmp_path / "absent")]) == 2
 
 
-@pytest.mark.parametrize("name", ["claims", "diff", "costs", "configdoc", "verify"])
+@pytest.mark.parametrize("name", list(cli.COMMANDS))
 def test_each_subcommands_help_names_it_in_plain_text(name, capsys):
     """`sleighsim NAME --help` prints a usage naming `sleighsim NAME` (it printed `__main__.py` or
     `python -m ...`) and no reStructuredText markup."""

@@ -35,9 +35,11 @@ def test_the_tutorial_runs_and_its_orbits_gauge_and_verdict_say_what_the_rules_s
         g = faith["log10_gain_rounding"][p]
         assert faith["follows"][p] == (UNKNOWN if math.isnan(g) else FOLLOWS if g < math.log10(FAITHFUL_MAX)
                                        else "does not follow")
-    judged = ns["judged"]
-    assert list(judged.state.values) == ["mine"] and judged.verdict.item() in VERDICTS
-    assert judged.reason.item() and all(judged.indicator_reason.values[0])
-    decided = {ind for ind, v in zip(judged.indicator.values, judged.indicator_verdict.values[0]) if v != "undecided"}
-    assert decided <= set(ns["voters"])  # only the audited judges vote (chaos.rule.vote_gate)
+    judged, said = ns["judged"], ns["verdict_of_mine"]
+    assert list(judged.state.values) == ["state"] and judged.verdict.item() in VERDICTS
+    assert said.verdict == judged.verdict.item() and said.why and said.arithmetic
+    decided = {ind for ind, v in zip(judged.decisive_indicator.values, judged.decisive_indicator_verdict.values[0])
+               if v != "undecided"}
+    assert decided <= set(judged.attrs["decisive_voters"])  # only the audited judges vote (chaos.rule.vote_gate)
     assert judged.verdict.item() == "undecided" or decided
+    assert said.verdict in ("chaotic", "regular") or said.to_decide  # an undecided state: what would decide it

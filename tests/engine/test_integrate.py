@@ -169,3 +169,23 @@ def test_scipy_outside_double_is_refused_before_any_work():
     p = Params.from_config({"eps": 0.1, "b": 1.0, "K2": 1.1})
     with pytest.raises(ValueError, match="double only"):
         integrate(p, REFERENCE_STATE, [0.0, 1.0], backend="scipy", precision=Precision.LONG_DOUBLE)
+
+
+def test_a_run_without_a_scene_is_named_in_the_log(caplog):
+    """The log never starts with an empty label (': done in ...'): a run its caller left unnamed says so."""
+    with caplog.at_level("INFO", logger="sleighsim"):
+        integrate(P, REF, [0.0, 1.0])
+    done = [r.getMessage() for r in caplog.records if "done in" in r.getMessage()]
+    assert done and all(m.startswith("an unnamed run") for m in done), done
+
+
+def test_a_precision_is_accepted_by_its_name_as_by_the_type():
+    """Issue 53: precision="quad" crashed ('str' object has no attribute 'epsilon')."""
+    from sleighsim.engine.orbits import sleigh_orbit
+
+    by_name = integrate(P, REF, [0.0, 5.0], precision="long double", tol=2.0**-63)
+    by_type = integrate(P, REF, [0.0, 5.0], precision=Precision.LONG_DOUBLE, tol=2.0**-63)
+    assert by_name.attrs["precision"] == "long double" and by_name.u.values.tolist() == by_type.u.values.tolist()
+    assert sleigh_orbit(P, REF, "long double", 2.0**-63, 3, 1.0).precision is Precision.LONG_DOUBLE
+    with pytest.raises(ValueError, match="precision 'quadruple': choose one of"):
+        integrate(P, REF, [0.0, 1.0], precision="quadruple")

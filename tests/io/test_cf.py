@@ -14,6 +14,7 @@ import xarray as xr
 import yaml
 from compliance_checker.cf.cf_1_11 import CF1_11Check
 from compliance_checker.runner import CheckSuite
+from conftest import SMOKE_RESULTS
 
 from sleighsim.io import cf, netcdf, vocabulary
 from sleighsim.scenes import basins, catalog, causes, grid
@@ -187,7 +188,7 @@ def test_the_vocabulary_names_what_the_scenes_declare():
 
 
 def _smoke_datasets(smoke_run) -> list[Path]:
-    results = smoke_run / "results"
+    results = smoke_run / SMOKE_RESULTS
     return sorted(results.glob("data/**/*.nc")) + sorted(results.glob("chunks/**/*.nc")) + [results / "claims.nc"]
 
 

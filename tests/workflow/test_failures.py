@@ -9,11 +9,11 @@ import time
 import numpy as np
 import pytest
 import yaml
-from conftest import ROOT, SMOKE, smoke_config, snakemake
+from conftest import ROOT, SMOKE, SMOKE_RESULTS, smoke_config, snakemake
 
 from sleighsim.io.netcdf import read_dataset
 
-GRID = "results/data/fig11_grid.nc"
+GRID = f"{SMOKE_RESULTS}/data/fig11_grid.nc"
 
 
 def _cmd(workdir, configfile, *args):
@@ -25,7 +25,7 @@ def _cmd(workdir, configfile, *args):
 def test_sigterm_during_the_grid_keeps_finished_chunks_and_reruns_the_rest(smoke_run, tmp_path):
     """The smoke grid has one eps row per chunk; the reference is the shared smoke run."""
     run = tmp_path / "interrupted"
-    chunks = run / "results" / "chunks" / "fig11_grid"
+    chunks = run / SMOKE_RESULTS / "chunks" / "fig11_grid"
     proc = subprocess.Popen(_cmd(run, SMOKE, "-c1", GRID), stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                             start_new_session=True)
     deadline = time.time() + 300
@@ -67,7 +67,7 @@ def test_sigterm_during_the_grid_keeps_finished_chunks_and_reruns_the_rest(smoke
 
 @pytest.mark.workflow
 def test_changing_one_scene_reruns_only_what_depends_on_it(smoke_run, tmp_path):
-    target = ["results/figures/fig3.png", "results/figures/fig7.png", "results/figures/fig2.png"]
+    target = [f"{SMOKE_RESULTS}/figures/{f}.png" for f in ("fig3", "fig7", "fig2")]
     cfg = smoke_config()
     cfg["scenes"]["fig3"]["t_end"] = 250.0
     changed = tmp_path / "changed.yaml"
@@ -88,10 +88,10 @@ def test_changing_the_grid_runtime_resource_reruns_nothing(smoke_run, tmp_path):
     cfg["scenes"]["formal_exponents"]["runtime_min"] = 500
     changed = tmp_path / "changed.yaml"
     changed.write_text(yaml.safe_dump(cfg))
-    dry = snakemake(smoke_run, changed, "-n", GRID, "results/data/formal_exponents.nc", timeout=120)
+    dry = snakemake(smoke_run, changed, "-n", GRID, f"{SMOKE_RESULTS}/data/formal_exponents.nc", timeout=120)
     assert dry.returncode == 0 and "Nothing to be done" in dry.stdout + dry.stderr, (dry.stdout + dry.stderr)[-2000:]
-    forced = snakemake(smoke_run, changed, "-n", "--forcerun", "scene_first", "--", "results/data/formal_exponents.nc",
-                       timeout=120)
+    forced = snakemake(smoke_run, changed, "-n", "--forcerun", "scene_first", "--",
+                       f"{SMOKE_RESULTS}/data/formal_exponents.nc", timeout=120)
     assert "runtime=500" in forced.stdout + forced.stderr, (forced.stdout + forced.stderr)[-2000:]
     cfg["scenes"]["fig11_grid"]["T_round"] *= 2  # what the grid computes does force a rerun
     changed.write_text(yaml.safe_dump(cfg))
@@ -108,10 +108,10 @@ def test_a_deleted_or_truncated_dataset_is_rebuilt_by_the_default_target(smoke_r
     import shutil
 
     run = tmp_path / "run"
-    shutil.copytree(smoke_run / "results", run / "results")
+    shutil.copytree(smoke_run / SMOKE_RESULTS, run / SMOKE_RESULTS)
     shutil.copytree(smoke_run / ".snakemake" / "metadata", run / ".snakemake" / "metadata")
-    (run / "results" / "data" / "fig2.nc").unlink()
-    cut = run / "results" / "data" / "fig4.nc"
+    (run / SMOKE_RESULTS / "data" / "fig2.nc").unlink()
+    cut = run / SMOKE_RESULTS / "data" / "fig4.nc"
     cut.write_bytes(cut.read_bytes()[:4000])
     dry = subprocess.run(_cmd(run, SMOKE, "-n"), capture_output=True, text=True, timeout=300)
     out = dry.stdout + dry.stderr
@@ -119,11 +119,11 @@ def test_a_deleted_or_truncated_dataset_is_rebuilt_by_the_default_target(smoke_r
     res = subprocess.run(_cmd(run, SMOKE, "-c2"), capture_output=True, text=True, timeout=600)
     out = res.stdout + res.stderr
     assert res.returncode == 0, out[-3000:]
-    assert "results/data/fig4.nc -> " in out and "results/unreadable/data/fig4.nc" in out, out[-3000:]
+    assert f"{SMOKE_RESULTS}/data/fig4.nc -> " in out and f"{SMOKE_RESULTS}/unreadable/data/fig4.nc" in out, out[-3000:]
     assert "wildcards: scene=fig2" in out and "wildcards: scene=fig4" in out and "scene=fig7" not in out
-    assert (run / "results" / "unreadable" / "data" / "fig4.nc").stat().st_size == 4000
+    assert (run / SMOKE_RESULTS / "unreadable" / "data" / "fig4.nc").stat().st_size == 4000
     for name in ("fig2", "fig4"):
-        new = read_dataset(run / "results" / "data" / f"{name}.nc")
-        old = read_dataset(smoke_run / "results" / "data" / f"{name}.nc")
+        new = read_dataset(run / SMOKE_RESULTS / "data" / f"{name}.nc")
+        old = read_dataset(smoke_run / SMOKE_RESULTS / "data" / f"{name}.nc")
         assert all(np.array_equal(new[v].values, old[v].values, equal_nan=True)
                    for v in old.data_vars if old[v].dtype.kind == "f")

@@ -9,7 +9,7 @@ import time
 
 import pytest
 import yaml
-from conftest import ROOT, SMOKE, snakemake
+from conftest import ROOT, SMOKE, SMOKE_RESULTS, snakemake
 
 from sleighsim.ops.runlock import LOCK_NAME, holder
 
@@ -25,17 +25,17 @@ def test_a_scene_name_climbing_out_of_results_is_refused_before_anything_is_writ
 
 
 def test_a_dry_run_moves_nothing_and_takes_no_lock(tmp_path):
-    data = tmp_path / "results" / "data"
+    data = tmp_path / SMOKE_RESULTS / "data"
     data.mkdir(parents=True)
     (data / "fig4.nc").write_bytes(b"half a download")
-    res = snakemake(tmp_path, SMOKE, "-n", "results/data/fig4.nc", timeout=120)
+    res = snakemake(tmp_path, SMOKE, "-n", f"{SMOKE_RESULTS}/data/fig4.nc", timeout=120)
     assert res.returncode == 0, (res.stdout + res.stderr)[-2000:]
     assert (data / "fig4.nc").read_bytes() == b"half a download"
-    assert sorted(os.listdir(tmp_path / "results")) == ["data"]
+    assert sorted(os.listdir(tmp_path / SMOKE_RESULTS)) == ["data"]
 
 
 def test_a_real_run_sets_aside_declared_products_sweeps_stale_temps_and_releases_its_lock(tmp_path):
-    data = tmp_path / "results" / "data"
+    data = tmp_path / SMOKE_RESULTS / "data"
     data.mkdir(parents=True)
     (data / "fig4.nc").write_bytes(b"half a download")
     (data / "notes.nc").write_text("not a product")
@@ -44,18 +44,18 @@ def test_a_real_run_sets_aside_declared_products_sweeps_stale_temps_and_releases
     os.utime(stale, (time.time() - 3600,) * 2)
     res = snakemake(tmp_path, SMOKE, "-c1", "no_such_target", timeout=120)
     out = res.stdout + res.stderr
-    assert "results/data/fig4.nc -> results/unreadable/data/fig4.nc" in out, out[-2000:]
-    assert "removed a stale temporary file: results/data/.fig2.k3j4m5n6.nc.tmp" in out
-    assert (tmp_path / "results" / "unreadable" / "data" / "fig4.nc").read_bytes() == b"half a download"
+    assert f"{SMOKE_RESULTS}/data/fig4.nc -> {SMOKE_RESULTS}/unreadable/data/fig4.nc" in out, out[-2000:]
+    assert f"removed a stale temporary file: {SMOKE_RESULTS}/data/.fig2.k3j4m5n6.nc.tmp" in out
+    assert (tmp_path / SMOKE_RESULTS / "unreadable" / "data" / "fig4.nc").read_bytes() == b"half a download"
     assert (data / "notes.nc").exists() and not stale.exists()
-    assert not (tmp_path / "results" / LOCK_NAME).exists()  # released when the process ends
+    assert not (tmp_path / SMOKE_RESULTS / LOCK_NAME).exists()  # released when the process ends
 
 
 def test_a_real_run_is_refused_while_another_live_run_holds_the_results(tmp_path):
-    results = tmp_path / "results"
+    results = tmp_path / SMOKE_RESULTS
     results.mkdir()
     (results / LOCK_NAME).write_text(json.dumps({**holder(), "pid": os.getpid(), "checkout": "/other/clone"}))
-    res = snakemake(tmp_path, SMOKE, "-c1", "results/data/fig2.nc", timeout=120)
+    res = snakemake(tmp_path, SMOKE, "-c1", f"{SMOKE_RESULTS}/data/fig2.nc", timeout=120)
     out = res.stdout + res.stderr
     assert res.returncode != 0 and f"in use by pid {os.getpid()}" in out and "/other/clone" in out, out[-2000:]
     assert "rule scene" not in out and not (results / "data").exists()
@@ -68,15 +68,16 @@ from pathlib import Path
 from snakemake.api import SnakemakeApi
 from snakemake.settings.types import ConfigSettings, DAGSettings, OutputSettings, ResourceSettings
 snakefile, workdir, smoke = map(Path, sys.argv[1:4])
+target = sys.argv[4]
 with SnakemakeApi(OutputSettings()) as api:
     wf = api.workflow(resource_settings=ResourceSettings(cores=1), config_settings=ConfigSettings(configfiles=[smoke]),
                       snakefile=snakefile, workdir=workdir)
-    wf.dag(dag_settings=DAGSettings(targets={"results/data/fig4.nc"})).execute_workflow(executor="dryrun")
+    wf.dag(dag_settings=DAGSettings(targets={target})).execute_workflow(executor="dryrun")
 """
 
 
 def _hostile_tree(tmp_path):
-    data = tmp_path / "results" / "data"
+    data = tmp_path / SMOKE_RESULTS / "data"
     data.mkdir(parents=True)
     (data / "fig4.nc").write_bytes(b"half a download")
     stale = data / ".fig2.k3j4m5n6.nc.tmp"
@@ -91,12 +92,12 @@ def test_no_mode_that_runs_no_job_moves_sweeps_or_locks(tmp_path, how):
     data, stale = _hostile_tree(tmp_path)
     if how == "api":
         res = subprocess.run([sys.executable, "-c", API_DRY_RUN, str(ROOT / "workflow" / "Snakefile"), str(tmp_path),
-                              str(SMOKE)], capture_output=True, text=True, timeout=300)
+                              str(SMOKE), f"{SMOKE_RESULTS}/data/fig4.nc"], capture_output=True, text=True, timeout=300)
     else:
-        res = snakemake(tmp_path, SMOKE, *how, "results/data/fig4.nc", timeout=300)
+        res = snakemake(tmp_path, SMOKE, *how, f"{SMOKE_RESULTS}/data/fig4.nc", timeout=300)
     out = res.stdout + res.stderr
     assert (data / "fig4.nc").read_bytes() == b"half a download", out[-2000:]
-    assert stale.exists() and sorted(os.listdir(tmp_path / "results")) == ["data"], out[-2000:]
+    assert stale.exists() and sorted(os.listdir(tmp_path / SMOKE_RESULTS)) == ["data"], out[-2000:]
 
 
 @pytest.mark.parametrize("results", ["/.", "/tmp/.."])

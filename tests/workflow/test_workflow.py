@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
-from conftest import ROOT, SMOKE, smoke_config, snakemake
+from conftest import ROOT, SMOKE, SMOKE_RESULTS, smoke_config, snakemake
 
 from sleighsim.io import layout
 from sleighsim.io.netcdf import read_dataset
@@ -43,7 +43,7 @@ def test_scene_names_appear_only_in_the_config_and_the_registry():
 
 @pytest.mark.workflow
 def test_smoke_workflow_builds_every_figure_and_dataset(smoke_run):
-    results = smoke_run / "results"
+    results = smoke_run / SMOKE_RESULTS
     for fig in figure_catalog.figures_built(SMOKE_CFG):
         for ext in ("png", "pdf"):
             f = results / "figures" / f"{fig}.{ext}"
@@ -114,9 +114,9 @@ def test_snakemakes_own_report_holds_every_figure_under_its_paper_section(smoke_
     categories = json.loads(re.search(r"var categories = (\{.*?\});\n", page)[1])
     for fig in built:
         e = entries[fig]
-        assert f"results/figures/{fig}.png" in categories[e["category"]][e["subcategory"]], fig
+        assert f"{SMOKE_RESULTS}/figures/{fig}.png" in categories[e["category"]][e["subcategory"]], fig
     ledger = {f for files in categories[sections.LEDGER].values() for f in files}
-    assert ledger == {"results/claims.csv", "results/report/standalone.html"}
+    assert ledger == {f"{SMOKE_RESULTS}/claims.csv", f"{SMOKE_RESULTS}/report/standalone.html"}
     # the project's own report, linked as one file: every figure inlined, none left to fetch
     assert standalone.count('<img src="data:image/png;base64,') >= len(built)
     assert not re.search(r'<img [^>]*src="(?!data:)', standalone)
@@ -146,7 +146,7 @@ def test_invalid_config_stops_before_any_job_naming_the_key(tmp_path, path, valu
     _mutate(cfg, path, value)
     bad = tmp_path / "bad.yaml"
     bad.write_text(yaml.safe_dump(cfg))
-    sentinel = tmp_path / "results" / "data" / "fig3.nc"
+    sentinel = tmp_path / SMOKE_RESULTS / "data" / "fig3.nc"
     sentinel.parent.mkdir(parents=True)
     sentinel.write_bytes(b"earlier result")
     stamp = sentinel.stat().st_mtime_ns
@@ -191,8 +191,8 @@ def test_atlas_builds_the_regime_diagram_and_the_basin_fractions(tmp_path):
     res = snakemake(tmp_path, SMOKE, "atlas", timeout=600)
     assert res.returncode == 0, res.stderr[-3000:]
     for fig in figure_catalog.ATLAS:
-        assert (tmp_path / "results" / "figures" / f"{fig}.png").stat().st_size > 0
-    ds = read_dataset(tmp_path / "results" / "data" / "basins.nc")
+        assert (tmp_path / SMOKE_RESULTS / "figures" / f"{fig}.png").stat().st_size > 0
+    ds = read_dataset(tmp_path / SMOKE_RESULTS / "data" / "basins.nc")
     n = SMOKE_CFG["scenes"]["basins"]["n_samples"]
     assert ds.sizes["sample"] == n and int(ds["count"].sum()) == n
     assert np.isclose(float(ds.fraction.sum()), 1.0)
@@ -211,18 +211,19 @@ def test_commands_without_a_core_count_parse_the_workflow(tmp_path):
 def test_on_request_scenes_join_the_run_and_the_report_when_switched_on(tmp_path):
     """bench and hardcases run on request; switched on, the report declares (and so waits for) them."""
     cfg = smoke_config()
-    res = snakemake(tmp_path, SMOKE, "-n", "--forceall", "results/report/index.html", timeout=120)
+    res = snakemake(tmp_path, SMOKE, "-n", "--forceall", f"{SMOKE_RESULTS}/report/index.html", timeout=120)
     assert "data/hardcases.nc" not in res.stdout and "figures/bench.png" not in res.stdout
     for name in ("hardcases", "bench"):
         cfg["scenes"][name]["on_request"] = False
     on = tmp_path / "on.yaml"
     on.write_text(yaml.safe_dump(cfg))
-    res = snakemake(tmp_path, on, "-n", "--forceall", "results/report/index.html", timeout=120)
+    res = snakemake(tmp_path, on, "-n", "--forceall", f"{SMOKE_RESULTS}/report/index.html", timeout=120)
     assert res.returncode == 0, res.stderr[-2000:]
     report_job = res.stdout[res.stdout.index("rule report:"):]
     report_inputs = report_job[: report_job.index("output:")]
-    assert "results/data/hardcases.nc" in report_inputs and "results/figures/bench.png" in report_inputs
-    assert "results/benchmarks/scene/bench.tsv" in report_inputs
+    assert f"{SMOKE_RESULTS}/data/hardcases.nc" in report_inputs
+    assert f"{SMOKE_RESULTS}/figures/bench.png" in report_inputs
+    assert f"{SMOKE_RESULTS}/benchmarks/scene/bench.tsv" in report_inputs
 
 
 @pytest.mark.workflow
@@ -234,10 +235,10 @@ def test_changing_a_file_only_the_report_reads_reruns_the_report(smoke_run, tmp_
 
     run = tmp_path / "run"
     shutil.copytree(smoke_run, run, symlinks=True)
-    record = run / "results" / "benchmarks" / "scene" / "fig9_scaling.tsv"
+    record = run / SMOKE_RESULTS / "benchmarks" / "scene" / "fig9_scaling.tsv"
     time.sleep(1.1)  # a newer file, with new content
     record.write_text(record.read_text().replace("\t", "\t ", 1))
-    dry = snakemake(run, SMOKE, "-n", "results/report/index.html")
+    dry = snakemake(run, SMOKE, "-n", f"{SMOKE_RESULTS}/report/index.html")
     assert "rule report:" in dry.stdout and "benchmarks/scene/fig9_scaling.tsv" in dry.stdout, dry.stdout[-2000:]
     assert "rule claims:" not in dry.stdout and "rule scene:" not in dry.stdout
 
@@ -245,7 +246,7 @@ def test_changing_a_file_only_the_report_reads_reruns_the_report(smoke_run, tmp_
 @pytest.mark.workflow
 def test_smoke_grid_through_a_cluster_executor_equals_the_local_run(smoke_run, tmp_path):
     pytest.importorskip("snakemake_executor_plugin_cluster_generic")
-    target = "results/data/fig11_grid.nc"
+    target = f"{SMOKE_RESULTS}/data/fig11_grid.nc"
     res = snakemake(tmp_path, SMOKE, target, "--executor", "cluster-generic",
                     "--cluster-generic-submit-cmd", str(ROOT / "tests" / "workflow" / "local_submit.sh"), "--jobs", "2",
                     "--latency-wait", "10")
@@ -264,7 +265,7 @@ def test_the_smoke_ledger_judges_what_the_smoke_config_declares(smoke_run):
     from sleighsim.ops.config import merged_config
 
     assert "long double" in catalog.laddered(SMOKE_CFG)["fig9_ref"] and "lyap_spectrum" in catalog.realized(SMOKE_CFG)
-    results = smoke_run / "results"
+    results = smoke_run / SMOKE_RESULTS
     rows = {r.id: r for r in claims.read(results / "claims.nc")}
     assert rows["C16"].precision.startswith("long double") and rows["C18"].realizations
     again = claims.ledger(ROOT / "paper" / "CLAIMS.md", results / "data", results / "figures", merged_config([SMOKE]),
@@ -278,7 +279,7 @@ def test_every_laddered_scene_of_the_smoke_run_has_its_ladder_from_one_settled_s
     """Every scene smoke.yaml ladders (a chunked grid among them: chunk_in_precision, gather_in_precision)
     has its variant, run in that arithmetic after the double pre-run, and a ladder naming a converged
     precision or "not converged"; F3, F8, F10 and F11 are drawn beside it."""
-    data = smoke_run / "results" / "data"
+    data = smoke_run / SMOKE_RESULTS / "data"
     ladders = catalog.laddered(SMOKE_CFG)
     assert {"fig3", "fig8", "lyap_energy", "lyap_protocol", "fig11_grid"} <= set(ladders)
     for scene, precisions in ladders.items():

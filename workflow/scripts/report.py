@@ -2,6 +2,7 @@
 
 from pathlib import Path
 
+from sleighsim.claims import fidelity
 from sleighsim.claims import ledger as claims
 from sleighsim.io.claims_table import parse_claims
 from sleighsim.io.netcdf import write_text
@@ -18,6 +19,6 @@ with logging_to(sm.log[0]):
     report.build(rows, out_dir=Path(sm.output.html).parent, tex_path=sm.input.tex, labels=labels,
                  figures=dict(zip(sm.params.figures, sm.input.figures)),
                  datasets=dict(zip(sm.params.data, sm.input.data)), kinds=sm.params.kinds,
-                 benchmarks=sm.params.benchmarks,
+                 benchmarks=sm.params.benchmarks, identity=fidelity.identity(sm.config),
                  power_record=sm.input.get("power_record"), cluster_record=sm.input.get("cluster_record"))
     write_text(sm.output.standalone, inline_images(sm.output.html))

@@ -8,11 +8,16 @@ is then set beside the setup the paper_setup scene inferred jointly from all the
 (columns ``paper_setup_value``, ``paper_setup_verdict``: :mod:`sleighsim.claims.setup_columns`). A figure row
 (F..) counts when its figure (the ledger is handed the figures of
 :data:`sleighsim.report.figures.catalog.FIGURES`) was built, every steady-state dataset it shows carries a passed
-transient check, and no claim it illustrates differs.
+transient check ("check failed" otherwise), and no claim it illustrates differs
+(:mod:`sleighsim.claims.figure_rows`).
 
 Rules: see :mod:`sleighsim.claims.rules` (a number is reproduced within max(2 standard errors,
-10%) of the paper's value; a qualitative claim when its stated criterion holds; "cannot be
-reproduced" only from a computed rule; a missing dataset or check gives "not yet computed").
+10%) of the paper's value; a qualitative claim when its stated criterion holds; a difference worded
+by its size; "cannot be reproduced" only from a computed rule; a missing dataset or check gives "not
+yet computed"). A run whose config is not at the paper's fidelity (its ``label``,
+:mod:`sleighsim.claims.fidelity`: the smoke run) judges nothing against the paper: every row reads
+"not a reproduction", its own data's verdict in ``run_verdict``; the ledger records the config's label
+and hash.
 
 Which finer-precision variants and realizations a claim is judged on is what the run's config
 declares (:func:`sleighsim.scenes.catalog.laddered`, :func:`sleighsim.scenes.catalog.realized`), never which
@@ -38,12 +43,13 @@ import xarray as xr
 
 from sleighsim.chaos.faithfulness import UNKNOWN
 from sleighsim.chaos.rule import agree
-from sleighsim.claims import rules
+from sleighsim.claims import fidelity, rules
 from sleighsim.claims.causes import CAUSE_TESTS
 from sleighsim.claims.evidence import CAUSES, EVIDENCE
+from sleighsim.claims.figure_rows import figure_from_claims, files, judge_figure
 from sleighsim.claims.judges import JUDGES
 from sleighsim.claims.rules import CANNOT, DIFFERS, DOUBLE_ONLY, FRAGILE, NOT_YET, REPRODUCED, VERDICTS
-from sleighsim.claims.setup_columns import NOT_APPLICABLE, cause_with_setup, columns
+from sleighsim.claims.setup_columns import cause_with_setup, columns
 from sleighsim.io import layout
 from sleighsim.io.claims_table import Claim, parse_claims
 from sleighsim.io.netcdf import read_dataset, write_dataset, write_text
@@ -78,6 +84,7 @@ class Row:
     realizations: str = ""
     paper_setup_value: str = ""
     paper_setup_verdict: str = ""
+    run_verdict: str = ""
 
 
 class MissingDataset(KeyError):
@@ -150,77 +157,6 @@ class _Datasets:
         return "; ".join(out)
 
 
-def _files(names) -> str:
-    return ", ".join(f"{n}.nc" for n in names)
-
-
-def transient_checked(ds) -> tuple[bool, str]:
-    """(passed, text): the dataset's transient check, an attribute or a per-row variable; a missing
-    check is not a passed one."""
-    if "transient_over" in ds.data_vars:
-        v = np.asarray(ds.transient_over.values)
-        return bool(v.size and np.all(v == 1)), f"{int(np.sum(v == 1))} of {v.size} rows settled"
-    if "transient_over" in ds.attrs:
-        return ds.attrs["transient_over"] == 1, "settled" if ds.attrs["transient_over"] == 1 else "not settled"
-    return False, "no transient check"
-
-
-def transient_cause(name: str, ds) -> str:
-    """Why the transient check failed in dataset ``name`` (the cause of a figure row that differs for
-    it): our run's pre-run, not the paper. Per row: the rows not settled with their pre-run length and
-    those another config computes; else the pre-run's spike count, first spike and spike intervals."""
-    if "transient_over" in ds.data_vars:
-        return f"{name}: " + "; ".join(_unsettled_rows(ds))
-    a = {k: ds.attrs.get(f"transient_{k}", math.nan) for k in
-         ("n_spikes", "first_spike", "spike_interval_mean_first_half", "spike_interval_mean_second_half",
-          "settling_time")}
-    return (f"{name}: the pre-run holds {a['n_spikes']:.0f} spikes (first at {a['first_spike']:.6g}), spike "
-            f"intervals {a['spike_interval_mean_first_half']:.5g} (first half) and "
-            f"{a['spike_interval_mean_second_half']:.5g} (second half), settling time {a['settling_time']:.5g}: "
-            "too short to show the transient over")
-
-
-def _unsettled_rows(ds) -> list[str]:
-    """The rows of a per-row transient check not settled (with their pre-run length t_pre) and those
-    not computed in this run (NaN; the config that computes them when the dataset names it)."""
-    over = np.asarray(ds.transient_over.values, float)
-    axis = ds.transient_over.dims[0]
-    x = ds[axis].values
-    t_pre = ds["t_pre"].values if "t_pre" in ds else np.full(over.size, np.nan)
-    parts = [f"{axis} {v:.3g} not settled within its pre-run of {t:.3g}" for v, o, t in zip(x, over, t_pre) if o == 0]
-    away = [f"{v:.3g}" for v, o in zip(x, over) if not np.isfinite(o)]
-    if away:
-        where = ds.attrs.get("elsewhere_config", "")
-        parts.append(f"{axis} {', '.join(away)} not computed in this run"
-                     + (f" ({where} computes it)" if where else ""))
-    return parts
-
-
-def judge_figure(row: Row, fig, load: _Datasets, figures_dir: Path) -> None:
-    """A figure row: the figure ``fig`` (a :class:`sleighsim.report.figures.figure.Figure`: its
-    ``name``, ``data`` and ``steady`` datasets) built in ``figures_dir`` from its datasets, and every
-    steady-state dataset's transient check passed. Sets the row's verdict and texts."""
-    png = Path(figures_dir) / f"{fig.name}.png"
-    row.evidence = ", ".join([*(f"{n}.nc" for n in fig.data), png.name])
-    row.rule = "the figure is built from its datasets" + (
-        f" and the transient check passed in {_files(fig.steady)}" if fig.steady else "")
-    if not png.exists():
-        row.verdict, row.reason = NOT_YET, f"figure {png.name} not built"
-        return
-    steady = dict(zip(fig.steady, load(fig.steady)))
-    checks = {n: transient_checked(ds) for n, ds in steady.items()}
-    row.measured = f"figure {png.name}" + "".join(f"; {n}: {text}" for n, (_, text) in checks.items())
-    failed = [n for n, (ok, _) in checks.items() if not ok]
-    missing = [n for n in failed if checks[n][1] == "no transient check"]
-    if missing:
-        row.verdict, row.reason = NOT_YET, f"no transient check in {_files(missing)}"
-    elif failed:
-        row.verdict, row.reason = DIFFERS, f"the transient is not shown to be over in {_files(failed)}"
-        row.cause = "this run's pre-run, not the paper: " + "; ".join(transient_cause(n, steady[n]) for n in failed)
-    else:
-        row.verdict = REPRODUCED
-
-
 def _judged(claim: Claim, datasets: list):
     j = JUDGES[claim.id](claim.values, *datasets)
     if j.verdict not in VERDICTS or j.verdict == DOUBLE_ONLY:
@@ -261,7 +197,7 @@ def judge_claim(row: Row, claim: Claim, load: _Datasets) -> None:
     judge_realizations(row, claim, names, load, j_double, judged_in=precision)
     row.measured, row.rule = j.measured, j.rule
     row.uncertainty, row.units, row.difference = j.uncertainty, j.units, float(j.difference)
-    row.evidence = _files(names) + (" " + j.note if names and j.note.startswith("(") else
+    row.evidence = files(names) + (" " + j.note if names and j.note.startswith("(") else
                                     "; " + j.note if names and j.note else j.note)
     if row.verdict == DOUBLE_ONLY:
         row.cause = f"{ARITHMETIC}: {row.reason}"
@@ -272,7 +208,7 @@ def judge_claim(row: Row, claim: Claim, load: _Datasets) -> None:
         needed = load.variants(CAUSES[claim.id], precision)  # the arithmetic the verdict was judged in
         try:
             row.cause = CAUSE_TESTS[claim.id](j, claim.values, *load(needed))
-            row.evidence += "; causes: " + _files(needed)
+            row.evidence += "; causes: " + files(needed)
         except MissingDataset as missing:
             row.cause = f"causes not yet computed: {missing}"
 
@@ -297,31 +233,13 @@ def judge_realizations(row: Row, claim: Claim, names, load: _Datasets, first,
         row.verdict, row.reason = FRAGILE, f"{why}; realization 0: {row.reason or first.measured}"
 
 
-def _figure_from_claims(row: Row, judged: dict, claims: tuple) -> None:
-    """A built figure is no better than the claims it illustrates; its paper_setup_verdict quotes theirs
-    (a figure has no numbers of its own for the setup to move)."""
-    if claims:
-        row.rule += "; then no better than the claims it illustrates (" + ", ".join(claims) + ")"
-    differing = [c for c in claims if c in judged and judged[c].verdict in (DIFFERS, DOUBLE_ONLY)]
-    fragile = [c for c in claims if c in judged and judged[c].verdict == FRAGILE]
-    if row.verdict == REPRODUCED and differing:
-        row.verdict, row.reason = DIFFERS, "its claims differ: " + ", ".join(differing)
-        row.cause = "; ".join(f"{c}: {judged[c].cause or 'no cause test yet'}" for c in differing)
-    elif row.verdict == REPRODUCED and fragile:
-        row.verdict, row.reason = FRAGILE, "its claims are fragile: " + ", ".join(fragile)
-    tried = [c for c in claims if c in judged and judged[c].paper_setup_verdict
-             and not judged[c].paper_setup_verdict.startswith(NOT_APPLICABLE)]
-    if tried:
-        row.paper_setup_verdict = (f"{NOT_APPLICABLE} to a figure; its claims under the paper's setup: "
-                                   + "; ".join(f"{c}: {judged[c].paper_setup_verdict}" for c in tried))
-
-
 def ledger(claims_md, data_dir, figures_dir, config: dict, figures: dict) -> list[Row]:
     """The rows of every id of CLAIMS.md (path ``claims_md``), judged once each, in file order, from
     the datasets in ``data_dir`` that ``config`` (the workflow's merged config) declares: its
     precision ladders and realizations, on-request scenes included. ``figures`` {name: Figure}
     (:data:`sleighsim.report.figures.catalog.FIGURES`) says which figure in ``figures_dir`` each
     figure row (F..) is, what it shows and which claims it illustrates."""
+    fidelity.label(config)  # a run that names no label is refused before anything is judged
     by_paper_id = {f.paper: f for f in figures.values() if f.paper}
     load = _Datasets(data_dir, laddered(config, on_request=True), realized(config, on_request=True))
     rows = []
@@ -339,11 +257,31 @@ def ledger(claims_md, data_dir, figures_dir, config: dict, figures: dict) -> lis
             row.measured = row.uncertainty = ""
         rows.append(row)
     with_setup(rows, load, config)  # before the figure rows quote their claims' causes
+    for row in rows:
+        if row.id not in by_paper_id:
+            row.verdict = rules.severity(row.verdict, row.difference)
     judged = {r.id: r for r in rows}
     for row in rows:
         if row.id in by_paper_id:
-            _figure_from_claims(row, judged, by_paper_id[row.id].claims)
+            figure_from_claims(row, judged, by_paper_id[row.id].claims)
+    for_run(rows, config)
     return rows
+
+
+def for_run(rows: list[Row], config: dict) -> None:
+    """Each row for the run of ``config`` (:data:`sleighsim.claims.fidelity.FIDELITY_RULE`): its texts made
+    :func:`sleighsim.claims.rules.readable` (no bare NaN), its own data's verdict in ``run_verdict``; a run not
+    at the paper's fidelity reads "not a reproduction", its reason naming the config and that verdict."""
+    against_paper, ident = fidelity.reproduction(config), fidelity.identity(config)
+    for row in rows:
+        for f in fields(Row):
+            if isinstance(getattr(row, f.name), str):
+                setattr(row, f.name, rules.readable(getattr(row, f.name)))
+        row.run_verdict = row.verdict
+        if not against_paper:
+            row.verdict = rules.NOT_A_REPRODUCTION
+            row.reason = (f"a {ident['config_label']} run ({fidelity.describe(ident)}), not at the paper's fidelity: "
+                          f"on its own data, {row.run_verdict}" + (f" ({row.reason})" if row.reason else ""))
 
 
 def with_setup(rows: list[Row], load: _Datasets, config: dict) -> None:
@@ -363,33 +301,55 @@ def with_setup(rows: list[Row], load: _Datasets, config: dict) -> None:
 TITLE = "the claims ledger: every claim of the paper judged from the datasets (paper/CLAIMS.md)"
 
 
-def write(rows: list[Row], csv_path, nc_path) -> None:
-    """Write the ledger ``rows`` as CSV (one row per claim) to ``csv_path`` and as a netCDF dataset to ``nc_path``."""
+def write(rows: list[Row], csv_path, nc_path, identity: dict | None = None) -> None:
+    """Write the ledger ``rows`` as CSV (one row per claim) to ``csv_path`` and as a netCDF dataset to
+    ``nc_path``; ``identity``: the run's config (:func:`sleighsim.claims.fidelity.identity`), recorded in the
+    dataset's attributes (None: a ledger of no run, such as a test's)."""
     buf = io.StringIO()
     writer = csv.writer(buf)
     writer.writerow([f.name for f in fields(Row)])
     writer.writerows(astuple(r) for r in rows)
     write_text(csv_path, buf.getvalue())
-    write_dataset(to_dataset(rows), nc_path, what=TITLE)
+    ds = to_dataset(rows)
+    ds.attrs.update(identity or {})
+    write_dataset(ds, nc_path, what=TITLE, vocabulary=VOCABULARY)
 
 
 def read(nc_path) -> list[Row]:
     """The rows of the ledger written by :func:`write` to the netCDF file ``nc_path``."""
     ds = read_dataset(nc_path)
+    names = [f.name for f in fields(Row) if f.name != "id" and f.name in ds.data_vars]
     return [Row(id=str(i), **{k: (float(ds[k].values[j]) if k == "difference" else str(ds[k].values[j]))
-                              for k in ds.data_vars}) for j, i in enumerate(ds.id.values)]
+                              for k in names}) for j, i in enumerate(ds.id.values)]
+
+
+#: The ledger's own variables (sleighsim.io.cf): the verdicts as CF flags, beside their text.
+VOCABULARY = {"run_verdict": ("the verdict the rules give on this run's own datasets", "text"),
+              "verdict_flag": ("the verdict as a flag (flag_meanings: the verdicts, spaces as _)", "1"),
+              "run_verdict_flag": ("run_verdict as a flag (flag_meanings: the verdicts, spaces as _)", "1")}
+
+
+def _flag(verdicts) -> xr.Variable:
+    """The verdicts as a CF flag variable along ``id``: their indices in VERDICTS (int8), with
+    flag_values and flag_meanings."""
+    return xr.Variable("id", np.array([VERDICTS.index(v) for v in verdicts], dtype=np.int8),
+                       attrs={"flag_values": np.arange(len(VERDICTS), dtype=np.int8),
+                              "flag_meanings": " ".join(v.replace(" ", "_") for v in VERDICTS)})
 
 
 def to_dataset(rows: list[Row]) -> xr.Dataset:
-    """The ledger ``rows`` as a netCDF-ready dataset: one variable per column along ``id``, the counts per
-    verdict and the rules as attributes."""
+    """The ledger ``rows`` as a netCDF-ready dataset: one variable per column along ``id``, the verdict
+    columns also as CF flags (``verdict_flag``, ``run_verdict_flag``), the counts per verdict and the rules
+    as attributes."""
     names = [f.name for f in fields(Row) if f.name != "id"]
     data = {n: ("id", np.array([getattr(r, n) for r in rows], dtype=float) if n == "difference"
                 else np.array([str(getattr(r, n)) for r in rows], dtype=object)) for n in names}
     ds = xr.Dataset(data, coords={"id": [r.id for r in rows]})
+    ds["verdict_flag"] = _flag(r.verdict for r in rows)
+    ds["run_verdict_flag"] = _flag(r.run_verdict or r.verdict for r in rows)
     ds.attrs.update({f"n_{v.replace(' ', '_')}": sum(r.verdict == v for r in rows) for v in VERDICTS})
-    ds.attrs.update(rel_tol=rules.REL_TOL, k_sigma=rules.K_SIGMA, rules=rules.VERDICT_RULES,
-                    precision_rule=IN_PRECISION_RULE)
+    ds.attrs.update(rel_tol=rules.REL_TOL, k_sigma=rules.K_SIGMA, slight=rules.SLIGHT, great=rules.GREAT,
+                    rules=rules.VERDICT_RULES, precision_rule=IN_PRECISION_RULE, fidelity_rule=fidelity.FIDELITY_RULE)
     return ds
 
 

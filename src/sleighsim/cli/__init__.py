@@ -4,6 +4,8 @@
     sleighsim diff OLD NEW   compare two result trees dataset by dataset (python -m sleighsim.resultdiff)
     sleighsim costs ...      the run's measured cost, its estimate for a config, and the cost plot
     sleighsim configdoc ...  config/README.md from the config schema (--check: in step with it)
+    sleighsim judge ...      the chaos verdict of a start state of one's own, by the workflow's rule
+    sleighsim finding FILE   the finding in one paragraph, from a run's report/finding.yaml
     sleighsim verify DIR     check every dataset under DIR against its recorded checksum
 
 Each subcommand takes the options of the module it runs (``sleighsim SUBCOMMAND --help``) and
@@ -25,6 +27,10 @@ COMMANDS = {
     "costs": ("sleighsim.ops.costs", "the run's measured cost, its estimate for another config, and the cost plot"),
     "configdoc": ("sleighsim.ops.configdoc",
                   "write config/README.md from the schema (--check: exit 1 when out of step)"),
+    "judge": ("sleighsim.cli.judge", "is the steady state a start state of one's own reaches chaotic? The workflow's "
+              "verdict for it"),
+    "finding": ("sleighsim.cli.finding", "the finding in one paragraph from a run's report/finding.yaml (--readme: "
+                "into the README)"),
     "verify": ("sleighsim.cli.verify", "check every dataset of a results tree against its recorded checksum (exit 1 on "
                "any)"),
 }

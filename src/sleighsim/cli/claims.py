@@ -2,7 +2,10 @@
 reading the precision ladders and realizations its config files (``--config``, default
 config/config.yaml) declare (``--help`` lists the options). It hands the ledger the figures of
 :mod:`sleighsim.report.figures.catalog` (the figure rows of CLAIMS.md), as the workflow's claims
-job does."""
+job does. The ledger records the config's label and hash as the workflow's does: the config files merged,
+then the schema's defaults set, as the Snakefile sets them (:func:`run_config`); a run that is not at the
+paper's fidelity (the smoke run: ``--config config/smoke.yaml``) is judged against nothing
+(:mod:`sleighsim.claims.fidelity`)."""
 
 from __future__ import annotations
 
@@ -10,6 +13,7 @@ import argparse
 import sys
 from pathlib import Path
 
+from sleighsim.claims import fidelity
 from sleighsim.claims.ledger import ledger, summary, write
 from sleighsim.io.claims_table import parse_claims
 from sleighsim.io.integrity import ProductError, valid
@@ -59,16 +63,29 @@ def main(argv=None, prog: str = "sleighsim claims") -> int:
     program, default sys.argv). Returns the exit status: 0, or 3 when products of the run are missing."""
     a = _checked(_parser(prog), argv)
     out = Path(a.out)
-    config = merged_config(a.config)
+    config = run_config(a.config)
     rows = ledger(a.claims, a.data, a.figures, config, FIGURES)
-    write(rows, out, out.with_suffix(".nc"))
-    print(", ".join(f"{v}: {n}" for v, n in summary(rows).items()), f"-> {out}, {out.with_suffix('.nc')}")
+    ident = fidelity.identity(config)
+    write(rows, out, out.with_suffix(".nc"), identity=ident)
+    print(f"{fidelity.describe(ident)}" + ("" if fidelity.reproduction(config) else " (not a reproduction)") + ": "
+          + ", ".join(f"{v}: {n}" for v, n in summary(rows).items() if n), f"-> {out}, {out.with_suffix('.nc')}")
     absent = missing_products(a.data, a.figures, config)
     if absent:
         print(f"error: {len(absent)} product(s) of the run the config declares are missing or unreadable "
               "(their claims read 'not yet computed'): " + ", ".join(absent), file=sys.stderr)
         return 3
     return 0
+
+
+def run_config(files) -> dict:
+    """The config a workflow run of ``files`` (overlays on config/config.yaml) hands its jobs: merged, then
+    the schema's defaults set (snakemake.utils.validate, as the Snakefile calls it), so that its hash is the
+    workflow's."""
+    from snakemake.utils import validate
+
+    config = merged_config(files)
+    validate(config, schema=str(REPO / "workflow" / "schemas" / "config.schema.yaml"), set_default=True)
+    return config
 
 
 def missing_products(data_dir, figures_dir, config: dict) -> list[str]:

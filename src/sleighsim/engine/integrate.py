@@ -118,6 +118,11 @@ def _initial_state(y0, kinematics: bool) -> np.ndarray:
     return y0
 
 
+def _label(scene: str) -> str:
+    """How the log names a run: its scene, or what it is when its caller named none."""
+    return scene or "an unnamed run (its caller gave no scene)"
+
+
 def _fail(scene, t, state, why):
     """Raise IntegrationError naming the scene, the time and state reached (shown as doubles: a
     real128 time or state has no format of its own) and why."""
@@ -207,7 +212,7 @@ def _run_heyoka(params, y0, t0, times, kinematics, scene, progress, max_steps, *
             shift += moved
         ta.time, origin = fp(0), end
         if origin >= next_log or pos == times.size:
-            log.info("%s: t = %.6g / %.6g (%d steps)", scene, origin, times[-1], nsteps)
+            log.info("%s: t = %.6g / %.6g (%d steps)", _label(scene), origin, times[-1], nsteps)
             next_log += every
     info = dict(backend="heyoka", method="taylor_adaptive", tol=tol, precision=precision.value, order=int(ta.order),
                 compile_time_s=compile_s, steps=nsteps, min_step=float(min_h) if nsteps else float("nan"),
@@ -253,7 +258,7 @@ def _run_scipy(params, y0, t0, times, kinematics, scene, progress, max_steps, *,
             out[i:j] = solver.dense_output()(times[i:j]).T + shift
             i = j
         if i >= next_report:
-            log.info("%s: t = %.6g / %.6g (%d steps)", scene, solver.t, times[-1], nsteps)
+            log.info("%s: t = %.6g / %.6g (%d steps)", _label(scene), solver.t, times[-1], nsteps)
             next_report += report_every
         y = solver.y
         if i < len(times) and (not -math.pi <= y[equations.DELTA] < math.pi
@@ -280,7 +285,7 @@ def integrate(
     kinematics: bool = False,
     backend: str = "heyoka",
     tol: float = DEFAULT_TOL,
-    precision: Precision = Precision.DOUBLE,
+    precision: Precision | str = Precision.DOUBLE,
     method: str = "DOP853",
     rtol: float = 1e-12,
     atol: float = 1e-14,
@@ -293,7 +298,8 @@ def integrate(
 
     ``y0``: (u, Omega, omega, delta), or with (theta, x, y) appended when
     ``kinematics`` (zeros if omitted). ``tol`` is heyoka's tolerance and ``precision`` its
-    arithmetic (samples are returned in double); ``method``,
+    arithmetic (a :class:`~sleighsim.precision.Precision` or its name, "quad"; samples are returned in
+    double); ``method``,
     ``rtol``, ``atol`` apply to the SciPy backend, whose right-hand side is the lambdified
     NumPy one (independent of heyoka) or, with ``compiled``, heyoka's cfunc (for speed
     studies of the integrator itself). Progress is logged ``progress``
@@ -311,6 +317,7 @@ def integrate(
     if not isinstance(params, Params):
         raise TypeError(f"params = {params!r} must be a Params (Params.paper or Params.physical)")
     equations.check_coefficients(params)
+    precision = Precision.parse(precision)
     max_steps, progress = integer("max_steps", max_steps, 1, MAX_STEPS), integer("progress", progress, 0, MAX_STEPS)
     if backend == "heyoka":
         check_tol(tol, precision)
@@ -327,7 +334,7 @@ def integrate(
     states, info = run(params, y0, t0, times, kinematics, scene, progress, max_steps)
     wall = time.perf_counter() - start
     ds = _record(params, y0, t0, times, states, kinematics, scene, wall, info)
-    log.info("%s: done in %.3g s, %d steps, max relative energy drift %.3g", scene, wall, info["steps"],
+    log.info("%s: done in %.3g s, %d steps, max relative energy drift %.3g", _label(scene), wall, info["steps"],
              ds.attrs["energy_max_rel_drift"])
     return ds
 

@@ -71,10 +71,11 @@ class Orbit:
     tol: float
 
 
-def sleigh_orbit(params, y, precision: Precision, tol: float, n: int, dt: float) -> Orbit:
+def sleigh_orbit(params, y, precision: Precision | str, tol: float, n: int, dt: float) -> Orbit:
     """The sleigh with ``params`` from ``y`` (model variables) at t = 0, dt, ..., (n - 1) dt in ``precision``
-    at ``tol``: heyoka's compiled flow (``integrators.flow``, the angle kept bounded) or, in double-double,
-    ``ddtaylor.DDFlow``."""
+    (the type or its name) at ``tol``: heyoka's compiled flow (``integrators.flow``, the angle kept bounded)
+    or, in double-double, ``ddtaylor.DDFlow``."""
+    precision = Precision.parse(precision)
     if not precision.heyoka:
         from sleighsim.engine.ddtaylor import DDFlow
 

@@ -1,11 +1,17 @@
 """Detecting the end of transients from sampled data.
 
-Definitions (stated in every dataset that uses them):
-- spike: a local maximum of |Omega| above ``factor`` times the typical steady
-  oscillation amplitude, taken as the median of the per-block maxima of |Omega|
-  over the second half of the record (blocks of ``block`` time units); spikes
-  closer than ``min_separation`` are merged; spikes before ``t_min`` (the
-  sleigh-like first phase, where Omega starts large) are ignored.
+Definitions (stated in every dataset that uses them, :data:`RULE`):
+- spike (:func:`spike_train`): a local maximum of |Omega| above ``factor`` times the typical steady
+  oscillation amplitude, taken as the median of the per-block maxima of |Omega| over the second half
+  of the record (blocks of ``block`` time units), from which |Omega| falls below that threshold within
+  one block on each side inside the record (a peak cut by the record's start or end, or the start's
+  own decay on a fresh orbit, is not a spike); spikes closer than ``min_separation`` are merged;
+  spikes before ``t_min`` (the sleigh-like first phase, where Omega starts large) are ignored. Then
+  the period's check: with at least :data:`MIN_SPIKES` spikes, a gap of at least :data:`GAP` median
+  intervals is searched for the spike the fixed threshold missed (a low one: the highest isolated
+  peak within :data:`WINDOW` median intervals of one median interval after the previous spike, kept
+  when it stands :data:`RESCUE` times above the gap's envelope, the median block maximum there), and
+  an interval near twice the median left after that (:data:`DOUBLED`) is flagged.
 - settling time of omega: blocks of ``window`` time units; the reference is the
   mean of omega over the second half of the record; the settling time is the
   start of the first block after which every block mean lies within
@@ -15,6 +21,7 @@ Definitions (stated in every dataset that uses them):
 from __future__ import annotations
 
 import logging
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -33,21 +40,62 @@ def _blocks(t, x, length):
     return t[: m * n].reshape(m, n), x[: m * n].reshape(m, n)
 
 
-RULE = ("spike: |Omega| block maximum (50 time units) above spike_factor x median block maximum of the "
-        "second half, after t_min; settling: block means of omega (window) within rtol of the second-half mean "
-        "from the settling time on")
+#: The period's check: the fewest spikes that give a median interval P; a gap of at least GAP P is searched;
+#: a missed spike lies within WINDOW P of one P after the previous one and stands RESCUE times above the gap's
+#: envelope; an interval within DOUBLED (multiples of P) left after the search is flagged.
+MIN_SPIKES, GAP, WINDOW, RESCUE, DOUBLED = 4, 1.5, 0.1, 1.4, (1.75, 2.25)
+
+RULE = ("spike: a local maximum of |Omega| (block maxima, 50 time units) above spike_factor x median block maximum "
+        "of the second half, |Omega| falling below that within one block on each side inside the record, after "
+        f"t_min; with at least {MIN_SPIKES} spikes, a gap of at least {GAP:g} median intervals P searched for a "
+        f"missed spike (the highest isolated peak within {WINDOW:g} P of P after the previous one, at least "
+        f"{RESCUE:g} x the gap's median block maximum), intervals within {DOUBLED[0]:g}-{DOUBLED[1]:g} P left "
+        "flagged; settling: block means of omega (window) within rtol of the second-half mean from the settling "
+        "time on")
 
 
-def spike_times(t, Omega, *, factor=1.8, block=50.0, min_separation=300.0, t_min=0.0) -> np.ndarray:
-    """Times of the Omega spikes (see module docstring)."""
-    tb, xb = _blocks(t, np.abs(Omega), block)
-    peaks = xb.max(axis=1)
-    typical = np.median(peaks[len(peaks) // 2:])
-    idx = np.flatnonzero(peaks > factor * typical)
-    times = tb[idx, np.argmax(xb[idx], axis=1)]
-    heights = peaks[idx]
-    late = times >= t_min
-    times, heights = times[late], heights[late]
+@dataclass(frozen=True)
+class SpikeTrain:
+    """The spikes of one record (:func:`spike_train`): their ``times`` and |Omega| ``heights``, which were
+    ``rescued`` by the period's check (bool per spike), the fixed ``threshold`` (|Omega|), the median
+    interval (NaN with fewer than MIN_SPIKES spikes) and ``doubled``: the indices i of the intervals
+    times[i + 1] - times[i] still near twice the median (a spike may be missing there)."""
+
+    times: np.ndarray
+    heights: np.ndarray
+    rescued: np.ndarray
+    threshold: float
+    median_interval: float
+    doubled: np.ndarray
+
+
+def _record(t, x) -> tuple[np.ndarray, np.ndarray]:
+    """``t`` and ``x`` as float arrays, or ValueError naming what is malformed: not one-dimensional,
+    lengths that differ, an empty record, a non-finite time or value, times that do not advance."""
+    t, x = np.asarray(t, float), np.asarray(x, float)
+    if t.ndim != 1 or x.ndim != 1:
+        raise ValueError(f"spikes need one-dimensional records (t has shape {t.shape}, Omega {x.shape})")
+    if t.size != x.size:
+        raise ValueError(f"t has {t.size} samples and Omega {x.size}: one Omega per time")
+    if t.size == 0:
+        raise ValueError("an empty record has no spikes to find")
+    bad = int(np.sum(~np.isfinite(x)))
+    if bad:
+        raise ValueError(f"Omega is not finite at {bad} of its {x.size} samples" + (" (all)" if bad == x.size else ""))
+    if not np.all(np.isfinite(t)) or t[-1] <= t[0]:
+        raise ValueError("the times must be finite and advance")
+    return t, x
+
+
+def _isolated(a, j: int, n: int, level: float) -> bool:
+    """Whether |Omega| (``a``) falls below ``level`` within ``n`` samples on each side of sample ``j``,
+    inside the record."""
+    before, after = a[max(0, j - n): j], a[j + 1: j + 1 + n]
+    return bool(before.size and after.size and before.min() < level and after.min() < level)
+
+
+def _merged(times, heights, min_separation: float) -> list[int]:
+    """Indices of the spikes kept when those closer than ``min_separation`` merge (the higher kept)."""
     keep: list[int] = []
     for k in range(len(times)):
         if keep and times[k] - times[keep[-1]] < min_separation:
@@ -55,7 +103,74 @@ def spike_times(t, Omega, *, factor=1.8, block=50.0, min_separation=300.0, t_min
                 keep[-1] = k
         else:
             keep.append(k)
-    return times[keep]
+    return keep
+
+
+def _missed(t, a, last: float, nxt: float, period: float, n: int, level: float):
+    """The sample of the spike missed in the gap (``last``, ``nxt``), or None: the highest isolated
+    peak within WINDOW period of one period after ``last`` (not at the window's edge), when it stands
+    RESCUE times above the gap's envelope (median of the maxima of the gap's blocks of ``n`` samples)."""
+    gap = a[(t > last + period * WINDOW) & (t < nxt - period * WINDOW)]
+    m = gap.size // n
+    if m < 3:
+        return None
+    envelope = np.median(gap[: m * n].reshape(m, n).max(axis=1))
+    inside = np.flatnonzero(np.abs(t - (last + period)) <= WINDOW * period)
+    if inside.size < 3:
+        return None
+    j = int(inside[np.argmax(a[inside])])
+    if j in (inside[0], inside[-1]) or a[j] < RESCUE * envelope or not _isolated(a, j, n, level):
+        return None
+    return j
+
+
+def _period_check(t, a, times, heights, n: int, level: float):
+    """The period's check (module docstring): (times, heights, rescued) with the missed spikes of the
+    long gaps added."""
+    rescued = np.zeros(times.size, bool)
+    if times.size < MIN_SPIKES:
+        return times, heights, rescued
+    period = float(np.median(np.diff(times)))
+    out_t, out_h, out_r = [times[0]], [heights[0]], [False]
+    for k in range(1, times.size):
+        while times[k] - out_t[-1] >= GAP * period:
+            j = _missed(t, a, out_t[-1], times[k], period, n, level)
+            if j is None:
+                break
+            out_t.append(t[j]), out_h.append(a[j]), out_r.append(True)
+        out_t.append(times[k]), out_h.append(heights[k]), out_r.append(False)
+    return np.array(out_t), np.array(out_h), np.array(out_r)
+
+
+def spike_train(t, Omega, *, factor=1.8, block=50.0, min_separation=300.0, t_min=0.0) -> SpikeTrain:
+    """The spikes of Omega sampled at times ``t`` (see the module docstring; time units), with the period's
+    check. ValueError for a malformed record (lengths that differ, empty, not finite) or one shorter
+    than two blocks."""
+    t, x = _record(t, Omega)
+    a = np.abs(x)
+    tb, xb = _blocks(t, a, block)
+    n = xb.shape[1]
+    peaks = xb.max(axis=1)
+    level = float(factor * np.median(peaks[len(peaks) // 2:]))
+    j = np.flatnonzero(peaks > level) * n + np.argmax(xb[peaks > level], axis=1)
+    j = np.array([i for i in j if t[i] >= t_min and _isolated(a, i, n, level)], dtype=int)
+    keep = _merged(t[j], a[j], min_separation)
+    times, heights, rescued = _period_check(t, a, t[j][keep], a[j][keep], n, level)
+    d = np.diff(times)
+    period = float(np.median(d)) if times.size >= MIN_SPIKES else float("nan")
+    doubled = np.flatnonzero((d >= DOUBLED[0] * period) & (d <= DOUBLED[1] * period))
+    return SpikeTrain(times, heights, rescued, level, period, doubled)
+
+
+def spike_times(t, Omega, *, factor=1.8, block=50.0, min_separation=300.0, t_min=0.0) -> np.ndarray:
+    """Times of the Omega spikes (:func:`spike_train`); an interval still near twice the median after the
+    period's check is logged as a warning."""
+    train = spike_train(t, Omega, factor=factor, block=block, min_separation=min_separation, t_min=t_min)
+    for i in train.doubled:
+        log.warning("spike interval %.6g from t = %.6g is %.2f median intervals: a spike may be missed there",
+                    train.times[i + 1] - train.times[i], train.times[i],
+                    (train.times[i + 1] - train.times[i]) / train.median_interval)
+    return train.times
 
 
 def interval_stats(spikes) -> tuple[float, float]:

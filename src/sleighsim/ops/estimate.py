@@ -335,9 +335,10 @@ def _chunk_lines(est: dict) -> list[str]:
     return lines
 
 
-def format_estimate(est: dict, target_label: str, summary: dict, measured_path, base=BASE_CONFIG) -> str:
-    """The estimate as the text the CLI prints."""
+def format_estimate(est: dict, target_label: str, summary: dict, measured_path, base=BASE_CONFIG,
+                    schedule: list[str] = ()) -> str:
+    """The estimate as the text the CLI prints (``schedule``: lines on the wall time, before the warnings)."""
     lines = _header_lines(est, target_label, summary, measured_path, base)
-    lines += _scene_lines(est) + _table_lines(est) + _chunk_lines(est)
+    lines += _scene_lines(est) + _table_lines(est) + _chunk_lines(est) + list(schedule)
     lines += [f"WARNING: {w}" for w in est["warnings"]]
     return "\n".join(lines) + "\n"

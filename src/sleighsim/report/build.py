@@ -1,6 +1,9 @@
 """The reproduction report: results/report/index.html and README.md, rendered from the Jinja2
 templates of ``report/templates`` (:mod:`sleighsim.report.page`).
 
+Its first line names the run's configuration (label and hash, :mod:`sleighsim.claims.fidelity`) and, for a
+run not at the paper's fidelity (the smoke run), says that it is not a reproduction; then the finding in one
+paragraph (:mod:`sleighsim.report.finding`).
 The first screen answers a referee's two questions: which of the paper's claims hold (every claim
 and model item as a badge by verdict, linked to its ledger row) and whether the steady state is
 chaotic (per state, with the arithmetic it was decided in and the figure that shows why). Then the
@@ -21,13 +24,16 @@ from pathlib import Path
 import numpy as np
 import yaml
 
+from sleighsim.claims import fidelity
 from sleighsim.claims.ledger import Row
+from sleighsim.claims.rules import DIFFERING, MEANINGS, VERDICTS
 from sleighsim.io.netcdf import atomic_path, read_dataset, write_text
+from sleighsim.report import finding
 from sleighsim.report.chaos_answers import chaos_answers, elsewhere, power_table
 from sleighsim.report.figures import costs as plots
 from sleighsim.report.figures.catalog import FIGURES
 from sleighsim.report.findings import precision_findings
-from sleighsim.report.page import COLOURS, Table, math_html, render
+from sleighsim.report.page import COLOURS, MARKS, Table, math_html, render
 from sleighsim.report.tables import TABLES
 
 OUTCOME_COLOURS = {"reliable": COLOURS["reproduced"], "degraded": COLOURS["differs"],
@@ -68,15 +74,18 @@ def _runtime(tsvs) -> float:
 
 
 def _scene_facts(datasets: dict, names) -> list[str]:
-    """Per dataset: its parameters and settings, energy drift, wall time and commit."""
+    """Per dataset: its parameters and settings, energy drift, wall time and commit (what a dataset does
+    not record is left out)."""
     facts = []
     for name in names:
         a = read_dataset(datasets[name]).attrs
         settings = ", ".join(f"{k.replace('param_', '')} = {a[k]:.4g}" if isinstance(a[k], float) else f"{k} = {a[k]}"
                              for k in SETTINGS if k in a)
-        acc = f"max |dE/E| = {a['energy_max_rel_drift']:.2g}" if "energy_max_rel_drift" in a else ""
-        facts.append(f"{name}: {settings}; {acc}; wall {a.get('wall_time_s', float('nan')):.3g} s; "
-                     f"commit {str(a.get('git_commit', '?'))[:12]}")
+        wall = float(a.get("wall_time_s", np.nan))
+        drift = float(a.get("energy_max_rel_drift", np.nan))
+        parts = [settings, f"max |dE/E| = {drift:.2g}" if np.isfinite(drift) else "",
+                 f"wall {wall:.3g} s" if np.isfinite(wall) else "", f"commit {str(a.get('git_commit', '?'))[:12]}"]
+        facts.append(f"{name}: " + "; ".join(p for p in parts if p))
     return facts
 
 
@@ -107,7 +116,7 @@ def answers(rows: list[Row], datasets: dict, figures: dict, power: dict | None =
     row), the chaos answer per state with the figure that shows why, and the largest differences with
     their tested causes."""
     chaos = chaos_answers(datasets, power)
-    counts = {v: sum(r.verdict == v for r in rows) for v in COLOURS}
+    counts = {v: sum(r.verdict == v for r in rows) for v in VERDICTS}
     return {
         "groups": [(name, [r for r in rows if r.id[0] == g]) for g, name in GROUPS.items()
                    if any(r.id[0] == g for r in rows)],
@@ -116,15 +125,30 @@ def answers(rows: list[Row], datasets: dict, figures: dict, power: dict | None =
         "chaos": chaos,
         "elsewhere": elsewhere(cluster),
         "why_figure": next((f for f in WHY_FIGURES if f in figures), ""),
-        "differs": sorted((r for r in rows if r.verdict == "differs" and np.isfinite(r.difference)),
+        "legend": [(v, MARKS[v], MEANINGS[v]) for v in VERDICTS],
+        "differs": sorted((r for r in rows if r.verdict in DIFFERING and np.isfinite(r.difference)),
                           key=lambda r: -r.difference)[:n_largest],
     }
 
 
-def build(rows: list[Row], *, out_dir, tex_path, labels: dict, figures: dict, datasets: dict, kinds: dict,
-          benchmarks: dict, power_record=None, cluster_record=None) -> None:
-    """Write index.html and README.md into ``out_dir`` with the figures copied beside them.
+def run_line(identity: dict) -> dict:
+    """The report's first line: the run's configuration (``identity``: :func:`sleighsim.claims.fidelity.identity`)
+    and whether it is judged against the paper (``reproduction``), in words (``text``)."""
+    against = fidelity.at_paper_fidelity(identity["config_label"])
+    config = fidelity.describe(identity)
+    text = (f"A run of {config}, judged against the paper's numbers." if against else
+            f"A {identity['config_label']} run ({config}): NOT a reproduction of the paper. Its horizons are not the "
+            "paper's; every claim reads \"not a reproduction\", and the verdict its own data give stands beside it "
+            "in the ledger (column \"this run's data\"). Run at the paper's fidelity for a reproduction.")
+    return {**identity, "reproduction": against, "text": text}
 
+
+def build(rows: list[Row], *, out_dir, tex_path, labels: dict, figures: dict, datasets: dict, kinds: dict,
+          benchmarks: dict, identity: dict, power_record=None, cluster_record=None) -> None:
+    """Write index.html and README.md into ``out_dir`` with the figures copied beside them, and the
+    finding's facts as finding.yaml (:mod:`sleighsim.report.finding`; its paragraph opens the page).
+
+    identity: the run's configuration (its label and hash, :func:`sleighsim.claims.fidelity.identity`);
     labels: {figure: paper LaTeX label}; figures: {figure: PNG path} of the figures built;
     datasets: {dataset: netCDF path}; kinds: {scene: its kind's name} (the config's); benchmarks:
     {"data/<dataset>" or "figure/<figure>": [Snakemake
@@ -134,9 +158,14 @@ def build(rows: list[Row], *, out_dir, tex_path, labels: dict, figures: dict, da
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     power = yaml.safe_load(Path(power_record).read_text()) if power_record else None
+    cluster = yaml.safe_load(Path(cluster_record).read_text()) if cluster_record else None
+    first = answers(rows, datasets, figures, power, cluster=cluster)
+    found = finding.facts(rows, first["chaos"], cluster, identity, finding.provenance(datasets))
+    write_text(out_dir / "finding.yaml", yaml.safe_dump(found, sort_keys=False, width=120))
     context = {
-        "answers": answers(rows, datasets, figures, power,
-                           cluster=yaml.safe_load(Path(cluster_record).read_text()) if cluster_record else None),
+        "run": run_line(identity),
+        "finding": finding.paragraph(found),
+        "answers": first,
         "findings": precision_findings(rows, datasets, kinds),
         "paper_figures": paper_figures(rows, out_dir=out_dir, tex_path=tex_path, labels=labels, figures=figures,
                                        datasets=datasets, benchmarks=benchmarks),
@@ -160,6 +189,7 @@ def paper_figures(rows: list[Row], *, out_dir, tex_path, labels, figures, datase
         row = by_id.get(FIGURES[fig].paper)
         run = _runtime(t for key in [f"data/{n}" for n in names] + [f"figure/{fig}"] for t in benchmarks.get(key, []))
         out.append({"id": fig, "paper": FIGURES[fig].paper, "verdict": row.verdict if row else "not yet computed",
+                    "reason": (row.reason or row.measured) if row else "no ledger row",
                     "caption": caps.get(labels.get(fig, ""), "(no counterpart in the paper)"),
                     "claims": [by_id[c] for c in FIGURES[fig].claims if c in by_id],
                     "image": _copy_figure(Path(figures[fig]), out_dir), "facts": _scene_facts(datasets, names),

@@ -38,19 +38,22 @@ def chaos_answers(datasets: dict, power: dict | None = None) -> list[ChaosAnswer
     the indicators that decided it (with their measured power when the judge-power record ``power`` is
     given), what would decide it when it is not decided, and the reason with the tori its realizations
     reached."""
+    return [a for path in datasets.values() for a in dataset_answers(read_dataset(path), power)]
+
+
+def dataset_answers(ds, power: dict | None = None) -> list[ChaosAnswer]:
+    """:func:`chaos_answers` of one dataset (none when it holds no per-state verdict)."""
+    if "verdict" not in ds.data_vars or "state" not in ds.dims:
+        return []
     out = []
-    for path in datasets.values():
-        ds = read_dataset(path)
-        if "verdict" not in ds.data_vars or "state" not in ds.dims:
-            continue
-        for i, st in enumerate(ds.state.values):
-            reason = str(ds.reason.values[i]) if "reason" in ds.data_vars else ""
-            verdict = str(ds.verdict.values[i])
-            klass = str(ds.state_class.values[i]) if "state_class" in ds.data_vars else ""
-            origin = str(ds.state_origin.values[i]) if "state_origin" in ds.data_vars else ""
-            out.append(ChaosAnswer(str(st), verdict, reason + _arithmetic_note(ds, i) + _tori_note(ds, i),
-                                   _decided_in(ds, i), klass, _decided_by(ds, i, power),
-                                   _to_decide(ds, i, verdict, power), origin))
+    for i, st in enumerate(ds.state.values):
+        reason = str(ds.reason.values[i]) if "reason" in ds.data_vars else ""
+        verdict = str(ds.verdict.values[i])
+        klass = str(ds.state_class.values[i]) if "state_class" in ds.data_vars else ""
+        origin = str(ds.state_origin.values[i]) if "state_origin" in ds.data_vars else ""
+        out.append(ChaosAnswer(str(st), verdict, reason + _arithmetic_note(ds, i) + _tori_note(ds, i),
+                               _decided_in(ds, i), klass, _decided_by(ds, i, power),
+                               _to_decide(ds, i, verdict, power), origin))
     return out
 
 

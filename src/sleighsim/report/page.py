@@ -13,8 +13,14 @@ import latex2mathml.converter
 import nh3
 from markupsafe import Markup
 
-COLOURS = {"reproduced": "#d4edda", "reproduced only in double precision": "#ffe0b2", "differs": "#fff3cd",
-           "fragile": "#e1d5f0", "cannot be reproduced": "#f8d7da", "not yet computed": "#e2e3e5"}
+#: Each verdict's colour (sleighsim.claims.rules.VERDICTS, a test checks every one has one) ...
+COLOURS = {"reproduced": "#d4edda", "reproduced only in double precision": "#ffe0b2", "differs slightly": "#fdf6d8",
+           "differs": "#fbe49a", "differs greatly": "#f5b971", "fragile": "#e1d5f0", "check failed": "#cfe2f3",
+           "cannot be reproduced": "#f8d7da", "not yet computed": "#e2e3e5", "not a reproduction": "#f3f3f3"}
+#: ... and its mark, so that no verdict is told by colour alone.
+MARKS = {"reproduced": "\u2713", "reproduced only in double precision": "\u25d0", "differs slightly": "\u2248",
+         "differs": "\u2260", "differs greatly": "\u226b", "fragile": "~", "check failed": "!",
+         "cannot be reproduced": "\u2717", "not yet computed": "\u2026", "not a reproduction": "\u2205"}
 #: Chaos verdicts, in colours of their own (the first screen shows both kinds side by side).
 CHAOS_COLOURS = {"chaotic": "#f5b7b1", "regular": "#a9dfbf", "undecided": "#d6dbdf", "fragile": "#d2b4de"}
 
@@ -74,7 +80,7 @@ def _environment() -> jinja2.Environment:
                              autoescape=jinja2.select_autoescape(["html.j2"]), undefined=jinja2.StrictUndefined,
                              trim_blocks=True, lstrip_blocks=True, keep_trailing_newline=True)
     env.filters.update(math=math_html, md_cell=md_cell)
-    env.globals.update(colours=COLOURS, chaos_colours=CHAOS_COLOURS)
+    env.globals.update(colours=COLOURS, marks=MARKS, chaos_colours=CHAOS_COLOURS)
     return env
 
 

@@ -27,6 +27,10 @@ from sleighsim.claims.rules import (
     relative,
 )
 
+#: The paper's claims that the rotor's steady state is chaotic: positive Lyapunov exponents (C19-C21), chaos
+#: down to eps = 1e-5 (C25) and the quasiperiodic route to it (C27); the finding's paragraph names their verdicts.
+CHAOS_CLAIMS = ("C19", "C20", "C21", "C25", "C27")
+
 
 def c18(paper, spectrum) -> Judgement:
     """C18, "flow contracts phase-space volume although E is invariant": judged from the paper's values

@@ -37,7 +37,7 @@ def _cell(ds, k: int, j: int) -> str:
         lines.append("slope " + " / ".join(slopes) if slopes else "not run")
     elif np.isfinite(v):
         lines.append(f"{v:.2g} ± {e:.1g}" if np.isfinite(e) else f"{v:.2g}")
-    if name == "loschmidt":
+    if name == "loschmidt" and np.isfinite(ds.loschmidt_tail_power.values[k]):
         lines.append(f"tail ~T^{ds.loschmidt_tail_power.values[k]:.2g}")
     return "\n".join(lines)
 
@@ -140,8 +140,7 @@ def _frequency(ax, ds) -> None:
     ax.set_xticks(windows, [f"{w:g}" for w in windows])
     ax.set_xlabel("window W (time units)")
     ax.set_ylabel("spread of the leading frequency (relative)")
-    ax.set_title("frequency: falls like W^-2 or faster on\na torus; a drift that shrinks with the\nrounding "
-                 "is integration error", loc="left")
+    ax.set_title("frequency: spread falls ~W^-2 on a torus;\nrounding-dependent: integration error", loc="left")
     if handles:
         ax.legend(handles=list(handles.values()))
 
@@ -153,15 +152,29 @@ def _decisive_states(ds) -> list[int]:
     return [k for k, v in enumerate(ds.decisive_verdict.values) if str(v) != "not run"]
 
 
+def _section_run(ds) -> bool:
+    """Whether the decisive stage ran its return map's MEGNO (a tangent-based judge of the stage votes)
+    and measured it for a state."""
+    if not int(ds.attrs.get("decisive_tangent", 1)) or "decisive_section_Y_mean" not in ds.data_vars:
+        return False
+    return any(np.isfinite(np.asarray(ds.decisive_section_Y_mean.values[k], float)).any()
+               for k in _decisive_states(ds))
+
+
+def _section_note(ds) -> str:
+    """Why the decisive stage's return-map MEGNO has no panel (its vote horizon NaN: no audited one lets
+    a judge vote)."""
+    horizon = float(ds.attrs.get("decisive_vote_horizon", 1.0))
+    if not np.isfinite(horizon):
+        return "the map's MEGNO not run: no audited tangent judge votes"
+    return f"the map's MEGNO not run: no tangent judge votes at horizon {horizon:g}"
+
+
 def _section_megno(ax, ds) -> None:
     """The decisive stage: the return map's MEGNO <Y> after each return to the spike section, per state."""
     for k in _decisive_states(ds):
         y = np.asarray(ds.decisive_section_Y_mean.values[k], float)
         ax.plot(np.arange(1, y.size + 1), y, "-", color=f"C{k}", label=str(ds.state.values[k]))
-    if not int(ds.attrs.get("decisive_tangent", 1)):
-        ax.text(0.5, 0.5, f"not run: no tangent-based judge of the stage votes\nat vote_horizon "
-                f"{float(ds.attrs.get('decisive_vote_horizon', 1.0)):g} (the judge-power record)",
-                transform=ax.transAxes, ha="center", va="center", fontsize=8)
     ax.axhline(2.0, color="0.5", lw=0.8, ls=":")
     ax.set_xlabel("returns to the spike section (count)")
     ax.set_ylabel("map's MEGNO <Y> (unitless)")
@@ -180,15 +193,21 @@ def _birkhoff(ax, ds) -> None:
     ax.set_title("Birkhoff averages: digits rise fast\non a torus, 0.5 per decade if chaotic", loc="left")
 
 
-def _spike_train(ax, ds) -> None:
-    """The decisive stage: the spike intervals of the decisive orbit (which torus the state is on)."""
-    for k in _decisive_states(ds):
-        iv = np.asarray(ds.decisive_spike_interval.values[k], float)
-        iv = iv[np.isfinite(iv)]
+def _spike_train(ax, ds, note: str = "") -> None:
+    """The decisive stage: the spike intervals of the decisive orbit (which torus the state is on);
+    ``note``: a second title line (why a panel of the stage is left out)."""
+    title = "spike train of the decisive orbit" + (f"\n({note})" if note else "")
+    ax.set_title(title, loc="left")
+    trains = {k: np.asarray(ds.decisive_spike_interval.values[k], float) for k in _decisive_states(ds)}
+    trains = {k: iv[np.isfinite(iv)] for k, iv in trains.items() if np.isfinite(iv).any()}
+    if not trains:  # no interval to draw: say so, no empty axes
+        ax.axis("off")
+        ax.text(0.5, 0.5, "no spike interval within the decisive orbit", transform=ax.transAxes, ha="center")
+        return
+    for k, iv in trains.items():
         ax.plot(np.arange(1, iv.size + 1), iv, ".-", ms=3, color=f"C{k}", label=str(ds.state.values[k]))
     ax.set_xlabel("spike cycle (count)")
     ax.set_ylabel("spike interval (time units)")
-    ax.set_title("spike train of the decisive orbit", loc="left")
 
 
 def chaos(sources):
@@ -198,10 +217,12 @@ def chaos(sources):
     ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     (ds,) = (read_dataset(s) for s in sources)
     table_h = 0.5 * (ds.sizes["state"] + 1)
-    rows = [["table"] * 3, ["rates"] * 3, ["megno", "loschmidt", "frequency"]]
+    rows = [["table"] * 6, ["rates"] * 6, ["megno"] * 2 + ["loschmidt"] * 2 + ["frequency"] * 2]
     heights = [table_h, 3.0, 3.6]
-    if _decisive_states(ds):
-        rows.append(["section_megno", "birkhoff", "spike_train"])
+    section = _section_run(ds)
+    if _decisive_states(ds):  # no empty panel: without the map's MEGNO the other two take the row
+        rows.append(["section_megno"] * 2 + ["birkhoff"] * 2 + ["spike_train"] * 2 if section
+                    else ["birkhoff"] * 3 + ["spike_train"] * 3)
         heights.append(3.6)
     fig, axd = plt.subplot_mosaic(rows, figsize=(WIDTH, sum(heights) + 0.4), height_ratios=heights,
                                   layout="constrained")
@@ -211,9 +232,10 @@ def chaos(sources):
     _loschmidt(axd["loschmidt"], ds)
     _frequency(axd["frequency"], ds)
     if _decisive_states(ds):
-        _section_megno(axd["section_megno"], ds)
+        if section:
+            _section_megno(axd["section_megno"], ds)
         _birkhoff(axd["birkhoff"], ds)
-        _spike_train(axd["spike_train"], ds)
+        _spike_train(axd["spike_train"], ds, note="" if section else _section_note(ds))
     return finish(fig, ds.attrs)
 
 

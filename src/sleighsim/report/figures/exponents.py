@@ -3,12 +3,14 @@
 
 from __future__ import annotations
 
+import textwrap
+
 import numpy as np
 from matplotlib.ticker import NullFormatter
 
 from sleighsim.io.netcdf import read_dataset
 from sleighsim.precision import Precision
-from sleighsim.report.figures.common import PRECISION_STYLE, RATE, WIDTH, finer_precisions, finish, subplots
+from sleighsim.report.figures.common import MIN_PT, PRECISION_STYLE, RATE, WIDTH, finer_precisions, finish, subplots
 from sleighsim.report.figures.figure import Figure
 
 LAMBDA_1 = rf"$\lambda_1$ ({RATE})"
@@ -112,7 +114,10 @@ def fig11(sources):
             f"{100 * ds.attrs['fraction_flagged']:.0f}% flagged; reference row (eps {ds.attrs['reference_eps']:.3g}): "
             "stderr / lambda_1 = "
             f"{ds.attrs['reference_rel_err']:.2f}")
-    ax.set_title("\n".join([head, *_b_symmetry(ds)]), loc="left")
+    ax.set_title(head, loc="left")
+    symmetry = _b_symmetry(ds)  # beside the axes, under the legend: the title stays one line
+    ax.text(1.01, 0.0, "\n".join(textwrap.fill(line, 46) for line in symmetry), transform=ax.transAxes,
+            ha="left", va="bottom", fontsize=MIN_PT)
     return finish(fig, ds.attrs)
 
 

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib import colors
+from matplotlib.lines import Line2D
 from matplotlib.ticker import MaxNLocator
 
 from sleighsim.io.netcdf import read_dataset
@@ -22,20 +24,29 @@ from sleighsim.report.figures.common import (
 from sleighsim.report.figures.figure import Figure
 
 
-def _attractor_panel(ax, ds, title, iterates="ppi2"):
-    ax.scatter(ds.attractor_u, ds.attractor_Omega, ds.attractor_omega, s=0.2, c="0.7", alpha=0.3, depthshade=False)
+def _attractor_panel(ax, ds, title, iterates="ppi2", legend=False):
+    """The attractor (grey) and the section's iterates, as one point cloud (one image in a PDF, where
+    it is rasterised), the iterates coloured by class (P_pi/2) or by time (P_2pi)."""
+    xyz = [np.concatenate([ds[f"attractor_{v}"].values, ds[f"{iterates}_{v}"].values]) for v in ("u", "Omega", "omega")]
+    n = ds.attractor_u.size
+    grey = np.tile(colors.to_rgba("0.7", 0.3), (n, 1))
     if iterates == "ppi2":
-        for k in range(4):
-            sel = ds.ppi2_class.values == k
-            ax.scatter(ds.ppi2_u.values[sel], ds.ppi2_Omega.values[sel], ds.ppi2_omega.values[sel], s=2,
-                       depthshade=False, label=f"$\\delta = {k}\\pi/2$ mod $2\\pi$")
+        cls = ds.ppi2_class.values.astype(int)
+        own = np.array([colors.to_rgba(f"C{k}") for k in range(4)])[cls]
+        if legend:
+            ax.legend(handles=[Line2D([], [], ls="", marker="o", ms=4, color=f"C{k}",
+                                      label=f"$\\delta = {k}\\pi/2$ mod $2\\pi$") for k in range(4)], loc="upper left")
     else:
-        ax.scatter(ds.p2pi_u, ds.p2pi_Omega, ds.p2pi_omega, s=1.5, c=ds.p2pi_time, cmap="viridis", depthshade=False)
+        t = ds.p2pi_time.values
+        own = plt.get_cmap("viridis")((t - t.min()) / max(np.ptp(t), 1e-300))
+    sizes = np.concatenate([np.full(n, 0.2), np.full(len(own), 2.0 if iterates == "ppi2" else 1.5)])
+    ax.scatter(*xyz, s=sizes, c=np.vstack([grey, own]), depthshade=False)
     for axis, name in ((ax.xaxis, "u"), (ax.yaxis, "Omega"), (ax.zaxis, "omega")):
         axis.set_label_text(LABELS[name])
         axis.set_major_locator(MaxNLocator(4))
-    status = "" if ds.attrs["transient_over"] else "\nTRANSIENT NOT SHOWN OVER"
-    ax.set_title(title + status)
+    ax.set_title(title)
+    if not ds.attrs["transient_over"]:  # inside the panel: the title keeps its two lines
+        ax.text2D(0.5, 0.98, "TRANSIENT NOT SHOWN OVER", transform=ax.transAxes, ha="center", va="top", color="r")
 
 
 def fig9(sources):
@@ -57,9 +68,7 @@ def fig9(sources):
     ]
     for i, (ds, kind, title) in enumerate(panels):
         ax = fig.add_subplot(2, 2, i + 1, projection="3d")
-        _attractor_panel(ax, ds, title, kind)
-        if i == 1:
-            ax.legend(markerscale=3, loc="upper left")
+        _attractor_panel(ax, ds, title, kind, legend=i == 1)
     return finish(fig, ref.attrs)
 
 
@@ -86,14 +95,30 @@ def fig12(sources):
     return finish(fig, ds.attrs)
 
 
+def _near_zero(ax, ds, v: str) -> None:
+    """The PSD of ``v`` near f = 0 (up to 20 times its lowest peak), in a panel of its own beside the
+    full spectrum (never an inset over it)."""
+    f, S = ds.frequency.values[1:], ds[f"psd_{v}"].values[1:]
+    near = f < 20 * max(np.nan_to_num(ds.attrs[f"{v}_lowest_peak"], nan=1e-3), 1e-3)
+    if not near.any():  # the record resolves no frequency that low: say so, no empty axes
+        ax.axis("off")
+        ax.text(0.5, 0.5, f"near f = 0: no frequency resolved\n(record {ds.attrs['record_duration']:g} time units)",
+                transform=ax.transAxes, ha="center", va="center")
+        return
+    ax.semilogy(f[near], S[near], lw=0.6, **PRECISION_STYLE["double"])
+    ax.xaxis.set_major_locator(MaxNLocator(3))
+    ax.set_xlabel(f"$f$ ({FREQUENCY})")
+    ax.set_title(f"near f = 0: {ds.attrs[f'{v}_n_peaks_near_zero']} peaks", loc="left")
+
+
 def psd(sources):
-    """Welch PSD of u and Omega with the band and the peaks near zero (F13, F14): double (the
-    paper's arithmetic) and, beside it, every finer precision computed from the same settled point.
+    """Welch PSD of u and Omega with the band, and beside each the peaks near zero (F13, F14): double
+    (the paper's arithmetic) and, beside it, every finer precision computed from the same settled point.
     ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
     ds, *others = (read_dataset(s) for s in sources)
     finer = finer_precisions(others)
-    fig, axes = subplots(10, 7, 2, 1)
-    for ax, v in zip(axes, ("u", "Omega")):
+    fig, axes = subplots(10, 7, 2, 2, width_ratios=[3, 1])
+    for (ax, zoom), v in zip(axes, ("u", "Omega")):
         f, S = ds.frequency.values[1:], ds[f"psd_{v}"].values[1:]
         ax.semilogy(f, S, lw=0.5, label=Precision.DOUBLE, **PRECISION_STYLE[Precision.DOUBLE])
         for (_, precision), other in finer.items():
@@ -103,18 +128,13 @@ def psd(sources):
         ax.axvspan(lo, hi, color="tab:orange", alpha=0.25, label=f"band [{lo:.4g}, {hi:.4g}]")
         ax.set_xlim(0, min(f[-1], 2.5 * hi))
         ax.set_ylabel(f"PSD of ${SYMBOLS[v]}$ (({UNITS[v]})$^2$ per cycle/time unit)")
-        ax.legend(loc="upper right")
-        inset = ax.inset_axes([0.08, 0.5, 0.3, 0.45])
-        near = f < 20 * max(np.nan_to_num(ds.attrs[f"{v}_lowest_peak"], nan=1e-3), 1e-3)
-        inset.semilogy(f[near], S[near], lw=0.6)
-        inset.text(0.97, 0.95, f"near f = 0: {ds.attrs[f'{v}_n_peaks_near_zero']} peaks", transform=inset.transAxes,
-                   ha="right", va="top", fontsize=8)
-        inset.tick_params(labelsize=8)
-    axes[-1].set_xlabel(f"frequency $f$ ({FREQUENCY})")
+        ax.legend(loc="lower right")  # the spectra's floor: below their tails
+        _near_zero(zoom, ds, v)
+    axes[-1, 0].set_xlabel(f"frequency $f$ ({FREQUENCY})")
     status = "" if ds.attrs["transient_over"] else "  [TRANSIENT NOT SHOWN OVER]"
-    axes[0].set_title(f"$\\epsilon$ = {ds.attrs['param_eps']:.3g}, E label {ds.attrs['energy_label']:.4g}, "
-                      f"record {ds.attrs['record_duration']:g} time units at dt = {ds.attrs['sample_dt']:g} after "
-                      f"t = {ds.attrs['record_start']:g}{status}")
+    axes[0, 0].set_title(f"$\\epsilon$ = {ds.attrs['param_eps']:.3g}, E label {ds.attrs['energy_label']:.4g}, "
+                         f"record {ds.attrs['record_duration']:g} time units at dt = {ds.attrs['sample_dt']:g} "
+                         f"after t = {ds.attrs['record_start']:g}{status}", loc="left")
     return finish(fig, ds.attrs)
 
 

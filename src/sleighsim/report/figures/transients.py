@@ -22,24 +22,27 @@ def fig4(sources):
     levels = sorted(set(ds.level.values.tolist()))
     ncols = min(3, len(levels) + 1)
     nrows = -(-(len(levels) + 1) // ncols)
-    fig, axes = subplots(WIDTH, 3.8 * nrows, nrows, ncols, squeeze=False)
+    fig, axes = subplots(WIDTH, 4.4 * nrows, nrows, ncols, squeeze=False)
     axes = axes.ravel()
     for ax in axes[len(levels) + 1:]:
         ax.set_visible(False)
     colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     labels = np.atleast_1d(ds.attrs["labels"])
     for li, ax in zip(levels, axes):
+        members: dict[int, list[str]] = {}
         for r in np.flatnonzero(ds.level.values == li):
             if not ds.reached.values[r]:
                 continue
             g = int(ds.group.values[r])
-            ax.plot(ds.tau, ds.omega_aligned_smooth[r], lw=0.8, color=colours[g % len(colours)],
-                    label=f"state {int(ds.state_index[r])}{' (mirrored)' if ds.mirrored[r] else ''}, group {g}")
+            members.setdefault(g, []).append(f"{int(ds.state_index[r])}{'m' if ds.mirrored[r] else ''}")
+            ax.plot(ds.tau, ds.omega_aligned_smooth[r], lw=0.8, color=colours[g % len(colours)])
+        for g, states in members.items():  # one legend entry per group, below the axes (off the curves)
+            ax.plot([], [], lw=0.8, color=colours[g % len(colours)], label=f"group {g}: states {', '.join(states)}")
         ax.set_title(f"({'ab'[li] if li < 2 else li}) E = {labels[li]:g}: "
                      f"{ds.attrs[f'level{li}_n_groups']} interval group(s)", loc="left")
         ax.set_xlabel(r"$\tau$ after the first spike (level-0 time units)")
         ax.set_ylabel(r"$\omega / c$, running mean (rad/level-0 time unit)")
-        ax.legend()
+        ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.16), title="m: mirrored state", frameon=False)
     ax = axes[len(levels)]
     for k, g in enumerate(ds.group_id.values):
         sp = ds.long_spike_time.values[k]
@@ -144,7 +147,7 @@ def perturbation(sources):
         for k, ls in ((2, "-"), (4, "--")):
             env = np.abs(audit_ds[f"{v}{k}"].values[: m * n]).reshape(m, n).max(axis=1)
             ax.loglog(tb, env, ls, color=colour, lw=1.0,
-                      label=f"|{v}{k}| (growth exponent {audit_ds.attrs[f'growth_exponent_{v}{k}']:.2f})")
+                      label=f"|{v}{k}| (growth exponent {audit_ds.attrs[f'growth_exponent_{v}{k}'] + 0.0:.2f})")
     ax.axvline(audit_ds.attrs.get("late_start", np.nan), color="0.7", lw=0.8)
     ax.set_xlabel(f"$t$ (time units; block maxima over {audit_ds.attrs['growth_block']:g})")
     ax.set_ylabel("block maximum of the term (units of its variable)")
