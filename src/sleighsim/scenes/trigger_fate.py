@@ -41,14 +41,14 @@ FATE_RULE = (
     "Each run's sample fate_offset after its refined first spike, in the run's own arithmetic, starts one lane of "
     "a double-double batch (tolerance fate_tol) over fate_T sampled every fate_dt; its spikes (the transient rule) "
     "refined (peak_rule) give the landed torus' train (class_rule). The gauge: from the sample fate_lead before "
-    "the train's first spike past its approach, the orbit with its 4 x 4 tangent map over two refined intervals and MARGIN (5) QR "
-    "steps (QR every fate_tau; sleighsim.chaos.lane_gain), ln G the largest over its complete cycles placed at the "
-    "plain run's refined spikes (faithfulness.cycle_gains), steps per cycle the plain run's Taylor steps per time "
-    "unit times the refined interval, and the arithmetic follows the torus when G x steps x rounding < "
-    "faithfulness.FAITHFUL_MAX (double-double's rounding 2^-106). Where double-double does not follow, its gauge "
-    "found no complete cycle in a train that has one, or the landing check (check_rule) finds another torus, the "
-    "run is followed again the same way in triple-double (tolerance fate_td_tol, rounding tdarith.ROUNDING) and "
-    "recorded from there, with its share of that run's CPU seconds."
+    "the train's first spike past its approach, the orbit with its 4 x 4 tangent map over two refined intervals "
+    "and MARGIN (5) QR steps (QR every fate_tau; sleighsim.chaos.lane_gain), ln G the largest over its complete "
+    "cycles placed at the plain run's refined spikes (faithfulness.cycle_gains), steps per cycle the plain run's "
+    "Taylor steps per time unit times the refined interval, and the arithmetic follows the torus when G x steps x "
+    "rounding < faithfulness.FAITHFUL_MAX (double-double's rounding 2^-106). Where double-double does not follow, "
+    "its gauge found no complete cycle in a train that has one, or the landing check (check_rule) finds another "
+    "torus, the run is followed again the same way in triple-double (tolerance fate_td_tol, rounding "
+    "tdarith.ROUNDING) and recorded from there, with its share of that run's CPU seconds."
 )
 ROUNDING = {DD: Precision.DOUBLE_DOUBLE.rounding, TD: tdarith.ROUNDING}
 #: The gain run goes this many QR steps past two intervals (its cycles are placed at its own spikes, found to
