@@ -29,7 +29,8 @@ def _first_spikes(ax, ds) -> None:
 
 
 def _slopes(ax, ds) -> None:
-    """Each range's local slope as a segment through its runs' mean, labelled with its value."""
+    """Each range's local slope as a segment through its runs' mean, labelled with its value (and its standard
+    error where the pooled scatter has a degree of freedom)."""
     ok = ds.in_slopes.values == 1
     tol, first = ds.tol.values[ok], ds.first_spike.values[ok]
     for r in range(ds.sizes["range"]):
@@ -39,7 +40,8 @@ def _slopes(ax, ds) -> None:
         y0, slope = float(np.mean(first[inside])), float(ds.range_slope.values[r])
         ends = np.array([np.log10(hi), np.log10(lo)])
         ax.semilogx(10.0**ends, y0 + slope * (ends - x.mean()), "k-", lw=0.8)
-        ax.annotate(f"{slope:.0f} +- {ds.range_slope_stderr.values[r]:.0f}", (10.0 ** ends.mean(), y0),
+        err = float(ds.range_slope_stderr.values[r])
+        ax.annotate(f"{slope:.0f}" + (f" +- {err:.0f}" if np.isfinite(err) else ""), (10.0 ** ends.mean(), y0),
                     textcoords="offset points", xytext=(0, 8), ha="center", fontsize=8)
 
 
