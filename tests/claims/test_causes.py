@@ -25,10 +25,13 @@ def _err(first=(5500.0,) * 3, interval=(2380.0,) * 3, rel=(0.0007,) * 3, protoco
                       coords={"rtol": [1e-3, 1e-6, 1e-10], "lyapunov_rtol": [1e-3, 1e-6]}, attrs={"method": "RK45"})
 
 
-def _law(slope=-28.0, intercept=5100.0):
-    """A trigger law: the first spike moves |slope| time units per decade of injected error."""
-    return xr.Dataset({"tol": ("run", [1e-8, 1e-12, 1e-16]), "in_fit": ("run", [1, 1, 1])},
-                      attrs=dict(law_slope=slope, law_slope_stderr=1.0, law_intercept=intercept, law_n_fit=3))
+def _law(first=(5280.0, 5420.0, 5590.0, 5640.0), saturated=(0, 0, 0, 1)):
+    """A trigger law: first spikes at tol 1e-8, 1e-12, 1e-14 and 1e-16 (the last saturated), and its two ranges."""
+    return xr.Dataset({"tol": ("run", [1e-8, 1e-12, 1e-14, 1e-16]), "first_spike": ("run", list(first)),
+                       "saturated": ("run", list(saturated)), "in_slopes": ("run", [1 - v for v in saturated]),
+                       "range_label": ("range", ["double", "long double"]), "range_tol_max": ("range", [1e-8, 1e-12]),
+                       "range_tol_min": ("range", [1e-12, 1e-14]), "range_slope": ("range", [-35.0, -85.0]),
+                       "range_slope_stderr": ("range", [4.0, 9.0])}, attrs={"slopes_dof": 3})
 
 
 def test_a_crossing_of_the_sweep_explains_and_names_the_setting():
@@ -43,7 +46,7 @@ def test_no_cause_in_range_says_so_with_what_was_tested():
     k2 = _k2(first_spike=[5000, 5200, 5400, 5600], spike_interval=[2300, 2350, 2400, 2450])
     text = causes.c04(J, PAPER["C04"], k2, _err(), _audit(printed_first_spike=np.nan, printed_spikes_t_end=2e4), _law())
     assert text.startswith(causes.NONE) and "first_spike from 5000 to 5600" in text and "no spike by t = 20000" in text
-    assert "8700 would need an error of 10^-129" in text  # (8700 - 5100) / -28
+    assert "first spike from 5280 to 5590 over injected error 1e-14 to 1e-08" in text
 
 
 def test_the_printed_equation_and_the_integrator_are_causes_too():
@@ -114,17 +117,26 @@ def test_d5_energy_normalisations():
     assert causes.d5(J, PAPER["D5"], miss).startswith(causes.NONE)
 
 
-@pytest.mark.parametrize("slope, explained, level", [(-200.0, True, "-18.5"), (-28.0, False, "-132"),
-                                                     (100.0, False, "37")])
-def test_the_injected_error_explains_the_first_spike_only_at_a_level_some_arithmetic_can_inject(slope, explained,
-                                                                                               level):
-    """8700 = 5000 + slope x level: a level between quad's rounding (1e-34) and 1 explains it; a level
-    below quad's rounding, or above 1 (a law that moves the spike the other way), does not."""
+@pytest.mark.parametrize("first, explained", [
+    ((5280.0, 5420.0, 5590.0, 5640.0), False),  # the measured first spikes stay below 8700
+    ((5280.0, 7000.0, 9000.0, 9100.0), True),   # they pass 8700 between 1e-12 and 1e-14
+    ((5280.0, 5420.0, 8400.0, 9900.0), True),   # within 10% of 8700 at 1e-14 (1e-16, saturated, left out)
+])
+def test_the_injected_error_explains_the_first_spike_only_within_the_measured_range(first, explained):
+    """No line is extrapolated: the first spikes of the runs in the slopes must reach the paper's 8700 at a level
+    measured; the text names the range measured, the saturated runs and every range's slope."""
     k2 = _k2(first_spike=[5000, 5200, 5400, 5600], spike_interval=[2300, 2350, 2400, 2450])
     text = causes.c04(J, PAPER["C04"], k2, _err(), _audit(printed_first_spike=np.nan, printed_spikes_t_end=2e4),
-                      _law(slope=slope, intercept=5000.0))
+                      _law(first))
     assert text.startswith("explained by the injected error") == explained, text
-    assert f"8700 would need an error of 10^{level}" in text
+    assert "over injected error 1e-14 to 1e-08" in text and "1 saturated left out" in text
+    assert "double 1e-08 to 1e-12: -35 +- 4" in text and "long double 1e-12 to 1e-14: -85 +- 9" in text
+    assert "measured down to 1e-14, nothing extrapolated beyond it" in text and "would need" not in text
+
+
+def test_a_law_without_runs_in_reach_says_so():
+    name, ok, text = causes._trigger(_law(saturated=(1, 1, 1, 1)), 8700.0)
+    assert name.startswith("the injected error") and not ok and text == "no run within reach of the slopes"
 
 
 def _torus_family(identities=(torus.ANOTHER, torus.ANOTHER), periods=(2300.0, 2010.0)):

@@ -52,6 +52,9 @@ CONFIG_ROWS = [
      r"scenes.lyap_protocol.tau_check = 1.0 must be at least n_blocks x tau"),
     (("scenes", "main_drift", "window"), 200.2,
      r"scenes.main_drift.window = 200.2 must be a multiple \(at least 2\) of tau"),
+    (("scenes", "trigger_law", "price_record"), "benchmarks/ddbatch.yaml",
+     r"scenes.trigger_law.price_record = 'benchmarks/ddbatch.yaml': not a sleighsim.multiprec/1 record"),
+    (("scenes", "trigger_law", "fate", "dt"), 2.0, r"2.0 is greater than the maximum of 1.0"),
 ]
 
 

@@ -125,13 +125,17 @@ def ladder_inputs(wildcards):
 
 
 def scene_inputs(wildcards):
-    """The datasets a scene's block names (role -> path), and the paper's claims table (role
-    ``claims_md``) for a kind that reads it (SceneKind.reads_paper)."""
+    """The datasets a scene's block names (role -> path), the paper's claims table (role
+    ``claims_md``) for a kind that reads it (SceneKind.reads_paper), and the benchmark record of
+    measured prices it cites (``price_record``: role price)."""
     block = SCENES[wildcards.scene]
     paper = (
         {"claims_md": CLAIMS_MD}
         if scene_catalog.KINDS[block["kind"]].reads_paper
         else {}
+    )
+    price = (
+        {"price": str(ROOT / block["price_record"])} if "price_record" in block else {}
     )
     return {
         **{
@@ -139,6 +143,7 @@ def scene_inputs(wildcards):
             for role, source in block.get("inputs", {}).items()
         },
         **paper,
+        **price,
     }
 
 

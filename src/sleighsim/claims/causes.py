@@ -77,22 +77,31 @@ def _ode45(err, var, target):
     return (f"integration error ({err.attrs['method']})", ok, text)
 
 
-def _trigger(law, want):
-    """The injected error as a cause: the level log10(tol) at which the fitted trigger law puts the
-    first spike at the paper's time; explained when some arithmetic can inject an error that size
-    (between quad's rounding, 1e-34, and 1)."""
-    # Imported here for start-up time: sleighsim.scenes.trigger (SciPy's stats, the integrator) takes
-    # 1.3 s to import (python -X importtime), which every reader of the ledger would pay.
-    from sleighsim.scenes.trigger import level_for
+def _slopes_text(law) -> str:
+    """The local slopes per range of a trigger_law dataset, with the pooled scatter's degrees of freedom."""
+    rows = [f"{label} {hi:.0e} to {lo:.0e}: {slope:.3g} +- {err:.2g}" for label, hi, lo, slope, err in zip(
+        law.range_label.values, law.range_tol_max.values, law.range_tol_min.values, law.range_slope.values,
+        law.range_slope_stderr.values)]
+    return (f"local slopes per decade of injected error ({law.attrs['slopes_dof']} degrees of freedom): "
+            + "; ".join(rows)) if rows else "no range of two levels"
 
-    a = law.attrs
-    level = level_for(want, {"slope": a["law_slope"], "intercept": a["law_intercept"]})
-    if not finite(level):
-        return ("the injected error (trigger law)", False, f"law not determined ({a['law_n_fit']} runs in the fit)")
-    text = (f"first spike moves {a['law_slope']:.3g} +- {a['law_slope_stderr']:.2g} time units per decade of injected "
-            f"error ({a['law_n_fit']} runs, tol {law.tol.values[law.in_fit.values == 1].min():.0e} to "
-            f"{law.tol.values[law.in_fit.values == 1].max():.0e}); {want:g} would need an error of 10^{level:.3g}")
-    return ("the injected error (trigger law)", -34 <= level <= 0, text)
+
+def _trigger(law, want):
+    """The injected error as a cause, within the measured range only: explained when the first spikes of the runs
+    in the slopes reach the paper's time (a crossing between two of them, or one within REL_TOL); the text gives
+    the measured range, the saturated runs left out, the local slopes per range and what the finest range still
+    does, and extrapolates nothing beyond the finest level measured."""
+    name = "the injected error (trigger law)"
+    ok = law.in_slopes.values == 1
+    if not ok.any():
+        return name, False, "no run within reach of the slopes"
+    order = np.argsort(-law.tol.values[ok])
+    tol, first = law.tol.values[ok][order], law.first_spike.values[ok][order]
+    hit, span = _sweep("first spike", "injected error", tol, first, want, fmt_x="{:.0e}")
+    saturated = int(np.sum(law.saturated.values == 1))
+    text = (f"{span} ({int(ok.sum())} runs, {saturated} saturated left out); {_slopes_text(law)}; measured down to "
+            f"{tol.min():.0e}, nothing extrapolated beyond it")
+    return name, hit, text
 
 
 def c04(judgement, paper, k2, err, audit, law):

@@ -173,6 +173,12 @@ def _scene(name: str, cfg: dict, scenes: dict) -> None:
         bad = problems(REPO / cfg["vote_record"])
         if bad:
             raise ConfigError(f"{w}.vote_record = {cfg['vote_record']!r}: {'; '.join(bad)}")
+    if "price_record" in cfg:
+        from sleighsim.scenes.trigger_price import problems as price_problems
+
+        bad = price_problems(REPO / cfg["price_record"])
+        if bad:
+            raise ConfigError(f"{w}.price_record = {cfg['price_record']!r}: {'; '.join(bad)}")
     check_jobs(name, kind.name, cfg)
     kind.checks(w, cfg)
     check_distinct_eps(w, cfg)

@@ -13,6 +13,7 @@ from sleighsim.report.figures import (
     torus,
     trajectories,
     transients,
+    trigger,
 )
 from sleighsim.report.figures.figure import Figure
 from sleighsim.scenes import catalog as scene_catalog
@@ -22,8 +23,8 @@ FIGURES: dict[str, Figure] = {f.name: f for f in (
     trajectories.FIG1, trajectories.FIG2, trajectories.FIG3, transients.FIG4, transients.FIG5, transients.FIG6,
     transients.TRANSIENTS, transients.PERTURBATION, trajectories.FIG7, trajectories.FIG8, steady_state.FIG9,
     steady_state.FIG12, steady_state.FIG13, steady_state.FIG14, exponents.FIG10, exponents.FIG11, exponents.LYAPUNOV,
-    chaos.CHAOS, exponents.REGIMES, transients.BASINS, torus.TORUS, precision.PRECISION, precision.TRIGGER,
-    exponents.DRIFT, audit.AUDIT, bench.BENCH,
+    chaos.CHAOS, exponents.REGIMES, transients.BASINS, torus.TORUS, precision.PRECISION, trigger.TRIGGER,
+    trigger.FATE, exponents.DRIFT, audit.AUDIT, bench.BENCH,
 )}
 
 #: The atlas (on request: snakemake -c2 atlas): the figures of the large chaos surveys.

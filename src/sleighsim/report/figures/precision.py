@@ -7,7 +7,7 @@ import numpy as np
 
 from sleighsim.io.netcdf import read_dataset
 from sleighsim.precision import Precision
-from sleighsim.report.figures.common import ARITHMETIC_COLOUR, PRECISION_STYLE, finish, subplots
+from sleighsim.report.figures.common import ARITHMETIC_COLOUR, finish, subplots
 from sleighsim.report.figures.figure import Figure
 
 
@@ -58,40 +58,7 @@ def precision(sources):
     return finish(fig, ds.attrs)
 
 
-def trigger(sources):
-    """The first (and second) Omega spike against the Taylor tolerance, per arithmetic; filled
-    markers: runs in the fit (rounding far below the tolerance, one per tolerance); the fitted law.
-    ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
-    ds = read_dataset(sources[0])
-    a = ds.attrs
-    fig, ax = subplots(8, 5.5)
-    for p, style in PRECISION_STYLE.items():
-        sel = ds.precision.values == p
-        if not sel.any():
-            continue
-        fit = sel & (ds.in_fit.values == 1)
-        for which, marker in (("first_spike", "o"), ("second_spike", "s")):
-            ax.semilogx(ds.tol.values[sel], ds[which].values[sel], marker, mfc="none", **style)
-            ax.semilogx(ds.tol.values[fit], ds[which].values[fit], marker, label=f"{p}: {which.replace('_', ' ')}",
-                        **style)
-    if np.isfinite(a["law_slope"]):
-        x = np.logspace(np.log10(ds.tol.values.min()), np.log10(ds.tol.values.max()), 50)
-        ax.semilogx(x, a["law_intercept"] + a["law_slope"] * np.log10(x), "k--", lw=0.8,
-                    label=f"first spike: {a['law_slope']:.3g} +- {a['law_slope_stderr']:.2g} per decade "
-                          f"({a['law_n_fit']} runs)")
-    ax.set_xlabel("Taylor tolerance (relative; the injected error where rounding lies far below it)")
-    ax.set_ylabel("spike time (time units)")
-    ax.set_title(f"From y0 = ({a['y0_u']:g}, {a['y0_Omega']:g}, {a['y0_omega']:g}, {a['y0_delta']:g}):\nopen markers: "
-                 f"not fitted (rounding within {a['far']:g}x of the tolerance, or the tolerance fitted in a finer "
-                 "arithmetic)")
-    ax.legend()
-    return finish(fig, a)
-
-
 PRECISION = Figure("precision", precision, ("precision_ladder",),
                    title="Does the arithmetic decide the steady state? Spike intervals per precision from one "
                          "settled point, and the orbits' separation",
                    steady=("precision_ladder",), section="sec:chaos")
-TRIGGER = Figure("trigger", trigger, ("trigger_law",), title="What triggers the steady state? The first spike against "
-                                                            "the size of the injected error (C04)",
-                 section="sec:simulation")
