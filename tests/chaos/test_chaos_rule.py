@@ -203,3 +203,17 @@ def test_only_judges_whose_measured_wrong_rate_is_at_most_one_in_a_hundred_vote(
     assert verdicts["frequency"][0] == "undecided" and verdicts["frequency"][1].startswith("does not vote")
     assert verdicts["frequency"][1].endswith("it said regular: f")
     assert verdicts["two_trajectory"][0] == "undecided"
+
+
+def test_no_docstring_is_written_into_a_dataset():
+    """Rules a dataset records are named constants beside the rule (issue 49 item 5): no module of the package
+    reads a ``__doc__`` except to describe a command line (argparse), so rewording a docstring changes no result."""
+    from pathlib import Path
+
+    import sleighsim
+
+    root = Path(sleighsim.__file__).parent
+    readers = [f"{p.relative_to(root)}:{i}" for p in root.rglob("*.py")
+               for i, line in enumerate(p.read_text().splitlines(), 1)
+               if "__doc__" in line and "description=" not in line]
+    assert readers == []

@@ -140,7 +140,6 @@ def _arithmetic_digits(gain_rounding) -> float:
     return -math.log10(float(gain_rounding)) - 1.0
 
 
-# the docstring is written into the chaos_verdict dataset (attribute birkhoff_rule)
 def judge_birkhoff(run: dict, *, gain_rounding: float, dig_min: float = DIG_MIN, rate_min: float = RATE_MIN):
     """Verdict from weighted Birkhoff averages (``digits``: W, the window lengths longest first, and dig, the
     worst observable's digits per window) of one orbit computed in an arithmetic that follows it to

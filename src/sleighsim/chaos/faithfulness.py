@@ -38,6 +38,21 @@ FAITHFUL_MAX = 1e-3
 FOLLOWS, DOES_NOT_FOLLOW, UNKNOWN = "follows", "does not follow", "unknown"
 
 
+#: What ``cycle_gains and follows`` does (the text a dataset records for the rule; its docstring says the same).
+GAIN_RULE = (
+    'ln G of each cycle: the largest singular value of the one-period tangent map Phi(t + P, t), maximised over '
+    "the start times t in the cycle (P the cycle's length), i.e. the most that one cycle of the flow amplifies an"
+    ' error injected anywhere in it. ``R_steps`` (n_steps, k, k) are the R factors of the successive QR '
+    're-orthonormalisations, ``spike_steps`` the step indices at which the spikes lie (increasing); cycle j runs '
+    'over steps spike_steps[j] + 1 ... spike_steps[j + 1] and the map from step i covers steps i + 1 ... i + m (m'
+    ' steps in the cycle). A cycle whose last window does not end within the run is left out, so the result has '
+    'at most len(spike_steps) - 2 values. Whether an arithmetic of unit roundoff ``rounding`` follows the exact '
+    'orbit through a cycle of gain exp(ln_gain) and ``steps_per_cycle`` Taylor steps: FOLLOWS when G x steps x '
+    'rounding < limit, DOES_NOT_FOLLOW when it is at or above, UNKNOWN when the gain or the steps were not '
+    'measured (NaN: no complete cycle).'
+)
+
+
 def cycle_gains(R_steps, spike_steps) -> np.ndarray:
     """ln G of each cycle: the largest singular value of the one-period tangent map Phi(t + P, t),
     maximised over the start times t in the cycle (P the cycle's length), i.e. the most that one
@@ -114,7 +129,6 @@ RESOLVED_MARGIN = 1e-2
 RESOLVING = ("frequency", "birkhoff")
 
 
-# the docstring is written into the chaos_verdict dataset (attribute indicator_limit_rule)
 def indicator_limit(name: str, resolved: float = math.nan) -> float:
     """The largest G x rounding at which indicator ``name`` is judged: an arithmetic must follow the
     orbit more closely than the indicator resolves. The tangent-based indicators and the two nearby

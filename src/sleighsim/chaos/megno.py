@@ -128,7 +128,16 @@ def megno_rate(m: dict) -> tuple[float, float]:
 # ----------------------------------------------------------------------------- judges
 
 
-# the docstring is written into the chaos_verdict dataset (attribute megno_rule)
+#: What ``judge_megno`` does (the text a dataset records for the rule; its docstring says the same).
+JUDGE_MEGNO_RULE = (
+    'Verdict from ``megno`` (final <Y>, its rms residual, slope and slope_err over the second half, horizon T). '
+    'chaotic: <Y> - sigma * y_err > y_chaotic_min AND slope - sigma * slope_err > 0 (<Y> keeps growing, ~ lambda '
+    't / 2); regular: <Y> + sigma * y_err < y_regular_max (2 for a torus with shear, 0 for isochronous / periodic'
+    ' motion) AND (slope + sigma * slope_err) * T < growth_max (no growth of <Y> over the horizon). A regular '
+    'verdict bounds lambda only to about 2 y_regular_max / T. Otherwise undecided.'
+)
+
+
 def judge_megno(y_mean, y_err, slope, slope_err, T, *, sigma=3.0, y_chaotic_min=4.0, y_regular_max=2.5,
                 growth_max=0.5):
     """Verdict from ``megno`` (final <Y>, its rms residual, slope and slope_err over the

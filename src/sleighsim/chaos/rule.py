@@ -89,7 +89,6 @@ FAITHFUL_RULE = (
 )
 
 
-# the docstring is written into the chaos_verdict dataset (attribute faithful_rule)
 def faithful_gate(verdicts: dict, arithmetic: dict, follows: dict) -> list[str]:
     """Set aside, in place, every indicator whose verdict was judged in an arithmetic not shown to follow
     the state's orbit closely enough for that indicator (the faithfulness gauge,
@@ -119,7 +118,6 @@ VOTE_RULE = (
 )
 
 
-# the docstring is written into the chaos_verdict dataset (attribute vote_rule)
 def vote_gate(verdicts: dict, voters: set) -> list[str]:
     """Set aside, in place, the verdict of every indicator that does not vote (``voters``, from
     ``sleighsim.chaos.power.stage_vote``: the judge-power audit measured its wrong-verdict rate, on
@@ -137,7 +135,15 @@ def vote_gate(verdicts: dict, voters: set) -> list[str]:
     return aside
 
 
-# the docstring is written into the chaos_verdict dataset (attribute rule)
+#: What ``consistent`` does (the text a dataset records for the rule; its docstring says the same).
+CONSISTENCY_RULE = (
+    'Indicators that agree on "chaotic" must also agree on the rate: when the tangent-based lambda_1 (a) and the '
+    'rate of an indicator without tangent dynamics that says chaotic (others: name -> (rate, stderr)) differ by '
+    'more than sigma combined standard errors and by more than a factor 2, the verdict is "undecided" (one of '
+    'them is biased).'
+)
+
+
 def consistent(verdict: str, reason: str, rate_a: float, err_a: float, others: dict, sigma: float) -> tuple[str, str]:
     """Indicators that agree on "chaotic" must also agree on the rate: when the tangent-based lambda_1
     (a) and the rate of an indicator without tangent dynamics that says chaotic (others: name ->
@@ -153,7 +159,15 @@ def consistent(verdict: str, reason: str, rate_a: float, err_a: float, others: d
     return verdict, reason
 
 
-# the docstring is written into the chaos_verdict dataset (attribute class_rule)
+#: What ``classify`` does (the text a dataset records for the rule; its docstring says the same).
+CLASS_RULE = (
+    'The class of a state of a reversible system: regular; chaotic with the sum of exponents resolved negative ->'
+    ' "strange attractor" (its R-image a repeller when R sends it away), with the sum within sigma stderr of 0 '
+    'and lambda_1 about -lambda_4 -> "conservative-type chaos" when its R-image stays on the state\'s image, '
+    '"mixed dynamics" when it leaves; "undetermined" otherwise.'
+)
+
+
 def classify(verdict: str, sum_all: float, sum_err: float, l1: float, l4: float, r_image: str, sigma: float) -> str:
     """The class of a state of a reversible system: regular; chaotic with the sum of exponents resolved
     negative -> "strange attractor" (its R-image a repeller when R sends it away), with the sum within
@@ -174,7 +188,14 @@ def classify(verdict: str, sum_all: float, sum_err: float, l1: float, l4: float,
 FRAGILE = "fragile"
 
 
-# the docstring is written into the chaos_verdict dataset (attribute realization_rule)
+#: What ``agree`` does (the text a dataset records for the rule; its docstring says the same).
+AGREE_RULE = (
+    'One answer from the realizations of a verdict (the same computation from initial states perturbed at the '
+    'rounding level): the common answer when every realization gives it, else "fragile". Returns (answer, how '
+    'many realizations give the most common answer, reason naming the count of each answer).'
+)
+
+
 def agree(verdicts) -> tuple[str, int, str]:
     """One answer from the realizations of a verdict (the same computation from initial states
     perturbed at the rounding level): the common answer when every realization gives it, else

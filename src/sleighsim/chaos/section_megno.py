@@ -91,7 +91,6 @@ def section_megno(t, log_norm, t_section) -> dict:
             "resid": resid, "l": ell}
 
 
-# the docstring is written into the chaos_verdict dataset (attribute section_megno_rule)
 def judge_section_megno(m: dict, sigma: float) -> tuple[str, str]:
     """``megno.judge_megno`` on the return map's MEGNO (``section_megno``) with the horizon counted in
     returns: chaotic when <Y>(N) - sigma resid > 4 and still growing, regular when <Y>(N) + sigma resid <

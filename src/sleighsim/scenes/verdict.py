@@ -23,8 +23,10 @@ from sleighsim.chaos.loschmidt import loschmidt_indicator
 from sleighsim.chaos.megno import megno_rate
 from sleighsim.chaos.power import stage_vote
 from sleighsim.chaos.rule import (
+    AGREE_RULE,
     INDICATORS,
     TANGENT_BASED,
+    VOTE_RULE,
     agree,
     classify,
     consistent,
@@ -212,7 +214,7 @@ def chunk(cfg: dict, index: int, scene: str = "", reads=(), inputs=None) -> xr.D
         start = realization_states(cfg["states"], cfg["realization_rel"], r)[names[k]]
         ds = verdict({**cfg, "states": {names[k]: start}}, scene=f"{scene}#{r}", voters=voters)
     ds.attrs.update(chunk=r, n_chunks=cfg["n_chunks"], voters=sorted(voters),
-                    vote_rule=" ".join(vote_gate.__doc__.split()))
+                    vote_rule=VOTE_RULE)
     return ds
 
 
@@ -283,7 +285,7 @@ def gather(paths, cfg: dict, scene: str = "") -> xr.Dataset:
     ds = ds.assign_coords(realization=np.arange(len(chunks)))
     ds.attrs.pop("chunk", None)
     ds.attrs.update(n_realizations=len(chunks), realization_rel=cfg["realization_rel"],
-                    realization_rule=" ".join((REALIZATION_STATES_RULE, " ".join(agree.__doc__.split()))),
+                    realization_rule=" ".join((REALIZATION_STATES_RULE, AGREE_RULE)),
                     wall_time_s=float(sum(c.attrs["wall_time_s"] for c in chunks)))
     return ds
 

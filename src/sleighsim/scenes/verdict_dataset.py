@@ -9,7 +9,7 @@ import time
 import numpy as np
 import xarray as xr
 
-from sleighsim.chaos.faithfulness import cycle_gains, follows, state_origin
+from sleighsim.chaos.faithfulness import GAIN_RULE, state_origin
 from sleighsim.chaos.frequency import DRIFT_RULE, FREQUENCY_LOG_RATIO_RULE, JUDGE_FREQUENCY_RULE
 from sleighsim.chaos.loschmidt import (
     JUDGE_LOSCHMIDT_RULE,
@@ -17,12 +17,12 @@ from sleighsim.chaos.loschmidt import (
     LOSCHMIDT_FIT_RULE,
     LOSCHMIDT_INDICATOR_RULE,
 )
-from sleighsim.chaos.megno import judge_megno
+from sleighsim.chaos.megno import JUDGE_MEGNO_RULE
 from sleighsim.chaos.rule import (
+    CLASS_RULE,
+    CONSISTENCY_RULE,
     DECISION_RULE,
-    classify,
-    consistent,
-    faithful_gate,
+    FAITHFUL_RULE,
 )
 from sleighsim.chaos.tangent import JUDGE_BENETTIN_RULE
 from sleighsim.chaos.two_trajectory import D0_INDEPENDENT_RULE
@@ -197,9 +197,9 @@ def set_attrs(ds: xr.Dataset, cfg: dict, params, per_state, start: float) -> Non
     """The dataset's attributes: the rules (from the judges' docstrings), the settings and the wall time since start."""
     fc = cfg["frequency"]
     ds.attrs.update(
-        rule=DECISION_RULE + "; then " + " ".join(consistent.__doc__.split()),
-        class_rule=" ".join(classify.__doc__.split()),
-        faithful_rule=" ".join(faithful_gate.__doc__.split()),
+        rule=DECISION_RULE + "; then " + CONSISTENCY_RULE,
+        class_rule=CLASS_RULE,
+        faithful_rule=FAITHFUL_RULE,
         precision_rule=PRECISION_CHECK_RULE, d0_rule=D0_INDEPENDENT_RULE, T_long_double=cfg["T_long_double"],
         tol_long_double=Precision.LONG_DOUBLE.epsilon, compact_mode=int(cfg["compact_mode"]),
         benettin_rule=JUDGE_BENETTIN_RULE, R_rule=R_IMAGE_RULE,
@@ -210,7 +210,7 @@ def set_attrs(ds: xr.Dataset, cfg: dict, params, per_state, start: float) -> Non
                     "frequency: D's "
                     "ln-error 1/sqrt(2 (K - 1)) for K windows (sample standard deviation of K values); long double: "
                     "consecutive blocks of one replica's MEGNO run",
-        megno_rule=" ".join(judge_megno.__doc__.split()),
+        megno_rule=JUDGE_MEGNO_RULE,
         frequency_rule=" ".join((FREQUENCY_INDICATOR_RULE, JUDGE_FREQUENCY_RULE, FREQUENCY_LOG_RATIO_RULE)),
         frequency_method=DRIFT_RULE, frequency_T=fc["T"], frequency_dt=fc["dt"],
         frequency_component=fc["component"], frequency_min_cycles=fc["min_cycles"], frequency_quad_T=fc["quad_T"],
@@ -218,7 +218,7 @@ def set_attrs(ds: xr.Dataset, cfg: dict, params, per_state, start: float) -> Non
         loschmidt_rule=" ".join((LOSCHMIDT_INDICATOR_RULE, JUDGE_LOSCHMIDT_RUN_RULE, JUDGE_LOSCHMIDT_RULE)),
         loschmidt_fit=LOSCHMIDT_FIT_RULE, **loschmidt_settings(), T_megno=cfg["T_megno"],
         loschmidt_T=list(cfg["loschmidt_T"]), loschmidt_n=cfg["loschmidt_n"], T_gain=cfg["T_gain"],
-        tau_gain=cfg["tau_gain"], gain_rule=" ".join((cycle_gains.__doc__ + " " + follows.__doc__).split()),
+        tau_gain=cfg["tau_gain"], gain_rule=GAIN_RULE,
         param_eps=params.eps, param_b=params.b, param_K2=params.K2, energy_label=cfg["energy_label"], tol=cfg["tol"],
         tau=cfg["tau"], replicas=cfg["replicas"], replica_spacing=cfg["replica_spacing"],
         T_two=cfg["T_two"], T_R=cfg["T_R"], backend="heyoka", wall_time_s=time.perf_counter() - start,
