@@ -234,3 +234,19 @@ def test_a_state_settled_in_an_arithmetic_that_follows_is_its_starts_own_steady_
 def test_a_state_whose_gauge_is_unknown_is_not_named_either_way():
     text = fa.state_origin(Precision.DOUBLE, fa.UNKNOWN, math.nan)
     assert text.startswith("unknown") and "torus" not in text and "interval" not in text
+
+
+def test_a_state_no_audit_covers_is_told_that_a_longer_horizon_decides_nothing():
+    """_to_decide when no judge votes at any horizon (the decisive stage's vote horizon NaN, with why): it names
+    the reason instead of pricing a longer horizon; without the reason it prices one as before."""
+    from sleighsim.report.chaos_answers import _to_decide
+
+    U = "undecided"
+    ds = _decisive_dataset([U], [U], [[U, U, U]], [[U, U, U]])
+    ds.attrs["decisive_vote_horizon"] = math.nan
+    ds.attrs["decisive_vote_why"] = "spike period 3530 above the audit's 2400"
+    text = _to_decide(ds, 0, U, {"counts": {1.0: {}, 5.0: {}}})
+    assert "no judge votes on this state at any horizon (spike period 3530 above the audit's 2400)" in text
+    assert "would take" not in text
+    ds.attrs["decisive_vote_why"] = ""
+    assert "would take about" in _to_decide(ds, 0, U, {"counts": {1.0: {}, 5.0: {}}})

@@ -232,6 +232,7 @@ def decisive_state(cfg: dict, stage1: xr.Dataset, scene: str = "", *, voters: fr
     ds.attrs.update(decisive_precision=dc["precision"], decisive_tol=dc["tol"], decisive_T=dc["T"],
                     decisive_dt=dc["dt"], decisive_megno_samples=dc["megno_samples"], decisive_steps=orbit["steps"],
                     decisive_splits=list(dc["splits"]), decisive_vote_horizon=float(dc["vote_horizon"]),
+                    decisive_vote_why=dc.get("vote_why", ""),
                     decisive_voters=sorted(voters), decisive_tangent=int(tangent),
                     decisive_rule=DECIDE_AGAIN_RULE, backend=_backend(dc["precision"]),
                     wall_time_s=time.perf_counter() - start, stage="decisive")
