@@ -246,7 +246,7 @@ def test_a_state_no_audit_covers_is_told_that_a_longer_horizon_decides_nothing()
     ds.attrs["decisive_vote_horizon"] = math.nan
     ds.attrs["decisive_vote_why"] = "spike period 3530 above the audit's 2400"
     text = _to_decide(ds, 0, U, {"counts": {1.0: {}, 5.0: {}}})
-    assert "no judge votes on this state at any horizon (spike period 3530 above the audit's 2400)" in text
+    assert "no judge votes here at any horizon (spike period 3530 above the audit's 2400)" in text
     assert "would take" not in text
     ds.attrs["decisive_vote_why"] = ""
     assert "would take about" in _to_decide(ds, 0, U, {"counts": {1.0: {}, 5.0: {}}})

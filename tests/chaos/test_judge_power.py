@@ -74,6 +74,9 @@ def test_who_votes_in_a_stage_by_its_settings_horizon_and_spike_period():
     assert mixed["voters"] == everyone - {"megno"} and "megno_log_norm" not in mixed["factor"]
     assert "no audited horizon" in mixed["why"]["megno_log_norm"]
     assert power.stage_vote(rec, _block(5e4), "decisive")["voters"] == set()
+    assert power.stage_vote(rec, _block(5e4), "decisive")["covered"]  # a longer horizon would vote: covered
+    assert not power.stage_vote(rec, _block(), "decisive", 2500.0)["covered"]  # no horizon would
+    assert not power.stage_vote(rec, _block(), "first")["covered"]
     assert power.stage_vote(rec, _block(splits=(2, 4)), "decisive")["voters"] == {"megno", "section_megno"}
     assert power.stage_vote(rec, _block(), "decisive", 2500.0)["voters"] == set()
     assert power.stage_vote(rec, _block(), "first")["voters"] == set()

@@ -177,15 +177,17 @@ def stage_vote(rec: dict, block: dict, stage: str, spike_period: float = math.na
     largest audited horizon no longer than the run's with every setting the estimator reads equal to the
     run's; it votes when its counts there pass ``votes``. A state whose spike period exceeds the record's
     runs fewer cycles than audited: nobody votes. Returns voters (the stage's verdict names), factor (per
-    judge, NaN when none applies) and why (per registry judge of the stage)."""
+    judge, NaN when none applies), why (per registry judge of the stage) and covered (False when no horizon
+    of the record could let any judge vote: the stage not audited, or the spike period above the audit's)."""
     why, factor, voters = {}, {}, set()
     stage_judges = [i for i in REGISTRY.values() if i.stage == stage]
     if stage != DECISIVE or rec.get("stage") != DECISIVE:
-        return {"voters": set(), "factor": {}, "why": {i.name: f"no audit of the {stage} stage's estimators in the "
-                                                              "record" for i in stage_judges}}
+        return {"voters": set(), "factor": {}, "covered": False,
+                "why": {i.name: f"no audit of the {stage} stage's estimators in the record" for i in stage_judges}}
     if math.isfinite(spike_period) and spike_period > float(rec["spike_period"]):
-        return {"voters": set(), "factor": {}, "why": {i.name: f"spike period {spike_period:g} above the audit's "
-                                                              f"{float(rec['spike_period']):g}" for i in stage_judges}}
+        return {"voters": set(), "factor": {}, "covered": False,
+                "why": {i.name: f"spike period {spike_period:g} above the audit's {float(rec['spike_period']):g}"
+                        for i in stage_judges}}
     run = _run_settings(block)
     for ind in stage_judges:
         ok = [float(h) for h in rec["horizons"] if ind.name in rec["counts"].get(h, {})
@@ -202,7 +204,7 @@ def stage_vote(rec: dict, block: dict, stage: str, spike_period: float = math.na
             why[ind.name] = f"votes at audited factor {h:g}"
         else:
             why[ind.name] = f"its wrong rate's 95% bound exceeds {VOTE_BOUND:g} on a class at factor {h:g}"
-    return {"voters": voters, "factor": factor, "why": why}
+    return {"voters": voters, "factor": factor, "why": why, "covered": True}
 
 
 def check_record(rec) -> list[str]:

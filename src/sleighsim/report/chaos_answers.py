@@ -106,8 +106,8 @@ def _to_decide(ds, i: int, verdict: str, power: dict | None = None) -> str:
             f"core, measured) left it {verdict} ({left})")
     now = float(ds.attrs.get("decisive_vote_horizon", 1.0))
     if not np.isfinite(now) and ds.attrs.get("decisive_vote_why", ""):
-        return text + (f"; no judge votes on this state at any horizon ({ds.attrs['decisive_vote_why']}): a longer "
-                       "horizon decides nothing until the judge-power audit covers this state's spike period")
+        return (text + f"; no judge votes here at any horizon ({ds.attrs['decisive_vote_why']}): the audit must cover "
+                       "it first")
     later = sorted(float(h) for h in (power or {}).get("counts", {}) if float(h) > now)
     if not later:
         return text + f"; its cost grows linearly with T: {2 * T:g} would take about {2 * wall:.0f} s per realization"

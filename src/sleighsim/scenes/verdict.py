@@ -206,7 +206,7 @@ def chunk(cfg: dict, index: int, scene: str = "", reads=(), inputs=None) -> xr.D
         vote = stage_vote(record, cfg, "decisive", float(stage1.spike_period.values[0]))
         voters = frozenset(vote["voters"])
         factor = max(vote["factor"].values(), default=math.nan)  # the audited horizon voted at (NaN: none)
-        why = "; ".join(dict.fromkeys(vote["why"].values())) if not voters else ""
+        why = "" if vote["covered"] else "; ".join(dict.fromkeys(vote["why"].values()))  # no horizon would vote
         ds = decisive_state({**cfg, "decisive": {**cfg["decisive"], "vote_horizon": factor, "vote_why": why}}, stage1,
                             scene=f"{scene}#{r}", voters=voters)
     else:
