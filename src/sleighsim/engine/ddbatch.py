@@ -84,6 +84,22 @@ def lane_grid(t_grid, lanes: int) -> np.ndarray:
     return np.array([check_grid(r) for r in rows])
 
 
+def lane_settings(params, tol: float, tol_range: tuple, step: str, max_steps: int) -> tuple:
+    """A batch engine's settings checked (ValueError naming the setting): (tol within ``tol_range``, whether
+    ``params`` is one Params per lane, the lanes' Params as a tuple of 1 to MAX_LANES, max_steps); ``step``
+    one of STEPS."""
+    tol = positive("tol", tol)
+    if not tol_range[0] <= tol <= tol_range[1]:
+        raise ValueError(f"tol = {tol:g} is outside the admissible range [{tol_range[0]:g}, {tol_range[1]:g}]")
+    if step not in STEPS:
+        raise ValueError(f"step = {step!r}: choose one of {STEPS}")
+    per_lane = not isinstance(params, Params)
+    lanes = tuple(params) if per_lane else (params,)
+    if not 1 <= len(lanes) <= MAX_LANES or not all(isinstance(p, Params) for p in lanes):
+        raise ValueError(f"params must be a Params or a sequence of 1 to {MAX_LANES} Params (one per lane)")
+    return tol, per_lane, lanes, integer("max_steps", max_steps, 1, 2**62)
+
+
 class DDBatch:
     """Lanes of the sleigh integrated in double-double at tolerance ``tol`` (in TOL_RANGE; heyoka's order and
     step rule), each lane as DDFlow would. ``params``: one Params for every lane, or a sequence of Params, one
@@ -93,17 +109,8 @@ class DDBatch:
 
     def __init__(self, params: Params | Sequence[Params], tol: float = 1e-32, *, max_steps: int = MAX_STEPS,
                  step: str = "lane"):
-        tol = positive("tol", tol)
-        if not TOL_RANGE[0] <= tol <= TOL_RANGE[1]:
-            raise ValueError(f"tol = {tol:g} is outside the admissible range [{TOL_RANGE[0]:g}, {TOL_RANGE[1]:g}]")
-        if step not in STEPS:
-            raise ValueError(f"step = {step!r}: choose one of {STEPS}")
-        self.per_lane = not isinstance(params, Params)
-        self.params = tuple(params) if self.per_lane else (params,)
-        if not 1 <= len(self.params) <= MAX_LANES or not all(isinstance(p, Params) for p in self.params):
-            raise ValueError(f"params must be a Params or a sequence of 1 to {MAX_LANES} Params (one per lane)")
-        self.tol, self.order, self.step = tol, taylor_order(tol), step
-        self.max_steps = integer("max_steps", max_steps, 1, 2**62)
+        self.tol, self.per_lane, self.params, self.max_steps = lane_settings(params, tol, TOL_RANGE, step, max_steps)
+        self.order, self.step = taylor_order(self.tol), step
         self.steps = np.zeros(0, dtype=np.int64)
         self._coef = {}
 

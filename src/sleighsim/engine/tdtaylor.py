@@ -22,10 +22,10 @@ import numpy as np
 
 from sleighsim.engine import ddlanes, tdlanes
 from sleighsim.engine import tdarith as td
-from sleighsim.engine.ddbatch import MAX_LANES, STEPS, LaneError, block_width, lane_grid
+from sleighsim.engine.ddbatch import MAX_LANES, LaneError, block_width, lane_grid, lane_settings
 from sleighsim.engine.ddprogram import exact_coefficients, program, taylor_order
 from sleighsim.engine.ddtaylor import MAX_STEPS
-from sleighsim.model.params import Params, integer, positive
+from sleighsim.model.params import Params, positive
 
 #: Admissible tolerances: from a little below triple-double's rounding to a loose one.
 TOL_RANGE = (1e-49, 1e-6)
@@ -74,17 +74,8 @@ class TDBatch:
 
     def __init__(self, params: Params | Sequence[Params], tol: float = 1e-47, *, max_steps: int = MAX_STEPS,
                  step: str = "lane"):
-        tol = positive("tol", tol)
-        if not TOL_RANGE[0] <= tol <= TOL_RANGE[1]:
-            raise ValueError(f"tol = {tol:g} is outside the admissible range [{TOL_RANGE[0]:g}, {TOL_RANGE[1]:g}]")
-        if step not in STEPS:
-            raise ValueError(f"step = {step!r}: choose one of {STEPS}")
-        self.per_lane = not isinstance(params, Params)
-        self.params = tuple(params) if self.per_lane else (params,)
-        if not 1 <= len(self.params) <= MAX_LANES or not all(isinstance(p, Params) for p in self.params):
-            raise ValueError(f"params must be a Params or a sequence of 1 to {MAX_LANES} Params (one per lane)")
-        self.tol, self.order, self.step = tol, taylor_order(tol), step
-        self.max_steps = integer("max_steps", max_steps, 1, 2**62)
+        self.tol, self.per_lane, self.params, self.max_steps = lane_settings(params, tol, TOL_RANGE, step, max_steps)
+        self.order, self.step = taylor_order(self.tol), step
         self.steps = np.zeros(0, dtype=np.int64)
 
     def _states(self, y0, v0):
