@@ -34,7 +34,6 @@ from __future__ import annotations
 import datetime as dt
 import json
 import math
-import os
 import statistics
 import sys
 import time
@@ -55,7 +54,7 @@ import yaml  # noqa: E402
 from sleighsim.engine import ddarith, integrators, tdarith, transient  # noqa: E402
 from sleighsim.engine.ddbatch import DDBatch  # noqa: E402
 from sleighsim.engine.tdtaylor import TDBatch  # noqa: E402
-from sleighsim.io.cachedir import private_directory  # noqa: E402
+from sleighsim.io.cachedir import private_directory, project_cache  # noqa: E402
 from sleighsim.model.params import Params  # noqa: E402
 from sleighsim.model.symmetries import REFERENCE_STATE  # noqa: E402
 from sleighsim.ops import benchio, facts  # noqa: E402
@@ -137,8 +136,7 @@ def search_orbit(params) -> tuple[np.ndarray, list, float]:
     controls ($SLEIGHSIM_CACHE, default ~/.cache/sleighsim; io.cachedir.private_directory), keyed by its
     settings, so that a failed search is not paid twice."""
     grid = FIND["dt"] * np.arange(round(FIND["t_search"] / FIND["dt"]) + 1)
-    root = os.environ.get("SLEIGHSIM_CACHE") or Path.home() / ".cache" / "sleighsim"
-    where = private_directory(root, "SLEIGHSIM_CACHE" if os.environ.get("SLEIGHSIM_CACHE") else "~/.cache/sleighsim")
+    where = private_directory(*project_cache())
     cache = where / f"multiprec_search_{SEARCH[0]}_{SEARCH[1]:g}_{FIND['t_search']:g}.json"
     if cache.exists():
         saved = json.loads(cache.read_text())

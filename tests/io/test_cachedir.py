@@ -80,3 +80,13 @@ def test_a_link_owned_by_another_user_in_a_sticky_directory_is_refused(tmp_path,
     monkeypatch.setattr(os, "lstat", others_link)
     with pytest.raises(UnsafeDirectory, match=rf"{sticky / 'cache'} is a symbolic link owned by uid 4242"):
         private_directory(sticky / "cache", "SETTING")
+
+
+def test_the_projects_cache_is_sleighsim_cache_when_set_else_the_users_dot_cache(tmp_path, monkeypatch):
+    from sleighsim.io.cachedir import project_cache
+
+    monkeypatch.setenv("SLEIGHSIM_CACHE", str(tmp_path / "c"))
+    assert project_cache() == (tmp_path / "c", "SLEIGHSIM_CACHE")
+    monkeypatch.delenv("SLEIGHSIM_CACHE")
+    monkeypatch.setenv("HOME", str(tmp_path))
+    assert project_cache() == (tmp_path / ".cache" / "sleighsim", "~/.cache/sleighsim")

@@ -65,6 +65,14 @@ def _route_problem(path: Path) -> str:
     return ""
 
 
+def project_cache() -> tuple[Path, str]:
+    """(the project's own cache directory, the setting that chose it): ``$SLEIGHSIM_CACHE``, else
+    ``~/.cache/sleighsim``; not created or checked here (:func:`private_directory` does both)."""
+    if os.environ.get("SLEIGHSIM_CACHE"):
+        return Path(os.environ["SLEIGHSIM_CACHE"]), "SLEIGHSIM_CACHE"
+    return Path.home() / ".cache" / "sleighsim", "~/.cache/sleighsim"
+
+
 def private_directory(path, what: str) -> Path:
     """``path`` as a cache directory only the current user controls: created 0700 when missing;
     :class:`UnsafeDirectory` naming ``what`` (the setting that chose it) and the reason otherwise.

@@ -25,13 +25,14 @@ per process, about 1.5% of a full run's CPU, so nothing of it is read from disk 
 
 from __future__ import annotations
 
-import os
 import warnings
 from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
 
 import sympy as sp
+
+from sleighsim.io.cachedir import project_cache
 
 # Physical parameters, state and accelerations (all public: other modules build on them).
 m_c, m_r, I_c, I_r, a, b = sp.symbols("m_c m_r I_c I_r a b", positive=True)
@@ -128,9 +129,8 @@ def projected_equations(theta_value=0):
 def _old_cache_files() -> list[Path]:
     """Derivation files an earlier sleighsim kept between processes (``$SLEIGHSIM_CACHE``, default
     ``~/.cache/sleighsim``): listed by name for :func:`derive`'s warning, never opened."""
-    root = os.environ.get("SLEIGHSIM_CACHE") or Path.home() / ".cache" / "sleighsim"
     try:
-        return sorted(Path(root).glob("derivation-*.json"))
+        return sorted(project_cache()[0].glob("derivation-*.json"))
     except OSError:
         return []
 
