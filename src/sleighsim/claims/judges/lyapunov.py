@@ -254,12 +254,11 @@ def _c27_open(rows, first_chaos, unresolved) -> tuple[str, str]:
         return NOT_YET, ("no row is resolved chaotic" if not finite(first_chaos) else
                          f"no row below the first chaotic eps ({first_chaos:.3g}) is computed here: a route, if "
                          "any, lies below the computed range")
-    listed = ", ".join(f"{e:.3g}" for e in rows.eps.values[unresolved])
     need, cost = resolving_cost(rows, unresolved)
     budget = float(rows.attrs.get("resolve_budget_s", math.nan))
     text = ((f"the rows below the first chaotic eps ({first_chaos:.3g})" if finite(first_chaos) else
-             "no row is resolved chaotic; the rows") + f" are unresolved at eps {listed}: their lambda_1 - "
-            f"{K_SIGMA:g} stderr, as measured, clears {_FAKE} from per-replica horizons {fmt(need, 2)} (run: "
+             "no row is resolved chaotic; the rows") + f" are unresolved {at_eps(rows.eps.values[unresolved])}: their "
+            f"lambda_1 - {K_SIGMA:g} stderr, as measured, clears {_FAKE} from per-replica horizons {fmt(need, 2)} (run: "
             f"{fmt(rows['T'].values[unresolved], 2)})")
     if not finite(cost):
         return NOT_YET, text
