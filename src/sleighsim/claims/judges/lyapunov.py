@@ -258,8 +258,8 @@ def _c27_open(rows, first_chaos, unresolved) -> tuple[str, str]:
     budget = float(rows.attrs.get("resolve_budget_s", math.nan))
     text = ((f"the rows below the first chaotic eps ({first_chaos:.3g})" if finite(first_chaos) else
              "no row is resolved chaotic; the rows") + f" are unresolved {at_eps(rows.eps.values[unresolved])}: their "
-            f"lambda_1 - {K_SIGMA:g} stderr, as measured, clears {_FAKE} from per-replica horizons {fmt(need, 2)} (run: "
-            f"{fmt(rows['T'].values[unresolved], 2)})")
+            f"lambda_1 - {K_SIGMA:g} stderr, as measured, clears {_FAKE} from per-replica horizons {fmt(need, 2)} "
+            f"(run: {fmt(rows['T'].values[unresolved], 2)})")
     if not finite(cost):
         return NOT_YET, text
     text += f", about {cost:.3g} s more of their rounds on this machine (each row's rounds' measured wall time per T)"
