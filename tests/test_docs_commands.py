@@ -299,3 +299,8 @@ def test_every_module_and_name_the_docs_cite_exists():
     assert len(names) > 50 and "ops.config.merged_config" in names
     assert not _resolves("ops.facts.merged_config")
     assert [n for n in sorted(names) if not _resolves(n)] == []
+
+
+def test_the_readme_stays_one_screen():
+    """The README is one screen: at most 120 lines (the house's rule); details go to docs/."""
+    assert len((ROOT / "README.md").read_text().splitlines()) <= 120
