@@ -98,7 +98,7 @@ LONG_RUNS = [
      r"scenes.fig11_grid: .* CPU days \(limit 30\); more chunks \(n_chunks = \d+\) or shorter horizons "
      r"\(the longest: "),
     (("scenes", "chaos_verdict", "n_chunks"), 400,
-     r"scenes.chaos_verdict.n_chunks = 400 would make 1600 jobs; at most 1000"),
+     r"scenes.chaos_verdict.n_chunks = 400 would make 1201 jobs; at most 1000"),
     (("scenes", "lyap_spectrum", "realizations"), 5000, r"scenes.lyap_spectrum.realizations = 5000 would make"),
 ]
 

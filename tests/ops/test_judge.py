@@ -52,7 +52,7 @@ def test_the_command_judges_a_state_and_says_what_would_decide_it(tmp_path, caps
     assert lines["verdict"].startswith(str(ds.verdict.values[0])) and ds.state.values.tolist() == [STATE]
     assert lines["decided in"].startswith("double-double") and "why" in lines
     assert ds.verdict.values[0] in ("chaotic", "regular") or "to decide it" in lines
-    assert "judge: job 2 of 2 (decisive stage, realization 0)" in printed.err  # progress, per job
+    assert "judge: job 2 of 2 (decisive stage, every realization a lane)" in printed.err  # progress, per job
     assert ds.attrs["decisive_T"] == 300.0 and ds.attrs["param_eps"] == pytest.approx(0.05)
     assert cli.main(["judge", "--state", "0", "0", "0", "0.3"]) == 2 and "energy label" in capsys.readouterr().err
 

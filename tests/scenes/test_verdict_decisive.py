@@ -12,7 +12,7 @@ import xarray as xr
 from sleighsim.chaos.megno import megno_from_log_norm
 from sleighsim.chaos.verdicts import CHAOTIC, REGULAR, UNDECIDED
 from sleighsim.precision import parsed
-from sleighsim.scenes import verdict, verdict_decisive
+from sleighsim.scenes import verdict, verdict_decisive, verdict_lanes
 from sleighsim.scenes.checks import ConfigError
 
 C, G, U = CHAOTIC, REGULAR, UNDECIDED
@@ -25,14 +25,55 @@ def _cfg(states=("main", "rotor_a", "rotor_b"), decisive=("main",), n_chunks=3):
             "decisive": {"states": list(decisive)}}
 
 
-def test_each_decisive_job_reads_its_realizations_first_stage_job_of_its_state():
-    """3 realizations x 3 states = 9 first-stage jobs (reading nothing), then one decisive job per
-    realization and decisive state, each reading job r * 3 + index of its state."""
+def test_the_decisive_job_reads_every_realizations_first_stage_job_of_each_decisive_state():
+    """3 realizations x 3 states = 9 first-stage jobs (reading nothing), then one decisive job whose
+    lanes are (realization, state), realizations outer: it reads job r * 3 + index of the state."""
     cfg = _cfg(decisive=("main", "rotor_b"))
-    assert verdict._chunk_count(cfg) == 9 + 6
+    assert verdict._chunk_count(cfg) == 9 + 1
     assert all(verdict._chunk_reads(cfg, k) == [] for k in range(9))
-    assert [verdict._chunk_reads(cfg, k) for k in range(9, 15)] == [[0], [2], [3], [5], [6], [8]]
+    assert verdict._chunk_reads(cfg, 9) == [0, 2, 3, 5, 6, 8]
+    assert verdict._decisive_lanes(cfg) == [(0, "main"), (0, "rotor_b"), (1, "main"), (1, "rotor_b"),
+                                             (2, "main"), (2, "rotor_b")]
     assert verdict._chunk_count(_cfg(decisive=())) == 9
+
+
+def test_lanes_packed_into_one_job_unpack_to_the_datasets_they_were():
+    """Two lanes with spike trains of different lengths (the pack NaN-pads them) and their own attributes
+    come back exactly: the same variables, lengths and attributes, each with its realization."""
+    a = _decisive_part("main", n_spikes=3).assign_attrs(decisive_voters=["birkhoff"], decisive_steps=12,
+                                                        decisive_vote_horizon=math.nan)
+    b = _decisive_part("rotor_a", n_spikes=5).assign_attrs(decisive_voters=[], decisive_steps=7,
+                                                           decisive_vote_horizon=5.0)
+    packed = verdict_lanes.pack([a, b], [2, 0])
+    assert packed.sizes["decisive_spike"] == 5 and packed.attrs["wall_time_s"] == 10.0
+    back = verdict_lanes.unpack(packed)
+    assert [r for r, _ in back] == [2, 0]
+    for want, (_, got) in zip((a, b), back):
+        assert got.drop_attrs().identical(want.drop_attrs())
+        assert {k: v for k, v in got.attrs.items() if k != "decisive_vote_horizon"} == \
+            {k: v for k, v in want.attrs.items() if k != "decisive_vote_horizon"}
+        assert got.attrs["decisive_vote_horizon"] == want.attrs["decisive_vote_horizon"] or (
+            math.isnan(got.attrs["decisive_vote_horizon"]) and math.isnan(want.attrs["decisive_vote_horizon"]))
+    with pytest.raises(ValueError, match="lanes for"):
+        verdict_lanes.pack([a], [0, 1])
+
+
+def test_lanes_integrated_together_are_each_the_scalar_engines_orbit():
+    """The decisive stage's double-double lanes (engine.ddbatch) with a tangent vector: each lane's orbit,
+    steps and log-norm are bit for bit DDFlow's from the same start and unit tangent vector."""
+    from sleighsim.engine.ddtaylor import DDFlow
+    from sleighsim.model.params import Params
+
+    dc = {**_decisive_cfg()["decisive"], "T": 50.0}
+    params = Params.from_config({"eps": 0.1, "b": 1.0, "K2": 1.1})
+    ys = [[0.02, 0.02, 3.3, 2.5], [0.021, 0.019, 3.31, 2.4], [0.0, 0.1, 1.0, 0.0]]
+    lanes = verdict_decisive.lane_orbits(params, ys, dc, tangent=True)
+    grid = np.arange(101) * 0.5
+    for y, lane in zip(ys, lanes):
+        flow = DDFlow(params, dc["tol"])
+        hi, _, log_norm, _ = flow.propagate_tangent_grid(np.asarray(y), verdict_decisive._unit_tangent(), grid)
+        assert np.array_equal(lane["Y"], hi) and np.array_equal(lane["log_norm"], log_norm)
+        assert lane["steps"] == flow.steps
 
 
 @pytest.mark.parametrize("decisive", [("nowhere",), ("main", "main")])
@@ -40,6 +81,12 @@ def test_a_decisive_state_must_be_a_state_of_the_block_named_once(decisive):
     with pytest.raises(ConfigError, match="decisive.states"):
         verdict._checks("scenes.chaos_verdict", _cfg(decisive=decisive))
     verdict._checks("scenes.chaos_verdict", _cfg())  # a valid block passes
+
+
+def test_the_decisive_lanes_must_fit_one_batch():
+    verdict._checks("scenes.chaos_verdict", _cfg(decisive=("main", "rotor_a", "rotor_b"), n_chunks=341))  # 1023
+    with pytest.raises(ConfigError, match="would make 1026 lanes of the decisive job; at most 1024"):
+        verdict._checks("scenes.chaos_verdict", _cfg(decisive=("main", "rotor_a"), n_chunks=513))
 
 
 def _stage1(verdicts: dict, ln_gain=36.0):

@@ -74,16 +74,17 @@ def block_for(params, state, horizon=None, *, precision=None, realizations=None,
 
 
 def run_block(block: dict, workdir, scene: str = "judge") -> xr.Dataset:
-    """The verdict of a chaos_verdict block: each of its chunk jobs in order (a decisive-stage job reads its
-    first stage's dataset), written under ``workdir``, then gathered; one progress line per job."""
+    """The verdict of a chaos_verdict block: each of its chunk jobs in order (the decisive-stage job reads the
+    first stage's datasets), written under ``workdir``, then gathered; one progress line per job."""
     n, paths, record = catalog.chunk_count(block), [], REPO / block["vote_record"]
     for index in range(n):
         start = time.perf_counter()
         reads = [paths[i] for i in catalog.chunk_reads(block, index)]
         ds = catalog.chunk(scene, block, index, reads, {"power": str(record)})
         paths.append(write_dataset(ds, Path(workdir) / f"{index}.nc", **catalog.writing(block)))
-        log.info("%s: job %d of %d (%s stage, realization %s) done in %.0f s", scene, index + 1, n,
-                 ds.attrs.get("stage", "first"), ds.attrs.get("chunk"), time.perf_counter() - start)
+        what = ("decisive stage, every realization a lane" if ds.attrs.get("stage") == "decisive"
+                else f"first stage, realization {ds.attrs.get('chunk')}")
+        log.info("%s: job %d of %d (%s) done in %.0f s", scene, index + 1, n, what, time.perf_counter() - start)
     return catalog.gather(scene, block, paths)
 
 

@@ -37,6 +37,7 @@ from sleighsim.chaos.rule import (
 from sleighsim.chaos.two_trajectory import two_trajectory_indicator
 from sleighsim.chaos.verdicts import CHAOTIC
 from sleighsim.engine import integrators
+from sleighsim.engine.ddbatch import MAX_LANES
 from sleighsim.engine.integrate import orbit_samples
 from sleighsim.engine.transient import settle
 from sleighsim.io import cf
@@ -50,13 +51,14 @@ from sleighsim.scenes.checks import ConfigError
 from sleighsim.scenes.common import REALIZATION_STATES_RULE, realization_states
 from sleighsim.scenes.kind import SceneKind
 from sleighsim.scenes.verdict_dataset import set_attrs, variables
-from sleighsim.scenes.verdict_decisive import decisive_spike_period, decisive_state, with_decisive
+from sleighsim.scenes.verdict_decisive import decisive_lanes, decisive_spike_period, with_decisive
 from sleighsim.scenes.verdict_frequency import (
     PRECISIONS,
     frequency_indicator,
     frequency_resolved,
     frequency_table,
 )
+from sleighsim.scenes.verdict_lanes import pack, unpack
 from sleighsim.scenes.verdict_orbits import (
     loschmidt_not_run,
     loschmidt_run,
@@ -193,30 +195,35 @@ def chunk(cfg: dict, index: int, scene: str = "", reads=(), inputs=None) -> xr.D
     state index % n_states of realization index // n_states, :func:`verdict` from that state of
     :func:`realization_states` at realization_rel (the states of a realization are perturbed together,
     in order, so a state's start does not depend on how the jobs are cut). The decisive stage, one job
-    per realization and state of decisive.states after those: ``verdict_decisive.decisive_state`` on
-    the first stage's dataset of that state (``reads``: its path, :func:`_chunk_reads`). In both, the
-    indicators that vote are those the judge-power audit's record (``inputs["power"]``, the block's
-    vote_record) lets vote with the stage's settings at its horizon (``chaos.power.stage_vote``; the decisive
-    stage's states no longer in spike cycles than audited)."""
+    after those: every realization's first-stage dataset of every state of decisive.states (``reads``,
+    :func:`_chunk_reads`) as the lanes of one integration (``verdict_decisive.decisive_lanes``), packed
+    into one dataset (``verdict_lanes.pack``). In both, the indicators that vote are those the judge-power
+    audit's record (``inputs["power"]``, the block's vote_record) lets vote with the stage's settings at its
+    horizon (``chaos.power.stage_vote``; the decisive stage's states no longer in spike cycles than audited)."""
     names, base = list(cfg["states"]), _stage_one_count(cfg)
     record = yaml.safe_load(Path(inputs["power"]).read_text())
     if index >= base:
-        r, j = divmod(index - base, len(cfg["decisive"]["states"]))
-        stage1 = read_dataset(reads[0])
-        vote = stage_vote(record, cfg, "decisive", float(stage1.spike_period.values[0]))
-        voters = frozenset(vote["voters"])
-        factor = max(vote["factor"].values(), default=math.nan)  # the audited horizon voted at (NaN: none)
-        why = "" if vote["covered"] else "; ".join(dict.fromkeys(vote["why"].values()))  # no horizon would vote
-        ds = decisive_state({**cfg, "decisive": {**cfg["decisive"], "vote_horizon": factor, "vote_why": why}}, stage1,
-                            scene=f"{scene}#{r}", voters=voters)
-    else:
-        voters = frozenset(stage_vote(record, cfg, "first")["voters"])
-        r, k = divmod(index, len(names))
-        start = realization_states(cfg["states"], cfg["realization_rel"], r)[names[k]]
-        ds = verdict({**cfg, "states": {names[k]: start}}, scene=f"{scene}#{r}", voters=voters)
-    ds.attrs.update(chunk=r, n_chunks=cfg["n_chunks"], voters=sorted(voters),
-                    vote_rule=VOTE_RULE)
+        lanes = [_lane_vote(record, cfg, read_dataset(path)) for path in reads]
+        order = _decisive_lanes(cfg)
+        parts = decisive_lanes(cfg, lanes, [f"{scene}#{r}[{name}]" for r, name in order])
+        ds = pack(parts, [r for r, _ in order])
+        ds.attrs.update(n_chunks=cfg["n_chunks"], vote_rule=VOTE_RULE)
+        return ds
+    voters = frozenset(stage_vote(record, cfg, "first")["voters"])
+    r, k = divmod(index, len(names))
+    start = realization_states(cfg["states"], cfg["realization_rel"], r)[names[k]]
+    ds = verdict({**cfg, "states": {names[k]: start}}, scene=f"{scene}#{r}", voters=voters)
+    ds.attrs.update(chunk=r, n_chunks=cfg["n_chunks"], voters=sorted(voters), vote_rule=VOTE_RULE)
     return ds
+
+
+def _lane_vote(record: dict, cfg: dict, stage1: xr.Dataset) -> tuple:
+    """One decisive lane: (the first stage's dataset of its state, its voters, its vote horizon and why)
+    by the record at the state's spike period (``chaos.power.stage_vote``)."""
+    vote = stage_vote(record, cfg, "decisive", float(stage1.spike_period.values[0]))
+    factor = max(vote["factor"].values(), default=math.nan)  # the audited horizon voted at (NaN: none)
+    why = "" if vote["covered"] else "; ".join(dict.fromkeys(vote["why"].values()))  # no horizon would vote
+    return stage1, frozenset(vote["voters"]), {"vote_horizon": factor, "vote_why": why}
 
 
 def _stage_one_count(cfg: dict) -> int:
@@ -224,14 +231,18 @@ def _stage_one_count(cfg: dict) -> int:
     return cfg["n_chunks"] * len(cfg["states"])
 
 
+def _decisive_lanes(cfg: dict) -> list[tuple[int, str]]:
+    """The decisive stage's lanes, (realization, state): realizations outer, decisive.states inner."""
+    return [(r, name) for r in range(cfg["n_chunks"]) for name in cfg["decisive"]["states"]]
+
+
 def _chunk_reads(cfg: dict, index: int) -> list[int]:
-    """The first-stage chunk a decisive-stage chunk reads (that realization's job of its state); none
-    for a first-stage chunk."""
-    base = _stage_one_count(cfg)
-    if index < base:
+    """The first-stage chunks the decisive job reads (each lane's realization's job of its state, in
+    ``_decisive_lanes`` order); none for a first-stage chunk."""
+    if index < _stage_one_count(cfg):
         return []
-    r, j = divmod(index - base, len(cfg["decisive"]["states"]))
-    return [r * len(cfg["states"]) + list(cfg["states"]).index(cfg["decisive"]["states"][j])]
+    names = list(cfg["states"])
+    return [r * len(names) + names.index(name) for r, name in _decisive_lanes(cfg)]
 
 
 def _states_together(parts: list, names: list) -> xr.Dataset:
@@ -257,8 +268,11 @@ def gather(paths, cfg: dict, scene: str = "") -> xr.Dataset:
     (``chaos.rule.agree``: "fragile" when they do not) and how many give the most common one."""
     by_realization, decisive = {}, {}
     for d in (read_dataset(p) for p in paths):
-        into = decisive if d.attrs.get("stage") == "decisive" else by_realization
-        into.setdefault(int(d.attrs["chunk"]), []).append(d)
+        if d.attrs.get("stage") == "decisive":
+            for r, lane in unpack(d):
+                decisive.setdefault(r, []).append(lane)
+        else:
+            by_realization.setdefault(int(d.attrs["chunk"]), []).append(d)
     if sorted(by_realization) != list(range(cfg["n_chunks"])):
         raise ValueError(f"realizations {sorted(by_realization)}, expected 0 ... {cfg['n_chunks'] - 1}")
     names = list(cfg["states"])
@@ -292,26 +306,32 @@ def gather(paths, cfg: dict, scene: str = "") -> xr.Dataset:
 
 
 def _chunk_count(cfg: dict) -> int:
-    """One chunk job per realization and state (the first stage), then one per realization and state of
-    decisive.states (:func:`chunk`)."""
-    return _stage_one_count(cfg) + cfg["n_chunks"] * len(cfg["decisive"]["states"])
+    """One chunk job per realization and state (the first stage), then one for the decisive stage when it has
+    states (:func:`chunk`)."""
+    return _stage_one_count(cfg) + int(bool(cfg["decisive"]["states"]))
 
 
 def _checks(where: str, cfg: dict) -> None:
-    """The decisive stage's states are states of the block, each once."""
+    """The decisive stage's states are states of the block, each once, and its lanes (realizations x states)
+    fit one batch (``engine.ddbatch.MAX_LANES``)."""
     states, dec = list(cfg["states"]), list(cfg["decisive"]["states"])
     if not set(dec) <= set(states) or len(set(dec)) != len(dec):
         raise ConfigError(f"{where}.decisive.states: {dec} must name states of {where}.states ({states}), each once")
+    if cfg["n_chunks"] * len(dec) > MAX_LANES:
+        raise ConfigError(f"{where}.decisive.states: {len(dec)} states x n_chunks = {cfg['n_chunks']} realizations "
+                          f"would make {cfg['n_chunks'] * len(dec)} lanes of the decisive job; at most {MAX_LANES}")
 
 
 def _chunk_work(cfg: dict) -> list[float]:
     """Work of each chunk job: one state of one realization, an equal share of the block's horizons
-    outside the decisive stage; then each decisive-stage job, that stage's horizons (a block without
-    n_chunks or a decisive stage, measured before the verdict ran them, has none of those jobs)."""
+    outside the decisive stage; then the decisive job, that stage's horizons once per lane (an upper
+    estimate: lanes share the vector units) (a block without n_chunks or a decisive stage, measured before
+    the verdict ran them, has none of those jobs)."""
     n, states = cfg.get("n_chunks", 1), len(cfg["states"])
     decisive = cfg.get("decisive", {"states": []})
     first = {k: v for k, v in cfg.items() if k != "decisive"}
-    return [horizon_work(first) / states] * (n * states) + [horizon_work(decisive)] * (n * len(decisive["states"]))
+    lanes = n * len(decisive["states"])
+    return [horizon_work(first) / states] * (n * states) + ([horizon_work(decisive) * lanes] if lanes else [])
 
 
 CHAOS_VERDICT = SceneKind(
@@ -322,6 +342,9 @@ CHAOS_VERDICT = SceneKind(
     checks=_checks, pre_run="t_transient",
     records=lambda c: [*memory.pre_run(c, "t_transient"), *memory.benettin(c, 8),
                        memory.span(c, "frequency.T", "frequency.dt", 4 * max(c["frequency"]["splits"])),
-                       memory.span(c, "megno_samples", None, 2)],
+                       memory.span(c, "megno_samples", None, 2),
+                       # the decisive job's lanes: hi, lo, scale, tangent and the kernels' blocks per sample
+                       memory.span(c, "decisive.T", "decisive.dt", 40,
+                                   ("n_chunks x len(decisive.states)", c["n_chunks"] * len(c["decisive"]["states"])))],
     work=lambda cfg: sum(_chunk_work(cfg)), chunk_work=_chunk_work,
     modelled=lambda leaf: leaf in HORIZON_KEYS or leaf == "n_chunks")

@@ -22,11 +22,11 @@ import xarray as xr
 from sleighsim.chaos import decisive
 from sleighsim.chaos.birkhoff import observables
 from sleighsim.chaos.faithfulness import FOLLOWS, indicator_follows, injected_rounding
-from sleighsim.chaos.megno import megno, megno_from_log_norm
+from sleighsim.chaos.megno import megno
 from sleighsim.chaos.rule import TANGENT_BASED, classify, consistent, decide, faithful_gate, vote_gate
 from sleighsim.chaos.verdicts import CHAOTIC, UNDECIDED
 from sleighsim.engine import ddtaylor, integrators, transient
-from sleighsim.engine.ddtaylor import DDFlow
+from sleighsim.engine.ddbatch import DDBatch
 from sleighsim.engine.orbits import sleigh_orbit
 from sleighsim.io import cf
 from sleighsim.model import equations
@@ -48,28 +48,16 @@ def needs_tangent(voters) -> bool:
     return any(k in voters for k in TANGENT_JUDGED)
 
 
-def orbit_and_megno(params, y, dc: dict, *, tangent: bool = True) -> tuple[dict, dict | None]:
-    """The orbit from y (model variables) over dc["T"] sampled every dc["dt"] and, with ``tangent``,
-    MEGNO along it, in dc["precision"] at dc["tol"]: in double-double one run of
-    ``engine.ddtaylor.DDFlow`` (with one tangent vector: MEGNO from its log-norm,
-    ``chaos.megno.megno_from_log_norm``); in heyoka's arithmetics the orbit (``heyoka_orbit``) and a
-    MEGNO run (``chaos.megno.megno``, renormalised every dc["tau"]) over the same T. Returns (orbit:
-    t, Y in the model's variables as doubles, drift max |E/E0 - 1|, steps, and with the tangent
-    log_norm, the tangent vector's on t: interpolated between renormalisations in heyoka's
-    arithmetics), (the MEGNO run, None without the tangent)."""
-    precision = dc["precision"]
-    if precision is Precision.DOUBLE_DOUBLE:
-        return dd_orbit_and_megno(params, y, dc) if tangent else (dd_orbit(params, y, dc), None)
-    orbit = heyoka_orbit(params, y, dc, precision)
-    if not tangent:
-        return orbit, None
-    ta, _ = integrators.sleigh_megno(dc["tol"], precision, True)
-    integrators.set_pars(ta, params)
-    m = megno(ta, 4, stored_state(y), T=dc["T"], n_samples=dc["megno_samples"], tau=dc["tau"],
-              callback=integrators.bounded(ta))
-    ell = np.concatenate([[0.0], np.cumsum(m["log_growth"])])
-    orbit["log_norm"] = np.interp(orbit["t"], m["tau"] * np.arange(ell.size), ell)
-    return orbit, m
+def lane_orbits(params, ys, dc: dict, *, tangent: bool) -> list[dict]:
+    """The decisive orbits from the starts ``ys`` (model variables, one per lane) over dc["T"] sampled every
+    dc["dt"] in dc["precision"] at dc["tol"]: in double-double the lanes of one ``engine.ddbatch.DDBatch``
+    (each lane bit for bit ``DDFlow``'s orbit), in heyoka's arithmetics one orbit after another
+    (``heyoka_lane``). Each orbit: t, Y in the model's variables as doubles, drift max |E/E0 - 1|, steps and,
+    with ``tangent``, log_norm: the log-norm of one tangent vector on t (started in a random unit
+    direction, seed 0, as ``chaos.megno.megno``)."""
+    if dc["precision"] is Precision.DOUBLE_DOUBLE:
+        return dd_lanes(params, ys, dc, tangent=tangent)
+    return [heyoka_lane(params, y, dc, tangent=tangent) for y in ys]
 
 
 def _samples(dc: dict) -> int:
@@ -83,21 +71,37 @@ def _dd_drift(params, hi, lo) -> float:
     return ddtaylor.energy_drift(params, hi[::every], lo[::every])
 
 
-def dd_orbit(params, y, dc: dict) -> dict:
-    """``orbit_and_megno``'s orbit in double-double without a tangent vector (``engine.orbits.sleigh_orbit``)."""
-    orbit = sleigh_orbit(params, y, Precision.DOUBLE_DOUBLE, dc["tol"], _samples(dc), dc["dt"])
-    return {"t": orbit.t, "Y": orbit.Y, "steps": orbit.steps, "drift": _dd_drift(params, orbit.Y, orbit.lo)}
-
-
-def dd_orbit_and_megno(params, y, dc: dict) -> tuple[dict, dict]:
-    """``orbit_and_megno`` in double-double: the tangent vector starts in a random unit direction
-    (seed 0, as ``chaos.megno.megno``)."""
-    flow = DDFlow(params, dc["tol"])
-    grid = np.arange(_samples(dc)) * dc["dt"]
+def _unit_tangent() -> np.ndarray:
+    """The tangent vector's start: a random unit direction (seed 0, as ``chaos.megno.megno``)."""
     v0 = np.random.default_rng(0).normal(size=4)
-    hi, lo, log_norm, _ = flow.propagate_tangent_grid(np.asarray(y, float), v0 / np.linalg.norm(v0), grid)
-    orbit = {"t": grid, "Y": hi, "steps": flow.steps, "log_norm": log_norm, "drift": _dd_drift(params, hi, lo)}
-    return orbit, megno_from_log_norm(grid, log_norm, dc["megno_samples"])
+    return v0 / np.linalg.norm(v0)
+
+
+def dd_lanes(params, ys, dc: dict, *, tangent: bool) -> list[dict]:
+    """``lane_orbits`` in double-double: every start a lane of one DDBatch (per-lane steps)."""
+    batch, grid = DDBatch(params, dc["tol"]), np.arange(_samples(dc)) * dc["dt"]
+    ys = np.asarray(ys, float)
+    if tangent:
+        hi, lo, log_norm, _ = batch.propagate_tangent_grid(ys, np.tile(_unit_tangent(), (len(ys), 1)), grid)
+    else:
+        (hi, lo), log_norm = batch.propagate_grid(ys, grid), None
+    return [{"t": grid, "Y": hi[i], "steps": int(batch.steps[i]), "drift": _dd_drift(params, hi[i], lo[i]),
+             **({"log_norm": log_norm[i]} if tangent else {})} for i in range(len(ys))]
+
+
+def heyoka_lane(params, y, dc: dict, *, tangent: bool) -> dict:
+    """``lane_orbits`` in a heyoka arithmetic for one start: the orbit (``heyoka_orbit``) and, with
+    ``tangent``, a MEGNO run (``chaos.megno.megno``, renormalised every dc["tau"]) over the same T, its
+    log-norm interpolated onto t between renormalisations."""
+    orbit = heyoka_orbit(params, y, dc, dc["precision"])
+    if tangent:
+        ta, _ = integrators.sleigh_megno(dc["tol"], dc["precision"], True)
+        integrators.set_pars(ta, params)
+        m = megno(ta, 4, stored_state(y), T=dc["T"], n_samples=dc["megno_samples"], tau=dc["tau"],
+                  callback=integrators.bounded(ta))
+        ell = np.concatenate([[0.0], np.cumsum(m["log_growth"])])
+        orbit["log_norm"] = np.interp(orbit["t"], m["tau"] * np.arange(ell.size), ell)
+    return orbit
 
 
 def heyoka_orbit(params, y, dc: dict, precision: Precision) -> dict:
@@ -207,13 +211,36 @@ def decisive_config(cfg: dict) -> dict:
 
 
 def decisive_state(cfg: dict, stage1: xr.Dataset, scene: str = "", *, voters: frozenset) -> xr.Dataset:
-    """The decisive stage of the first stage's one state ``stage1`` (its chunk dataset): the orbit and
-    MEGNO from its settled state in the decisive arithmetic, the indicators judged again and the state's
-    verdict and class decided again (``decide_again``, ``state_class``)."""
+    """The decisive stage of one state (``decisive_lanes`` with one lane; its vote horizon and why in
+    cfg["decisive"])."""
+    dc = cfg["decisive"]
+    return decisive_lanes(cfg, [(stage1, voters, {"vote_horizon": dc["vote_horizon"],
+                                                  "vote_why": dc.get("vote_why", "")})], [scene])[0]
+
+
+def decisive_lanes(cfg: dict, lanes: list, scenes: list) -> list[xr.Dataset]:
+    """The decisive stage of the first stage's states ``lanes`` (each (its chunk dataset, its voters, its
+    vote_horizon and vote_why)), one lane each of one integration (``lane_orbits``, with a tangent vector
+    when any lane's voters need one): per lane the indicators judged again and the state's verdict and
+    class decided again (``judged_lane``). Each lane's wall time is its share of the stage's."""
     start = time.perf_counter()
-    params, dc, sigma = Params.from_config(cfg["params"]), decisive_config(cfg), cfg["sigma"]
-    y, tangent = stage1.settled_state.values[0], needs_tangent(voters)
-    orbit, _ = orbit_and_megno(params, y, dc, tangent=tangent)
+    params, dc = Params.from_config(cfg["params"]), decisive_config(cfg)
+    tangent = any(needs_tangent(voters) for _, voters, _ in lanes)
+    log.info("%s: decisive stage: %d lanes in %s over T = %g%s", scenes[0].split("#")[0], len(lanes),
+             dc["precision"], dc["T"], " with a tangent vector" if tangent else "")
+    orbits = lane_orbits(params, [s.settled_state.values[0] for s, _, _ in lanes], dc, tangent=tangent)
+    share = (time.perf_counter() - start) / len(lanes)
+    return [judged_lane({**cfg, "decisive": {**cfg["decisive"], **vote}}, stage1, orbit, scene, voters=voters,
+                        tangent=tangent, orbit_s=share)
+            for (stage1, voters, vote), orbit, scene in zip(lanes, orbits, scenes)]
+
+
+def judged_lane(cfg: dict, stage1: xr.Dataset, orbit: dict, scene: str, *, voters: frozenset, tangent: bool,
+                orbit_s: float) -> xr.Dataset:
+    """One lane's dataset: the indicators judged again on its decisive ``orbit``, the state's verdict and class
+    decided again (``decide_again``, ``state_class``); ``orbit_s`` its share of the integration's wall time."""
+    start = time.perf_counter()
+    dc, sigma = decisive_config(cfg), cfg["sigma"]
     gain_rounding = math.exp(float(stage1.ln_gain_max.values[0])) * injected_rounding(
         dc["precision"].rounding, _steps_per_cycle(stage1))
     judged = {"megno": megno_judged(orbit, dc, sigma) if tangent else not_run("megno", dc),
@@ -223,8 +250,10 @@ def decisive_state(cfg: dict, stage1: xr.Dataset, scene: str = "", *, voters: fr
     klass = state_class(stage1, verdict, sigma)
     log.info("%s: decisive stage in %s: %s (%s); %s", scene, dc["precision"], verdict, klass, reason)
     variables = _decisive_vars(stage1, judged, orbit, dc, verdict, reason, klass)
-    variables["decisive_wall_time_s"] = ("state", [time.perf_counter() - start],
-                                         {"long_name": "wall-clock time of the decisive stage's job", "units": "s"})
+    wall = orbit_s + time.perf_counter() - start
+    variables["decisive_wall_time_s"] = ("state", [wall], {
+        "long_name": "wall-clock time of the decisive stage for this state: its share of the lanes' integration "
+                     "and its own judging", "units": "s"})
     ds = xr.Dataset(variables,
                     coords={"state": stage1.state.values, "decisive_indicator": list(judged),
                             "decisive_megno_sample": np.arange(variables["decisive_megno_t"][1][0].size),
@@ -235,7 +264,7 @@ def decisive_state(cfg: dict, stage1: xr.Dataset, scene: str = "", *, voters: fr
                     decisive_vote_why=dc.get("vote_why", ""),
                     decisive_voters=sorted(voters), decisive_tangent=int(tangent),
                     decisive_rule=DECIDE_AGAIN_RULE, backend=_backend(dc["precision"]),
-                    wall_time_s=time.perf_counter() - start, stage="decisive")
+                    wall_time_s=wall, stage="decisive")
     return ds
 
 
@@ -340,4 +369,4 @@ def _steps_per_cycle(stage1: xr.Dataset) -> float:
 
 def _backend(precision: str) -> str:
     """The integrator of the decisive arithmetic."""
-    return "heyoka" if precision.heyoka else "sleighsim.engine.ddtaylor"
+    return "heyoka" if precision.heyoka else "sleighsim.engine.ddbatch"
