@@ -178,6 +178,35 @@ def test_the_first_screen_says_who_decided_and_what_would_decide_the_rest():
     assert _decided_by(ds_plain, 0) == "megno (double)"
 
 
+def test_the_first_screen_names_only_voters_with_their_power_at_the_horizon_voted_and_what_a_verdict_rests_on():
+    """_decided_by names a judge only where it votes (decisive_voting), with its counts at the audited factor
+    the stage voted at, under its record name (megno: megno_log_norm); _rests_on gives the regular judges'
+    exponent bound and the decision rule's own counts there, nothing for a state not decided."""
+    from sleighsim.report.chaos_answers import _decided_by, _rests_on
+
+    R, U = "regular", "undecided"
+    ds = _decisive_dataset([R, U], [R, U], [[U, U, U], [U, U, U]], [[R, R, R], [U, U, U]])
+    ds["decisive_voting"] = (("state", "decisive_indicator"), [[1, 0, 1], [1, 0, 1]])
+    ds["decisive_bound_text"] = ("state", np.array(["lambda_1 <= 9.2e-06 over T = 5e+05 (megno_log_norm)", ""],
+                                                   dtype=object))
+    ds.attrs["decisive_vote_horizon"] = 5.0
+    tori = {"N": 301, "correct": 142, "wrong": 0, "undecided": 159}
+    chaotic = {"N": 301, "correct": 0, "wrong": 0, "undecided": 301}
+    power = {"counts": {5.0: {j: {"chaotic": chaotic, "tori": {**tori, "correct": 200, "undecided": 101}}
+                              for j in ("birkhoff", "megno_log_norm")}},
+             "rule": {1.0: {"tori": {**tori, "correct": 0, "undecided": 301}, "chaotic": chaotic},
+                      5.0: {"tori": tori, "chaotic": chaotic}}}
+    decided = _decided_by(ds, 0, power)
+    assert decided.startswith("birkhoff (double-double; says regular on 200 of 301 tori, wrongly on 0 of 301 chaotic")
+    assert "megno (double-double; says regular on 200 of 301 tori" in decided and "frequency" not in decided
+    rests = _rests_on(ds, 0, R, power)
+    assert rests.startswith("lambda_1 <= 9.2e-06 over T = 5e+05 (megno_log_norm); the decision rule at audited "
+                            "factor 5 says regular on 142 of 301 tori and wrongly on 0 of 301 chaotic (95% bound")
+    assert _rests_on(ds, 1, U, power) == "" and _rests_on(ds, 0, R) == "lambda_1 <= 9.2e-06 over T = 5e+05 " \
+                                                                          "(megno_log_norm)"
+    assert _rests_on(ds.drop_vars("decisive_bound_text"), 0, R) == ""
+
+
 def test_the_first_screen_names_the_arithmetic_each_state_was_decided_in():
     """report._decided_in: MEGNO's precision, the frequency analysis' precisions, and which arithmetic
     follows the orbit (some, none, or unknown when the gauge saw no complete cycle)."""

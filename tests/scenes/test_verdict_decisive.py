@@ -12,7 +12,7 @@ import xarray as xr
 from sleighsim.chaos.megno import megno_from_log_norm
 from sleighsim.chaos.verdicts import CHAOTIC, REGULAR, UNDECIDED
 from sleighsim.precision import parsed
-from sleighsim.scenes import verdict, verdict_decisive, verdict_lanes
+from sleighsim.scenes import verdict, verdict_decisive, verdict_decisive_orbits, verdict_lanes
 from sleighsim.scenes.checks import ConfigError
 
 C, G, U = CHAOTIC, REGULAR, UNDECIDED
@@ -67,11 +67,11 @@ def test_lanes_integrated_together_are_each_the_scalar_engines_orbit():
     dc = {**_decisive_cfg()["decisive"], "T": 50.0}
     params = Params.from_config({"eps": 0.1, "b": 1.0, "K2": 1.1})
     ys = [[0.02, 0.02, 3.3, 2.5], [0.021, 0.019, 3.31, 2.4], [0.0, 0.1, 1.0, 0.0]]
-    lanes = verdict_decisive.lane_orbits(params, ys, dc, tangent=True)
+    lanes = verdict_decisive_orbits.lane_orbits(params, ys, dc, tangent=True)
     grid = np.arange(101) * 0.5
     for y, lane in zip(ys, lanes):
         flow = DDFlow(params, dc["tol"])
-        hi, _, log_norm, _ = flow.propagate_tangent_grid(np.asarray(y), verdict_decisive._unit_tangent(), grid)
+        hi, _, log_norm, _ = flow.propagate_tangent_grid(np.asarray(y), verdict_decisive_orbits._unit_tangent(), grid)
         assert np.array_equal(lane["Y"], hi) and np.array_equal(lane["log_norm"], log_norm)
         assert lane["steps"] == flow.steps
 
@@ -240,3 +240,18 @@ def test_without_a_voting_tangent_judge_the_stage_runs_the_orbit_alone(voters):
     assert np.isfinite(ds.decisive_megno_Y_mean.values[0]).all() == tangent
     assert ds.decisive_energy_max_rel_drift.values[0] < 1e-18  # NaN fails too
     assert not reasons["birkhoff"].startswith("not run")
+
+
+def test_a_regular_verdict_states_the_exponent_bound_of_the_judges_that_voted_it():
+    """MEGNO regular after the gates bounds lambda_1 by 2 (<Y> + sigma resid) / T; Birkhoff regular confirms the
+    torus; a MEGNO set aside by the gates (not voting) bounds nothing, whatever it said before."""
+    judged = {"megno": {"verdict": (G, "y"), "numbers": {"Y_mean": 2.0, "Y_resid": 0.1, "T": 5e5}},
+              "section_megno": {"verdict": (U, "n"), "numbers": {}},
+              "frequency": {"verdict": (G, "f"), "numbers": {}}, "birkhoff": {"verdict": (G, "b"), "numbers": {}}}
+    gated = {k: v["verdict"] for k, v in judged.items()}
+    b = verdict_decisive.what_regular_bounds(judged, gated, 3.0)
+    assert b["lambda_max"] == pytest.approx(2 * 2.3 / 5e5) and b["T"] == 5e5 and b["by"] == "megno_log_norm"
+    assert "confirmed by a torus-specific judge (birkhoff, frequency_orbit)" in b["text"]
+    gated.update(megno=(U, "does not vote"), birkhoff=(U, "does not vote"), frequency=(U, "does not vote"))
+    b = verdict_decisive.what_regular_bounds(judged, gated, 3.0)
+    assert math.isnan(b["lambda_max"]) and b["text"].startswith("no tangent-based judge bounds lambda_1; not confirmed")

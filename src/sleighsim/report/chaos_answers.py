@@ -10,18 +10,23 @@ from typing import NamedTuple
 
 import numpy as np
 
+from sleighsim.chaos.indicators import DECISIVE, of_stage
 from sleighsim.chaos.known_orbits import CHAOTIC_ORBITS, TORI
-from sleighsim.chaos.power import record_rates, record_voting
+from sleighsim.chaos.power import from_counts, record_rates, record_voting
 from sleighsim.io.netcdf import read_dataset
 from sleighsim.precision import Precision
 from sleighsim.report.page import Table
+
+#: The judge-power record's name of each decisive judge's verdict name.
+RECORD_NAME = {i.verdict_name: i.name for i in of_stage(DECISIVE)}
 
 
 class ChaosAnswer(NamedTuple):
     """One steady state's chaos verdict: its name, verdict, why, the arithmetic it was decided in (with
     G x rounding there), its class, the indicators that decided it (with their arithmetic), and, when it
     is not decided, what would decide it and at what measured cost; and what the state is (its start's own
-    steady state or a torus the settling arithmetic's rounding selected)."""
+    steady state or a torus the settling arithmetic's rounding selected); for a decided state, what the verdict
+    rests on (the exponent bound of its judges and the decision rule's measured wrong rate)."""
 
     state: str
     verdict: str
@@ -31,6 +36,7 @@ class ChaosAnswer(NamedTuple):
     decided_by: str = ""
     to_decide: str = ""
     origin: str = ""
+    rests_on: str = ""
 
 def chaos_answers(datasets: dict, power: dict | None = None) -> list[ChaosAnswer]:
     """Per state of every dataset with per-state chaos verdicts (a ``state`` dimension with
@@ -53,7 +59,7 @@ def dataset_answers(ds, power: dict | None = None) -> list[ChaosAnswer]:
         origin = str(ds.state_origin.values[i]) if "state_origin" in ds.data_vars else ""
         out.append(ChaosAnswer(str(st), verdict, reason + _arithmetic_note(ds, i) + _tori_note(ds, i),
                                _decided_in(ds, i), klass, _decided_by(ds, i, power),
-                               _to_decide(ds, i, verdict, power), origin))
+                               _to_decide(ds, i, verdict, power), origin, _rests_on(ds, i, verdict, power)))
     return out
 
 
@@ -62,12 +68,20 @@ def _decisive_ran(ds, i: int) -> bool:
     return "decisive_verdict" in ds.data_vars and str(ds.decisive_verdict.values[i]) != "not run"
 
 
-def _power_note(power: dict | None, judge: str, verdict: str) -> str:
-    """A judge's measured power for a verdict, from the judge-power record: right on n of N orbits of the
-    class the verdict names, wrong on m of M of the other; "" without the record or the judge in it."""
+def _vote_factor(ds) -> float:
+    """The audited horizon factor the decisive stage voted at (1 without the stage or a finite factor)."""
+    h = float(ds.attrs.get("decisive_vote_horizon", 1.0))
+    return h if np.isfinite(h) else 1.0
+
+
+def _power_note(power: dict | None, judge: str, verdict: str, factor: float = 1.0) -> str:
+    """A judge's (its verdict name) measured power for a verdict at the audited horizon ``factor``, from the
+    judge-power record: right on n of N orbits of the class the verdict names, wrong on m of M of the other;
+    "" without the record, "; not audited" without the judge there."""
     if power is None:
         return ""
-    rows = {r["class"]: r for r in record_rates(power, 1.0) if r["judge"] == judge}
+    name = RECORD_NAME.get(judge, judge)
+    rows = {r["class"]: r for r in record_rates(power, factor) if r["judge"] == name}
     right, other = (TORI, CHAOTIC_ORBITS) if verdict == "regular" else (CHAOTIC_ORBITS, TORI)
     if right not in rows or other not in rows:
         return "; not audited"
@@ -77,18 +91,44 @@ def _power_note(power: dict | None, judge: str, verdict: str) -> str:
 
 
 def _decided_by(ds, i: int, power: dict | None = None) -> str:
-    """The indicators whose verdict equals state i's (chaotic or regular), with the arithmetic each was
-    judged in and its measured power (``_power_note``); "" when the state is not decided."""
+    """The indicators that vote and whose verdict equals state i's (chaotic or regular), with the arithmetic
+    each was judged in and its measured power at the horizon voted at (``_power_note``); "" when the state is
+    not decided."""
     verdict = str(ds.verdict.values[i])
     if verdict not in ("chaotic", "regular") or "indicator_verdict" not in ds.data_vars:
         return ""
     names = {str(k): Precision.DOUBLE
              for k, v in zip(ds.indicator.values, ds.indicator_verdict.values[i]) if v == verdict}
+    factor = 1.0
     if _decisive_ran(ds, i):
+        factor = _vote_factor(ds)
+        voting = (ds.decisive_voting.values[i] if "decisive_voting" in ds.data_vars
+                  else np.ones(ds.sizes["decisive_indicator"], int))
         names = {k: a for k, a in names.items() if k not in set(map(str, ds.decisive_indicator.values))}
-        names.update({str(k): ds.attrs["decisive_precision"] for k, v in
-                      zip(ds.decisive_indicator.values, ds.decisive_indicator_verdict.values[i]) if v == verdict})
-    return ", ".join(f"{k} ({a}{_power_note(power, k, verdict)})" for k, a in sorted(names.items()))
+        names.update({str(k): ds.attrs["decisive_precision"] for k, v, on in
+                      zip(ds.decisive_indicator.values, ds.decisive_indicator_verdict.values[i], voting)
+                      if v == verdict and int(on)})
+    return ", ".join(f"{k} ({a}{_power_note(power, k, verdict, factor)})" for k, a in sorted(names.items()))
+
+
+def _rests_on(ds, i: int, verdict: str, power: dict | None = None) -> str:
+    """What state i's decided verdict rests on: the exponent bound of its regular tangent-based judges (the
+    decisive stage's ``decisive_bound_text``) and the decision rule's own counts at the horizon voted at (the
+    judge-power record: right on the verdict's class, wrong on the other, with the 95% bound); "" when not
+    decided or neither is known."""
+    if verdict not in ("chaotic", "regular"):
+        return ""
+    parts = []
+    if verdict == "regular" and "decisive_bound_text" in ds.data_vars and _decisive_ran(ds, i):
+        parts.append(str(ds.decisive_bound_text.values[i]))
+    factor = _vote_factor(ds)
+    rule = next((v for k, v in (power or {}).get("rule", {}).items() if float(k) == factor), None)
+    if rule:
+        right, other = (TORI, CHAOTIC_ORBITS) if verdict == "regular" else (CHAOTIC_ORBITS, TORI)
+        a, b = from_counts(rule[right]), from_counts(rule[other])
+        parts.append(f"the decision rule at audited factor {factor:g} says {verdict} on {a['correct']} of {a['N']} "
+                     f"{right} and wrongly on {b['wrong']} of {b['N']} {other} (95% bound {b['wrong_upper95']:.2g})")
+    return "; ".join(parts)
 
 
 def _to_decide(ds, i: int, verdict: str, power: dict | None = None) -> str:

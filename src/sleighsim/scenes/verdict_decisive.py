@@ -21,18 +21,18 @@ import xarray as xr
 
 from sleighsim.chaos import decisive
 from sleighsim.chaos.birkhoff import observables
+from sleighsim.chaos.bounds import BOUND_RULE, regular_bound
 from sleighsim.chaos.faithfulness import FOLLOWS, indicator_follows, injected_rounding
-from sleighsim.chaos.megno import megno
+from sleighsim.chaos.indicators import DECISIVE as DECISIVE_STAGE
+from sleighsim.chaos.indicators import of_stage
 from sleighsim.chaos.rule import TANGENT_BASED, classify, consistent, decide, faithful_gate, vote_gate
-from sleighsim.chaos.verdicts import CHAOTIC, UNDECIDED
-from sleighsim.engine import ddtaylor, integrators, transient
-from sleighsim.engine.ddbatch import DDBatch
-from sleighsim.engine.orbits import sleigh_orbit
+from sleighsim.chaos.verdicts import CHAOTIC, REGULAR, UNDECIDED
+from sleighsim.engine import transient
 from sleighsim.io import cf
 from sleighsim.model import equations
 from sleighsim.model.params import Params
 from sleighsim.precision import Precision
-from sleighsim.scenes.common import stored_state
+from sleighsim.scenes.verdict_decisive_orbits import lane_orbits
 
 log = logging.getLogger("sleighsim")
 
@@ -46,70 +46,6 @@ def needs_tangent(voters) -> bool:
     """Whether the stage integrates a tangent vector: only when one of its tangent-based judges
     (TANGENT_JUDGED) votes at its horizon; otherwise their verdicts could not count (``vote_gate``)."""
     return any(k in voters for k in TANGENT_JUDGED)
-
-
-def lane_orbits(params, ys, dc: dict, *, tangent: bool) -> list[dict]:
-    """The decisive orbits from the starts ``ys`` (model variables, one per lane) over dc["T"] sampled every
-    dc["dt"] in dc["precision"] at dc["tol"]: in double-double the lanes of one ``engine.ddbatch.DDBatch``
-    (each lane bit for bit ``DDFlow``'s orbit), in heyoka's arithmetics one orbit after another
-    (``heyoka_lane``). Each orbit: t, Y in the model's variables as doubles, drift max |E/E0 - 1|, steps and,
-    with ``tangent``, log_norm: the log-norm of one tangent vector on t (started in a random unit
-    direction, seed 0, as ``chaos.megno.megno``)."""
-    if dc["precision"] is Precision.DOUBLE_DOUBLE:
-        return dd_lanes(params, ys, dc, tangent=tangent)
-    return [heyoka_lane(params, y, dc, tangent=tangent) for y in ys]
-
-
-def _samples(dc: dict) -> int:
-    """The decisive orbit's number of samples: t = 0, dt, ..., T."""
-    return round(dc["T"] / dc["dt"]) + 1
-
-
-def _dd_drift(params, hi, lo) -> float:
-    """The energy drift of a double-double orbit at 200 bits on at most 201 of its samples."""
-    every = max(1, hi.shape[0] // 200)
-    return ddtaylor.energy_drift(params, hi[::every], lo[::every])
-
-
-def _unit_tangent() -> np.ndarray:
-    """The tangent vector's start: a random unit direction (seed 0, as ``chaos.megno.megno``)."""
-    v0 = np.random.default_rng(0).normal(size=4)
-    return v0 / np.linalg.norm(v0)
-
-
-def dd_lanes(params, ys, dc: dict, *, tangent: bool) -> list[dict]:
-    """``lane_orbits`` in double-double: every start a lane of one DDBatch (per-lane steps)."""
-    batch, grid = DDBatch(params, dc["tol"]), np.arange(_samples(dc)) * dc["dt"]
-    ys = np.asarray(ys, float)
-    if tangent:
-        hi, lo, log_norm, _ = batch.propagate_tangent_grid(ys, np.tile(_unit_tangent(), (len(ys), 1)), grid)
-    else:
-        (hi, lo), log_norm = batch.propagate_grid(ys, grid), None
-    return [{"t": grid, "Y": hi[i], "steps": int(batch.steps[i]), "drift": _dd_drift(params, hi[i], lo[i]),
-             **({"log_norm": log_norm[i]} if tangent else {})} for i in range(len(ys))]
-
-
-def heyoka_lane(params, y, dc: dict, *, tangent: bool) -> dict:
-    """``lane_orbits`` in a heyoka arithmetic for one start: the orbit (``heyoka_orbit``) and, with
-    ``tangent``, a MEGNO run (``chaos.megno.megno``, renormalised every dc["tau"]) over the same T, its
-    log-norm interpolated onto t between renormalisations."""
-    orbit = heyoka_orbit(params, y, dc, dc["precision"])
-    if tangent:
-        ta, _ = integrators.sleigh_megno(dc["tol"], dc["precision"], True)
-        integrators.set_pars(ta, params)
-        m = megno(ta, 4, stored_state(y), T=dc["T"], n_samples=dc["megno_samples"], tau=dc["tau"],
-                  callback=integrators.bounded(ta))
-        ell = np.concatenate([[0.0], np.cumsum(m["log_growth"])])
-        orbit["log_norm"] = np.interp(orbit["t"], m["tau"] * np.arange(ell.size), ell)
-    return orbit
-
-
-def heyoka_orbit(params, y, dc: dict, precision: Precision) -> dict:
-    """The orbit from y in heyoka's ``precision`` at dc["tol"], sampled every dc["dt"] over dc["T"]
-    (``engine.orbits.sleigh_orbit``): t, Y (the model's variables, as doubles), drift and steps."""
-    orbit = sleigh_orbit(params, y, precision, dc["tol"], _samples(dc), dc["dt"])
-    E = equations.energy(orbit.Y, params)
-    return {"t": orbit.t, "Y": orbit.Y, "steps": orbit.steps, "drift": float(np.max(np.abs(E / E[0] - 1)))}
 
 
 def section_megno_judged(orbit: dict, dc: dict, sigma: float) -> dict:
@@ -246,10 +182,14 @@ def judged_lane(cfg: dict, stage1: xr.Dataset, orbit: dict, scene: str, *, voter
     judged = {"megno": megno_judged(orbit, dc, sigma) if tangent else not_run("megno", dc),
               "section_megno": section_megno_judged(orbit, dc, sigma) if tangent else not_run("section_megno", dc),
               "frequency": frequency_stage(orbit, dc, sigma), "birkhoff": birkhoff_stage(orbit, dc, gain_rounding)}
-    verdict, reason, _ = decide_again(stage1, judged, dc["precision"], sigma, voters)
+    verdict, reason, gated = decide_again(stage1, judged, dc["precision"], sigma, voters)
+    bound = what_regular_bounds(judged, gated, sigma)
+    if verdict == REGULAR:
+        reason = f"{reason}; {bound['text']}"
     klass = state_class(stage1, verdict, sigma)
     log.info("%s: decisive stage in %s: %s (%s); %s", scene, dc["precision"], verdict, klass, reason)
     variables = _decisive_vars(stage1, judged, orbit, dc, verdict, reason, klass)
+    variables.update(_bound_vars(bound, [k in voters for k in judged]))
     wall = orbit_s + time.perf_counter() - start
     variables["decisive_wall_time_s"] = ("state", [wall], {
         "long_name": "wall-clock time of the decisive stage for this state: its share of the lanes' integration "
@@ -263,9 +203,33 @@ def judged_lane(cfg: dict, stage1: xr.Dataset, orbit: dict, scene: str, *, voter
                     decisive_splits=list(dc["splits"]), decisive_vote_horizon=float(dc["vote_horizon"]),
                     decisive_vote_why=dc.get("vote_why", ""),
                     decisive_voters=sorted(voters), decisive_tangent=int(tangent),
-                    decisive_rule=DECIDE_AGAIN_RULE, backend=_backend(dc["precision"]),
+                    decisive_rule=DECIDE_AGAIN_RULE, decisive_bound_rule=BOUND_RULE, backend=_backend(dc["precision"]),
                     wall_time_s=wall, stage="decisive")
     return ds
+
+
+def what_regular_bounds(judged: dict, gated: dict, sigma: float) -> dict:
+    """``chaos.bounds.regular_bound`` of the decisive stage's judges, each with its verdict after the gates
+    (``gated``: a judge that does not vote or whose arithmetic does not follow closely enough bounds nothing)
+    and the numbers it rests on, under its registry name (``chaos.indicators``)."""
+    names = {i.verdict_name: i.name for i in of_stage(DECISIVE_STAGE)}
+    return regular_bound({names[k]: {"verdict": gated[k], "numbers": judged[k].get("numbers", {})} for k in judged},
+                         sigma)
+
+
+def _bound_vars(bound: dict, voting: list) -> dict:
+    """The variables of what a regular verdict bounds and of which decisive judges vote."""
+    return {
+        "decisive_lambda_max": ("state", [bound["lambda_max"]],
+                                cf.attrs("the largest lambda_1 the regular tangent-based judges leave room for "
+                                         "(NaN: none said regular)", "rate")),
+        "decisive_bound_T": ("state", [bound["T"]], cf.attrs("the horizon that bound holds over", "time")),
+        "decisive_bound_text": ("state", np.array([bound["text"]], dtype=object),
+                                {"long_name": "what a regular verdict bounds (decisive_bound_rule)"}),
+        "decisive_voting": (("state", "decisive_indicator"), [np.asarray(voting, int)],
+                            {"long_name": "does the judge vote at the stage's horizon (the judge-power record)",
+                             "units": "1"}),
+    }
 
 
 def _section_curve(judged: dict) -> np.ndarray:
