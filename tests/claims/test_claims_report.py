@@ -1,7 +1,6 @@
 """Claims ledger rules, completeness against CLAIMS.md, and the rendered report."""
 
 import re
-import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -17,6 +16,7 @@ from sleighsim.claims import ledger as claims
 from sleighsim.claims.rules import DIFFERING
 from sleighsim.io.claims_table import parse_claims, parse_values
 from sleighsim.io.netcdf import read_dataset
+from sleighsim.ops import screenshot
 from sleighsim.report.figures.catalog import FIGURES
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -181,13 +181,6 @@ def test_caption_math_becomes_mathml():
     assert "$" not in out and out.count("<math") == 2 and "&lt;b&gt;" in out
 
 
-def _chromium():
-    for name in ("chromium", "chromium-browser", "google-chrome"):
-        if shutil.which(name):
-            return shutil.which(name)
-    return None
-
-
 def _first_screen_colours(shot: Path) -> set[str]:
     """The verdict colours (report.COLOURS) found in the top 900 px of a screenshot."""
     from matplotlib.image import imread
@@ -208,13 +201,11 @@ def test_report_renders_in_headless_chromium(smoke_run, tmp_path):
     """Render the smoke workflow's report in a 1280 x 900 window: every image loads, every claim id
     has its row, the first screen holds the whole claims grid and the chaos answer (measured by the
     browser's layout, and seen in a screenshot as the verdicts' colours)."""
-    browser = _chromium()
+    browser = screenshot.browser()
     if browser is None:
         pytest.skip("Chromium is not installed (apt-get install chromium); .ci/run installs it")
     page = smoke_run / SMOKE_RESULTS / "report" / "index.html"
-    flags = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
-             "--disable-component-update", "--disable-sync", "--no-first-run", f"--user-data-dir={tmp_path / 'chrome'}",
-             "--virtual-time-budget=10000", "--window-size=1280,900", "--hide-scrollbars"]
+    flags = screenshot.flags(tmp_path / "chrome")
     dom = subprocess.run([browser, *flags, "--dump-dom", page.as_uri()], capture_output=True, text=True, timeout=120)
     m = re.search(r"images: (\d+) broken: (\d+)", dom.stdout)
     assert m, dom.stdout[-2000:] + dom.stderr[-2000:]
@@ -233,8 +224,7 @@ def test_report_renders_in_headless_chromium(smoke_run, tmp_path):
     assert "$" not in text, text[text.index("$") - 200: text.index("$") + 200]
     answers = dom.stdout[dom.stdout.index('id="answers"'): dom.stdout.index('id="findings"')]
     assert "chaos_verdict" not in answers  # no dataset names in the first screen's labels
-    shot = tmp_path / "shot.png"
-    subprocess.run([browser, *flags, f"--screenshot={shot}", page.as_uri()], capture_output=True, timeout=120)
+    shot = screenshot.screenshot(page, tmp_path / "shot.png", browser)  # as the README's image is made
     ledger = read_dataset(smoke_run / SMOKE_RESULTS / "claims.nc")
     assert set(ledger.verdict.values) <= _first_screen_colours(shot)  # the legend shows every verdict's colour
     md = (smoke_run / SMOKE_RESULTS / "report" / "README.md").read_text()
