@@ -148,3 +148,15 @@ def test_laws_fit_the_tori_in_the_law_range():
     assert law["period"]["slope"] == pytest.approx(-85.0) and law["period"]["slope_err"] == pytest.approx(5.0)
     assert law["offset"]["slope"] == pytest.approx(0.25) and law["offset"]["slope_err"] == pytest.approx(0.05)
     assert law["period"]["K"] == 2 and law["period"]["residual"] < 1e-9
+
+
+def test_the_orbits_of_a_chunk_are_lanes_each_bit_for_bit_the_scalar_engines():
+    """propagate_orbits batches the orbits of each horizon (engine.ddbatch): every orbit's samples and steps
+    equal DDFlow's from the same start, whatever horizon group it is in."""
+    flow = DDFlow(Params.from_config({"eps": 0.1, "b": 1.0, "K2": 1.1}), tol=1e-24)
+    starts = [np.array([0.02, 0.02, 3.3, 2.5]), np.array([0.0, 0.1, 1.0, 0.0]), np.array([0.021, 0.019, 3.31, 2.4])]
+    runs = ts.propagate_orbits(flow, starts, [30.0, 12.0, 30.0], 0.5)
+    for y0, T, run in zip(starts, (30.0, 12.0, 30.0), runs):
+        hi, lo = flow.propagate_grid(y0, np.arange(0.0, T + 0.25, 0.5))
+        assert np.array_equal(run["hi"], hi) and np.array_equal(run["lo"], lo) and run["steps"] == flow.steps
+        assert run["grid"][-1] == T and run["cpu_s"] >= 0
