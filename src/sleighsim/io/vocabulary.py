@@ -109,6 +109,15 @@ VOCABULARY: dict[str, tuple[str, str]] = {
     "omega_block_drift": ("largest relative drift of omega's block means over the replicas", "1"),
     "rounds_wall_s": ("wall-clock time of the row's Benettin rounds at b = 1 (one core)", "s"),
     "round_length": ("horizon each Benettin round adds to every replica", "time"),
+    "row_ln_gain_max": ("largest ln G over the spike cycles of the row's settled orbit (the faithfulness gauge)", "1"),
+    "row_gain_steps_per_cycle": ("the gauge's Taylor steps per spike cycle of the row's orbit", "1"),
+    "row_log10_gain_rounding": ("log10(G_max x steps per cycle x unit roundoff of lambda_1's arithmetic) of the row",
+                                "1"),
+    "faithful_code": ("index of the cheapest arithmetic that follows the row's orbit in grid.LADDER (double, long "
+                      "double, double-double, quad; 4: none; NaN: unknown)", "1"),
+    "faithful_arithmetic": ("the cheapest arithmetic that follows the row's orbit (the faithfulness gauge)", "text"),
+    "lambda_1_follows": ("does lambda_1's arithmetic follow the row's orbit: follows, does not follow or unknown",
+                         "text"),
     "rotation_number": ("rotation number of the P_2pi iterates", "1"),
     "curve_thickness": ("thickness of the curve of the P_2pi iterates "
                         "(sleighsim.engine.poincare.curve_thickness)", "1"),

@@ -18,6 +18,7 @@ import numpy as np
 import xarray as xr
 
 from sleighsim.chaos import benettin
+from sleighsim.chaos.faithfulness import DOES_NOT_FOLLOW, FOLLOWS, UNKNOWN, spike_cycle_gains
 from sleighsim.engine import integrators, poincare, transient
 from sleighsim.engine.integrate import orbit_samples
 from sleighsim.engine.transient import settle
@@ -36,8 +37,18 @@ log = logging.getLogger("sleighsim")
 ROW_VARIABLES = ("lambda_1", "stderr", "T", "tau", "status_code", "transient_over", "omega_block_drift", "steady",
                  "settling_time", "t_pre", "spike_interval", "spike_interval_std", "rotation_number",
                  "curve_thickness", "b_check_max_diff", "b_check_bound", "wall_time_s", "rounds_wall_s",
-                 "round_length")
+                 "round_length", "row_ln_gain_max", "row_gain_steps_per_cycle", "row_log10_gain_rounding",
+                 "faithful_code")
 STATUS = ("converged", "regular", "capped", "elsewhere")
+#: The arithmetics a row's lambda_1 could be computed in, cheapest first (costs per time unit:
+#: benchmarks/precision_cost.yaml, benchmarks/ddbatch.yaml); a row's faithful_code indexes it (len: none).
+LADDER = (Precision.DOUBLE, Precision.LONG_DOUBLE, Precision.DOUBLE_DOUBLE, Precision.QUAD)
+#: Written into the dataset (attribute gauge_rule).
+GAUGE_RULE = ("per row, the faithfulness gauge along its settled orbit (chaos.faithfulness.spike_cycle_gains in "
+              "double over T_gain x s, re-orthonormalised every tau_gain x s, s = reference_eps / eps): ln G of every "
+              "spike cycle; an arithmetic follows the row's orbit when G_max x steps per cycle x its unit roundoff "
+              "< FAITHFUL_MAX; faithful_arithmetic is the cheapest of LADDER that does, lambda_1_follows whether "
+              "lambda_1's own arithmetic does (unknown: no complete spike cycle within T_gain)")
 
 
 def axes(cfg: dict) -> tuple[np.ndarray, np.ndarray]:
@@ -121,6 +132,7 @@ def row(cfg: dict, eps: float, label: str = "", check_b: bool = False) -> dict:
                     tol=cfg["tol"], label=label, progress=1)
     replicas, interval, interval_std = _replicas(p, y, cfg, s, label)
     B, arith = cfg["replicas"], steady_arithmetic(cfg)
+    gauge = row_gauge(p, y, cfg, s, arith["precision"])
     ta, _ = benettin.sleigh_tangent_lanes(B, arith["tol"], cfg["compact_mode"], precision=arith["precision"])
     integrators.set_pars(ta, p)
     kw = dict(T_round=cfg["T_round"] * s, max_rounds=cfg["max_rounds"], target_rel=cfg["target_rel"],
@@ -135,7 +147,7 @@ def row(cfg: dict, eps: float, label: str = "", check_b: bool = False) -> dict:
            "t_pre": t_pre, "spike_interval": interval, "spike_interval_std": interval_std,
            "rotation_number": math.nan, "curve_thickness": math.nan, "b_check_max_diff": math.nan,
            "b_check_bound": math.nan, "rounds_wall_s": rounds_wall, "round_length": kw["T_round"], "settled": y,
-           "rule": r["rule"]}
+           "rule": r["rule"], **gauge}
     if cfg["poincare_span"] > 0:
         c = poincare.crossings(p, replicas[0], 0.0, cfg["poincare_span"] * s, **arith, scene=label)
         pts = np.c_[c["u"], c["Omega"], c["omega"]][c["k"] == 0]
@@ -162,6 +174,35 @@ def row(cfg: dict, eps: float, label: str = "", check_b: bool = False) -> dict:
     log.info("%s: lambda_1 = %.4g +- %.2g (%s, T = %.4g per replica), omega drift %.2g, interval %.4g, %.1f s",
              label, out["lambda_1"], out["stderr"], r["status"], r["T"], drift, interval, out["wall_time_s"])
     return out
+
+
+def row_gauge(p: Params, y, cfg: dict, s: float, arithmetic: Precision) -> dict:
+    """The row's faithfulness gauge (:data:`GAUGE_RULE`): row_ln_gain_max, row_gain_steps_per_cycle,
+    row_log10_gain_rounding (G_max x steps x unit roundoff of ``arithmetic``, log10) and faithful_code (the
+    index in LADDER of the cheapest arithmetic that follows; len(LADDER): none; NaN: unknown)."""
+    ta, _ = integrators.sleigh_tangent(4, cfg["tol"], cfg["compact_mode"])
+    integrators.set_pars(ta, p)
+    g = spike_cycle_gains(ta, y, T=cfg["T_gain"] * s, tau=cfg["tau_gain"] * s,
+                          spike_factor=cfg["transient"]["spike_factor"])
+    follows = [g["follows"][a] for a in LADDER]
+    code = math.nan if UNKNOWN in follows else next((i for i, f in enumerate(follows) if f == FOLLOWS), len(LADDER))
+    return {"row_ln_gain_max": g["ln_gain_max"], "row_gain_steps_per_cycle": g["steps_per_cycle"],
+            "row_log10_gain_rounding": g["log10_gain_rounding"][arithmetic], "faithful_code": float(code)}
+
+
+def faithful_words(codes, arithmetic: Precision) -> tuple[list[str], list[str]]:
+    """Per row (its faithful_code): the cheapest arithmetic that follows its orbit (or "none of ..." /
+    "unknown (...)"), and whether ``arithmetic`` (lambda_1's) does: follows, does not follow or unknown."""
+    names, verdicts = [], []
+    for c in codes:
+        if not np.isfinite(c):
+            names.append("unknown (no complete spike cycle within T_gain)")
+            verdicts.append(UNKNOWN)
+            continue
+        c = int(c)
+        names.append(LADDER[c].value if c < len(LADDER) else "none of " + ", ".join(a.value for a in LADDER))
+        verdicts.append(FOLLOWS if c <= LADDER.index(arithmetic) else DOES_NOT_FOLLOW)
+    return names, verdicts
 
 
 def chunk(cfg: dict, index: int, scene: str = "") -> xr.Dataset:
@@ -204,6 +245,10 @@ def gather(paths, cfg: dict, scene: str = "") -> xr.Dataset:
     ds["lambda_1_grid"] = (("eps", "b"), np.repeat(ds.lambda_1.values[:, None], bs.size, axis=1),
                            cf.attrs("lambda_1(eps, b) = lambda_1(eps, 1) by the length-scale symmetry", "rate"))
     ds["status"] = ("eps", np.array([STATUS[int(c)] for c in ds.status_code.values], dtype=object))
+    arithmetic = Precision.parse(steady_arithmetic(cfg)["precision"])
+    names, follow = faithful_words(ds.faithful_code.values, arithmetic)
+    ds["faithful_arithmetic"] = ("eps", np.array(names, dtype=object))
+    ds["lambda_1_follows"] = ("eps", np.array(follow, dtype=object))
     ref = reference_row(cfg)
     ok = ~flagged
     ds.attrs.update(
@@ -220,6 +265,7 @@ def gather(paths, cfg: dict, scene: str = "") -> xr.Dataset:
         flag_rule="transient not over, or a replica's omega block means drift by more than transient.rtol, or "
                   "lambda_1 not resolved (status regular or capped), or the row left to another config (elsewhere)",
         n_rows=int(eps.size), n_points=int(eps.size * bs.size), fraction_flagged=float(flagged.mean()),
+        gauge_rule=GAUGE_RULE, n_rows_followed=int(sum(f == FOLLOWS for f in follow)),
         min_lambda_1=float(np.nanmin(ds.lambda_1.values)), max_lambda_1=float(np.nanmax(ds.lambda_1.values)),
         min_lambda_1_unflagged=float(np.nanmin(ds.lambda_1.values[ok])) if ok.any() else math.nan,
         cost_total_s=float(np.nansum(ds.wall_time_s.values)), transient_tol=cfg["tol"],
@@ -243,7 +289,7 @@ def _observed(ds: xr.Dataset, ref: int) -> dict:
 
 #: Keys the lyapunov_grid work model reads (everything else of such a block is outside the model).
 WORK_KEYS = ("eps_range", "n_eps", "n_chunks", "reference_eps", "t_pre", "t_pre_min", "replicas",
-             "replica_spacing", "t_align", "T_round", "max_rounds", "poincare_span", "b_check", "eps")
+             "replica_spacing", "t_align", "T_round", "max_rounds", "poincare_span", "b_check", "eps", "T_gain")
 
 
 def grid_rows(cfg: dict) -> list[tuple[float, float]]:
@@ -256,6 +302,7 @@ def grid_rows(cfg: dict) -> list[tuple[float, float]]:
       lanes of one batch (the brief's n_b / batch_size), and max_rounds is the cap (rows that converge
       earlier cost less; target_rel is not modelled);
     - Poincare crossings: poincare_span x s;
+    - the faithfulness gauge: T_gain x s (one orbit with its 4 x 4 tangent map);
     - the reference row also runs one round per b_check value: len(b_check) x (t_align + T_round) x s.
 
     n_b costs nothing: b is an exact symmetry and every row is computed once at b = 1; a row left to
@@ -270,6 +317,7 @@ def grid_rows(cfg: dict) -> list[tuple[float, float]]:
         s = slow_time(cfg, eps)
         w = pre_run(cfg, eps) + cfg["replicas"] * cfg["replica_spacing"] * s
         w += (cfg["t_align"] + cfg["T_round"] * cfg["max_rounds"]) * s + cfg.get("poincare_span", 0.0) * s
+        w += cfg.get("T_gain", 0.0) * s
         if i == ref:
             w += len(cfg.get("b_check") or ()) * (cfg["t_align"] + cfg["T_round"]) * s
         rows.append((float(eps), float(w)))

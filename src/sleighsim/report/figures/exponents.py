@@ -82,8 +82,27 @@ def _b_overlay(ax, ds) -> None:
                 label=f"grid at b = {ds.b.values[i]:.3g}")
 
 
+def _unfollowed(ax, ds) -> None:
+    """Crosses on the rows whose orbit lambda_1's arithmetic does not follow (the row's faithfulness gauge:
+    lambda_1 there measures the arithmetic's rounding, not the orbit), each labelled with the cheapest
+    arithmetic that does; nothing for a dataset without the gauge."""
+    if "lambda_1_follows" not in ds.data_vars:
+        return
+    bad = ds.lambda_1_follows.values == "does not follow"
+    if not bad.any():
+        return
+    eps, lam = ds.eps.values[bad], np.abs(ds.lambda_1.values[bad])
+    ax.plot(eps, lam, "x", color="k", ms=13, mew=1.5, label="double does not follow the row's orbit\n"
+                                                            "(its lambda_1 is not the orbit's)")
+    for e, y, name in zip(eps, lam, ds.faithful_arithmetic.values[bad]):
+        if np.isfinite(y):
+            ax.annotate(f"needs {name}", (e, y), xytext=(0, -14), textcoords="offset points", ha="center",
+                        fontsize=MIN_PT)
+
+
 def fig11(sources):
-    """|lambda_1| against eps with the replicas' standard error, by row status, flagged rows marked; the
+    """|lambda_1| against eps with the replicas' standard error, by row status, flagged rows marked, rows double
+    does not follow crossed with the arithmetic each needs (the row's faithfulness gauge); the
     grid at a few b values over it, the b symmetry checked from the data in the title; in double (the
     paper's arithmetic) and, beside it (shifted right by 5% in eps), every finer precision whose rows'
     steady parts ran in it from the same settled states.
@@ -103,6 +122,7 @@ def fig11(sources):
     flagged = ds.flagged.values.astype(bool)
     ax.plot(eps[flagged], np.abs(lam[flagged]), "o", mfc="none", mec="r", ms=11,
             label="flagged row: transient, steadiness\nor lambda_1 not resolved")
+    _unfollowed(ax, ds)
     ax.axhline(1e-4, color="0.5", ls=":", label="paper: smallest value > 1e-4")
     ax.set_xscale("log")
     ax.set_yscale("log")
@@ -110,7 +130,10 @@ def fig11(sources):
     ax.set_xlabel(r"$\epsilon$ (unitless)")
     ax.set_ylabel(f"$|\\lambda_1|$ ({RATE}), +- standard error over replicas")
     ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1))
-    head = (f"E label {ds.attrs['energy_label']:g}: {ds.attrs['n_rows']} rows, "
+    words = list(ds.lambda_1_follows.values) if "lambda_1_follows" in ds.data_vars else []
+    followed = (f" (double follows {words.count('follows')}, not {words.count('does not follow')}, unknown "
+                f"{words.count('unknown')})") if words else ""
+    head = (f"E label {ds.attrs['energy_label']:g}: {ds.attrs['n_rows']} rows{followed}, "
             f"{100 * ds.attrs['fraction_flagged']:.0f}% flagged; reference row (eps {ds.attrs['reference_eps']:.3g}): "
             "stderr / lambda_1 = "
             f"{ds.attrs['reference_rel_err']:.2f}")
