@@ -270,12 +270,14 @@ def test_c20_judged_at_the_papers_lowest_energy(smallest, low, with_low, want):
     assert lyapunov.c20(PAPER["C20"], _energy(smallest, low, with_low)).verdict == want
 
 
-def _grid(lam, err, status, steady=1, T=1e5):
+def _grid(lam, err, status, steady=1, T=1e5, follows=None):
     # tau = 10: polynomial growth fakes 2 ln(T / tau) / T, 1.84e-4 at T = 1e5, 1.2e-3 at T = 1e4
     n = len(lam)
+    follows = ["follows"] * n if follows is None else follows
     return xr.Dataset({"lambda_1": ("eps", lam), "stderr": ("eps", err), "status": ("eps", status),
                        "transient_over": ("eps", [1] * n), "steady": ("eps", [steady] * n), "T": ("eps", [T] * n),
-                       "tau": ("eps", [10.0] * n)},
+                       "tau": ("eps", [10.0] * n), "lambda_1_follows": ("eps", np.array(follows, dtype=object)),
+                       "faithful_arithmetic": ("eps", np.array(["double-double"] * n, dtype=object))},
                       coords={"eps": np.linspace(0.02, 0.5, n)}, attrs={"n_rows": n})
 
 
@@ -290,6 +292,23 @@ def _grid(lam, err, status, steady=1, T=1e5):
 ])
 def test_c21(grid, want):
     assert lyapunov.c21(PAPER["C21"], grid).verdict == want
+
+
+@pytest.mark.parametrize("follows, want", [(["follows", "does not follow"], CANNOT), (["follows", "unknown"], CANNOT),
+                                           (None, CANNOT)])
+def test_c21_counts_no_row_whose_orbit_double_does_not_follow(follows, want):
+    """A row resolved positive in an arithmetic that does not follow its orbit (or whose gauge is unknown, or
+    a grid without the gauge: fail closed) supports nothing: cannot be reproduced, the arithmetic it needs named;
+    a row below the paper's floor there is not a difference either."""
+    grid = _grid([1e-3, 2e-3], [1e-5, 1e-5], ["converged", "converged"], follows=follows or ["follows"] * 2)
+    if follows is None:
+        grid = grid.drop_vars(["lambda_1_follows", "faithful_arithmetic"])
+    j = lyapunov.c21(PAPER["C21"], grid)
+    assert j.verdict == want and "does not follow the orbit at eps " in j.reason and j.reason.endswith("0.5")
+    if follows is not None:
+        assert "(the arithmetic each needs: eps 0.5: double-double)" in j.measured
+    below = _grid([1e-3, 1e-5], [1e-5, 1e-6], ["converged", "converged"], follows=["follows", "does not follow"])
+    assert lyapunov.c21(PAPER["C21"], below).verdict == CANNOT
 
 
 @pytest.mark.parametrize("other, want", [("converged", REPRODUCED), ("regular", DIFFERS)])

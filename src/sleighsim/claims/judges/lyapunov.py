@@ -128,17 +128,33 @@ def at_eps(eps) -> str:
     return "at eps " + ", ".join(f"{e:.3g}" for e in eps) if eps.size else "at no eps row"
 
 
+def followed_rows(grid) -> np.ndarray:
+    """Per eps row, whether lambda_1's arithmetic follows the row's orbit by its faithfulness gauge
+    (``lambda_1_follows``; fails closed: an unknown answer or a dataset without the gauge follows nowhere)."""
+    if "lambda_1_follows" not in grid.data_vars:
+        return np.zeros(grid.sizes["eps"], bool)
+    return grid.lambda_1_follows.values == "follows"
+
+
+def _needs(grid, sel) -> str:
+    """The arithmetic each selected row needs, as text ("eps 0.1: double-double; ...")."""
+    names = grid.faithful_arithmetic.values if "faithful_arithmetic" in grid.data_vars else ["unknown"] * sel.size
+    return "; ".join(f"eps {e:.3g}: {n}" for e, n, k in zip(grid.eps.values, names, sel) if k)
+
+
 def c21(paper, grid) -> Judgement:
     """C21, "max LE positive over the (eps, b) range of fig:LE; smallest value": judged from the paper's values
-    ``paper`` and ``grid``; returns its Judgement."""
+    ``paper`` and ``grid``, on the rows whose orbit lambda_1's arithmetic follows (``followed_rows``); returns its
+    Judgement."""
     floor = paper["smallest_above"]
     eps, lam, err, status = grid.eps.values, grid.lambda_1.values, grid.stderr.values, grid.status.values
-    steady = (grid.transient_over.values == 1) & (grid.steady.values == 1)
+    away = status == "elsewhere"
+    steady = (grid.transient_over.values == 1) & (grid.steady.values == 1) & followed_rows(grid)
+    unfollowed = ~away & ~followed_rows(grid)
     above = (status == "converged") & steady & (lam - K_SIGMA * err > np.maximum(floor, fake_rates(grid)))
     below = steady & ((status == "regular") | ((status == "converged") & (lam + K_SIGMA * err < floor)))
-    away = status == "elsewhere"
-    unresolved = ~above & ~below & ~away
-    verdict = DIFFERS if below.any() else (CANNOT if unresolved.any() else REPRODUCED)
+    unresolved = ~above & ~below & ~away & ~unfollowed
+    verdict = DIFFERS if below.any() else (CANNOT if (unresolved | unfollowed).any() else REPRODUCED)
 
     def listed(sel):
         return at_eps(eps[sel])
@@ -148,15 +164,21 @@ def c21(paper, grid) -> Judgement:
         measured=f"{grid.attrs['n_rows']} eps rows (b is a symmetry): resolved above {floor:g} and above the "
                  f"polynomial rate {listed(above)}; below or regular {listed(below)}; unresolved within "
                  f"the run's horizon (below the polynomial rate, capped or not steady) {listed(unresolved)}; "
-                 "smallest resolved lambda_1 "
+                 f"lambda_1's arithmetic does not follow the row's orbit (the row's gauge) {listed(unfollowed)}"
+                 + (f" (the arithmetic each needs: {_needs(grid, unfollowed)})" if unfollowed.any() else "")
+                 + "; smallest resolved lambda_1 "
                  f"{np.min(lam[above]) if above.any() else math.nan:.2g}" + _elsewhere(grid, eps[away]),
-        rule=f"reproduced when every row resolves lambda_1 - {K_SIGMA:g} stderr above {floor:g} and above {_FAKE}; "
+        rule=f"on the rows whose orbit lambda_1's arithmetic follows (the row's faithfulness gauge): reproduced when "
+             f"every row resolves lambda_1 - {K_SIGMA:g} stderr above {floor:g} and above {_FAKE}; "
              f"differs when a steady row is resolved below {floor:g} or regular; cannot be reproduced when the rest "
-             "are not resolved within the configured horizon (max_rounds) or are not steady",
+             "are not resolved within the configured horizon (max_rounds), are not steady, or are rows whose orbit "
+             "the arithmetic does not follow (their lambda_1 measures its rounding, not the orbit)",
         reason="" if verdict == REPRODUCED else
         (f"lambda_1 is resolved below {floor:g} or regular {listed(below)}" if below.any() else
-         f"lambda_1 is not resolved above {floor:g} and the polynomial rate (or the row is capped or not steady) "
-         f"{listed(unresolved)}"))
+         "; ".join(x for x in (
+             f"lambda_1 is not resolved above {floor:g} and the polynomial rate (or the row is capped or not steady) "
+             f"{listed(unresolved)}" if unresolved.any() else "",
+             f"double does not follow the orbit {listed(unfollowed)}" if unfollowed.any() else "") if x)))
 
 
 def c25(paper, cost) -> Judgement:
