@@ -84,25 +84,24 @@ def _b_overlay(ax, ds) -> None:
 
 def _unfollowed(ax, ds) -> None:
     """Crosses on the rows whose orbit lambda_1's arithmetic does not follow (the row's faithfulness gauge:
-    lambda_1 there measures the arithmetic's rounding, not the orbit), each labelled with the cheapest
-    arithmetic that does; nothing for a dataset without the gauge."""
+    lambda_1 there measures the arithmetic's rounding, not the orbit), the arithmetics they need in the
+    legend; grey squares on the rows whose gauge is unknown; nothing for a dataset without the gauge."""
     if "lambda_1_follows" not in ds.data_vars:
         return
-    bad = ds.lambda_1_follows.values == "does not follow"
-    if not bad.any():
-        return
-    eps, lam = ds.eps.values[bad], np.abs(ds.lambda_1.values[bad])
-    ax.plot(eps, lam, "x", color="k", ms=13, mew=1.5, label="double does not follow the row's orbit\n"
-                                                            "(its lambda_1 is not the orbit's)")
-    for e, y, name in zip(eps, lam, ds.faithful_arithmetic.values[bad]):
-        if np.isfinite(y):
-            ax.annotate(f"needs {name}", (e, y), xytext=(0, -14), textcoords="offset points", ha="center",
-                        fontsize=MIN_PT)
+    eps, lam, words = ds.eps.values, np.abs(ds.lambda_1.values), ds.lambda_1_follows.values
+    bad, unknown = words == "does not follow", words == "unknown"
+    if bad.any():
+        needs = ", ".join(dict.fromkeys(map(str, ds.faithful_arithmetic.values[bad])))
+        ax.plot(eps[bad], lam[bad], "x", color="k", ms=13, mew=1.5,
+                label=f"double does not follow the row's orbit:\nits lambda_1 is not the orbit's (needs {needs})")
+    if unknown.any():
+        ax.plot(eps[unknown], lam[unknown], "s", mfc="none", mec="0.4", ms=12,
+                label="the row's gauge unknown (no complete\nspike cycle within its T_gain)")
 
 
 def fig11(sources):
     """|lambda_1| against eps with the replicas' standard error, by row status, flagged rows marked, rows double
-    does not follow crossed with the arithmetic each needs (the row's faithfulness gauge); the
+    does not follow crossed (the row's faithfulness gauge; the arithmetics they need in the legend); the
     grid at a few b values over it, the b symmetry checked from the data in the title; in double (the
     paper's arithmetic) and, beside it (shifted right by 5% in eps), every finer precision whose rows'
     steady parts ran in it from the same settled states.
