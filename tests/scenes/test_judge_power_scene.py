@@ -39,7 +39,7 @@ def _record_of(block: dict) -> dict:
             "counts": {float(e["factor"]): dict.fromkeys(judges, clean) for e in d["horizons"]}}
 
 
-@pytest.mark.parametrize("overlays, factor", [((), 1.0), (("config/cluster.yaml",), 5.0)])
+@pytest.mark.parametrize("overlays, factor", [((), 5.0), (("config/cluster.yaml",), 5.0)])
 def test_the_audit_covers_the_decisive_stage_of_the_paper_and_cluster_configs(overlays, factor):
     """Every decisive judge votes at the audited horizon equal to the config's own; its settings are the
     chaos verdict's (T, dt, splits, MEGNO samples, min_cycles, sigma)."""
