@@ -33,7 +33,7 @@ def unwrapped_delta(hi, grid) -> np.ndarray:
     return hi[0, 3] + np.r_[0.0, np.cumsum(step)]
 
 
-def _horner(coef, tau):
+def horner(coef, tau):
     """sum_k coef[..., k] tau^k, vectorised over the leading axes."""
     out = np.zeros(np.shape(tau))
     for k in range(coef.shape[-1] - 1, -1, -1):
@@ -64,8 +64,15 @@ def crossings(batch: DDBatch, hi, lo, grid, near=(), half_width: float = math.in
     J = jets(batch, hi[rows], lo[rows])
     J[:, :, 0] = hi[rows] + lo[rows]
     J[:, 3, 0] = (d[rows] - target) + lo[rows, 3]
+    return solve_on_jets(J, grid[rows])
+
+
+def solve_on_jets(J, t) -> tuple[np.ndarray, np.ndarray]:
+    """The crossings from the jets J (rows, 4, order + 1) at the sample times ``t``, delta's series J[:, 3] taken
+    relative to the crossing's turn (J[:, 3, 0] the sample's residual): Newton's method on it from the linear
+    guess (8 steps), then the times t + tau and the states (u, Omega, omega) there."""
     tau = -J[:, 3, 0] / J[:, 3, 1]
     slope = J[:, 3, 1:] * np.arange(1, J.shape[2])
     for _ in range(8):
-        tau = tau - _horner(J[:, 3], tau) / _horner(slope, tau)
-    return grid[rows] + tau, np.stack([_horner(J[:, c], tau) for c in range(3)], axis=1)
+        tau = tau - horner(J[:, 3], tau) / horner(slope, tau)
+    return t + tau, np.stack([horner(J[:, c], tau) for c in range(3)], axis=1)

@@ -28,6 +28,7 @@ import xarray as xr
 from sleighsim.analysis import torus
 from sleighsim.engine import ddtaylor
 from sleighsim.engine.ddbatch import DDBatch
+from sleighsim.engine.ddsection import solve_on_jets
 from sleighsim.engine.ddtaylor import DDFlow
 from sleighsim.engine.transient import settle
 from sleighsim.io.netcdf import read_dataset
@@ -83,14 +84,6 @@ def orbits(cfg: dict) -> list[tuple[float, int]]:
     return [(0.0, -1)] + [(float(a), k) for a in cfg["amplitudes"] for k in range(cfg["directions"])]
 
 
-def _horner(coef, tau):
-    """sum_k coef[..., k] tau^k, vectorised over the leading axes."""
-    out = np.zeros(np.shape(tau))
-    for k in range(coef.shape[-1] - 1, -1, -1):
-        out = out * tau + coef[..., k]
-    return out
-
-
 def jets_at(flow: DDFlow, hi, lo, rows) -> np.ndarray:
     """Taylor coefficients (n, 4, order + 1) of the orbit at the sample rows, in double (order 0: the
     samples' hi + lo, delta as sampled)."""
@@ -102,20 +95,16 @@ def jets_at(flow: DDFlow, hi, lo, rows) -> np.ndarray:
 def section(flow: DDFlow, hi, lo, grid) -> tuple[np.ndarray, np.ndarray]:
     """Crossings of delta = 0 (mod 2 pi): times (n,) and states (n, 3) (u, Omega, omega), each from the
     Taylor jet of the sample nearest it (|tau| <= dt / 2, well inside the series' radius), solved by
-    Newton's method in double. Each sample's delta is taken relative to its nearest multiple of 2 pi
-    (|r| <= pi, to a few units of 1e-16): an angle unwrapped over the whole record would carry the
-    rounding of a running sum of turns (about 1e-8 rad after 1e4 turns, growing with each binade), which
-    moved the section states by about 1e-10 and the events by up to 1e-5 time units."""
+    Newton's method in double (``engine.ddsection.solve_on_jets``). Each sample's delta is taken relative to its
+    nearest multiple of 2 pi (|r| <= pi, to a few units of 1e-16): an angle unwrapped over the whole record
+    would carry the rounding of a running sum of turns (about 1e-8 rad after 1e4 turns, growing with each
+    binade), which moved the section states by about 1e-10 and the events by up to 1e-5 time units."""
     r = hi[:, 3] - TWO_PI * np.round(hi[:, 3] / TWO_PI) + lo[:, 3]
     k = np.flatnonzero((np.sign(r[:-1]) != np.sign(r[1:])) & (np.abs(np.diff(r)) < math.pi))
     rows = np.where(np.abs(r[k]) <= np.abs(r[k + 1]), k, k + 1)
     J = jets_at(flow, hi, lo, rows)
     J[:, 3, 0] = r[rows]
-    tau = -J[:, 3, 0] / J[:, 3, 1]
-    for _ in range(8):
-        dcoef = J[:, 3, 1:] * np.arange(1, J.shape[2])
-        tau = tau - _horner(J[:, 3], tau) / _horner(dcoef, tau)
-    return grid[rows] + tau, np.stack([_horner(J[:, c], tau) for c in range(3)], axis=1)
+    return solve_on_jets(J, grid[rows])
 
 
 def propagate_orbits(flow: DDFlow, starts, horizons, dt: float) -> list[dict]:
