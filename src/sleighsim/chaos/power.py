@@ -27,6 +27,7 @@ import xarray as xr
 from sleighsim.chaos.indicators import DECISIVE, REGISTRY
 from sleighsim.chaos.known_orbits import CHAOTIC_ORBITS, SYSTEMS, TORI
 from sleighsim.chaos.verdicts import CHAOTIC, REGULAR, UNDECIDED, VERDICTS
+from sleighsim.io.netcdf import full_clean_commit
 
 CLASSES = (CHAOTIC_ORBITS, TORI)
 RIGHT = {CHAOTIC_ORBITS: CHAOTIC, TORI: REGULAR}  # the correct verdict on each class
@@ -224,6 +225,6 @@ def check_record(rec) -> list[str]:
                 out.append(f"judge {j!r} was audited with another estimator: {rec.get('estimators', {}).get(j)!r}")
     for s in rec.get("sources", []):
         commit = str(s.get("git_commit", ""))
-        if len(commit) != 40 or any(c not in "0123456789abcdef" for c in commit):
+        if not full_clean_commit(commit):
             out.append(f"source {commit!r} is not a full clean commit")
     return out

@@ -52,6 +52,13 @@ def _git_commit() -> str:
     return commit + ("-dirty" if dirty else "")
 
 
+def full_clean_commit(commit) -> bool:
+    """Whether ``commit`` (a git_commit attribute as ``provenance_attrs`` writes it) names a full commit of a clean
+    tree: 40 lowercase hex digits, no "-dirty", not "unknown"."""
+    commit = str(commit)
+    return len(commit) == 40 and all(c in "0123456789abcdef" for c in commit)
+
+
 def provenance_attrs() -> dict:
     """Package versions, Python version, git commit and creation time (UTC)."""
     out = {"python_version": platform.python_version(), "git_commit": _git_commit()}

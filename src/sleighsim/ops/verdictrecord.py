@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from sleighsim.io.netcdf import read_dataset
+from sleighsim.io.netcdf import full_clean_commit, read_dataset
 from sleighsim.ops.config import REPO
 from sleighsim.scenes.verdict_lanes import unpack
 
@@ -51,7 +51,7 @@ def record(job, config: str) -> dict:
     """The record of the decisive job's dataset ``job`` run with ``config``; ValueError when its commit is
     not a full clean one."""
     commit = str(job.attrs.get("git_commit", ""))
-    if len(commit) != 40 or any(c not in "0123456789abcdef" for c in commit):
+    if not full_clean_commit(commit):
         raise ValueError(f"made at commit {commit!r}, not a full clean commit: a record nobody could check")
     return {"config": config, "realizations": [lane(r, d, job) for r, d in unpack(job)]}
 
