@@ -222,7 +222,7 @@ def _decisive_cfg():
     return parsed({"params": {"eps": 0.1, "b": 1.0, "K2": 1.1}, "sigma": 3.0, "tau": 10.0,
             "frequency": {"component": "omega", "min_cycles": 2.0}, "transient": {"spike_factor": 1.8},
             "decisive": {"states": ["main"], "precision": "double-double", "tol": 1e-20, "T": 200.0, "dt": 0.5,
-                         "splits": [2, 4], "megno_samples": 4, "vote_horizon": 1.0}})
+                         "splits": [2, 4], "megno_samples": 4}})
 
 
 @pytest.mark.parametrize("voters", [ALL, frozenset({"birkhoff", "ftle", "two_trajectory"})])
@@ -231,7 +231,7 @@ def test_without_a_voting_tangent_judge_the_stage_runs_the_orbit_alone(voters):
     vector and judges MEGNO; with the audit's factor-1 voters it does not (MEGNO and the return map's
     MEGNO "not run", NaN) and the orbit's own judges still run on the same orbit."""
     stage1 = _stage1({}).assign(settled_state=(("state", "var"), [[0.02, 0.02, 3.3, 2.5]]))
-    ds = verdict_decisive.decisive_state(_decisive_cfg(), stage1, voters=voters)
+    ds, = verdict_decisive.decisive_lanes(_decisive_cfg(), [(stage1, voters, {"vote_horizon": 1.0})], ["one"])
     reasons = dict(zip(ds.decisive_indicator.values, ds.decisive_indicator_reason.values[0]))
     tangent = "megno" in voters
     assert ds.attrs["decisive_tangent"] == int(tangent)

@@ -108,6 +108,11 @@ def audited(stage: str) -> list[Indicator]:
     return [i for i in of_stage(stage) if i.judged is not None]
 
 
+def record_names(stage: str) -> dict[str, str]:
+    """{verdict name: registry name (the judge-power record's)} of the stage's indicators."""
+    return {i.verdict_name: i.name for i in of_stage(stage)}
+
+
 def tangent_based(stage: str) -> set[str]:
     """The verdict names of the stage's tangent-based indicators (``rule.decide``'s second argument)."""
     return {i.verdict_name for i in of_stage(stage) if i.tangent_based}

@@ -10,7 +10,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from sleighsim.chaos.indicators import DECISIVE, of_stage
+from sleighsim.chaos.indicators import DECISIVE, record_names
 from sleighsim.chaos.known_orbits import CHAOTIC_ORBITS, TORI
 from sleighsim.chaos.power import from_counts, record_rates, record_voting
 from sleighsim.io.netcdf import read_dataset
@@ -18,7 +18,7 @@ from sleighsim.precision import Precision
 from sleighsim.report.page import Table
 
 #: The judge-power record's name of each decisive judge's verdict name.
-RECORD_NAME = {i.verdict_name: i.name for i in of_stage(DECISIVE)}
+RECORD_NAME = record_names(DECISIVE)
 
 
 class ChaosAnswer(NamedTuple):

@@ -24,7 +24,7 @@ from sleighsim.chaos.birkhoff import observables
 from sleighsim.chaos.bounds import BOUND_RULE, regular_bound
 from sleighsim.chaos.faithfulness import FOLLOWS, indicator_follows, injected_rounding
 from sleighsim.chaos.indicators import DECISIVE as DECISIVE_STAGE
-from sleighsim.chaos.indicators import of_stage
+from sleighsim.chaos.indicators import record_names
 from sleighsim.chaos.rule import TANGENT_BASED, classify, consistent, decide, faithful_gate, vote_gate
 from sleighsim.chaos.verdicts import CHAOTIC, REGULAR, UNDECIDED
 from sleighsim.engine import transient
@@ -146,14 +146,6 @@ def decisive_config(cfg: dict) -> dict:
             "spike_factor": cfg["transient"]["spike_factor"], "tau": cfg["tau"], **cfg["decisive"]}
 
 
-def decisive_state(cfg: dict, stage1: xr.Dataset, scene: str = "", *, voters: frozenset) -> xr.Dataset:
-    """The decisive stage of one state (``decisive_lanes`` with one lane; its vote horizon and why in
-    cfg["decisive"])."""
-    dc = cfg["decisive"]
-    return decisive_lanes(cfg, [(stage1, voters, {"vote_horizon": dc["vote_horizon"],
-                                                  "vote_why": dc.get("vote_why", "")})], [scene])[0]
-
-
 def decisive_lanes(cfg: dict, lanes: list, scenes: list) -> list[xr.Dataset]:
     """The decisive stage of the first stage's states ``lanes`` (each (its chunk dataset, its voters, its
     vote_horizon and vote_why)), one lane each of one integration (``lane_orbits``, with a tangent vector
@@ -212,7 +204,7 @@ def what_regular_bounds(judged: dict, gated: dict, sigma: float) -> dict:
     """``chaos.bounds.regular_bound`` of the decisive stage's judges, each with its verdict after the gates
     (``gated``: a judge that does not vote or whose arithmetic does not follow closely enough bounds nothing)
     and the numbers it rests on, under its registry name (``chaos.indicators``)."""
-    names = {i.verdict_name: i.name for i in of_stage(DECISIVE_STAGE)}
+    names = record_names(DECISIVE_STAGE)
     return regular_bound({names[k]: {"verdict": gated[k], "numbers": judged[k].get("numbers", {})} for k in judged},
                          sigma)
 
