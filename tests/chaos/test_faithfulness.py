@@ -121,7 +121,7 @@ def test_the_report_names_the_arithmetic_that_follows_each_orbit(tmp_path):
 def _decisive_dataset(verdicts, decisive, indicator_verdicts, decisive_verdicts):
     """A verdict dataset of states with these verdicts, the decisive stage's verdict per state ("not run"
     where it did not run), the first stage's indicator verdicts (benettin, megno, frequency) and the
-    decisive stage's (megno, frequency, birkhoff)."""
+    decisive stage's (megno, frequency, birkhoff), every decisive judge voting."""
     import xarray as xr
 
     n = len(verdicts)
@@ -132,6 +132,7 @@ def _decisive_dataset(verdicts, decisive, indicator_verdicts, decisive_verdicts)
                        "decisive_verdict": ("state", np.array(decisive, dtype=object)),
                        "decisive_indicator_verdict": (("state", "decisive_indicator"),
                                                       np.array(decisive_verdicts, dtype=object)),
+                       "decisive_voting": (("state", "decisive_indicator"), [[1, 1, 1]] * n),
                        "decisive_log10_gain_rounding": ("state", [-16.3] * n),
                        "decisive_wall_time_s": ("state", [61.0] * n)},
                       coords={"state": [f"s{i}" for i in range(n)], "indicator": ["benettin", "megno", "frequency"],
@@ -205,6 +206,7 @@ def test_the_first_screen_names_only_voters_with_their_power_at_the_horizon_vote
     assert _rests_on(ds, 1, U, power) == "" and _rests_on(ds, 0, R) == "lambda_1 <= 9.2e-06 over T = 5e+05 " \
                                                                           "(megno_log_norm)"
     assert _rests_on(ds.drop_vars("decisive_bound_text"), 0, R) == ""
+    assert _decided_by(ds.drop_vars("decisive_voting"), 0) == ""  # who voted unrecorded: nobody named
 
 
 def test_the_first_screen_names_the_arithmetic_each_state_was_decided_in():

@@ -93,7 +93,7 @@ def _power_note(power: dict | None, judge: str, verdict: str, factor: float = 1.
 def _decided_by(ds, i: int, power: dict | None = None) -> str:
     """The indicators that vote and whose verdict equals state i's (chaotic or regular), with the arithmetic
     each was judged in and its measured power at the horizon voted at (``_power_note``); "" when the state is
-    not decided."""
+    not decided. A dataset that does not record which decisive judges voted names none of them."""
     verdict = str(ds.verdict.values[i])
     if verdict not in ("chaotic", "regular") or "indicator_verdict" not in ds.data_vars:
         return ""
@@ -102,8 +102,8 @@ def _decided_by(ds, i: int, power: dict | None = None) -> str:
     factor = 1.0
     if _decisive_ran(ds, i):
         factor = _vote_factor(ds)
-        voting = (ds.decisive_voting.values[i] if "decisive_voting" in ds.data_vars
-                  else np.ones(ds.sizes["decisive_indicator"], int))
+        voting = (ds.decisive_voting.values[i] if "decisive_voting" in ds.data_vars  # unrecorded: none voted
+                  else np.zeros(ds.sizes["decisive_indicator"], int))
         names = {k: a for k, a in names.items() if k not in set(map(str, ds.decisive_indicator.values))}
         names.update({str(k): ds.attrs["decisive_precision"] for k, v, on in
                       zip(ds.decisive_indicator.values, ds.decisive_indicator_verdict.values[i], voting)
