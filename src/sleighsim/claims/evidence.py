@@ -59,3 +59,22 @@ CAUSES: dict[str, tuple[str, ...]] = {
     "C24": ("psd_eps001",),
     "D5": ("audit",),
 }
+
+#: The datasets each chaos claim's faithful columns are judged from (sleighsim.claims.faithful), in the
+#: order its faithful judge takes them.
+FAITHFUL: dict[str, tuple[str, ...]] = {
+    "C13": ("trigger_law",),
+    "C14": ("chaos_verdict",),
+    "C15": ("chaos_verdict",),
+    "C16": ("chaos_verdict",),
+    "C17": (),
+    "C18": ("chaos_verdict",),
+    "C19": ("chaos_verdict",),
+    "C20": ("lyap_energy", "chaos_verdict"),
+    "C21": ("fig11_grid", "chaos_verdict"),
+    "C22": ("chaos_verdict",),
+    "C23": ("chaos_verdict",),
+    "C24": (),
+    "C26": (),
+    "C27": ("fig11_grid", "chaos_verdict"),
+}

@@ -45,7 +45,8 @@ from sleighsim.chaos.faithfulness import UNKNOWN
 from sleighsim.chaos.rule import agree
 from sleighsim.claims import fidelity, rules
 from sleighsim.claims.causes import CAUSE_TESTS
-from sleighsim.claims.evidence import CAUSES, EVIDENCE
+from sleighsim.claims.evidence import CAUSES, EVIDENCE, FAITHFUL
+from sleighsim.claims.faithful import FAITHFUL_JUDGES, FAITHFUL_RULE, OWN
 from sleighsim.claims.figure_rows import figure_from_claims, files, judge_figure
 from sleighsim.claims.judges import JUDGES
 from sleighsim.claims.rules import CANNOT, DIFFERS, DOUBLE_ONLY, FRAGILE, NOT_YET, REPRODUCED, VERDICTS
@@ -81,6 +82,9 @@ class Row:
     difference: float = math.nan
     precision: str = ""
     double_value: str = ""
+    faithful_value: str = ""
+    faithful_arithmetic: str = ""
+    faithful_verdict: str = ""
     realizations: str = ""
     paper_setup_value: str = ""
     paper_setup_verdict: str = ""
@@ -243,7 +247,8 @@ def ledger(claims_md, data_dir, figures_dir, config: dict, figures: dict) -> lis
     by_paper_id = {f.paper: f for f in figures.values() if f.paper}
     load = _Datasets(data_dir, laddered(config, on_request=True), realized(config, on_request=True))
     rows = []
-    for claim in parse_claims(claims_md):
+    claims = {c.id: c for c in parse_claims(claims_md)}
+    for claim in claims.values():
         row = Row(claim.id, claim.statement, claim.paper_value)
         try:
             if claim.id in by_paper_id:
@@ -262,10 +267,37 @@ def ledger(claims_md, data_dir, figures_dir, config: dict, figures: dict) -> lis
             row.verdict = rules.severity(row.verdict, row.difference)
     judged = {r.id: r for r in rows}
     for row in rows:
+        if row.id in FAITHFUL_JUDGES:
+            judge_faithful(row, claims[row.id], load)
+    for row in rows:
         if row.id in by_paper_id:
             figure_from_claims(row, judged, by_paper_id[row.id].claims)
+            faithful_figure(row, judged, by_paper_id[row.id].claims)
     for_run(rows, config)
     return rows
+
+
+def judge_faithful(row: Row, claim: Claim, load: _Datasets) -> None:
+    """The row's faithful columns (:mod:`sleighsim.claims.faithful`, :data:`FAITHFUL_RULE`) from the datasets
+    of evidence.FAITHFUL; OWN becomes the row's own verdict; a missing dataset gives "not yet computed"."""
+    try:
+        f = FAITHFUL_JUDGES[claim.id](claim.values, *load(FAITHFUL[claim.id]))
+    except MissingDataset as missing:
+        row.faithful_value, row.faithful_verdict = f"not computed: {missing}", NOT_YET
+        return
+    row.faithful_value, row.faithful_arithmetic = f.value, f.arithmetic
+    row.faithful_verdict = row.verdict if f.verdict == OWN else f.verdict
+
+
+def faithful_figure(row: Row, judged: dict, claims) -> None:
+    """A figure row's faithful columns: those of the claims it illustrates that have them, the verdict the
+    least favourable of theirs (VERDICTS order past "reproduced")."""
+    mine = [judged[c] for c in claims if c in judged and judged[c].faithful_verdict]
+    if not mine:
+        return
+    row.faithful_value = "; ".join(f"{c.id}: {c.faithful_value}" for c in mine)
+    row.faithful_arithmetic = "; ".join(sorted({c.faithful_arithmetic for c in mine}))
+    row.faithful_verdict = max((c.faithful_verdict for c in mine), key=VERDICTS.index)
 
 
 def for_run(rows: list[Row], config: dict) -> None:
@@ -278,6 +310,8 @@ def for_run(rows: list[Row], config: dict) -> None:
             if isinstance(getattr(row, f.name), str):
                 setattr(row, f.name, rules.readable(getattr(row, f.name)))
         row.run_verdict = row.verdict
+        if not against_paper and row.faithful_verdict:
+            row.faithful_verdict = rules.NOT_A_REPRODUCTION
         if not against_paper:
             row.verdict = rules.NOT_A_REPRODUCTION
             row.reason = (f"a {ident['config_label']} run ({fidelity.describe(ident)}), not at the paper's fidelity: "
@@ -349,7 +383,8 @@ def to_dataset(rows: list[Row]) -> xr.Dataset:
     ds["run_verdict_flag"] = _flag(r.run_verdict or r.verdict for r in rows)
     ds.attrs.update({f"n_{v.replace(' ', '_')}": sum(r.verdict == v for r in rows) for v in VERDICTS})
     ds.attrs.update(rel_tol=rules.REL_TOL, k_sigma=rules.K_SIGMA, slight=rules.SLIGHT, great=rules.GREAT,
-                    rules=rules.VERDICT_RULES, precision_rule=IN_PRECISION_RULE, fidelity_rule=fidelity.FIDELITY_RULE)
+                    rules=rules.VERDICT_RULES, precision_rule=IN_PRECISION_RULE, faithful_rule=FAITHFUL_RULE,
+                    fidelity_rule=fidelity.FIDELITY_RULE)
     return ds
 
 

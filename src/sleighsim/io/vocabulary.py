@@ -115,7 +115,8 @@ VOCABULARY: dict[str, tuple[str, str]] = {
                                 "1"),
     "faithful_code": ("index of the cheapest arithmetic that follows the row's orbit in grid.LADDER (double, long "
                       "double, double-double, quad; 4: none; NaN: unknown)", "1"),
-    "faithful_arithmetic": ("the cheapest arithmetic that follows the row's orbit (the faithfulness gauge)", "text"),
+    "faithful_arithmetic": ("the arithmetic that follows the orbit (the faithfulness gauge): a row's cheapest, or the "
+                            "one the ledger's faithful_value was computed in or needs", "text"),
     "lambda_1_follows": ("does lambda_1's arithmetic follow the row's orbit: follows, does not follow or unknown",
                          "text"),
     "rotation_number": ("rotation number of the P_2pi iterates", "1"),
@@ -216,6 +217,8 @@ VOCABULARY: dict[str, tuple[str, str]] = {
     "cause": ("the likely cause of a difference", "text"),
     "difference": ("relative difference of the measured value from the paper's", "1"),
     "double_value": ("the value in double where the verdict rests on a finer arithmetic", "text"),
+    "faithful_value": ("the claim's quantity in an arithmetic that follows its orbit, or what it needs", "text"),
+    "faithful_verdict": ("the verdict on faithful_value (sleighsim.claims.faithful)", "text"),
     "realizations": ("how the realizations agree", "text"),
     "paper_setup_value": ("the claim's numbers under the setup inferred jointly (paper_setup.nc)", "text"),
     "paper_setup_verdict": ("the verdict under the inferred setup beside the one under converged physics", "text"),

@@ -26,7 +26,7 @@ import yaml
 
 from sleighsim.claims import fidelity
 from sleighsim.claims.ledger import Row
-from sleighsim.claims.rules import DIFFERING, MEANINGS, VERDICTS
+from sleighsim.claims.rules import DIFFERING, MEANINGS, REPRODUCED, VERDICTS
 from sleighsim.io.netcdf import atomic_path, read_dataset, write_text
 from sleighsim.report import finding
 from sleighsim.report.chaos_answers import chaos_answers, elsewhere, power_table
@@ -128,7 +128,18 @@ def answers(rows: list[Row], datasets: dict, figures: dict, power: dict | None =
         "legend": [(v, MARKS[v], MEANINGS[v]) for v in VERDICTS],
         "differs": sorted((r for r in rows if r.verdict in DIFFERING and np.isfinite(r.difference)),
                           key=lambda r: -r.difference)[:n_largest],
+        **faithful_screen(rows),
     }
+
+
+def faithful_screen(rows: list[Row]) -> dict:
+    """The first screen's answer to the chaos claims judged in an arithmetic that follows each orbit (the
+    ledger's faithful columns, :mod:`sleighsim.claims.faithful`): the claims (C..) with a faithful verdict,
+    how many hold ("reproduced") and the count of each verdict."""
+    judged = [r for r in rows if r.faithful_verdict and r.id.startswith("C")]
+    counts = {v: sum(r.faithful_verdict == v for r in judged) for v in VERDICTS}
+    return {"faithful": judged, "faithful_hold": counts[REPRODUCED],
+            "faithful_counts": [(v, n) for v, n in counts.items() if n]}
 
 
 def run_line(identity: dict) -> dict:

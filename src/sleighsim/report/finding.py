@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from sleighsim.claims import fidelity
 from sleighsim.claims.judges.lyapunov import CHAOS_CLAIMS
-from sleighsim.claims.rules import VERDICTS
+from sleighsim.claims.rules import REPRODUCED, VERDICTS
 from sleighsim.io.netcdf import read_dataset
 
 #: The format of the facts (report/finding.yaml).
@@ -57,6 +57,7 @@ def facts(rows: list, chaos: list, cluster: dict | None, identity: dict, run: di
             "reproduction": reproduction, "git_commit": run["git_commit"], "date": run["date"], "n_rows": len(rows),
             "counts": {v: n for v in VERDICTS if (n := sum(verdict(r) == v for r in rows))},
             "chaos_claims": {r.id: verdict(r) for r in rows if r.id in CHAOS_CLAIMS},
+            "faithful_claims": {r.id: r.faithful_verdict for r in rows if r.faithful_verdict and r.id.startswith("C")},
             "states": {c.state: c.verdict for c in chaos},
             "elsewhere": _elsewhere(cluster) if reproduction else []}
 
@@ -74,6 +75,15 @@ def _by_verdict(verdict_of: dict, verb: bool = False) -> str:
         groups.setdefault(v, []).append(name)
     return "; ".join(f'{_listed(names)}{(" is" if len(names) == 1 else " are") if verb else ""} "{v}"'
                      for v, names in groups.items())
+
+
+def _faithful_sentence(verdict_of: dict) -> str:
+    """How many of the chaos claims hold in an arithmetic that follows each orbit, and the others by verdict."""
+    if not verdict_of:
+        return "No chaos claim is judged in an arithmetic that follows its orbit."
+    hold = sum(v == REPRODUCED for v in verdict_of.values())
+    return (f"Judged in an arithmetic that follows each claim's orbit (the ledger's faithful columns), {hold} of the "
+            f"paper's {len(verdict_of)} chaos claims hold: {_by_verdict(verdict_of)}.")
 
 
 def _head(f: dict) -> str:
@@ -140,6 +150,7 @@ def paragraph(f: dict) -> str:
         out.append(f"Its claims that the rotor's steady state is chaotic ({', '.join(CHAOS_CLAIMS)}: positive "
                    f"Lyapunov exponents, chaos down to eps = 1e-5, the route to chaos) read: "
                    f"{_by_verdict(f['chaos_claims']) or 'nothing, not in the ledger'}.")
+        out.append(_faithful_sentence(f.get("faithful_claims", {})))
     out.append(_states_sentence(f))
     out.append(_conclusion(f) if f["reproduction"] else
                "None of this bears on the paper's claims: run at the paper's fidelity (config/config.yaml) for them.")

@@ -1,0 +1,255 @@
+"""The ledger's faithful columns: each chaos claim judged from a quantity computed in an arithmetic that
+follows the claim's orbit (``faithful_value``, ``faithful_arithmetic``, ``faithful_verdict``).
+
+Double does not follow the steady state at eps = 0.1 (the gauge of chaos_verdict); double-double does, and
+the decisive stage decides that state there (``decisive_*`` of chaos_verdict, its realizations agreeing or
+not). A claim about that state takes its faithful answer from that decision; a claim about the rows of
+F11 from each row's own gauge (fig11_grid's ``lambda_1_follows``, ``faithful_arithmetic``); a claim on the
+paper's own transient from the trigger law (does the time move with the integration error at the finest
+errors measured?); F10's energy labels from the exact time-scaling law (lambda_1 scales as sqrt(E / E0),
+the horizon as its inverse). A claim whose quantity no arithmetic that follows its orbit has computed
+reads "not yet computed", naming the arithmetic it needs and its price at the decisive stage's measured
+cost per time unit. The rule of each is :data:`FAITHFUL_RULE`; the datasets each reads,
+:data:`sleighsim.claims.evidence.FAITHFUL`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from sleighsim.chaos.faithfulness import FOLLOWS
+from sleighsim.chaos.rule import FRAGILE
+from sleighsim.claims.rules import CANNOT, DIFFERS, NOT_YET, REPRODUCED, fmt, severity
+
+#: faithful_verdict of a claim whose own datasets are computed in an arithmetic that follows their orbits:
+#: the ledger puts the row's own verdict in its place.
+OWN = "own"
+
+#: Written into the ledger (attribute faithful_rule).
+FAITHFUL_RULE = (
+    "faithful_verdict: a claim on the steady state at eps = 0.1 (C15-C19, C22, C23) from the state chaos_verdict "
+    "decides in the arithmetic that follows it (the decisive stage, every realization): a regular state makes a "
+    "positive exponent or a broadband spectrum differ (by the size of the paper's value over the exponent "
+    "bound), a fragile state is fragile, a chaotic or undecided one leaves it not yet computed; F10's labels "
+    "(C20) by the exact time-scaling law from that state; F11's rows (C21, C27) each in the arithmetic its own "
+    "gauge accepts (a followed row's lambda_1 at or below the paper's floor differs, every row followed and "
+    "above it reproduces, a row not followed leaves it not yet computed); a time on the paper's own transient "
+    "(C13) cannot be reproduced when it still moves with the integration error (slope beyond 2 standard "
+    "errors) at the finest errors the trigger law measured; a quantity no faithful arithmetic has computed "
+    "(C14, C18, C24, C26 and the maps) is not yet computed, with the arithmetic it needs and its price."
+)
+
+
+@dataclass(frozen=True)
+class Faithful:
+    """A claim's faithful columns: its value (text from measured numbers), the arithmetic it was computed in
+    (or needs), the verdict."""
+
+    value: str
+    arithmetic: str
+    verdict: str
+
+
+@dataclass(frozen=True)
+class Decided:
+    """A state of chaos_verdict as the decisive stage left it: the verdict over its realizations, the exponent
+    bound, the arithmetic and its gauge, the measured cost per time unit of one lane (s)."""
+
+    state: str
+    verdict: str
+    agreeing: int
+    realizations: int
+    lambda_max: float
+    T: float
+    bound: str
+    arithmetic: str
+    cost: float
+
+    def answer(self) -> str:
+        """The state's verdict in words, with its arithmetic, realizations and exponent bound."""
+        return f"{self.state} is {self.verdict} in {self.arithmetic} ({self.agreeing} of {self.realizations} " \
+               f"realizations agree; {self.bound})"
+
+    def price(self, T: float) -> str:
+        """The price of one orbit over ``T`` (s)."""
+        return f"about {self.cost * T:.0f} s over T = {T:.3g}"
+
+    def rate(self) -> str:
+        """Where the price per time unit comes from."""
+        return (f"priced at the decisive stage's measured {self.cost:.2g} s per time unit of one lane with a "
+                f"tangent vector")
+
+
+def decided(verdicts, state: str = "main") -> Decided:
+    """``state`` of the chaos_verdict dataset ``verdicts`` as its decisive stage decided it."""
+    s = verdicts.sel(state=state)
+    gain = float(s.decisive_log10_gain_rounding)
+    return Decided(state, str(s.verdict.values), int(s.n_realizations_agreeing),
+                   int(verdicts.attrs["n_realizations"]), float(s.decisive_lambda_max), float(s.decisive_bound_T),
+                   str(s.decisive_bound_text.values),
+                   f"{verdicts.attrs['decisive_precision']} (G x rounding 10^{gain:.1f} on {state}'s orbit)",
+                   float(s.decisive_wall_time_s) / float(verdicts.attrs["decisive_T"]))
+
+
+def _unsettled(d: Decided) -> Faithful:
+    """The answer for a claim on a state that is not regular: fragile, or not yet computed."""
+    why = "its realizations disagree" if d.verdict == FRAGILE else "the exponent's value is not measured there"
+    return Faithful(f"{d.answer()}: {why}", d.arithmetic, FRAGILE if d.verdict == FRAGILE else NOT_YET)
+
+
+def against_regular(d: Decided, paper_lambda: float, what: str) -> Faithful:
+    """A claim of chaos (``what``, the paper's exponent ``paper_lambda``, 1/time; NaN: none stated) on the
+    decided state ``d``: a regular state differs by (paper - bound) / paper, at least "differs"."""
+    if d.verdict != "regular":
+        return _unsettled(d)
+    gap = (paper_lambda - d.lambda_max) / paper_lambda if np.isfinite(paper_lambda) else np.nan
+    verdict = severity(DIFFERS, gap) if np.isfinite(gap) and gap >= 0.25 else DIFFERS
+    return Faithful(f"{d.answer()}: {what}", d.arithmetic, verdict)
+
+
+def needs(d: Decided, what: str, T: float | None = None) -> Faithful:
+    """A quantity on ``d``'s orbit that its faithful arithmetic has not computed: what it needs, at what price."""
+    return Faithful(f"not computed: needs {what} ({d.price(T or d.T)}; {d.rate()})", d.arithmetic.split(" (")[0],
+                    NOT_YET)
+
+
+def spike_time(paper, trigger) -> Faithful:
+    """C13: a spike time on the paper's own transient, from the trigger law (first spike against the
+    integration error; the local slope of its finest range, time units per decade)."""
+    first, tol = trigger.first_spike.values, trigger.tol.values
+    ok = trigger.saturated.values == 0
+    slope, err = float(trigger.range_slope.values[-1]), float(trigger.range_slope_stderr.values[-1])
+    label = str(trigger.range_label.values[-1])
+    lo, hi = fmt(np.nanmin(first[ok]), 4), fmt(np.nanmax(first[ok]), 4)
+    text = (f"the first spike at t = {lo} to {hi} over integration errors {tol[ok].max():.0e} to "
+            f"{tol[ok].min():.0e} ({int(ok.sum())} unsaturated runs); at the finest range "
+            f"({label}) it moves {slope:.0f} +- {err:.0f} time units per decade")
+    if abs(slope) > 2 * err:
+        return Faithful(text + ": down to the finest error measured the spike's time is set by the integration "
+                        "error, so the data give no time for the exact orbit", f"none converges (finest: {label})",
+                        CANNOT)
+    return Faithful(text + ": it no longer moves; its time is not compared with the paper's", label, NOT_YET)
+
+
+def energy_labels(paper, energy, verdicts) -> Faithful:
+    """C20 (F10): lambda_1 against the energy label, by the exact time-scaling law from the decided state
+    (lambda_1 ~ sqrt(E / E0), the horizon ~ sqrt(E0 / E)); no label is checked directly."""
+    d = decided(verdicts)
+    if d.verdict != "regular":
+        return _unsettled(d)
+    E, E0 = energy.label.values, float(verdicts.attrs["energy_label"])
+    bounds = d.lambda_max * np.sqrt(E / E0)
+    inside = (E >= paper["label_min"] * (1 - 1e-9)) & (E <= paper["label_max"] * (1 + 1e-9))
+    lowest = float(bounds[inside][np.argmin(E[inside])]) if inside.any() else np.nan
+    listed = ", ".join(f"{b:.2g} at E = {e:.3g}" for e, b in zip(E, bounds))
+    what = (f"by the exact time-scaling law every label's state is that torus, regular; lambda_1 <= {listed} "
+            f"(not checked directly at any label)")
+    out = against_regular(d, paper["smallest"], what)
+    gap = (paper["smallest"] - lowest) / paper["smallest"]
+    return Faithful(out.value, out.arithmetic, severity(DIFFERS, gap) if gap >= 0.25 else DIFFERS)
+
+
+def grid_rows(paper, grid, verdicts) -> Faithful:
+    """C21 (F11): lambda_1 > the paper's floor on every eps row, each row in the arithmetic its gauge accepts:
+    a followed row at or below the floor differs; all followed and above reproduce; else not yet computed."""
+    d = decided(verdicts)
+    eps, lam, err = grid.eps.values, grid.lambda_1.values, grid.stderr.values
+    here = grid.status.values != "elsewhere"
+    followed = here & (grid.lambda_1_follows.values == FOLLOWS)
+    floor = paper["smallest_above"]
+    shown = "; ".join(f"eps {e:.3g}: {fmt(v, 2)} +- {fmt(s, 1)}" for e, v, s in zip(eps[followed], lam[followed],
+                                                                                   err[followed]))
+    value = (f"lambda_1 where the row's arithmetic follows it: {shown}" if followed.any() else
+             "no row's lambda_1 is computed in an arithmetic that follows it")
+    value += _row_needs(grid, here & ~followed, d)
+    arith = "; ".join(sorted({str(a) for a in grid.faithful_arithmetic.values[here]}))
+    low = followed & ~(lam - 2 * err > floor)
+    verdict = DIFFERS if low.any() else REPRODUCED if followed[here].all() else NOT_YET
+    return Faithful(value, f"per row: {arith}", verdict)
+
+
+def _row_needs(grid, rows, d: Decided) -> str:
+    """The rows not followed: the arithmetic each needs and its price over the decisive horizon scaled to the
+    row (T x reference_eps / eps)."""
+    if not rows.any():
+        return ""
+    s = float(grid.attrs["reference_eps"]) / grid.eps.values[rows]
+    parts = [f"eps {e:.3g} needs {a}" + (f" ({d.price(d.T * k)})" if "unknown" not in str(a) else "")
+             for e, a, k in zip(grid.eps.values[rows], grid.faithful_arithmetic.values[rows], s)]
+    return "; not computed: " + "; ".join(parts) + f" ({d.rate()}, over the decisive horizon x reference_eps / eps)"
+
+
+def route(paper, grid, verdicts) -> Faithful:
+    """C27: the route to chaos near eps = 0 needs the rows nearest 0 followed: not yet computed while the
+    smallest computed eps row is not."""
+    out = grid_rows({"smallest_above": 0.0}, grid, verdicts)
+    here = grid.status.values != "elsewhere"
+    nearest = np.argmin(np.where(here, grid.eps.values, np.inf))
+    ok = here.all() and (grid.lambda_1_follows.values == FOLLOWS).all()
+    if str(grid.lambda_1_follows.values[nearest]) != FOLLOWS:
+        return Faithful(out.value + f"; the row nearest eps = 0 (eps {grid.eps.values[nearest]:.3g}) is not followed",
+                        out.arithmetic, NOT_YET)
+    return Faithful(out.value, out.arithmetic, OWN if ok else NOT_YET)
+
+
+def spectrum(paper, verdicts) -> Faithful:
+    """C23 (F13): a broadband part in the spectrum of the state at eps = 0.1: a regular state's spectrum is
+    discrete lines."""
+    d = decided(verdicts)
+    train = verdicts.sel(state=d.state).decisive_spike_interval.values
+    train = train[np.isfinite(train)]
+    what = (f"a regular orbit's spectrum is discrete lines (the torus' frequencies and their combinations), with "
+            f"no broadband part; its spike interval {fmt(np.median(train), 6)} (median of {train.size})")
+    return against_regular(d, np.nan, what)
+
+
+def exponents(paper, verdicts) -> Faithful:
+    """C19: the paper's exponent spectrum, its largest positive, against the decided state's bound."""
+    return against_regular(decided(verdicts), float(np.max(paper["exponents"])),
+                           "its largest exponent is bounded as stated, against the paper's positive one")
+
+
+def volume(paper, verdicts) -> Faithful:
+    """C18: the sum of the exponents on the state at eps = 0.1, which its faithful arithmetic has not computed."""
+    return needs(decided(verdicts), "the sum of the four exponents in double-double (four tangent vectors; "
+                                    "priced here for one)")
+
+
+def on_main(what: str):
+    """A judge for a claim on the state at eps = 0.1 whose quantity (``what``) its faithful arithmetic has not
+    computed."""
+    def judge(paper, verdicts) -> Faithful:
+        return needs(decided(verdicts), what)
+    judge.__doc__ = f"A claim on main's orbit: {what}, not computed in the arithmetic that follows it."
+    return judge
+
+
+def ungauged(where: str):
+    """A judge for a claim on orbits (``where``) the faithfulness gauge has not measured."""
+    def judge(paper, *datasets) -> Faithful:
+        return Faithful(f"not computed: the faithfulness gauge has not measured {where}; it needs the gauge over a "
+                        "complete spike cycle, then the quantity in the arithmetic the gauge accepts",
+                        "unknown (no gauge)", NOT_YET)
+    judge.__doc__ = f"A claim on {where}, which the gauge has not measured."
+    return judge
+
+
+#: Claim id -> its faithful judge (the paper's values, then the datasets of evidence.FAITHFUL).
+FAITHFUL_JUDGES = {
+    "C13": spike_time,
+    "C14": on_main("the path (x, y) of main's orbit in double-double"),
+    "C15": on_main("P_2pi of main's orbit in double-double"),
+    "C16": on_main("P_pi/2 of main's orbit in double-double"),
+    "C17": ungauged("the orbits at E = 0.8313 and at eps = 0.01"),
+    "C18": volume,
+    "C19": exponents,
+    "C20": energy_labels,
+    "C21": grid_rows,
+    "C22": on_main("the return times of P_2pi on main's orbit in double-double"),
+    "C23": spectrum,
+    "C24": ungauged("the orbit at eps = 0.01"),
+    "C26": ungauged("the rows at eps > 20"),
+    "C27": route,
+}

@@ -1,0 +1,142 @@
+"""The ledger's faithful columns (sleighsim.claims.faithful): each rule on each of its branches, on small
+datasets built here, and the ledger's use of them (the row's own verdict for OWN, a figure's least favourable,
+a missing dataset, a run not at the paper's fidelity)."""
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from sleighsim.claims import faithful as f
+from sleighsim.claims import ledger as claims
+from sleighsim.claims.evidence import FAITHFUL
+from sleighsim.claims.rules import CANNOT, DIFFERS, DIFFERS_GREATLY, FRAGILE, NOT_A_REPRODUCTION, NOT_YET, REPRODUCED
+
+
+def verdicts(verdict="regular", lam=8e-6, agreeing=3):
+    """A chaos_verdict with one state, main, decided as ``verdict`` with the exponent bound ``lam``."""
+    one = lambda v: ("state", [v])  # noqa: E731
+    return xr.Dataset(
+        {"verdict": one(verdict), "n_realizations_agreeing": one(agreeing), "decisive_lambda_max": one(lam),
+         "decisive_bound_T": one(5e5), "decisive_bound_text": one(f"lambda_1 <= {lam} over T = 5e5"),
+         "decisive_log10_gain_rounding": one(-11.8), "decisive_wall_time_s": one(125.0),
+         "decisive_spike_interval": (("state", "decisive_spike"), [[2337.5, 2337.6, np.nan]])},
+        coords={"state": ["main"]},
+        attrs={"n_realizations": 3, "decisive_precision": "double-double", "decisive_T": 5e5, "energy_label": 0.1127})
+
+
+def grid(follows, lam, err=None, status=None):
+    """fig11_grid rows at eps 0.05, 0.1, 0.2 (reference eps 0.1) with their gauges ``follows``."""
+    n = len(follows)
+    eps = np.array([0.05, 0.1, 0.2][:n])
+    arith = ["double" if x == "follows" else "double-double" for x in follows]
+    return xr.Dataset({"lambda_1": ("eps", lam), "stderr": ("eps", err or [1e-5] * n),
+                       "status": ("eps", status or ["converged"] * n), "lambda_1_follows": ("eps", follows),
+                       "faithful_arithmetic": ("eps", arith)}, coords={"eps": eps}, attrs={"reference_eps": 0.1})
+
+
+def test_a_regular_state_makes_a_positive_exponent_differ_by_the_paper_over_the_bound():
+    out = f.exponents({"exponents": [2.9e-4, 2.2e-4, -2.2e-4, 2e-5]}, verdicts(lam=8e-6))
+    assert out.verdict == DIFFERS_GREATLY and "3 of 3" in out.value and out.arithmetic.startswith("double-double")
+    assert f.exponents({"exponents": [1e-5]}, verdicts(lam=8e-6)).verdict == DIFFERS  # bound near the paper's
+    assert f.spectrum({}, verdicts()).verdict == DIFFERS and "no broadband" in f.spectrum({}, verdicts()).value
+
+
+@pytest.mark.parametrize("state, word", [(FRAGILE, FRAGILE), ("chaotic", NOT_YET), ("undecided", NOT_YET)])
+def test_a_state_not_regular_leaves_the_claim_fragile_or_not_computed(state, word):
+    assert f.exponents({"exponents": [2.9e-4]}, verdicts(state, agreeing=2)).verdict == word
+    assert f.energy_labels({"label_min": 1e-4, "label_max": 1e3, "smallest": 1.1e-4},
+                           xr.Dataset(coords={"label": [1e-4, 0.1127]}), verdicts(state)).verdict == word
+
+
+def test_the_energy_labels_scale_the_bound_by_the_root_of_the_energy():
+    paper = {"label_min": 1e-4, "label_max": 1e3, "smallest": 1.1e-4}
+    out = f.energy_labels(paper, xr.Dataset(coords={"label": [0.1127 / 100, 0.1127]}), verdicts(lam=8e-6))
+    assert "8e-07 at E = 0.00113" in out.value and "8e-06 at E = 0.113" in out.value
+    assert out.verdict == DIFFERS_GREATLY
+    paper["smallest"] = 9e-7  # the paper's smallest barely above the scaled bound: no size worth more
+    assert f.energy_labels(paper, xr.Dataset(coords={"label": [0.1127 / 100]}), verdicts(lam=8e-6)).verdict == DIFFERS
+
+
+def test_each_row_counts_only_in_the_arithmetic_its_gauge_accepts():
+    floor = {"smallest_above": 1e-4}
+    assert f.grid_rows(floor, grid(["follows"] * 3, [3e-4, 4e-4, 5e-4]), verdicts()).verdict == REPRODUCED
+    low = f.grid_rows(floor, grid(["follows", "does not follow", "follows"], [3e-4, 4e-4, 1e-4]), verdicts())
+    assert low.verdict == DIFFERS and "eps 0.2: 0.0001" in low.value
+    assert "eps 0.1 needs double-double" in low.value
+    part = f.grid_rows(floor, grid(["does not follow", "follows", "follows"], [3e-4, 4e-4, 5e-4]), verdicts())
+    assert part.verdict == NOT_YET and "eps 0.05 needs double-double (about 250 s over T = 1e+06" in part.value
+    none = f.grid_rows(floor, grid(["unknown"] * 2, [3e-4, 4e-4]), verdicts())
+    assert none.verdict == NOT_YET and none.value.startswith("no row's lambda_1")
+
+
+def test_the_route_near_zero_needs_the_row_nearest_zero_followed():
+    near = f.route({}, grid(["does not follow", "follows", "follows"], [3e-4, 4e-4, 5e-4]), verdicts())
+    assert near.verdict == NOT_YET and "nearest eps = 0 (eps 0.05)" in near.value
+    assert f.route({}, grid(["follows"] * 3, [3e-4, 4e-4, 5e-4]), verdicts()).verdict == f.OWN
+    some = f.route({}, grid(["follows", "does not follow", "follows"], [3e-4, 4e-4, 5e-4]), verdicts())
+    assert some.verdict == NOT_YET
+
+
+def trigger(slope, err):
+    return xr.Dataset({"first_spike": ("run", [5282.0, 5400.0, 5638.0]), "tol": ("run", [1e-8, 1e-12, 1e-16]),
+                       "saturated": ("run", [0, 0, 1]), "range_slope": ("range", [-40.0, slope]),
+                       "range_slope_stderr": ("range", [8.0, err]),
+                       "range_label": ("range", ["double", "long double"])})
+
+
+def test_a_transient_time_that_still_moves_with_the_error_cannot_be_reproduced():
+    moving = f.spike_time({}, trigger(-86.0, 13.0))
+    assert moving.verdict == CANNOT and "5282 to 5400" in moving.value and "(2 unsaturated runs)" in moving.value
+    assert f.spike_time({}, trigger(-10.0, 13.0)).verdict == NOT_YET
+
+
+def test_a_quantity_not_computed_names_the_arithmetic_and_its_price():
+    out = f.volume({}, verdicts())
+    assert out.verdict == NOT_YET and out.arithmetic == "double-double" and "about 125 s over T = 5e+05" in out.value
+    out = f.FAITHFUL_JUDGES["C24"]({})
+    assert out.verdict == NOT_YET and out.arithmetic.startswith("unknown")
+
+
+def test_every_faithful_judge_has_its_datasets_declared():
+    assert set(FAITHFUL) == set(f.FAITHFUL_JUDGES)
+
+
+class Load:
+    """A stand-in for the ledger's datasets: ``have`` {name: dataset}; a name not there is missing."""
+
+    def __init__(self, have):
+        self.have = have
+
+    def __call__(self, names):
+        for n in names:
+            if n not in self.have:
+                raise claims.MissingDataset(n)
+        return [self.have[n] for n in names]
+
+
+def test_the_ledger_fills_the_columns_from_the_judge_or_says_what_is_missing():
+    claim = type("C", (), {"id": "C27", "values": {}})()
+    row = claims.Row("C27", "", "", verdict=DIFFERS)
+    claims.judge_faithful(row, claim, Load({"fig11_grid": grid(["follows"] * 2, [1e-4, 2e-4]),
+                                            "chaos_verdict": verdicts()}))
+    assert row.faithful_verdict == DIFFERS and row.faithful_arithmetic == "per row: double"  # OWN: the row's own
+    row = claims.Row("C27", "", "")
+    claims.judge_faithful(row, claim, Load({}))
+    assert row.faithful_verdict == NOT_YET and "fig11_grid not built" in row.faithful_value
+
+
+def test_a_figure_takes_the_least_favourable_faithful_verdict_and_a_smoke_run_judges_nothing():
+    row = claims.Row
+    judged = {"C15": row("C15", "", "", faithful_verdict=REPRODUCED, faithful_value="a", faithful_arithmetic="x"),
+              "C16": row("C16", "", "", faithful_verdict=NOT_YET, faithful_value="b", faithful_arithmetic="x"),
+              "C01": claims.Row("C01", "", "")}
+    fig = claims.Row("F9", "", "")
+    claims.faithful_figure(fig, judged, ("C15", "C16", "C01"))
+    assert fig.faithful_verdict == NOT_YET and fig.faithful_value == "C15: a; C16: b"
+    assert fig.faithful_arithmetic == "x"
+    bare = claims.Row("F1", "", "")
+    claims.faithful_figure(bare, judged, ("C01",))
+    assert bare.faithful_verdict == ""
+    rows = [claims.Row("C15", "", "", verdict=REPRODUCED, faithful_verdict=REPRODUCED), claims.Row("C01", "", "")]
+    claims.for_run(rows, {"label": "smoke"})
+    assert rows[0].faithful_verdict == NOT_A_REPRODUCTION and rows[1].faithful_verdict == ""
