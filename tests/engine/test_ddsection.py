@@ -40,3 +40,28 @@ def test_crossings_put_delta_on_the_section():
     assert np.allclose(X, (at_h + at_l)[:, :3], atol=1e-12)
     near, _ = ddsection.crossings(batch, hi, lo, grid, near=[20.0], half_width=3.0)
     assert 2 <= near.size <= 4 and np.all(np.abs(near - 20.0) <= 3.6)
+
+
+def test_quarter_crossings_put_delta_on_its_quarter_and_name_the_class():
+    """Each crossing of delta = k pi/2 lands on its quarter to 1e-12 in a direct double-double run, with the
+    class k mod 4 of that quarter, and delta's residual there is at double's rounding."""
+    flow, batch = DDFlow(P), DDBatch(P)
+    grid = np.arange(0.0, 40.05, 0.1)
+    hi, lo = flow.propagate_grid(STATE, grid)
+    t, X, k, residual = ddsection.quarter_crossings(batch, hi, lo, grid)
+    assert t.size >= 4 * 15 and set(k) == {0, 1, 2, 3} and np.max(residual) < 1e-15
+    at_h, at_l = flow.propagate_grid(STATE, t)
+    off = np.mod(at_h[:, 3] + at_l[:, 3] - k * (math.pi / 2) + math.pi, 2 * math.pi) - math.pi
+    assert np.max(np.abs(off)) < 1e-12 and np.allclose(X, (at_h + at_l)[:, :3], atol=1e-12)
+
+
+def test_the_residual_does_not_lose_digits_as_delta_unwraps():
+    """Far along the orbit (delta unwrapped to thousands of radians) a crossing's residual is still taken from the
+    sample's own delta: the solved crossing puts delta on the section to 1e-12."""
+    flow, batch = DDFlow(P), DDBatch(P)
+    grid = np.arange(0.0, 3000.05, 0.1)
+    hi, lo = flow.propagate_grid(STATE, grid)
+    t, _, k, _ = ddsection.quarter_crossings(batch, hi, lo, grid)
+    at_h, at_l = flow.propagate_grid(STATE, t[-5:])
+    off = np.mod(at_h[:, 3] + at_l[:, 3] - k[-5:] * (math.pi / 2) + math.pi, 2 * math.pi) - math.pi
+    assert abs(ddsection.unwrapped_delta(hi, grid)[-1]) > 1000 and np.max(np.abs(off)) < 1e-12

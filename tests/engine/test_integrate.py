@@ -189,3 +189,22 @@ def test_a_precision_is_accepted_by_its_name_as_by_the_type():
     assert sleigh_orbit(P, REF, "long double", 2.0**-63, 3, 1.0).precision is Precision.LONG_DOUBLE
     with pytest.raises(ValueError, match="precision 'quadruple': choose one of"):
         integrate(P, REF, [0.0, 1.0], precision="quadruple")
+
+
+def test_double_double_samples_and_crossings_agree_with_heyoka_where_double_follows():
+    """Over 300 time units of the paper's start (before any spike cycle amplifies double's error), the
+    double-double path of integrate and of poincare.crossings agrees with heyoka's double to double's error,
+    crossing for crossing and class for class; the path (kinematics) is refused, naming it."""
+    from sleighsim.engine import poincare
+
+    p = Params.paper(eps=0.1, K2=1.1)
+    y = [0.0, 0.1, 1.0, 0.0]
+    grid = sample_grid(0.0, 300.0, 0.5)
+    a, b = integrate(p, y, grid), integrate(p, y, grid, precision="double-double", tol=1e-32)
+    assert float(abs(a.u - b.u).max()) < 1e-11 and b.attrs["backend"] == "sleighsim.engine.ddtaylor"
+    ca = poincare.crossings(p, y, 0.0, 300.0)
+    cb = poincare.crossings(p, y, 0.0, 300.0, tol=1e-32, precision=Precision.DOUBLE_DOUBLE)
+    assert ca["time"].size == cb["time"].size > 100 and np.array_equal(ca["k"], cb["k"])
+    assert np.max(np.abs(ca["time"] - cb["time"])) < 1e-9 and cb["time"][0] > 0
+    with pytest.raises(ValueError, match="kinematics"):
+        integrate(p, y, grid, kinematics=True, precision="double-double", tol=1e-32)

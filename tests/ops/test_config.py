@@ -235,6 +235,13 @@ def test_a_precision_ladder_out_of_order_or_unknown_is_refused(bad):
     assert "precisions" in refused(with_value(("scenes", "fig9_ref", "precisions"), bad))
 
 
+def test_double_double_is_refused_in_the_ladder_of_a_kind_whose_engine_lacks_it():
+    """Only the poincare and psd kinds run their steady state in double-double (the path and tangent vectors are
+    not in that engine): a trajectory's ladder naming it is refused before any job, naming the key."""
+    assert refused(with_value(("scenes", "fig9_ref", "precisions"), ["double", "double-double"])) == ""
+    assert "precisions" in refused(with_value(("scenes", "fig7", "precisions"), ["double", "double-double"]))
+
+
 def test_a_gauge_without_a_ladder_is_refused():
     cfg = with_value(("scenes", "fig7", "gain"), {"T": 400.0, "tau": 2.0})
     assert refused(cfg) == ""
@@ -244,7 +251,7 @@ def test_a_gauge_without_a_ladder_is_refused():
 
 def test_laddered_scenes_and_their_datasets_are_named_by_the_registry():
     ladders = catalog.laddered(SMOKE)
-    assert ladders["fig9_ref"] == ["double", "long double"]
+    assert ladders["fig9_ref"] == ["double", "double-double"]
     assert "precision_ladder" not in ladders  # its own precisions are a parameter, not a ladder of the scene
     assert layout.variant("fig9_ref", "long double") == "precision/long_double/fig9_ref"
     assert layout.variant("fig9_ref", "double") == "fig9_ref" and layout.ladder("x") == "ladder/x"

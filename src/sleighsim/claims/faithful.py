@@ -27,18 +27,30 @@ from sleighsim.claims.rules import CANNOT, DIFFERS, NOT_YET, REPRODUCED, fmt, se
 #: the ledger puts the row's own verdict in its place.
 OWN = "own"
 
+
+class InLadder:
+    """The faithful judge of a claim whose datasets the config ladders up to an arithmetic that may follow
+    their orbits: the ledger judges the claim again, with its own judge, on the datasets of the finest precision
+    of the ladder, when that ladder's gauge (data/ladder/<scene>.nc, follows_orbit) says it follows each."""
+
+
+#: The marker of :class:`InLadder` in FAITHFUL_JUDGES.
+IN_LADDER = InLadder()
+
 #: Written into the ledger (attribute faithful_rule).
 FAITHFUL_RULE = (
-    "faithful_verdict: a claim on the steady state at eps = 0.1 (C15-C19, C22, C23) from the state chaos_verdict "
-    "decides in the arithmetic that follows it (the decisive stage, every realization): a regular state makes a "
-    "positive exponent or a broadband spectrum differ (by the size of the paper's value over the exponent "
-    "bound), a fragile state is fragile, a chaotic or undecided one leaves it not yet computed; F10's labels "
-    "(C20) by the exact time-scaling law from that state; F11's rows (C21, C27) each in the arithmetic its own "
-    "gauge accepts (a followed row's lambda_1 at or below the paper's floor differs, every row followed and "
+    "faithful_verdict: a claim whose datasets the config ladders (C15, C16, C22: fig9_ref; C23: psd_eps01) by "
+    "its own judge on the finest precision of the ladder when the ladder's gauge says that arithmetic follows "
+    "every one of their orbits (not yet computed otherwise); a claim on the steady state at eps = 0.1 (C18, C19) "
+    "from the state chaos_verdict decides in the arithmetic that follows it (the decisive stage, every "
+    "realization): a regular state makes a positive exponent differ (by the size of the paper's value over the "
+    "exponent bound), a fragile state is fragile, a chaotic or undecided one leaves it not yet computed; F10's "
+    "labels (C20) by the exact time-scaling law from that state; F11's rows (C21, C27) each in the arithmetic its "
+    "own gauge accepts (a followed row's lambda_1 at or below the paper's floor differs, every row followed and "
     "above it reproduces, a row not followed leaves it not yet computed); a time on the paper's own transient "
     "(C13) cannot be reproduced when it still moves with the integration error (slope beyond 2 standard "
     "errors) at the finest errors the trigger law measured; a quantity no faithful arithmetic has computed "
-    "(C14, C18, C24, C26 and the maps) is not yet computed, with the arithmetic it needs and its price."
+    "(C14, C17, C18, C24, C26) is not yet computed, with the arithmetic it needs and its price."
 )
 
 
@@ -194,17 +206,6 @@ def route(paper, grid, verdicts) -> Faithful:
     return Faithful(out.value, out.arithmetic, OWN if ok else NOT_YET)
 
 
-def spectrum(paper, verdicts) -> Faithful:
-    """C23 (F13): a broadband part in the spectrum of the state at eps = 0.1: a regular state's spectrum is
-    discrete lines."""
-    d = decided(verdicts)
-    train = verdicts.sel(state=d.state).decisive_spike_interval.values
-    train = train[np.isfinite(train)]
-    what = (f"a regular orbit's spectrum is discrete lines (the torus' frequencies and their combinations), with "
-            f"no broadband part; its spike interval {fmt(np.median(train), 6)} (median of {train.size})")
-    return against_regular(d, np.nan, what)
-
-
 def exponents(paper, verdicts) -> Faithful:
     """C19: the paper's exponent spectrum, its largest positive, against the decided state's bound."""
     return against_regular(decided(verdicts), float(np.max(paper["exponents"])),
@@ -240,15 +241,15 @@ def ungauged(where: str):
 FAITHFUL_JUDGES = {
     "C13": spike_time,
     "C14": on_main("the path (x, y) of main's orbit in double-double"),
-    "C15": on_main("P_2pi of main's orbit in double-double"),
-    "C16": on_main("P_pi/2 of main's orbit in double-double"),
+    "C15": IN_LADDER,
+    "C16": IN_LADDER,
     "C17": ungauged("the orbits at E = 0.8313 and at eps = 0.01"),
     "C18": volume,
     "C19": exponents,
     "C20": energy_labels,
     "C21": grid_rows,
-    "C22": on_main("the return times of P_2pi on main's orbit in double-double"),
-    "C23": spectrum,
+    "C22": IN_LADDER,
+    "C23": IN_LADDER,
     "C24": ungauged("the orbit at eps = 0.01"),
     "C26": ungauged("the rows at eps > 20"),
     "C27": route,

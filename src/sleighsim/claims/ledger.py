@@ -41,12 +41,12 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from sleighsim.chaos.faithfulness import UNKNOWN
+from sleighsim.chaos.faithfulness import FOLLOWS, UNKNOWN
 from sleighsim.chaos.rule import agree
 from sleighsim.claims import fidelity, rules
 from sleighsim.claims.causes import CAUSE_TESTS
 from sleighsim.claims.evidence import CAUSES, EVIDENCE, FAITHFUL
-from sleighsim.claims.faithful import FAITHFUL_JUDGES, FAITHFUL_RULE, OWN
+from sleighsim.claims.faithful import FAITHFUL_JUDGES, FAITHFUL_RULE, IN_LADDER, OWN
 from sleighsim.claims.figure_rows import figure_from_claims, files, judge_figure
 from sleighsim.claims.judges import JUDGES
 from sleighsim.claims.rules import CANNOT, DIFFERS, DOUBLE_ONLY, FRAGILE, NOT_YET, REPRODUCED, VERDICTS
@@ -281,12 +281,36 @@ def judge_faithful(row: Row, claim: Claim, load: _Datasets) -> None:
     """The row's faithful columns (:mod:`sleighsim.claims.faithful`, :data:`FAITHFUL_RULE`) from the datasets
     of evidence.FAITHFUL; OWN becomes the row's own verdict; a missing dataset gives "not yet computed"."""
     try:
+        if FAITHFUL_JUDGES[claim.id] is IN_LADDER:
+            return faithful_in_ladder(row, claim, load)
         f = FAITHFUL_JUDGES[claim.id](claim.values, *load(FAITHFUL[claim.id]))
     except MissingDataset as missing:
         row.faithful_value, row.faithful_verdict = f"not computed: {missing}", NOT_YET
         return
     row.faithful_value, row.faithful_arithmetic = f.value, f.arithmetic
     row.faithful_verdict = row.verdict if f.verdict == OWN else f.verdict
+
+
+def faithful_in_ladder(row: Row, claim: Claim, load: _Datasets) -> None:
+    """The faithful columns of a claim judged again by its own judge on the finest precision its datasets are
+    laddered in, when each ladder's gauge says that arithmetic follows its orbit (:class:`IN_LADDER`)."""
+    names = EVIDENCE[claim.id]
+    precision = load.finest(names)
+    gauges = [load([layout.ladder(n)])[0] for n in names if n in load.ladders]
+    follows = [str(g.follows_orbit.sel(precision=precision).values) if "follows_orbit" in g else UNKNOWN
+               for g in gauges]
+    gain = ", ".join(f"10^{float(g.log10_gain_rounding.sel(precision=precision)):.1f}" for g in gauges
+                     if "log10_gain_rounding" in g)
+    row.faithful_arithmetic = f"{precision} (G x rounding {gain or 'not measured'})"
+    if precision == Precision.DOUBLE or not follows or any(f != FOLLOWS for f in follows):
+        row.faithful_value = (f"not computed: the finest arithmetic of its ladder ({precision}) "
+                              f"{'is not shown to follow' if precision != Precision.DOUBLE else 'is double'} "
+                              f"({', '.join(follows) or 'no gauge'}); ladder it in one the gauge accepts")
+        row.faithful_verdict = NOT_YET
+        return
+    j = _judged(claim, load(load.variants(names, precision)))
+    row.faithful_value = j.measured
+    row.faithful_verdict = rules.severity(j.verdict, float(j.difference))
 
 
 def faithful_figure(row: Row, judged: dict, claims) -> None:

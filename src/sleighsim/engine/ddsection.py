@@ -49,30 +49,66 @@ def jets(batch: DDBatch, hi, lo) -> np.ndarray:
     return np.concatenate(parts) if rows.size else np.empty((0, 4, batch.order + 1))
 
 
+def _crossing_rows(hi, grid, period: float, near=(), half_width: float = math.inf):
+    """The samples nearest each crossing of delta = 0 (mod ``period``, 2 pi / period a whole number) of the sampled
+    orbit: their rows, delta's residual there from the section (the sample's own delta, wrapped into [-pi, pi))
+    and the multiple of ``period`` crossed (its index)."""
+    d = unwrapped_delta(hi, grid)
+    turn = np.floor(d / period)
+    k = np.flatnonzero(np.diff(turn) != 0)
+    if len(near):
+        k = k[np.any(np.abs(grid[k][:, None] - np.asarray(near, float)[None, :]) <= half_width, axis=1)]
+    index = np.maximum(turn[k], turn[k + 1])
+    target = index * period
+    rows = np.where(np.abs(d[k] - target) <= np.abs(d[k + 1] - target), k, k + 1)
+    # the residual from the sample's own delta, not the unwrapped sum (which loses digits as it grows)
+    on_circle = np.mod(index, round(TWO_PI / period)) * period
+    residual = np.mod(hi[rows, 3] - on_circle + math.pi, TWO_PI) - math.pi
+    return rows, residual, index
+
+
+def _solve(batch: DDBatch, hi, lo, grid, rows, residual):
+    """The crossings at ``rows`` (their delta ``residual`` from the section) solved on their jets, with the
+    residual of delta's series left at the solution (rad)."""
+    J = jets(batch, hi[rows], lo[rows])
+    J[:, :, 0] = hi[rows] + lo[rows]
+    J[:, 3, 0] = residual + lo[rows, 3]
+    t, x = solve_on_jets(J, grid[rows])
+    return t, x, np.abs(horner(J[:, 3], newton(J)))
+
+
 def crossings(batch: DDBatch, hi, lo, grid, near=(), half_width: float = math.inf) -> tuple[np.ndarray, np.ndarray]:
     """Crossings of delta = 0 (mod 2 pi) of the sampled orbit (rows of ``hi``, ``lo`` at ``grid``), only those
     within ``half_width`` of a time of ``near`` when given: times (n,) and states (n, 3) (u, Omega, omega),
     each by Newton's method on the jet of the sample nearest it (|tau| at most about half a step)."""
     hi, lo, grid = np.asarray(hi, float), np.asarray(lo, float), np.asarray(grid, float)
-    d = unwrapped_delta(hi, grid)
-    turn = np.floor(d / TWO_PI)
-    k = np.flatnonzero(np.diff(turn) != 0)
-    if len(near):
-        k = k[np.any(np.abs(grid[k][:, None] - np.asarray(near, float)[None, :]) <= half_width, axis=1)]
-    target = np.maximum(turn[k], turn[k + 1]) * TWO_PI
-    rows = np.where(np.abs(d[k] - target) <= np.abs(d[k + 1] - target), k, k + 1)
-    J = jets(batch, hi[rows], lo[rows])
-    J[:, :, 0] = hi[rows] + lo[rows]
-    J[:, 3, 0] = (d[rows] - target) + lo[rows, 3]
-    return solve_on_jets(J, grid[rows])
+    rows, residual, _ = _crossing_rows(hi, grid, TWO_PI, near, half_width)
+    return _solve(batch, hi, lo, grid, rows, residual)[:2]
+
+
+def quarter_crossings(batch: DDBatch, hi, lo, grid):
+    """Crossings of delta = k pi/2 of the sampled orbit (rows of ``hi``, ``lo`` at ``grid``; at most a quarter
+    turn per step): times (n,), states (n, 3) (u, Omega, omega), k mod 4 (the section class, as
+    :func:`sleighsim.engine.poincare.crossings`) and the residual of delta's series there (rad)."""
+    hi, lo, grid = np.asarray(hi, float), np.asarray(lo, float), np.asarray(grid, float)
+    rows, residual, index = _crossing_rows(hi, grid, 0.5 * math.pi)
+    t, x, left = _solve(batch, hi, lo, grid, rows, residual)
+    return t, x, index.astype(np.int64) % 4, left
 
 
 def solve_on_jets(J, t) -> tuple[np.ndarray, np.ndarray]:
     """The crossings from the jets J (rows, 4, order + 1) at the sample times ``t``, delta's series J[:, 3] taken
     relative to the crossing's turn (J[:, 3, 0] the sample's residual): Newton's method on it from the linear
     guess (8 steps), then the times t + tau and the states (u, Omega, omega) there."""
+    tau = newton(J)
+    return t + tau, np.stack([horner(J[:, c], tau) for c in range(3)], axis=1)
+
+
+def newton(J) -> np.ndarray:
+    """tau, the root of delta's series J[:, 3] (relative to the crossing's turn) nearest 0: Newton's method from
+    the linear guess, 8 steps."""
     tau = -J[:, 3, 0] / J[:, 3, 1]
     slope = J[:, 3, 1:] * np.arange(1, J.shape[2])
     for _ in range(8):
         tau = tau - horner(J[:, 3], tau) / horner(slope, tau)
-    return t + tau, np.stack([horner(J[:, c], tau) for c in range(3)], axis=1)
+    return tau

@@ -162,6 +162,20 @@ class _Path:
         self.span *= min(2.0, max(0.5, math.pi / moved))
 
 
+def _run_dd(params, y0, t0, times, kinematics, scene, progress, max_steps, *, tol):
+    """Double-double (sleighsim.engine.ddtaylor at ``tol``, which has no heyoka type): (samples in double,
+    info attributes). The path (theta, x, y) is not in its program: kinematics is refused."""
+    from sleighsim.engine.ddtaylor import DDFlow
+
+    if kinematics:
+        raise ValueError("kinematics: the double-double engine integrates (u, Omega, omega, delta) only")
+    flow = DDFlow(params, tol=tol, max_steps=max_steps)
+    log.info("%s: double-double over %.6g time units, %d samples", _label(scene), times[-1] - t0, times.size)
+    hi, lo = flow.propagate_grid(y0[:4], times - t0)
+    return hi + lo, {"backend": "sleighsim.engine.ddtaylor", "method": "double-double Taylor",
+                     "precision": Precision.DOUBLE_DOUBLE.value, "tol": tol, "order": flow.order, "steps": flow.steps}
+
+
 def _run_heyoka(params, y0, t0, times, kinematics, scene, progress, max_steps, *, tol, precision):
     """heyoka's Taylor integrator at ``tol`` in ``precision``: (samples in double, info attributes)."""
     import heyoka as hy
@@ -319,7 +333,9 @@ def integrate(
     equations.check_coefficients(params)
     precision = Precision.parse(precision)
     max_steps, progress = integer("max_steps", max_steps, 1, MAX_STEPS), integer("progress", progress, 0, MAX_STEPS)
-    if backend == "heyoka":
+    if backend == "heyoka" and precision is Precision.DOUBLE_DOUBLE:
+        run = partial(_run_dd, tol=tol)
+    elif backend == "heyoka":
         check_tol(tol, precision)
         run = partial(_run_heyoka, tol=tol, precision=precision)
     elif backend == "scipy":

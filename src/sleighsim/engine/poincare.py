@@ -18,7 +18,9 @@ import time
 
 import numpy as np
 
-from sleighsim.engine import integrators
+from sleighsim.engine import ddsection, integrators
+from sleighsim.engine.ddbatch import DDBatch
+from sleighsim.engine.ddtaylor import DDFlow
 from sleighsim.engine.integrate import IntegrationError, check_tol
 from sleighsim.model.params import Params
 from sleighsim.precision import Precision
@@ -34,12 +36,14 @@ def crossings(params: Params, y0, t0: float, t_end: float, *, tol: float = 2.0**
 
     Returns arrays: time, u, Omega, omega, k (the multiple of pi/2 of the reduced delta, so
     k mod 4 is the section class), residual |delta - k pi/2| (rad); plus steps, wall_time_s,
-    compile_time_s.
+    compile_time_s, backend and method. Double-double (which heyoka does not have) is :func:`dd_crossings`.
     """
     import heyoka as hy
 
     if not (math.isfinite(t0) and math.isfinite(t_end) and t_end > t0):
         raise ValueError(f"t_end = {t_end} is outside the admissible range (t0 = {t0}, inf): crossings need t_end > t0")
+    if Precision.parse(precision) is Precision.DOUBLE_DOUBLE:
+        return dd_crossings(params, y0, t0, t_end, tol=tol, scene=scene)
     check_tol(tol, precision)
     ta, compile_s = integrators.events(tol, precision)
     fp = ta.state.dtype.type
@@ -75,7 +79,30 @@ def crossings(params: Params, y0, t0: float, t_end: float, *, tol: float = 2.0**
         "time": hits[:, 5] + hits[:, 0], "u": hits[:, 1], "Omega": hits[:, 2], "omega": hits[:, 3],
         "k": k.astype(np.int64) % 4, "residual": np.abs(hits[:, 4] - k * (math.pi / 2)),
         "steps": steps, "wall_time_s": time.perf_counter() - start, "compile_time_s": compile_s,
+        "backend": "heyoka", "method": "taylor_adaptive + nt_event sin(2 delta)",
     }
+
+
+#: The sampling step (time units) of a double-double orbit whose section crossings are solved on the jets: a
+#: crossing at most DD_SAMPLE_DT / 2 from its sample, at most a quarter turn of delta per step (|deltadot| < 15).
+DD_SAMPLE_DT = 0.1
+
+
+def dd_crossings(params: Params, y0, t0: float, t_end: float, *, tol: float, scene: str = "") -> dict:
+    """:func:`crossings` in double-double (sleighsim.engine.ddtaylor at ``tol``): the orbit sampled every
+    DD_SAMPLE_DT, each crossing solved on the double-double Taylor jet of its nearest sample
+    (:func:`sleighsim.engine.ddsection.quarter_crossings`); returned in double, with the same keys."""
+    start = time.perf_counter()
+    flow = DDFlow(params, tol=tol)
+    grid = np.arange(0.0, t_end - t0 + 0.5 * DD_SAMPLE_DT, DD_SAMPLE_DT)
+    log.info("%s: double-double orbit over %.6g time units, sampled every %g", scene, t_end - t0, DD_SAMPLE_DT)
+    hi, lo = flow.propagate_grid(np.asarray(y0, float)[:4], grid)
+    t, x, k, residual = ddsection.quarter_crossings(DDBatch(params, tol), hi, lo, grid)
+    keep = (t > 1e-9) & (t <= t_end - t0)  # a crossing at the start is not one (as heyoka's events)
+    return {"time": t0 + t[keep], "u": x[keep, 0], "Omega": x[keep, 1], "omega": x[keep, 2], "k": k[keep],
+            "residual": residual[keep], "steps": flow.steps, "wall_time_s": time.perf_counter() - start,
+            "compile_time_s": 0.0, "backend": "sleighsim.engine.ddtaylor",
+            "method": f"double-double Taylor sampled every {DD_SAMPLE_DT}, crossings solved on the jets"}
 
 
 def rotation_number(points) -> dict:

@@ -89,7 +89,7 @@ def _maps(cfg: dict, s: dict, scene: str) -> xr.Dataset:
     ds.attrs.update(s["attrs"])
     ds.attrs.update(rot)
     ds.attrs.update(
-        scene=scene, backend="heyoka", method="taylor_adaptive + nt_event sin(2 delta)", **arith,
+        scene=scene, backend=c["backend"], method=c["method"], **arith,
         transient_tol=cfg["tol"], transient_precision=Precision.DOUBLE, settled_state=np.asarray(y_settled, float),
         energy_max_rel_drift=float(np.max(np.abs(E / E0 - 1))) if E.size else float("nan"),
         t_map_start=t0, t_map_end=t1, attractor_dt=cfg["attractor_dt"], n_p2pi=int(is2pi.sum()), n_ppi2=int(len(pts)),
@@ -216,7 +216,7 @@ def psd(cfg: dict, scene: str = "") -> xr.Dataset:
     ds.attrs.update(attrs)
     ds.attrs.update(out_attrs)
     ds.attrs.update(
-        scene=scene, backend="heyoka", method="taylor_adaptive", **arith,
+        scene=scene, backend=run.attrs["backend"], method=run.attrs.get("method", ""), **arith,
         transient_tol=cfg["tol"], transient_precision=Precision.DOUBLE, settled_state=np.asarray(y_settled, float),
         energy_max_rel_drift=max(run.attrs["energy_max_rel_drift"], attrs["pre_run_energy_max_rel_drift"]),
         record_start=t0, record_duration=cfg["duration"], sample_dt=cfg["dt"], check_dt=cfg["check_dt"],
