@@ -34,6 +34,7 @@ from sleighsim.report.figures import costs as plots
 from sleighsim.report.figures.catalog import FIGURES
 from sleighsim.report.findings import precision_findings
 from sleighsim.report.page import COLOURS, MARKS, Table, math_html, render
+from sleighsim.report.paper_orbit import paper_orbit
 from sleighsim.report.tables import TABLES
 
 OUTCOME_COLOURS = {"reliable": COLOURS["reproduced"], "degraded": COLOURS["differs"],
@@ -171,7 +172,9 @@ def build(rows: list[Row], *, out_dir, tex_path, labels: dict, figures: dict, da
     power = yaml.safe_load(Path(power_record).read_text()) if power_record else None
     cluster = yaml.safe_load(Path(cluster_record).read_text()) if cluster_record else None
     first = answers(rows, datasets, figures, power, cluster=cluster)
-    found = finding.facts(rows, first["chaos"], cluster, identity, finding.provenance(datasets))
+    first["paper_orbit"] = paper_orbit(datasets, kinds)
+    found = finding.facts(rows, first["chaos"], cluster, identity, finding.provenance(datasets),
+                          orbit=first["paper_orbit"])
     write_text(out_dir / "finding.yaml", yaml.safe_dump(found, sort_keys=False, width=120))
     context = {
         "run": run_line(identity),

@@ -43,11 +43,13 @@ def _elsewhere(cluster: dict | None) -> list[dict]:
     return out
 
 
-def facts(rows: list, chaos: list, cluster: dict | None, identity: dict, run: dict) -> dict:
+def facts(rows: list, chaos: list, cluster: dict | None, identity: dict, run: dict, orbit: str = "") -> dict:
     """What the paragraph states, from the ledger's ``rows``, the chaos answers ``chaos``
     (:func:`sleighsim.report.chaos_answers.chaos_answers`), a verdict measured with another config
     (``cluster``, its record; None without one), the run's ``identity`` (label and config hash) and ``run``
-    ({git_commit, date}: :func:`provenance`). A run not at the paper's fidelity counts its own data's verdicts."""
+    ({git_commit, date}: :func:`provenance`) and what the paper's own orbit does (``orbit``, a sentence of
+    :mod:`sleighsim.report.paper_orbit`; empty without one). A run not at the paper's fidelity counts its own
+    data's verdicts."""
     reproduction = fidelity.at_paper_fidelity(identity["config_label"])
 
     def verdict(r):
@@ -59,7 +61,7 @@ def facts(rows: list, chaos: list, cluster: dict | None, identity: dict, run: di
             "chaos_claims": {r.id: verdict(r) for r in rows if r.id in CHAOS_CLAIMS},
             "faithful_claims": {r.id: r.faithful_verdict for r in rows if r.faithful_verdict and r.id.startswith("C")},
             "states": {c.state: c.verdict for c in chaos},
-            "elsewhere": _elsewhere(cluster) if reproduction else []}
+            "elsewhere": _elsewhere(cluster) if reproduction else [], "paper_orbit": orbit}
 
 
 def _listed(words: list[str]) -> str:
@@ -152,6 +154,8 @@ def paragraph(f: dict) -> str:
                    f"{_by_verdict(f['chaos_claims']) or 'nothing, not in the ledger'}.")
         out.append(_faithful_sentence(f.get("faithful_claims", {})))
     out.append(_states_sentence(f))
+    if f["reproduction"] and f.get("paper_orbit"):
+        out.append(f["paper_orbit"])
     out.append(_conclusion(f) if f["reproduction"] else
                "None of this bears on the paper's claims: run at the paper's fidelity (config/config.yaml) for them.")
     return " ".join(out)
