@@ -18,7 +18,7 @@ from sleighsim.ops.config import merged_config
 from sleighsim.report.figures.catalog import FIGURES
 from sleighsim.scenes import catalog
 
-LONG = "precision/long_double/fig9_ref"
+FINE = "precision/double_double/fig9_ref"
 
 
 def _rows(data, config):
@@ -31,21 +31,21 @@ def _spectra(data, ks, div=-1e-3):
         write_fixture(_spectrum(div, 1e-4), data / f"{layout.realization('lyap_spectrum', k)}.nc")
 
 
-def _laddered_fig9(data, loops_double=4, loops_long=3):
+def _laddered_fig9(data, loops_double=4, loops_fine=3):
     _fig9(data / "fig9_ref.nc", n_loops=loops_double, pairs=0)
-    _fig9(data / f"{LONG}.nc", n_loops=loops_long, pairs=0)
+    _fig9(data / f"{FINE}.nc", n_loops=loops_fine, pairs=0)
     _ladder(data)
 
 
-def test_the_smoke_config_judges_fig9_ref_in_long_double_and_lyap_spectrum_on_every_realization(tmp_path):
+def test_the_smoke_config_judges_fig9_ref_in_double_double_and_lyap_spectrum_on_every_realization(tmp_path):
     config = merged_config([SMOKE])
     n = catalog.realized(config, on_request=True)["lyap_spectrum"]
-    assert "long double" in catalog.laddered(config, on_request=True)["fig9_ref"] and n >= 3
+    assert "double-double" in catalog.laddered(config, on_request=True)["fig9_ref"] and n >= 3
     data = tmp_path / "data"
     _laddered_fig9(data)
     _spectra(data, range(n))
     rows = _rows(data, config)
-    assert rows["C16"].precision.startswith("long double") and "3 loops" in rows["C16"].measured
+    assert rows["C16"].precision.startswith("double-double") and "3 loops" in rows["C16"].measured
     assert rows["C18"].realizations == f"all {n} realizations agree"
 
 
@@ -64,9 +64,10 @@ def test_a_declared_precision_variant_or_ladder_not_built_leaves_the_claim_not_y
     data = tmp_path / "data"
     _fig9(data / "fig9_ref.nc", n_loops=4, pairs=0)
     _ladder(data)
-    c16 = _rows(data, LADDERED)["C16"]
-    assert c16.verdict == "not yet computed" and LONG in c16.reason and c16.measured == ""
-    _fig9(data / f"{LONG}.nc", n_loops=4, pairs=0)
+    c16 = _rows(data, LADDERED)["C16"]  # LADDERED: fig9_ref in long double
+    long = layout.variant("fig9_ref", "long double")
+    assert c16.verdict == "not yet computed" and long in c16.reason and c16.measured == ""
+    _fig9(data / f"{long}.nc", n_loops=4, pairs=0)
     (data / "ladder" / "fig9_ref.nc").unlink()
     c16 = _rows(data, LADDERED)["C16"]
     assert c16.verdict == "not yet computed" and "ladder/fig9_ref" in c16.reason
@@ -113,7 +114,8 @@ def test_command_line_reads_the_ladders_and_realizations_of_the_config_files_it_
     _laddered_fig9(data)
     _spectra(data, range(n))
     rows = _cli(tmp_path)
-    assert rows["C16"].precision.startswith("long double") and rows["C18"].realizations == f"all {n} realizations agree"
+    assert rows["C16"].precision.startswith("double-double")
+    assert rows["C18"].realizations == f"all {n} realizations agree"
     more = tmp_path / "more.yaml"
     more.write_text(yaml.safe_dump({"scenes": {"lyap_spectrum": {"realizations": n + 1}}}))
     c18 = _cli(tmp_path, "--config", str(SMOKE), str(more))["C18"]  # a smoke run: judged against nothing

@@ -259,15 +259,15 @@ def test_smoke_grid_through_a_cluster_executor_equals_the_local_run(smoke_run, t
 @pytest.mark.workflow
 def test_the_smoke_ledger_judges_what_the_smoke_config_declares(smoke_run):
     """The claims rule passes the run's config to the ledger: C16 (fig9_ref, laddered in smoke.yaml)
-    is judged in long double, C18 (lyap_spectrum, realized) on every realization; re-judging the
+    is judged in double-double, C18 (lyap_spectrum, realized) on every realization; re-judging the
     tree from the command line's merged config gives the same rows."""
     from sleighsim.claims import ledger as claims
     from sleighsim.ops.config import merged_config
 
-    assert "long double" in catalog.laddered(SMOKE_CFG)["fig9_ref"] and "lyap_spectrum" in catalog.realized(SMOKE_CFG)
+    assert "double-double" in catalog.laddered(SMOKE_CFG)["fig9_ref"] and "lyap_spectrum" in catalog.realized(SMOKE_CFG)
     results = smoke_run / SMOKE_RESULTS
     rows = {r.id: r for r in claims.read(results / "claims.nc")}
-    assert rows["C16"].precision.startswith("long double") and rows["C18"].realizations
+    assert rows["C16"].precision.startswith("double-double") and rows["C18"].realizations
     again = claims.ledger(ROOT / "paper" / "CLAIMS.md", results / "data", results / "figures", merged_config([SMOKE]),
                            figure_catalog.FIGURES)
     assert [(r.id, r.verdict, r.precision, r.realizations) for r in again] == \

@@ -4,7 +4,7 @@ follows the claim's orbit (``faithful_value``, ``faithful_arithmetic``, ``faithf
 Double does not follow the steady state at eps = 0.1 (the gauge of chaos_verdict); double-double does, and
 the decisive stage decides that state there (``decisive_*`` of chaos_verdict, its realizations agreeing or
 not). A claim about that state takes its faithful answer from that decision; a claim about the rows of
-F11 from each row's own gauge (fig11_grid's ``lambda_1_follows``, ``faithful_arithmetic``); a claim on the
+F11 from each row's own gauge (the grid dataset's ``lambda_1_follows``, ``faithful_arithmetic``); a claim on the
 paper's own transient from the trigger law (does the time move with the integration error at the finest
 errors measured?); F10's energy labels from the exact time-scaling law (lambda_1 scales as sqrt(E / E0),
 the horizon as its inverse). A claim whose quantity no arithmetic that follows its orbit has computed
@@ -39,7 +39,7 @@ IN_LADDER = InLadder()
 
 #: Written into the ledger (attribute faithful_rule).
 FAITHFUL_RULE = (
-    "faithful_verdict: a claim whose datasets the config ladders (C15, C16, C22: fig9_ref; C23: psd_eps01) by "
+    "faithful_verdict: a claim whose datasets the config ladders (C15, C16, C22: F9's maps; C23: F13's spectra) by "
     "its own judge on the finest precision of the ladder when the ladder's gauge says that arithmetic follows "
     "every one of their orbits (not yet computed otherwise); a claim on the steady state at eps = 0.1 (C18, C19) "
     "from the state chaos_verdict decides in the arithmetic that follows it (the decisive stage, every "
@@ -223,7 +223,6 @@ def on_main(what: str):
     computed."""
     def judge(paper, verdicts) -> Faithful:
         return needs(decided(verdicts), what)
-    judge.__doc__ = f"A claim on main's orbit: {what}, not computed in the arithmetic that follows it."
     return judge
 
 
@@ -233,7 +232,6 @@ def ungauged(where: str):
         return Faithful(f"not computed: the faithfulness gauge has not measured {where}; it needs the gauge over a "
                         "complete spike cycle, then the quantity in the arithmetic the gauge accepts",
                         "unknown (no gauge)", NOT_YET)
-    judge.__doc__ = f"A claim on {where}, which the gauge has not measured."
     return judge
 
 

@@ -172,9 +172,8 @@ def build(rows: list[Row], *, out_dir, tex_path, labels: dict, figures: dict, da
     power = yaml.safe_load(Path(power_record).read_text()) if power_record else None
     cluster = yaml.safe_load(Path(cluster_record).read_text()) if cluster_record else None
     first = answers(rows, datasets, figures, power, cluster=cluster)
-    first["paper_orbit"] = paper_orbit(datasets, kinds)
     found = finding.facts(rows, first["chaos"], cluster, identity, finding.provenance(datasets),
-                          orbit=first["paper_orbit"])
+                          orbit=paper_orbit(datasets, kinds))
     write_text(out_dir / "finding.yaml", yaml.safe_dump(found, sort_keys=False, width=120))
     context = {
         "run": run_line(identity),
