@@ -85,8 +85,27 @@ def test_a_decisive_state_must_be_a_state_of_the_block_named_once(decisive):
 
 def test_the_decisive_lanes_must_fit_one_batch():
     verdict._checks("scenes.chaos_verdict", _cfg(decisive=("main", "rotor_a", "rotor_b"), n_chunks=341))  # 1023
-    with pytest.raises(ConfigError, match="would make 1026 lanes of the decisive job; at most 1024"):
+    with pytest.raises(ConfigError, match="would make 1026 lanes of a decisive job .decisive.jobs = 1.; at most 1024"):
         verdict._checks("scenes.chaos_verdict", _cfg(decisive=("main", "rotor_a"), n_chunks=513))
+    two = _cfg(decisive=("main", "rotor_a"), n_chunks=513)
+    two["decisive"]["jobs"] = 2  # 513 lanes each
+    verdict._checks("scenes.chaos_verdict", two)
+
+
+def test_the_decisive_lanes_cut_into_jobs_contiguously_and_as_even_as_they_go():
+    """decisive.jobs = 2 over 3 realizations x 3 states: jobs 9 and 10 take lanes 0-4 and 5-8, each reading its
+    lanes' first-stage jobs; their work is their lanes' share; more jobs than lanes is refused."""
+    cfg = _cfg(decisive=("main", "rotor_a", "rotor_b"))
+    cfg["decisive"]["jobs"] = 2
+    assert verdict._chunk_count(cfg) == 9 + 2
+    assert verdict._job_lanes(cfg, 0) + verdict._job_lanes(cfg, 1) == verdict._decisive_lanes(cfg)
+    assert [len(verdict._job_lanes(cfg, j)) for j in (0, 1)] == [5, 4]
+    assert verdict._chunk_reads(cfg, 9) == [0, 1, 2, 3, 4] and verdict._chunk_reads(cfg, 10) == [5, 6, 7, 8]
+    cfg["decisive"]["T"] = 100.0
+    assert verdict._chunk_work(cfg)[-2:] == [500.0, 400.0]
+    cfg["decisive"]["jobs"] = 10
+    with pytest.raises(ConfigError, match="decisive.jobs = 10: more jobs than the 9 lanes"):
+        verdict._checks("scenes.chaos_verdict", cfg)
 
 
 def _stage1(verdicts: dict, ln_gain=36.0):

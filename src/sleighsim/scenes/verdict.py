@@ -204,7 +204,7 @@ def chunk(cfg: dict, index: int, scene: str = "", reads=(), inputs=None) -> xr.D
     record = yaml.safe_load(Path(inputs["power"]).read_text())
     if index >= base:
         lanes = [_lane_vote(record, cfg, read_dataset(path)) for path in reads]
-        order = _decisive_lanes(cfg)
+        order = _job_lanes(cfg, index - base)
         parts = decisive_lanes(cfg, lanes, [f"{scene}#{r}[{name}]" for r, name in order])
         ds = pack(parts, [r for r, _ in order])
         ds.attrs.update(n_chunks=cfg["n_chunks"], vote_rule=VOTE_RULE)
@@ -236,13 +236,28 @@ def _decisive_lanes(cfg: dict) -> list[tuple[int, str]]:
     return [(r, name) for r in range(cfg["n_chunks"]) for name in cfg["decisive"]["states"]]
 
 
+def _decisive_jobs(cfg: dict) -> int:
+    """The decisive stage's jobs: decisive.jobs (1 when unset), none without decisive states."""
+    return int(cfg["decisive"].get("jobs", 1)) if cfg["decisive"]["states"] else 0
+
+
+def _job_lanes(cfg: dict, job: int) -> list[tuple[int, str]]:
+    """The lanes of decisive job ``job``: ``_decisive_lanes`` cut into _decisive_jobs contiguous parts, as even as
+    they go (the first ones one longer)."""
+    lanes = _decisive_lanes(cfg)
+    n, k = divmod(len(lanes), _decisive_jobs(cfg))
+    start = job * n + min(job, k)
+    return lanes[start:start + n + (job < k)]
+
+
 def _chunk_reads(cfg: dict, index: int) -> list[int]:
-    """The first-stage chunks the decisive job reads (each lane's realization's job of its state, in
+    """The first-stage chunks a decisive job reads (each of its lanes' realization's job of its state, in
     ``_decisive_lanes`` order); none for a first-stage chunk."""
-    if index < _stage_one_count(cfg):
+    base = _stage_one_count(cfg)
+    if index < base:
         return []
     names = list(cfg["states"])
-    return [r * len(names) + names.index(name) for r, name in _decisive_lanes(cfg)]
+    return [r * len(names) + names.index(name) for r, name in _job_lanes(cfg, index - base)]
 
 
 def _states_together(parts: list, names: list) -> xr.Dataset:
@@ -306,9 +321,9 @@ def gather(paths, cfg: dict, scene: str = "") -> xr.Dataset:
 
 
 def _chunk_count(cfg: dict) -> int:
-    """One chunk job per realization and state (the first stage), then one for the decisive stage when it has
-    states (:func:`chunk`)."""
-    return _stage_one_count(cfg) + int(bool(cfg["decisive"]["states"]))
+    """One chunk job per realization and state (the first stage), then decisive.jobs for the decisive stage when
+    it has states (:func:`chunk`)."""
+    return _stage_one_count(cfg) + _decisive_jobs(cfg)
 
 
 def _checks(where: str, cfg: dict) -> None:
@@ -317,21 +332,26 @@ def _checks(where: str, cfg: dict) -> None:
     states, dec = list(cfg["states"]), list(cfg["decisive"]["states"])
     if not set(dec) <= set(states) or len(set(dec)) != len(dec):
         raise ConfigError(f"{where}.decisive.states: {dec} must name states of {where}.states ({states}), each once")
-    if cfg["n_chunks"] * len(dec) > MAX_LANES:
+    jobs = int(cfg["decisive"].get("jobs", 1))
+    if dec and jobs > cfg["n_chunks"] * len(dec):
+        raise ConfigError(f"{where}.decisive.jobs = {jobs}: more jobs than the {cfg['n_chunks'] * len(dec)} lanes "
+                          f"(n_chunks x decisive.states)")
+    if -(-cfg["n_chunks"] * len(dec) // jobs) > MAX_LANES:
         raise ConfigError(f"{where}.decisive.states: {len(dec)} states x n_chunks = {cfg['n_chunks']} realizations "
-                          f"would make {cfg['n_chunks'] * len(dec)} lanes of the decisive job; at most {MAX_LANES}")
+                          f"would make {-(-cfg['n_chunks'] * len(dec) // jobs)} lanes of a decisive job "
+                          f"(decisive.jobs = {jobs}); at most {MAX_LANES}")
 
 
 def _chunk_work(cfg: dict) -> list[float]:
     """Work of each chunk job: one state of one realization, an equal share of the block's horizons
-    outside the decisive stage; then the decisive job, that stage's horizons once per lane (an upper
+    outside the decisive stage; then each decisive job, that stage's horizons once per lane of it (an upper
     estimate: lanes share the vector units) (a block without n_chunks or a decisive stage, measured before
     the verdict ran them, has none of those jobs)."""
     n, states = cfg.get("n_chunks", 1), len(cfg["states"])
     decisive = cfg.get("decisive", {"states": []})
     first = {k: v for k, v in cfg.items() if k != "decisive"}
-    lanes = n * len(decisive["states"])
-    return [horizon_work(first) / states] * (n * states) + ([horizon_work(decisive) * lanes] if lanes else [])
+    jobs = [len(_job_lanes(cfg, j)) for j in range(_decisive_jobs(cfg))] if decisive["states"] else []
+    return [horizon_work(first) / states] * (n * states) + [horizon_work(decisive) * lanes for lanes in jobs]
 
 
 CHAOS_VERDICT = SceneKind(
@@ -345,6 +365,7 @@ CHAOS_VERDICT = SceneKind(
                        memory.span(c, "megno_samples", None, 2),
                        # the decisive job's lanes: hi, lo, scale, tangent and the kernels' blocks per sample
                        memory.span(c, "decisive.T", "decisive.dt", 40,
-                                   ("n_chunks x len(decisive.states)", c["n_chunks"] * len(c["decisive"]["states"])))],
+                                   ("the lanes of a decisive job", len(_job_lanes(c, 0)) if c["decisive"]["states"]
+                                    else 0))],
     work=lambda cfg: sum(_chunk_work(cfg)), chunk_work=_chunk_work,
     modelled=lambda leaf: leaf in HORIZON_KEYS or leaf == "n_chunks")
