@@ -47,7 +47,8 @@ MAX_SCENE_JOBS = 1000
 #: Keys the schema types as integers (tests/test_bad_inputs.py checks this set against the schema).
 INTEGER_KEYS = frozenset({
     "chunk_runtime_min", "directions", "jobs", "loop_knn", "loschmidt_n", "max_intervals", "max_rounds",
-    "max_stored_pi2", "megno_samples", "min_intervals", "min_spikes", "n", "n_b", "n_blocks", "n_chunks", "n_eps", "n_field",
+    "max_stored_pi2", "megno_samples", "min_intervals", "min_spikes", "n", "n_b", "n_blocks", "n_chunks", "n_eps",
+    "n_field",
     "n_samples", "n_top", "order", "orders", "precision_chunks", "realizations", "repeats", "replicas", "runtime_min",
     "samples", "scipy_repeats", "seed", "spikes_after", "splits", "steady_blocks", "stream", "warmup"})
 
