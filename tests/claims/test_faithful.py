@@ -90,7 +90,7 @@ def test_a_transient_time_that_still_moves_with_the_error_cannot_be_reproduced()
 
 
 def test_a_quantity_not_computed_names_the_arithmetic_and_its_price():
-    out = f.volume({}, verdicts())
+    out = f.FAITHFUL_JUDGES["C18"]({}, verdicts())
     assert out.verdict == NOT_YET and out.arithmetic == "double-double" and "about 125 s over T = 5e+05" in out.value
     out = f.FAITHFUL_JUDGES["C24"]({})
     assert out.verdict == NOT_YET and out.arithmetic.startswith("unknown")

@@ -21,7 +21,7 @@ import numpy as np
 
 from sleighsim.chaos.faithfulness import FOLLOWS
 from sleighsim.chaos.rule import FRAGILE
-from sleighsim.claims.rules import CANNOT, DIFFERS, NOT_YET, REPRODUCED, fmt, severity
+from sleighsim.claims.rules import CANNOT, DIFFERS, NOT_YET, REPRODUCED, SLIGHT, fmt, severity
 
 #: faithful_verdict of a claim whose own datasets are computed in an arithmetic that follows their orbits:
 #: the ledger puts the row's own verdict in its place.
@@ -111,13 +111,15 @@ def _unsettled(d: Decided) -> Faithful:
     return Faithful(f"{d.answer()}: {why}", d.arithmetic, FRAGILE if d.verdict == FRAGILE else NOT_YET)
 
 
-def against_regular(d: Decided, paper_lambda: float, what: str) -> Faithful:
+def against_regular(d: Decided, paper_lambda: float, what: str, bound: float | None = None) -> Faithful:
     """A claim of chaos (``what``, the paper's exponent ``paper_lambda``, 1/time; NaN: none stated) on the
-    decided state ``d``: a regular state differs by (paper - bound) / paper, at least "differs"."""
+    decided state ``d``: a regular state differs by (paper - bound) / paper, at least "differs" (``bound``: the
+    exponent bound compared, d's own when None)."""
     if d.verdict != "regular":
         return _unsettled(d)
-    gap = (paper_lambda - d.lambda_max) / paper_lambda if np.isfinite(paper_lambda) else np.nan
-    verdict = severity(DIFFERS, gap) if np.isfinite(gap) and gap >= 0.25 else DIFFERS
+    bound = d.lambda_max if bound is None else bound
+    gap = (paper_lambda - bound) / paper_lambda if np.isfinite(paper_lambda) else np.nan
+    verdict = severity(DIFFERS, gap) if np.isfinite(gap) and gap >= SLIGHT else DIFFERS
     return Faithful(f"{d.answer()}: {what}", d.arithmetic, verdict)
 
 
@@ -127,18 +129,24 @@ def needs(d: Decided, what: str, T: float | None = None) -> Faithful:
                     NOT_YET)
 
 
+def finest_range(trigger) -> tuple[float, float, str, bool]:
+    """The trigger law's finest range of integration errors: the first spike's local slope there and its standard
+    error (time units per decade), its label, and whether it still moves (slope beyond 2 standard errors)."""
+    slope, err = float(trigger.range_slope.values[-1]), float(trigger.range_slope_stderr.values[-1])
+    return slope, err, str(trigger.range_label.values[-1]), abs(slope) > 2 * err
+
+
 def spike_time(paper, trigger) -> Faithful:
     """C13: a spike time on the paper's own transient, from the trigger law (first spike against the
     integration error; the local slope of its finest range, time units per decade)."""
     first, tol = trigger.first_spike.values, trigger.tol.values
     ok = trigger.saturated.values == 0
-    slope, err = float(trigger.range_slope.values[-1]), float(trigger.range_slope_stderr.values[-1])
-    label = str(trigger.range_label.values[-1])
+    slope, err, label, moving = finest_range(trigger)
     lo, hi = fmt(np.nanmin(first[ok]), 4), fmt(np.nanmax(first[ok]), 4)
     text = (f"the first spike at t = {lo} to {hi} over integration errors {tol[ok].max():.0e} to "
             f"{tol[ok].min():.0e} ({int(ok.sum())} unsaturated runs); at the finest range "
             f"({label}) it moves {slope:.0f} +- {err:.0f} time units per decade")
-    if abs(slope) > 2 * err:
+    if moving:
         return Faithful(text + ": down to the finest error measured the spike's time is set by the integration "
                         "error, so the data give no time for the exact orbit", f"none converges (finest: {label})",
                         CANNOT)
@@ -158,9 +166,7 @@ def energy_labels(paper, energy, verdicts) -> Faithful:
     listed = ", ".join(f"{b:.2g} at E = {e:.3g}" for e, b in zip(E, bounds))
     what = (f"by the exact time-scaling law every label's state is that torus, regular; lambda_1 <= {listed} "
             f"(not checked directly at any label)")
-    out = against_regular(d, paper["smallest"], what)
-    gap = (paper["smallest"] - lowest) / paper["smallest"]
-    return Faithful(out.value, out.arithmetic, severity(DIFFERS, gap) if gap >= 0.25 else DIFFERS)
+    return against_regular(d, paper["smallest"], what, bound=lowest)
 
 
 def grid_rows(paper, grid, verdicts) -> Faithful:
@@ -212,12 +218,6 @@ def exponents(paper, verdicts) -> Faithful:
                            "its largest exponent is bounded as stated, against the paper's positive one")
 
 
-def volume(paper, verdicts) -> Faithful:
-    """C18: the sum of the exponents on the state at eps = 0.1, which its faithful arithmetic has not computed."""
-    return needs(decided(verdicts), "the sum of the four exponents in double-double (four tangent vectors; "
-                                    "priced here for one)")
-
-
 def on_main(what: str):
     """A judge for a claim on the state at eps = 0.1 whose quantity (``what``) its faithful arithmetic has not
     computed."""
@@ -242,7 +242,7 @@ FAITHFUL_JUDGES = {
     "C15": IN_LADDER,
     "C16": IN_LADDER,
     "C17": ungauged("the orbits at E = 0.8313 and at eps = 0.01"),
-    "C18": volume,
+    "C18": on_main("the sum of the four exponents in double-double (four tangent vectors; priced here for one)"),
     "C19": exponents,
     "C20": energy_labels,
     "C21": grid_rows,

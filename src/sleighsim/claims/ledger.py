@@ -334,9 +334,8 @@ def for_run(rows: list[Row], config: dict) -> None:
             if isinstance(getattr(row, f.name), str):
                 setattr(row, f.name, rules.readable(getattr(row, f.name)))
         row.run_verdict = row.verdict
-        if not against_paper and row.faithful_verdict:
-            row.faithful_verdict = rules.NOT_A_REPRODUCTION
         if not against_paper:
+            row.faithful_verdict = rules.NOT_A_REPRODUCTION if row.faithful_verdict else ""
             row.verdict = rules.NOT_A_REPRODUCTION
             row.reason = (f"a {ident['config_label']} run ({fidelity.describe(ident)}), not at the paper's fidelity: "
                           f"on its own data, {row.run_verdict}" + (f" ({row.reason})" if row.reason else ""))

@@ -67,14 +67,13 @@ def _crossing_rows(hi, grid, period: float, near=(), half_width: float = math.in
     return rows, residual, index
 
 
-def _solve(batch: DDBatch, hi, lo, grid, rows, residual):
-    """The crossings at ``rows`` (their delta ``residual`` from the section) solved on their jets, with the
-    residual of delta's series left at the solution (rad)."""
+def _jets_at(batch: DDBatch, hi, lo, rows, residual) -> np.ndarray:
+    """The jets at the samples ``rows``, summed to doubles, delta's series taken relative to the crossing's turn
+    (its order 0 the sample's ``residual`` from the section)."""
     J = jets(batch, hi[rows], lo[rows])
     J[:, :, 0] = hi[rows] + lo[rows]
     J[:, 3, 0] = residual + lo[rows, 3]
-    t, x = solve_on_jets(J, grid[rows])
-    return t, x, np.abs(horner(J[:, 3], newton(J)))
+    return J
 
 
 def crossings(batch: DDBatch, hi, lo, grid, near=(), half_width: float = math.inf) -> tuple[np.ndarray, np.ndarray]:
@@ -83,7 +82,7 @@ def crossings(batch: DDBatch, hi, lo, grid, near=(), half_width: float = math.in
     each by Newton's method on the jet of the sample nearest it (|tau| at most about half a step)."""
     hi, lo, grid = np.asarray(hi, float), np.asarray(lo, float), np.asarray(grid, float)
     rows, residual, _ = _crossing_rows(hi, grid, TWO_PI, near, half_width)
-    return _solve(batch, hi, lo, grid, rows, residual)[:2]
+    return solve_on_jets(_jets_at(batch, hi, lo, rows, residual), grid[rows])
 
 
 def quarter_crossings(batch: DDBatch, hi, lo, grid):
@@ -92,8 +91,9 @@ def quarter_crossings(batch: DDBatch, hi, lo, grid):
     :func:`sleighsim.engine.poincare.crossings`) and the residual of delta's series there (rad)."""
     hi, lo, grid = np.asarray(hi, float), np.asarray(lo, float), np.asarray(grid, float)
     rows, residual, index = _crossing_rows(hi, grid, 0.5 * math.pi)
-    t, x, left = _solve(batch, hi, lo, grid, rows, residual)
-    return t, x, index.astype(np.int64) % 4, left
+    J = _jets_at(batch, hi, lo, rows, residual)
+    tau = newton(J)
+    return grid[rows] + tau, _states(J, tau), index.astype(np.int64) % 4, np.abs(horner(J[:, 3], tau))
 
 
 def solve_on_jets(J, t) -> tuple[np.ndarray, np.ndarray]:
@@ -101,7 +101,12 @@ def solve_on_jets(J, t) -> tuple[np.ndarray, np.ndarray]:
     relative to the crossing's turn (J[:, 3, 0] the sample's residual): Newton's method on it from the linear
     guess (8 steps), then the times t + tau and the states (u, Omega, omega) there."""
     tau = newton(J)
-    return t + tau, np.stack([horner(J[:, c], tau) for c in range(3)], axis=1)
+    return t + tau, _states(J, tau)
+
+
+def _states(J, tau) -> np.ndarray:
+    """(u, Omega, omega) from the jets J at the offsets tau."""
+    return np.stack([horner(J[:, c], tau) for c in range(3)], axis=1)
 
 
 def newton(J) -> np.ndarray:

@@ -137,7 +137,7 @@ def faithful_screen(rows: list[Row]) -> dict:
     """The first screen's answer to the chaos claims judged in an arithmetic that follows each orbit (the
     ledger's faithful columns, :mod:`sleighsim.claims.faithful`): the claims (C..) with a faithful verdict,
     how many hold ("reproduced") and the count of each verdict."""
-    judged = [r for r in rows if r.faithful_verdict and r.id.startswith("C")]
+    judged = finding.faithful_claims(rows)
     counts = {v: sum(r.faithful_verdict == v for r in judged) for v in VERDICTS}
     return {"faithful": judged, "faithful_hold": counts[REPRODUCED],
             "faithful_counts": [(v, n) for v, n in counts.items() if n]}

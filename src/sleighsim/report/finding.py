@@ -59,9 +59,14 @@ def facts(rows: list, chaos: list, cluster: dict | None, identity: dict, run: di
             "reproduction": reproduction, "git_commit": run["git_commit"], "date": run["date"], "n_rows": len(rows),
             "counts": {v: n for v in VERDICTS if (n := sum(verdict(r) == v for r in rows))},
             "chaos_claims": {r.id: verdict(r) for r in rows if r.id in CHAOS_CLAIMS},
-            "faithful_claims": {r.id: r.faithful_verdict for r in rows if r.faithful_verdict and r.id.startswith("C")},
+            "faithful_claims": {r.id: r.faithful_verdict for r in faithful_claims(rows)},
             "states": {c.state: c.verdict for c in chaos},
             "elsewhere": _elsewhere(cluster) if reproduction else [], "paper_orbit": orbit}
+
+
+def faithful_claims(rows: list) -> list:
+    """The ledger's claim rows (C..) with a faithful verdict (:mod:`sleighsim.claims.faithful`), in order."""
+    return [r for r in rows if r.faithful_verdict and r.id.startswith("C")]
 
 
 def _listed(words: list[str]) -> str:

@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from sleighsim.chaos.faithfulness import FOLLOWS
+from sleighsim.claims.faithful import finest_range
 from sleighsim.io.netcdf import read_dataset
 from sleighsim.report.findings import of_kind
 from sleighsim.scenes.trigger import TRIGGER_LAW
@@ -28,14 +29,13 @@ def describe(ds) -> str:
     slope at the finest range (time units per decade of integration error), then the landed tori."""
     ok = ds.saturated.values == 0
     first, tol = ds.first_spike.values[ok], ds.tol.values[ok]
-    slope, err = float(ds.range_slope.values[-1]), float(ds.range_slope_stderr.values[-1])
-    moving = abs(slope) > 2 * err
+    slope, err, label, moving = finest_range(ds)
     text = (f"From the paper's own start {_start(ds)} the second transient ends at the first spike, t = "
             f"{np.nanmin(first):.0f} to {np.nanmax(first):.0f} as the integration error goes from {tol.max():.0e} to "
             f"{tol.min():.0e} ({ok.sum()} runs), "
             + (f"still moving {abs(slope):.0f} +- {err:.0f} time units per decade at the finest range "
-               f"({ds.range_label.values[-1]}): the integration error decides when the orbit escapes."
-               if moving else f"no longer moving at the finest range ({ds.range_label.values[-1]})."))
+               f"({label}): the integration error decides when the orbit escapes."
+               if moving else f"no longer moving at the finest range ({label})."))
     if "landed_interval" not in ds:
         return text
     followed = ds.landed_follows.values[ok] == FOLLOWS

@@ -332,14 +332,14 @@ def _checks(where: str, cfg: dict) -> None:
     states, dec = list(cfg["states"]), list(cfg["decisive"]["states"])
     if not set(dec) <= set(states) or len(set(dec)) != len(dec):
         raise ConfigError(f"{where}.decisive.states: {dec} must name states of {where}.states ({states}), each once")
-    jobs = int(cfg["decisive"].get("jobs", 1))
-    if dec and jobs > cfg["n_chunks"] * len(dec):
-        raise ConfigError(f"{where}.decisive.jobs = {jobs}: more jobs than the {cfg['n_chunks'] * len(dec)} lanes "
-                          f"(n_chunks x decisive.states)")
-    if -(-cfg["n_chunks"] * len(dec) // jobs) > MAX_LANES:
+    jobs, lanes = _decisive_jobs(cfg), len(_decisive_lanes(cfg))
+    if jobs > lanes:
+        raise ConfigError(f"{where}.decisive.jobs = {jobs}: more jobs than the {lanes} lanes (n_chunks x "
+                          f"decisive.states)")
+    if jobs and len(_job_lanes(cfg, 0)) > MAX_LANES:
         raise ConfigError(f"{where}.decisive.states: {len(dec)} states x n_chunks = {cfg['n_chunks']} realizations "
-                          f"would make {-(-cfg['n_chunks'] * len(dec) // jobs)} lanes of a decisive job "
-                          f"(decisive.jobs = {jobs}); at most {MAX_LANES}")
+                          f"would make {len(_job_lanes(cfg, 0))} lanes of a decisive job (decisive.jobs = {jobs}); "
+                          f"at most {MAX_LANES}")
 
 
 def _chunk_work(cfg: dict) -> list[float]:
