@@ -89,8 +89,42 @@ def test_a_transient_time_that_still_moves_with_the_error_cannot_be_reproduced()
     assert f.spike_time({}, trigger(-10.0, 13.0)).verdict == NOT_YET
 
 
+def with_divergence(ds, mean, sigma=(1e-8, 1e-8, 1e-8), quad=(0.0, 0.0, 0.0)):
+    """``ds`` with three realizations' mean divergence over whole cycles of main's decisive orbit."""
+    per = lambda v: (("realization", "state"), np.asarray(v, float)[:, None])  # noqa: E731
+    return ds.assign(realization_decisive_mean_divergence=per(mean),
+                     realization_decisive_mean_divergence_stderr=per(sigma),
+                     realization_decisive_mean_divergence_quadrature=per(quad),
+                     realization_decisive_divergence_cycles=per([210, 210, 210]))
+
+
+@pytest.mark.parametrize("mean, word, says", [
+    ((-1e-6, -2e-6, -1e-6), REPRODUCED, "every realization contracts"),
+    ((-1e-6, 1e-9, -1e-6), FRAGILE, "2 of 3 realizations contract"),
+    ((1e-9, -1e-9, 2e-9), DIFFERS, "no contraction resolved: |mean divergence| <= 6.4e-08"),
+    ((1e-6, 1e-9, 2e-9), DIFFERS, "expands on average in 1 of 3"),
+])
+def test_the_volume_contracts_when_every_realization_resolves_a_negative_mean_divergence(mean, word, says):
+    out = f.volume({}, with_divergence(verdicts(), mean, quad=(3e-8, 0.0, 0.0)))
+    assert out.verdict == word and says in out.value and out.arithmetic.startswith("double-double")
+    assert "realization 0: " in out.value and "over 210 cycles" in out.value
+
+
+def test_the_volume_sigma_adds_the_quadrature_error_in_quadrature():
+    """-1e-7 with a windows' error 3e-8 and a quadrature error 4e-8: sigma 5e-8, so 2 sigma reaches 0 exactly:
+    not resolved; a smaller quadrature error resolves it."""
+    assert f.volume({}, with_divergence(verdicts(), [-1.01e-7] * 3, [3e-8] * 3, [4e-8] * 3)).verdict == REPRODUCED
+    assert f.volume({}, with_divergence(verdicts(), [-0.99e-7] * 3, [3e-8] * 3, [4e-8] * 3)).verdict == DIFFERS
+
+
+def test_the_volume_without_the_divergence_or_with_too_few_spikes_is_not_computed():
+    assert f.volume({}, verdicts()).verdict == NOT_YET
+    out = f.volume({}, with_divergence(verdicts(), [-1e-6, np.nan, -1e-6]))
+    assert out.verdict == NOT_YET and "too few spikes" in out.value
+
+
 def test_a_quantity_not_computed_names_the_arithmetic_and_its_price():
-    out = f.FAITHFUL_JUDGES["C18"]({}, verdicts())
+    out = f.FAITHFUL_JUDGES["C14"]({}, verdicts())
     assert out.verdict == NOT_YET and out.arithmetic == "double-double" and "about 125 s over T = 5e+05" in out.value
     out = f.FAITHFUL_JUDGES["C24"]({})
     assert out.verdict == NOT_YET and out.arithmetic.startswith("unknown")

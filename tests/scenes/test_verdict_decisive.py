@@ -11,6 +11,9 @@ import xarray as xr
 
 from sleighsim.chaos.megno import megno_from_log_norm
 from sleighsim.chaos.verdicts import CHAOTIC, REGULAR, UNDECIDED
+from sleighsim.engine import transient
+from sleighsim.model import equations
+from sleighsim.model.params import Params
 from sleighsim.precision import parsed
 from sleighsim.scenes import verdict, verdict_decisive, verdict_decisive_orbits, verdict_lanes
 from sleighsim.scenes.checks import ConfigError
@@ -259,6 +262,25 @@ def test_without_a_voting_tangent_judge_the_stage_runs_the_orbit_alone(voters):
     assert np.isfinite(ds.decisive_megno_Y_mean.values[0]).all() == tangent
     assert ds.decisive_energy_max_rel_drift.values[0] < 1e-18  # NaN fails too
     assert not reasons["birkhoff"].startswith("not run")
+    assert int(ds.decisive_divergence_cycles.values[0]) == 0 and np.isnan(ds.decisive_mean_divergence.values[0])
+
+
+def test_the_mean_divergence_runs_over_the_decisive_orbits_whole_cycles():
+    """From the settled state at eps = 0.1 over T = 5000 in double-double (two spikes, about 2340 apart): the mean
+    of trace J over that whole cycle (the divergence ranges over +-0.1 within it) agrees with the trapezoid rule on
+    the same orbit sampled every 0.025 within the quoted quadrature error, which is far below the mean's size on
+    this torus' cycles (about 1e-6); one window of the two holds a cycle, so no standard error."""
+    params = Params.paper(eps=0.1, b=1.0, K2=1.1)
+    y0 = [[0.026915490034010996, 0.0237695612672332, 3.299243512952921, 2.5060573896810956]]
+    dc = {**verdict_decisive.decisive_config(_decisive_cfg()), "T": 5000.0}
+    orbit, = verdict_decisive_orbits.lane_orbits(params, y0, dc, tangent=False)
+    div = verdict_decisive.divergence_stage(orbit, dc, params)
+    assert div["cycles"] == 1 and np.isnan(div["stderr"]) and div["quadrature"] < 1e-7
+    a, b = transient.spike_times(orbit["t"], orbit["Y"][:, 1], factor=dc["spike_factor"])
+    fine, = verdict_decisive_orbits.lane_orbits(params, y0, {**dc, "T": b, "dt": 0.025}, tangent=False)
+    inside = fine["t"] >= a
+    ref = np.trapezoid(equations.divergence(fine["Y"][inside], params), fine["t"][inside]) / (b - a)
+    assert abs(div["mean"] - ref) <= div["quadrature"]
 
 
 def test_a_regular_verdict_states_the_exponent_bound_of_the_judges_that_voted_it():

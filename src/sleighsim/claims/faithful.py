@@ -21,7 +21,7 @@ import numpy as np
 
 from sleighsim.chaos.faithfulness import FOLLOWS
 from sleighsim.chaos.rule import FRAGILE
-from sleighsim.claims.rules import CANNOT, DIFFERS, NOT_YET, REPRODUCED, SLIGHT, fmt, severity
+from sleighsim.claims.rules import CANNOT, DIFFERS, K_SIGMA, NOT_YET, REPRODUCED, SLIGHT, fmt, severity
 
 #: faithful_verdict of a claim whose own datasets are computed in an arithmetic that follows their orbits:
 #: the ledger puts the row's own verdict in its place.
@@ -41,7 +41,10 @@ IN_LADDER = InLadder()
 FAITHFUL_RULE = (
     "faithful_verdict: a claim whose datasets the config ladders (C15, C16, C22: F9's maps; C23: F13's spectra) by "
     "its own judge on the finest precision of the ladder when the ladder's gauge says that arithmetic follows "
-    "every one of their orbits (not yet computed otherwise); a claim on the steady state at eps = 0.1 (C18, C19) "
+    "every one of their orbits (not yet computed otherwise); C18 from the mean divergence over whole spike cycles "
+    f"of the decisive orbit of the state at eps = 0.1 in each realization (contracts when the mean plus {K_SIGMA:g} "
+    "sigma is below 0, sigma its windows' standard error and quadrature error; all contract: reproduced, none: "
+    "differs, some: fragile); a claim on the steady state at eps = 0.1 (C19) "
     "from the state chaos_verdict decides in the arithmetic that follows it (the decisive stage, every "
     "realization): a regular state makes a positive exponent differ (by the size of the paper's value over the "
     "exponent bound), a fragile state is fragile, a chaotic or undecided one leaves it not yet computed; F10's "
@@ -50,7 +53,7 @@ FAITHFUL_RULE = (
     "above it reproduces, a row not followed leaves it not yet computed); a time on the paper's own transient "
     "(C13) cannot be reproduced when it still moves with the integration error (slope beyond 2 standard "
     "errors) at the finest errors the trigger law measured; a quantity no faithful arithmetic has computed "
-    "(C14, C17, C18, C24, C26) is not yet computed, with the arithmetic it needs and its price."
+    "(C14, C17, C24, C26) is not yet computed, with the arithmetic it needs and its price."
 )
 
 
@@ -218,6 +221,39 @@ def exponents(paper, verdicts) -> Faithful:
                            "its largest exponent is bounded as stated, against the paper's positive one")
 
 
+def volume(paper, verdicts, state: str = "main") -> Faithful:
+    """C18: the flow contracts phase-space volume on ``state``'s orbit. Each realization's mean divergence over
+    the decisive orbit's whole cycles (``analysis.volume``; sigma: its windows' standard error and the quadrature
+    error in quadrature): it contracts when mean + K_SIGMA sigma < 0. Every realization contracting reproduces,
+    none differs, some fragile; without the stage's divergence, not yet computed."""
+    d = decided(verdicts, state)
+    name = "realization_decisive_mean_divergence"
+    if name not in verdicts:
+        return needs(d, "the mean divergence over main's orbit in double-double")
+    s = verdicts.sel(state=state)
+    mean = s[name].values
+    sigma = np.hypot(s["realization_decisive_mean_divergence_stderr"].values,
+                     s["realization_decisive_mean_divergence_quadrature"].values)
+    cycles = s["realization_decisive_divergence_cycles"].values
+    if not np.isfinite(mean).all() or not np.isfinite(sigma).all():
+        return needs(d, "the mean divergence over whole spike cycles of every realization (some had too few spikes)")
+    contracts = mean + K_SIGMA * sigma < 0
+    bound = float(np.max(np.abs(mean) + K_SIGMA * sigma))
+    listed = "; ".join(f"realization {r}: {m:.2g} +- {e:.2g} over {c:.0f} cycles"
+                       for r, (m, e, c) in enumerate(zip(mean, sigma, cycles)))
+    text = (f"mean divergence (the sum of the exponents) over whole spike cycles of {state}'s orbit in "
+            f"{d.arithmetic}: {listed}; ")
+    if contracts.all():
+        return Faithful(text + f"every realization contracts ({K_SIGMA:g} sigma)", d.arithmetic, REPRODUCED)
+    if contracts.any():
+        return Faithful(text + f"{int(contracts.sum())} of {contracts.size} realizations contract", d.arithmetic,
+                        FRAGILE)
+    expands = int(np.sum(mean - K_SIGMA * sigma > 0))
+    why = f"the flow expands on average in {expands} of {mean.size} realizations" if expands else \
+        f"no contraction resolved: |mean divergence| <= {bound:.2g} ({K_SIGMA:g} sigma)"
+    return Faithful(text + why, d.arithmetic, DIFFERS)
+
+
 def on_main(what: str):
     """A judge for a claim on the state at eps = 0.1 whose quantity (``what``) its faithful arithmetic has not
     computed."""
@@ -242,7 +278,7 @@ FAITHFUL_JUDGES = {
     "C15": IN_LADDER,
     "C16": IN_LADDER,
     "C17": ungauged("the orbits at E = 0.8313 and at eps = 0.01"),
-    "C18": on_main("the sum of the four exponents in double-double (four tangent vectors; priced here for one)"),
+    "C18": volume,
     "C19": exponents,
     "C20": energy_labels,
     "C21": grid_rows,

@@ -38,6 +38,8 @@ def _lambdified(which: str):
         exprs = [d.energy]
     elif which == "jacobian":
         exprs = list(sp.Matrix(d.rhs).jacobian(mech.STATE))
+    elif which == "divergence":
+        exprs = [sum(sp.diff(f, x) for f, x in zip(d.rhs, mech.STATE))]
     else:  # pragma: no cover - internal
         raise KeyError(which)
     return sp.lambdify(_symbols(), exprs, modules="numpy", cse=True)
@@ -66,6 +68,17 @@ def jacobian(y, params: Params) -> np.ndarray:
     """d rhs / d y, shape (..., 4, 4)."""
     flat = _call("jacobian", y, params)
     return np.stack(flat, axis=-1).reshape(*np.shape(y)[:-1], 4, 4)
+
+
+def divergence(y, params: Params) -> np.ndarray:
+    """The divergence of the flow, trace of d rhs / d y (1/time), shape y.shape[:-1]: the rate of change of ln of
+    a phase-space volume, whose time mean along an orbit is the sum of its Lyapunov exponents."""
+    return _call("divergence", y, params)[0]
+
+
+def second_derivative(y, params: Params) -> np.ndarray:
+    """d^2 y / dt^2 = J(y) rhs(y) along the flow, shape (..., 4)."""
+    return np.einsum("...ij,...j->...i", jacobian(y, params), rhs(y, params))
 
 
 def kinematics_rhs(y_full, params: Params) -> np.ndarray:

@@ -19,6 +19,7 @@ import time
 import numpy as np
 import xarray as xr
 
+from sleighsim.analysis.volume import CYCLE_MEAN_RULE, cycle_mean, hermite_integrals
 from sleighsim.chaos import decisive
 from sleighsim.chaos.birkhoff import observables
 from sleighsim.chaos.bounds import BOUND_RULE, regular_bound
@@ -38,6 +39,9 @@ log = logging.getLogger("sleighsim")
 
 #: The indicators the decisive stage judges (again), in its arithmetic (the others keep the first stage's).
 DECISIVE = ("megno", "section_megno", "frequency", "birkhoff")
+#: The variables of the mean divergence over the decisive orbit's whole cycles (each realization's kept by the gather).
+DIVERGENCE_VARS = ("decisive_mean_divergence", "decisive_mean_divergence_stderr",
+                   "decisive_mean_divergence_quadrature", "decisive_divergence_cycles")
 #: Those of them that read the tangent vector.
 TANGENT_JUDGED = ("megno", "section_megno")
 
@@ -89,6 +93,19 @@ def spike_train(orbit: dict, dc: dict) -> np.ndarray:
     t, Omega = orbit["t"], orbit["Y"][:, 1]
     spikes = transient.spike_times(t, Omega, factor=dc["spike_factor"])
     return np.diff(spikes)
+
+
+def divergence_stage(orbit: dict, dc: dict, params: Params) -> dict:
+    """The mean divergence of the flow (trace J; the sum of the Lyapunov exponents) over the decisive orbit's
+    whole spike cycles (``analysis.volume``: quintic Hermite quadrature between samples, delta unwrapped; spikes
+    as ``spike_train``'s; windows the finest split)."""
+    t, Y = orbit["t"], orbit["Y"]
+    spikes = transient.spike_times(t, Y[:, 1], factor=dc["spike_factor"])
+    smooth = Y.copy()
+    smooth[:, equations.DELTA] = np.unwrap(Y[:, equations.DELTA])
+    fine, coarse = hermite_integrals(t, smooth, equations.rhs(Y, params), equations.second_derivative(Y, params),
+                                     lambda y: equations.divergence(y, params))
+    return cycle_mean(t, fine, spikes, max(dc["splits"]), coarse=coarse)
 
 
 def stage_one_verdicts(stage1: xr.Dataset) -> dict:
@@ -181,6 +198,7 @@ def judged_lane(cfg: dict, stage1: xr.Dataset, orbit: dict, scene: str, *, voter
     klass = state_class(stage1, verdict, sigma)
     log.info("%s: decisive stage in %s: %s (%s); %s", scene, dc["precision"], verdict, klass, reason)
     variables = _decisive_vars(stage1, judged, orbit, dc, verdict, reason, klass)
+    variables.update(_divergence_vars(divergence_stage(orbit, dc, Params.from_config(cfg["params"]))))
     variables.update(_bound_vars(bound, [k in voters for k in judged]))
     wall = orbit_s + time.perf_counter() - start
     variables["decisive_wall_time_s"] = ("state", [wall], {
@@ -195,7 +213,8 @@ def judged_lane(cfg: dict, stage1: xr.Dataset, orbit: dict, scene: str, *, voter
                     decisive_splits=list(dc["splits"]), decisive_vote_horizon=float(dc["vote_horizon"]),
                     decisive_vote_why=dc.get("vote_why", ""),
                     decisive_voters=sorted(voters), decisive_tangent=int(tangent),
-                    decisive_rule=DECIDE_AGAIN_RULE, decisive_bound_rule=BOUND_RULE, backend=_backend(dc["precision"]),
+                    decisive_rule=DECIDE_AGAIN_RULE, decisive_bound_rule=BOUND_RULE,
+                    decisive_divergence_rule=CYCLE_MEAN_RULE, backend=_backend(dc["precision"]),
                     wall_time_s=wall, stage="decisive")
     return ds
 
@@ -221,6 +240,21 @@ def _bound_vars(bound: dict, voting: list) -> dict:
         "decisive_voting": (("state", "decisive_indicator"), [np.asarray(voting, int)],
                             {"long_name": "does the judge vote at the stage's horizon (the judge-power record)",
                              "units": "1"}),
+    }
+
+
+def _divergence_vars(div: dict) -> dict:
+    """The variables of the mean divergence over the decisive orbit's whole cycles (``divergence_stage``)."""
+    return {
+        "decisive_mean_divergence": ("state", [div["mean"]], cf.attrs(
+            "mean divergence (trace J) over the decisive orbit's whole spike cycles: the sum of its Lyapunov "
+            "exponents", "rate")),
+        "decisive_mean_divergence_stderr": ("state", [div["stderr"]], cf.attrs(
+            "standard error of the mean divergence over the finest split's windows of whole cycles", "rate")),
+        "decisive_mean_divergence_quadrature": ("state", [div["quadrature"]], cf.attrs(
+            "quadrature error of the mean divergence (its difference from the cubic Hermite rule's)", "rate")),
+        "decisive_divergence_cycles": ("state", [div["cycles"]], cf.attrs(
+            "whole spike cycles the mean divergence runs over")),
     }
 
 
