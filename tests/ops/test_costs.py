@@ -490,3 +490,20 @@ def test_the_estimate_writes_its_record_with_the_schedule(tmp_path, capsys):
     assert record["schema"] == costs.RECORD_SCHEMA and record["config"]["files"] == [str(base)]
     assert set(record["schedule"]["wall_s"]) == {1, 4} and record["measured"]["file"] == str(measured)
     assert "Wall time on N cores" in capsys.readouterr().out
+
+
+def test_the_chunks_of_a_scene_scheduled_first_are_chunk_jobs_to_the_estimate():
+    """A chunk job run by the chunk_first rule (the paper config's chaos_verdict, schedule_first) is rated like
+    any chunk job, at its CPU seconds above the startup; a gather job is not rated."""
+    import yaml
+
+    from sleighsim.ops import estimate as est_mod
+    from sleighsim.ops.config import BASE_CONFIG
+    from sleighsim.scenes import catalog
+
+    config = yaml.safe_load(BASE_CONFIG.read_text())
+    assert config["scenes"]["chaos_verdict"]["schedule_first"] is True
+    cfg = catalog.scene_config(config, "chaos_verdict")
+    have = [{"job": "chunk/chaos_verdict/0", "rule": "chunk_first", "wildcards": {"chunk": "0"}, "cpu_s": 12.0},
+            {"job": "gather/chaos_verdict", "rule": "gather", "wildcards": {}, "cpu_s": 3.0}]
+    assert est_mod._chunk_rates(have, cfg, 2.0) == [(10.0, est_mod.chunk_work(cfg)[0])]

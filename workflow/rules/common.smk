@@ -24,6 +24,9 @@ FIRST = [
     if n not in CHUNKED and SCENES[n].get("schedule_first", False)
 ]
 PLAIN = [n for n in ALL_DATASETS if n not in CHUNKED and n not in FIRST]
+# Chunked scenes whose block asks to start first: their chunk jobs outrank every other job (the chaos
+# verdict's decisive stage is the run's longest job and waits for its first stage).
+CHUNKED_FIRST = [n for n in CHUNKED if SCENES[n].get("schedule_first", False)]
 # Scenes run in several precisions from one settled point ({scene: precisions}), the datasets of
 # their finer precisions and their ladders (sleighsim.analysis.observables), by name under data/.
 LADDERED = scene_catalog.laddered(config, on_request=True)

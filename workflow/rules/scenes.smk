@@ -111,7 +111,7 @@ rule chunk:
     benchmark:
         f"{R}/benchmarks/chunk/{{scene}}/{{chunk}}.tsv"
     wildcard_constraints:
-        scene=alternatives(CHUNKED),
+        scene=alternatives([n for n in CHUNKED if n not in CHUNKED_FIRST]),
         chunk=r"\d+",
     # after the scheduled-first scenes, before the rest: the grid's small-eps chunks are long
     priority: 40
@@ -127,6 +127,14 @@ rule chunk:
         cfg=lambda w: SCENE_CFG[w.scene],
     script:
         "../scripts/chunk.py"
+
+
+# The chunks of a chunked scene scheduled first, before every other job: its last stage is the run's longest.
+use rule chunk as chunk_first with:
+    wildcard_constraints:
+        scene=alternatives(CHUNKED_FIRST),
+        chunk=r"\d+",
+    priority: 60
 
 
 rule gather:

@@ -18,6 +18,10 @@ def read_benchmark(path) -> dict:
     return {"wall_s": wall, "cpu_s": sum(cpus) if cpus else None}
 
 
+#: The workflow's rules of a chunked scene's chunk jobs (chunk_first: those of a scene scheduled first).
+CHUNK_RULES = ("chunk", "chunk_first")
+
+
 def rule_from_path(parts: tuple[str, ...]) -> str:
     """Rule of a benchmark file that is in no job graph, by the workflow's layout
     (<rule>/<wildcards>.tsv, and report/<rule>.tsv for the final rules)."""

@@ -10,6 +10,7 @@ from collections import defaultdict
 from pathlib import Path
 
 from sleighsim.io import layout
+from sleighsim.io.benchmark_files import CHUNK_RULES
 from sleighsim.ops.config import BASE_CONFIG, REPO
 from sleighsim.ops.workmodel import chunk_work, is_modelled, work
 from sleighsim.precision import Precision
@@ -80,7 +81,7 @@ def _chunk_rates(have: list, mcfg: dict, base: float) -> list[tuple[float, float
     mwork = chunk_work(mcfg)
     rates = []
     for j in have:
-        if j["rule"] != "chunk":
+        if j["rule"] not in CHUNK_RULES:
             continue
         k = int(j["wildcards"].get("chunk", j["job"].rsplit("/", 1)[-1]))
         if k < len(mwork) and mwork[k] > 0:
@@ -121,7 +122,7 @@ def _chunked_scene(scene: str, kind: str, block: dict, mcfg: dict, tcfg: dict, h
         est["jobs"].append({"job": f"chunk/{scene}/{k}", "rule": "chunk", "kind": kind, "scene": scene,
                             "cpu_s": base + rate * w, "ratio": ratio})
     for j in have:
-        if j["rule"] != "chunk":
+        if j["rule"] not in CHUNK_RULES:
             est["jobs"].append({"job": j["job"], "rule": j["rule"], "kind": kind, "scene": scene,
                                 "cpu_s": _job_cpu(j), "ratio": 1.0})
     _chunk_check(scene, block, tcfg, twork, rates, rate, base, est)

@@ -20,7 +20,7 @@ SCENE_NAME = r"^[A-Za-z][A-Za-z0-9_]{0,63}$"
 #: Names a scene may not take: the workflow's rules and the folders of the results tree (io.layout).
 RESERVED = frozenset({
     # rules (workflow/Snakefile, workflow/rules/*.smk)
-    "all", "atlas", "chunk", "chunk_in_precision", "claims", "figure", "gather", "gather_in_precision",
+    "all", "atlas", "chunk", "chunk_first", "chunk_in_precision", "claims", "figure", "gather", "gather_in_precision",
     "ladder", "report", "scene", "scene_first", "scene_in_precision", "scene_realization", "schematic",
     "stability", *layout.RESERVED})
 

@@ -11,7 +11,7 @@ from pathlib import Path
 import matplotlib.pyplot as plt
 from matplotlib.patches import Patch
 
-from sleighsim.io.benchmark_files import read_benchmark, rule_from_path
+from sleighsim.io.benchmark_files import CHUNK_RULES, read_benchmark, rule_from_path
 from sleighsim.report.figures.common import WIDTH, save_figure, subplots
 
 
@@ -34,10 +34,10 @@ def costs_figure(summary: dict):
         for k, j in enumerate(jobs):
             c = j["cpu_s"] or 0.0
             crit = j["job"] in on_path
-            ax.barh(y, c, left=left, height=0.7, color=cmap(k % 10) if rule == "chunk" else cmap(0),
-                    alpha=0.85 if rule == "chunk" else 0.55 + 0.3 * (k % 2), edgecolor="red" if crit else "white",
+            ax.barh(y, c, left=left, height=0.7, color=cmap(k % 10) if rule in CHUNK_RULES else cmap(0),
+                    alpha=0.85 if rule in CHUNK_RULES else 0.55 + 0.3 * (k % 2), edgecolor="red" if crit else "white",
                     linewidth=1.5 if crit else 0.6, hatch="//" if crit else None)
-            if rule == "chunk" and "chunk" in (j.get("wildcards") or {}):
+            if rule in CHUNK_RULES and "chunk" in (j.get("wildcards") or {}):
                 ax.text(left + c / 2, y, j["wildcards"]["chunk"], ha="center", va="center", fontsize=8, clip_on=True)
             left += c
         ax.text(left, y, f" {left:.4g} s ({len(jobs)} job{'s' if len(jobs) != 1 else ''})", va="center", fontsize=8)
