@@ -123,6 +123,30 @@ def test_the_volume_without_the_divergence_or_with_too_few_spikes_is_not_compute
     assert out.verdict == NOT_YET and "too few spikes" in out.value
 
 
+def with_path(ds, growth, recurrence=(0.2, 0.2, 0.2)):
+    """``ds`` with three realizations' path shapes along main's decisive orbit."""
+    per = lambda v: (("realization", "state"), np.asarray(v, float)[:, None])  # noqa: E731
+    return ds.assign(realization_decisive_path_growth=per(growth), realization_decisive_path_reach=per([50.0] * 3),
+                     realization_decisive_path_recurrence=per(recurrence))
+
+
+@pytest.mark.parametrize("growth, recurrence, word", [
+    ((1.0, 1.01, 1.0), (0.2, 0.2, 0.2), REPRODUCED),
+    ((1.0, 1.5, 1.0), (0.2, 0.2, 0.2), FRAGILE),
+    ((1.0, 1.0, 1.0), (0.2, 0.001, 0.2), FRAGILE),
+    ((1.41, 1.5, 2.0), (0.2, 0.2, 0.2), DIFFERS),
+])
+def test_the_path_is_judged_by_the_double_judges_rule_on_each_realization(growth, recurrence, word):
+    out = f.plane_path({}, with_path(verdicts(), growth, recurrence))
+    assert out.verdict == word and "realization 2: its reach grows by" in out.value and "T = 5e+05" in out.value
+    assert out.arithmetic.startswith("double-double")
+
+
+def test_a_path_without_its_shape_is_not_computed():
+    assert f.plane_path({}, verdicts()).verdict == NOT_YET
+    assert f.plane_path({}, with_path(verdicts(), (1.0, 1.0, 1.0), (0.2, np.nan, 0.2))).verdict == NOT_YET
+
+
 def test_a_quantity_not_computed_names_the_arithmetic_and_its_price():
     out = f.FAITHFUL_JUDGES["C14"]({}, verdicts())
     assert out.verdict == NOT_YET and out.arithmetic == "double-double" and "about 125 s over T = 5e+05" in out.value

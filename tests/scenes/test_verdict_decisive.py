@@ -281,6 +281,8 @@ def test_the_mean_divergence_runs_over_the_decisive_orbits_whole_cycles():
     inside = fine["t"] >= a
     ref = np.trapezoid(equations.divergence(fine["Y"][inside], params), fine["t"][inside]) / (b - a)
     assert abs(div["mean"] - ref) <= div["quadrature"]
+    shape = verdict_decisive.path_stage(orbit, params)
+    assert shape["reach"] > 0 and np.isfinite([shape["growth"], shape["recurrence"]]).all()
 
 
 def test_a_regular_verdict_states_the_exponent_bound_of_the_judges_that_voted_it():

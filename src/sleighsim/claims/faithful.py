@@ -21,6 +21,7 @@ import numpy as np
 
 from sleighsim.chaos.faithfulness import FOLLOWS
 from sleighsim.chaos.rule import FRAGILE
+from sleighsim.claims.judges.steady_state import PATH_RULE, path_verdict
 from sleighsim.claims.rules import CANNOT, DIFFERS, K_SIGMA, NOT_YET, REPRODUCED, SLIGHT, fmt, severity
 
 #: faithful_verdict of a claim whose own datasets are computed in an arithmetic that follows their orbits:
@@ -44,7 +45,8 @@ FAITHFUL_RULE = (
     "every one of their orbits (not yet computed otherwise); C18 from the mean divergence over whole spike cycles "
     f"of the decisive orbit of the state at eps = 0.1 in each realization (contracts when the mean plus {K_SIGMA:g} "
     "sigma is below 0, sigma its windows' standard error and quadrature error; all contract: reproduced, none: "
-    "differs, some: fragile); a claim on the steady state at eps = 0.1 (C19) "
+    "differs, some: fragile); C14 by its own rule on the path of each realization's decisive orbit (all bounded and "
+    "not periodic: reproduced, none: differs, some: fragile); a claim on the steady state at eps = 0.1 (C19) "
     "from the state chaos_verdict decides in the arithmetic that follows it (the decisive stage, every "
     "realization): a regular state makes a positive exponent differ (by the size of the paper's value over the "
     "exponent bound), a fragile state is fragile, a chaotic or undecided one leaves it not yet computed; F10's "
@@ -53,7 +55,7 @@ FAITHFUL_RULE = (
     "above it reproduces, a row not followed leaves it not yet computed); a time on the paper's own transient "
     "(C13) cannot be reproduced when it still moves with the integration error (slope beyond 2 standard "
     "errors) at the finest errors the trigger law measured; a quantity no faithful arithmetic has computed "
-    "(C14, C17, C24, C26) is not yet computed, with the arithmetic it needs and its price."
+    "(C17, C24, C26) is not yet computed, with the arithmetic it needs and its price."
 )
 
 
@@ -254,12 +256,26 @@ def volume(paper, verdicts, state: str = "main") -> Faithful:
     return Faithful(text + why, d.arithmetic, DIFFERS)
 
 
-def on_main(what: str):
-    """A judge for a claim on the state at eps = 0.1 whose quantity (``what``) its faithful arithmetic has not
-    computed."""
-    def judge(paper, verdicts) -> Faithful:
-        return needs(decided(verdicts), what)
-    return judge
+def plane_path(paper, verdicts, state: str = "main") -> Faithful:
+    """C14: the path of ``state``'s orbit is bounded and not periodic, by the double judge's rule
+    (``judges.steady_state.path_verdict``) on each realization's decisive orbit (its path from the orbit's samples,
+    ``analysis.path``): every realization's path bounded and not periodic reproduces, none differs, some fragile;
+    without the stage's path, not yet computed."""
+    d = decided(verdicts, state)
+    if "realization_decisive_path_growth" not in verdicts:
+        return needs(d, "the path (x, y) of main's orbit in double-double")
+    s = verdicts.sel(state=state)
+    growth, reach = s.realization_decisive_path_growth.values, s.realization_decisive_path_reach.values
+    recurrence = s.realization_decisive_path_recurrence.values
+    if not np.isfinite(np.r_[growth, recurrence]).all():
+        return needs(d, "the path of every realization over at least three times the shortest lag")
+    ok = np.array([all(path_verdict(g, r)) for g, r in zip(growth, recurrence)])
+    listed = "; ".join(f"realization {k}: its reach grows by {g:.3f} over the second half, reaching {x:.3g}, and "
+                       f"never repeats to better than {r:.2g} of its size" for k, (g, x, r)
+                       in enumerate(zip(growth, reach, recurrence)))
+    text = f"the path of {state}'s orbit over T = {float(verdicts.attrs['decisive_T']):.3g} in {d.arithmetic}: {listed}"
+    verdict = REPRODUCED if ok.all() else FRAGILE if ok.any() else DIFFERS
+    return Faithful(text + f" ({PATH_RULE})", d.arithmetic, verdict)
 
 
 def ungauged(where: str):
@@ -274,7 +290,7 @@ def ungauged(where: str):
 #: Claim id -> its faithful judge (the paper's values, then the datasets of evidence.FAITHFUL).
 FAITHFUL_JUDGES = {
     "C13": spike_time,
-    "C14": on_main("the path (x, y) of main's orbit in double-double"),
+    "C14": plane_path,
     "C15": IN_LADDER,
     "C16": IN_LADDER,
     "C17": ungauged("the orbits at E = 0.8313 and at eps = 0.01"),

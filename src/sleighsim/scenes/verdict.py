@@ -51,7 +51,7 @@ from sleighsim.scenes.checks import ConfigError
 from sleighsim.scenes.common import REALIZATION_STATES_RULE, realization_states
 from sleighsim.scenes.kind import SceneKind
 from sleighsim.scenes.verdict_dataset import set_attrs, variables
-from sleighsim.scenes.verdict_decisive import DIVERGENCE_VARS, decisive_lanes, decisive_spike_period, with_decisive
+from sleighsim.scenes.verdict_decisive import REALIZED_VARS, decisive_lanes, decisive_spike_period, with_decisive
 from sleighsim.scenes.verdict_frequency import (
     PRECISIONS,
     frequency_indicator,
@@ -304,7 +304,7 @@ def gather(paths, cfg: dict, scene: str = "") -> xr.Dataset:
     if all("decisive_spike_interval" in c for c in chunks):
         ds["realization_decisive_spike_period"] = (("realization", "state"),
                                                    [decisive_spike_period(c) for c in chunks])
-    for name in DIVERGENCE_VARS:
+    for name in REALIZED_VARS:
         if all(name in c for c in chunks):
             ds[f"realization_{name}"] = (("realization", "state"), [c[name].values for c in chunks],
                                          chunks[0][name].attrs)

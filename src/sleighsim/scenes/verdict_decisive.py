@@ -19,6 +19,7 @@ import time
 import numpy as np
 import xarray as xr
 
+from sleighsim.analysis.path import path, shape
 from sleighsim.analysis.volume import CYCLE_MEAN_RULE, cycle_mean, hermite_integrals
 from sleighsim.chaos import decisive
 from sleighsim.chaos.birkhoff import observables
@@ -39,9 +40,11 @@ log = logging.getLogger("sleighsim")
 
 #: The indicators the decisive stage judges (again), in its arithmetic (the others keep the first stage's).
 DECISIVE = ("megno", "section_megno", "frequency", "birkhoff")
-#: The variables of the mean divergence over the decisive orbit's whole cycles (each realization's kept by the gather).
-DIVERGENCE_VARS = ("decisive_mean_divergence", "decisive_mean_divergence_stderr",
-                   "decisive_mean_divergence_quadrature", "decisive_divergence_cycles")
+#: The variables of the mean divergence over the decisive orbit's whole cycles and of its path's shape (each
+#: realization's kept by the gather).
+REALIZED_VARS = ("decisive_mean_divergence", "decisive_mean_divergence_stderr",
+                 "decisive_mean_divergence_quadrature", "decisive_divergence_cycles", "decisive_path_growth",
+                 "decisive_path_reach", "decisive_path_recurrence")
 #: Those of them that read the tangent vector.
 TANGENT_JUDGED = ("megno", "section_megno")
 
@@ -95,17 +98,29 @@ def spike_train(orbit: dict, dc: dict) -> np.ndarray:
     return np.diff(spikes)
 
 
-def divergence_stage(orbit: dict, dc: dict, params: Params) -> dict:
+def derivatives(orbit: dict, params: Params) -> tuple[np.ndarray, np.ndarray]:
+    """The first and second time derivatives of the decisive orbit at its samples (f, J f)."""
+    return equations.rhs(orbit["Y"], params), equations.second_derivative(orbit["Y"], params)
+
+
+def divergence_stage(orbit: dict, dc: dict, params: Params, derivs=None) -> dict:
     """The mean divergence of the flow (trace J; the sum of the Lyapunov exponents) over the decisive orbit's
     whole spike cycles (``analysis.volume``: quintic Hermite quadrature between samples, delta unwrapped; spikes
-    as ``spike_train``'s; windows the finest split)."""
+    as ``spike_train``'s; windows the finest split). ``derivs``: ``derivatives`` of the orbit, if known."""
     t, Y = orbit["t"], orbit["Y"]
+    dY, d2Y = derivs or derivatives(orbit, params)
     spikes = transient.spike_times(t, Y[:, 1], factor=dc["spike_factor"])
     smooth = Y.copy()
     smooth[:, equations.DELTA] = np.unwrap(Y[:, equations.DELTA])
-    fine, coarse = hermite_integrals(t, smooth, equations.rhs(Y, params), equations.second_derivative(Y, params),
-                                     lambda y: equations.divergence(y, params))
+    fine, coarse = hermite_integrals(t, smooth, dY, d2Y, lambda y: equations.divergence(y, params))
     return cycle_mean(t, fine, spikes, max(dc["splits"]), coarse=coarse)
+
+
+def path_stage(orbit: dict, params: Params, derivs=None) -> dict:
+    """The shape of the sleigh's path along the decisive orbit (``analysis.path``: growth of its reach over the
+    second half, reach, size, recurrence). ``derivs``: ``derivatives`` of the orbit, if known."""
+    _, x, y = path(orbit["t"], orbit["Y"], *(derivs or derivatives(orbit, params)), params.b)
+    return shape(orbit["t"], x, y)
 
 
 def stage_one_verdicts(stage1: xr.Dataset) -> dict:
@@ -198,7 +213,10 @@ def judged_lane(cfg: dict, stage1: xr.Dataset, orbit: dict, scene: str, *, voter
     klass = state_class(stage1, verdict, sigma)
     log.info("%s: decisive stage in %s: %s (%s); %s", scene, dc["precision"], verdict, klass, reason)
     variables = _decisive_vars(stage1, judged, orbit, dc, verdict, reason, klass)
-    variables.update(_divergence_vars(divergence_stage(orbit, dc, Params.from_config(cfg["params"]))))
+    params = Params.from_config(cfg["params"])
+    derivs = derivatives(orbit, params)
+    variables.update(_divergence_vars(divergence_stage(orbit, dc, params, derivs)))
+    variables.update(_path_vars(path_stage(orbit, params, derivs)))
     variables.update(_bound_vars(bound, [k in voters for k in judged]))
     wall = orbit_s + time.perf_counter() - start
     variables["decisive_wall_time_s"] = ("state", [wall], {
@@ -255,6 +273,20 @@ def _divergence_vars(div: dict) -> dict:
             "quadrature error of the mean divergence (its difference from the cubic Hermite rule's)", "rate")),
         "decisive_divergence_cycles": ("state", [div["cycles"]], cf.attrs(
             "whole spike cycles the mean divergence runs over")),
+    }
+
+
+def _path_vars(p: dict) -> dict:
+    """The variables of the shape of the sleigh's path along the decisive orbit (``path_stage``)."""
+    return {
+        "decisive_path_growth": ("state", [p["growth"]], cf.attrs(
+            "the path's farthest distance from its start at the end over that at half the decisive orbit (about 1 "
+            "bounded, 1.41 diffusive, 2 straight)")),
+        "decisive_path_reach": ("state", [p["reach"]], cf.attrs(
+            "the path's farthest distance from its start along the decisive orbit", "length")),
+        "decisive_path_recurrence": ("state", [p["recurrence"]], cf.attrs(
+            "the smallest RMS distance between the path and its copy shifted by 50 time units to a third of the "
+            "orbit, over the path's size (0: periodic)")),
     }
 
 

@@ -11,6 +11,7 @@ import math
 
 import numpy as np
 
+from sleighsim.analysis.path import shape
 from sleighsim.claims.rules import (
     DIFFERS,
     REL_TOL,
@@ -55,28 +56,33 @@ def c13(paper, fig7) -> Judgement:
              "largest spike within 5% of the paper's time and |turn| within 10% of pi")
 
 
+#: C14's rule: bounded when the farthest distance from the start grows by less than this over the path's second half;
+#: not periodic when at every lag the path's RMS distance from its shifted copy exceeds this fraction of its size.
+BOUNDED_GROWTH, APERIODIC = 1.2, 0.01
+#: The rule's text (the double judge's and the faithful judge's).
+PATH_RULE = (f"bounded: the farthest distance from the start grows by less than {BOUNDED_GROWTH:g} over the second "
+             f"half of the path; not periodic: at every lag the RMS distance between the path and its shifted copy "
+             f"exceeds {APERIODIC:g} of its size")
+
+
+def path_verdict(growth: float, recurrence: float) -> tuple[bool, bool]:
+    """(bounded, not periodic) of a path of that growth and recurrence (``analysis.path.shape``) by PATH_RULE."""
+    return growth < BOUNDED_GROWTH, recurrence > APERIODIC
+
+
 def c14(paper, fig8) -> Judgement:
     """C14, "the path with the rotor is bounded and not periodic": judged from the paper's values ``paper`` and
     ``fig8``; returns its Judgement."""
-    x, y, t = fig8.x.values, fig8.y.values, fig8.time.values
-    r = np.hypot(x - x[0], y - y[0])
-    reach = np.maximum.accumulate(r)
-    growth = float(reach[-1] / reach[reach.size // 2])
-    step = max(1, x.size // 5000)
-    X = np.c_[x[::step], y[::step]]
-    size = float(np.sqrt(np.mean(np.sum((X - X.mean(0)) ** 2, axis=1))))
-    lags = range(max(1, int(50 / (t[step] - t[0]))), X.shape[0] // 3)
-    recurrence = min(float(np.sqrt(np.mean(np.sum((X[L:] - X[:-L]) ** 2, axis=1)))) for L in lags) / size
-    bounded, aperiodic = growth < 1.2, recurrence > 0.01
+    t = fig8.time.values
+    p = shape(t, fig8.x.values, fig8.y.values)
+    bounded, aperiodic = path_verdict(p["growth"], p["recurrence"])
     return Judgement(
         REPRODUCED if bounded and aperiodic else DIFFERS, units="length",
-        measured=f"the farthest distance from the start grows by {growth:.3f} from half the path to all of it "
-                 f"(bounded about 1, diffusive 1.41, straight 2), reaching {reach[-1]:.3g}; the path never repeats "
-                 f"itself to better than {recurrence:.3g} of its size at any lag of 50 to {t[-1] - t[0]:.3g} / 3",
-        rule="bounded: the farthest distance from the start grows by less than 1.2 over the second half of the path; "
-             "not periodic: at every lag the RMS distance between the path and its shifted copy exceeds 0.01 of its "
-             "size",
-        reason="" if bounded else f"the path keeps leaving: its reach grows by {growth:.2f} over the second half")
+        measured=f"the farthest distance from the start grows by {p['growth']:.3f} from half the path to all of it "
+                 f"(bounded about 1, diffusive 1.41, straight 2), reaching {p['reach']:.3g}; the path never repeats "
+                 f"itself to better than {p['recurrence']:.3g} of its size at any lag of 50 to {t[-1] - t[0]:.3g} / 3",
+        rule=PATH_RULE,
+        reason="" if bounded else f"the path keeps leaving: its reach grows by {p['growth']:.2f} over the second half")
 
 
 def c15(paper, ref) -> Judgement:
