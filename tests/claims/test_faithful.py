@@ -68,6 +68,25 @@ def test_each_row_counts_only_in_the_arithmetic_its_gauge_accepts():
     assert none.verdict == NOT_YET and none.value.startswith("no row's lambda_1")
 
 
+def with_state(ds, y=(0.027, 0.024, 3.3, 2.5), eps=0.1, K2=1.1):
+    """``ds`` with main's settled state ``y`` and its parameters."""
+    return ds.assign(settled_state=(("state", "component"), [list(y)])).assign_attrs(param_eps=eps, param_K2=K2)
+
+
+def test_a_row_whose_orbit_is_a_decided_state_takes_its_bound():
+    """The row at eps 0.1 settles to main's very state: main's bound (8e-6, double-double) stands for it, below the
+    paper's floor, so C21 differs; a row state off by 1e-9, another K2, or a state not regular does not count."""
+    rows = grid(["does not follow"] * 3, [3e-4, 4e-4, 5e-4]).assign(
+        row_settled_state=(("eps", "component"), [[0.01, 0.02, 1.0, 1.0], [0.027, 0.024, 3.3, 2.5],
+                                                  [0.0, 0.1, 1.0, 2.0]]))
+    out = f.grid_rows({"smallest_above": 1e-4}, rows, with_state(verdicts()))
+    assert out.verdict == DIFFERS and "eps 0.1: the state main (main is regular in double-double" in out.value
+    assert "double-double" in out.arithmetic and "eps 0.1 needs" not in out.value
+    assert f.decided_rows(rows, with_state(verdicts(), y=(0.027, 0.024, 3.3, 2.5 + 1e-9))) == {}
+    assert f.decided_rows(rows, with_state(verdicts(), K2=1.2)) == {}
+    assert f.grid_rows({"smallest_above": 1e-4}, rows, with_state(verdicts("undecided"))).verdict == NOT_YET
+
+
 def test_the_route_near_zero_needs_the_row_nearest_zero_followed():
     near = f.route({}, grid(["does not follow", "follows", "follows"], [3e-4, 4e-4, 5e-4]), verdicts())
     assert near.verdict == NOT_YET and "nearest eps = 0 (eps 0.05)" in near.value

@@ -51,11 +51,12 @@ FAITHFUL_RULE = (
     "realization): a regular state makes a positive exponent differ (by the size of the paper's value over the "
     "exponent bound), a fragile state is fragile, a chaotic or undecided one leaves it not yet computed; F10's "
     "labels (C20) by the exact time-scaling law from that state; F11's rows (C21, C27) each in the arithmetic its "
-    "own gauge accepts (a followed row's lambda_1 at or below the paper's floor differs, every row followed and "
-    "above it reproduces, a row not followed leaves it not yet computed); a time on the paper's own transient "
-    "(C13) cannot be reproduced when it still moves with the integration error (slope beyond 2 standard "
-    "errors) at the finest errors the trigger law measured; a quantity no faithful arithmetic has computed "
-    "(C17, C24, C26) is not yet computed, with the arithmetic it needs and its price."
+    "own gauge accepts, or, where the row's orbit is a state the chaos verdict decided regular (same eps and "
+    "settled state), that state's exponent bound (a followed or decided row's lambda_1 at or below the paper's "
+    "floor differs, every row followed and above it reproduces, a row not followed leaves it not yet computed); "
+    "a time on the paper's own transient (C13) cannot be reproduced when it still moves with the integration "
+    "error (slope beyond 2 standard errors) at the finest errors the trigger law measured; a quantity no faithful "
+    "arithmetic has computed (C17, C24, C26) is not yet computed, with the arithmetic it needs and its price."
 )
 
 
@@ -174,23 +175,53 @@ def energy_labels(paper, energy, verdicts) -> Faithful:
     return against_regular(d, paper["smallest"], what, bound=lowest)
 
 
+#: A row of F11 is a state chaos_verdict decided when its eps is the verdict's and its settled state the state's
+#: to this relative tolerance (both settle the same start over the same pre-run in double).
+SAME_STATE = 1e-12
+
+
+def decided_rows(grid, verdicts) -> dict[int, Decided]:
+    """The rows of ``grid`` whose orbit is a state chaos_verdict decided (``SAME_STATE``; the grid's rows are at
+    b = 1 and K2 = 1 + eps): row index -> that state's decision."""
+    if "row_settled_state" not in grid or "settled_state" not in verdicts or "param_K2" not in verdicts.attrs:
+        return {}  # nothing to match: every row keeps its own gauge
+    eps, K2 = float(verdicts.attrs["param_eps"]), float(verdicts.attrs["param_K2"])
+    if abs(K2 - (1 + eps)) > SAME_STATE:
+        return {}
+    out = {}
+    for i in np.flatnonzero(np.isclose(grid.eps.values, eps, rtol=SAME_STATE, atol=0.0)):
+        row = grid.row_settled_state.values[i]
+        for state in verdicts.state.values:
+            y = verdicts.settled_state.sel(state=state).values
+            if np.all(np.abs(row - y) <= SAME_STATE * np.maximum(np.abs(y), 1e-300)):
+                out[int(i)] = decided(verdicts, str(state))
+    return out
+
+
 def grid_rows(paper, grid, verdicts) -> Faithful:
-    """C21 (F11): lambda_1 > the paper's floor on every eps row, each row in the arithmetic its gauge accepts:
-    a followed row at or below the floor differs; all followed and above reproduce; else not yet computed."""
+    """C21 (F11): lambda_1 > the paper's floor on every eps row, each row in the arithmetic its gauge accepts, or,
+    for a row whose orbit is a state chaos_verdict decided regular (``decided_rows``), that state's exponent bound
+    in its arithmetic: a row so bounded at or below the floor differs; all followed and above reproduce; else not
+    yet computed."""
     d = decided(verdicts)
-    eps, lam, err = grid.eps.values, grid.lambda_1.values, grid.stderr.values
+    eps, lam, err = grid.eps.values, grid.lambda_1.values.copy(), grid.stderr.values.copy()
     here = grid.status.values != "elsewhere"
     followed = here & (grid.lambda_1_follows.values == FOLLOWS)
-    floor = paper["smallest_above"]
-    shown = "; ".join(f"eps {e:.3g}: {fmt(v, 2)} +- {fmt(s, 1)}" for e, v, s in zip(eps[followed], lam[followed],
-                                                                                   err[followed]))
-    value = (f"lambda_1 where the row's arithmetic follows it: {shown}" if followed.any() else
+    shown = [f"eps {e:.3g}: {fmt(v, 2)} +- {fmt(s, 1)}" for e, v, s in zip(eps[followed], lam[followed],
+                                                                            err[followed])]
+    arith = {str(a) for a in grid.faithful_arithmetic.values[here & ~followed]}
+    arith |= {"double"} if followed.any() else set()
+    for i, s in decided_rows(grid, verdicts).items():
+        if here[i] and not followed[i] and s.verdict == "regular":
+            followed[i], lam[i], err[i] = True, s.lambda_max, 0.0
+            shown.append(f"eps {eps[i]:.3g}: the state {s.state} ({s.answer()})")
+            arith.add(s.arithmetic.split(" (")[0])
+    value = (f"lambda_1 where the row's arithmetic follows it: {'; '.join(shown)}" if followed.any() else
              "no row's lambda_1 is computed in an arithmetic that follows it")
     value += _row_needs(grid, here & ~followed, d)
-    arith = "; ".join(sorted({str(a) for a in grid.faithful_arithmetic.values[here]}))
-    low = followed & ~(lam - 2 * err > floor)
+    low = followed & ~(lam - 2 * err > paper["smallest_above"])
     verdict = DIFFERS if low.any() else REPRODUCED if followed[here].all() else NOT_YET
-    return Faithful(value, f"per row: {arith}", verdict)
+    return Faithful(value, f"per row: {'; '.join(sorted(arith))}", verdict)
 
 
 def _row_needs(grid, rows, d: Decided) -> str:
