@@ -13,32 +13,27 @@ import math
 
 import numpy as np
 
-from sleighsim.analysis.volume import hermite_integrals
-
-
-def _cumulative(parts: np.ndarray) -> np.ndarray:
-    """The running sum of per-interval integrals, from 0 at the first sample."""
-    return np.concatenate([[0.0], np.cumsum(parts)])
+from sleighsim.analysis.volume import cumulative, hermite_integrals
 
 
 def path(t, Y, dY, d2Y, b: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(theta, x, y) at the samples ``t`` of an orbit ``Y`` (n, 4: u, Omega, omega, delta) with its first and
     second time derivatives ``dY``, ``d2Y``, for runner distance ``b``."""
     t = np.asarray(t, float)
-    theta = _cumulative(hermite_integrals(t, Y[:, 1:2], dY[:, 1:2], d2Y[:, 1:2], lambda s: s[..., 0])[0])
+    theta = cumulative(hermite_integrals(t, Y[:, 1:2], dY[:, 1:2], d2Y[:, 1:2], lambda s: s[..., 0],
+                                         coarse=False)[0])
     Z = np.c_[Y[:, 0], Y[:, 1], theta]
     dZ = np.c_[dY[:, 0], dY[:, 1], Y[:, 1]]
     d2Z = np.c_[d2Y[:, 0], d2Y[:, 1], dY[:, 1]]
 
-    def velocity(k: int):
-        def v(s):
-            u, Om, th = s[..., 0], s[..., 1], s[..., 2]
-            return u * np.cos(th) - b * Om * np.sin(th) if k == 0 else u * np.sin(th) + b * Om * np.cos(th)
-        return v
+    def velocity(s):
+        """(x', y') of the states s (u, Omega, theta), on a last axis."""
+        u, Om, th = s[..., 0], s[..., 1], s[..., 2]
+        c, sn = np.cos(th), np.sin(th)
+        return np.stack([u * c - b * Om * sn, u * sn + b * Om * c], axis=-1)
 
-    x = _cumulative(hermite_integrals(t, Z, dZ, d2Z, velocity(0))[0])
-    y = _cumulative(hermite_integrals(t, Z, dZ, d2Z, velocity(1))[0])
-    return theta, x, y
+    xy = cumulative(hermite_integrals(t, Z, dZ, d2Z, velocity, coarse=False)[0])
+    return theta, xy[:, 0], xy[:, 1]
 
 
 def shape(t, x, y, min_lag: float = 50.0) -> dict:

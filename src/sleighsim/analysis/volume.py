@@ -52,30 +52,39 @@ def _hermite_weights(order: int, nodes: int) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _block_integrals(t, Y, dY, d2Y, observable, order: int) -> np.ndarray:
-    """Per sample interval of one block, the integral of observable on the Hermite interpolant of ``order``."""
+    """Per sample interval of one block, the integral of observable (scalar or with trailing axes) on the Hermite
+    interpolant of ``order``."""
     basis, w = _hermite_weights(order, NODES)
-    h = np.diff(t)[:, None, None]
-    left = [Y[:-1], h[:, :, 0] * dY[:-1], h[:, :, 0] ** 2 * d2Y[:-1]]
-    right = [Y[1:], h[:, :, 0] * dY[1:], h[:, :, 0] ** 2 * d2Y[1:]]
+    h = np.diff(t)
+    left = [Y[:-1], h[:, None] * dY[:-1], h[:, None] ** 2 * d2Y[:-1]]
+    right = [Y[1:], h[:, None] * dY[1:], h[:, None] ** 2 * d2Y[1:]]
     terms = left[:2] + right[:2] if order == 3 else left + right
     states = sum(b[None, :, None] * v[:, None, :] for b, v in zip(basis, terms))
-    return (observable(states) @ w) * h[:, 0, 0]
+    values = np.tensordot(observable(states), w, axes=([1], [0]))  # the node axis summed
+    return values * h.reshape(-1, *[1] * (values.ndim - 1))
 
 
-def hermite_integrals(t, Y, dY, d2Y, observable) -> tuple[np.ndarray, np.ndarray]:
-    """The integral of ``observable`` (a function of states (..., n) -> (...)) over each interval between samples
-    ``t`` (n,) of an orbit ``Y`` (n, k) with derivatives ``dY`` and ``d2Y`` (continuous: unwrap angles first): on
-    the quintic Hermite interpolant and on the cubic one, each (n - 1,)."""
+def hermite_integrals(t, Y, dY, d2Y, observable, coarse: bool = True):
+    """The integral of ``observable`` (a function of states (..., k) -> (...) or (..., m)) over each interval
+    between samples ``t`` (n,) of an orbit ``Y`` (n, k) with derivatives ``dY`` and ``d2Y`` (continuous: unwrap
+    angles first): on the quintic Hermite interpolant, each (n - 1,) or (n - 1, m), and with ``coarse`` also on
+    the cubic one (else None in its place)."""
     t = np.asarray(t, float)
     if t.ndim != 1 or any(np.shape(a) != (t.size, np.shape(Y)[-1]) for a in (Y, dY, d2Y)):
         raise ValueError(f"t (n,) and Y, dY, d2Y (n, k) of one n, got {t.shape}, {np.shape(Y)}, {np.shape(dY)}, "
                          f"{np.shape(d2Y)}")
-    out = {5: [], 3: []}
+    out = {5: [], 3: []} if coarse else {5: []}
     for start in range(0, t.size - 1, BLOCK):
         sl = slice(start, min(start + BLOCK, t.size - 1) + 1)
         for order in out:
             out[order].append(_block_integrals(t[sl], Y[sl], dY[sl], d2Y[sl], observable, order))
-    return np.concatenate(out[5]), np.concatenate(out[3])
+    return np.concatenate(out[5]), np.concatenate(out[3]) if coarse else None
+
+
+def cumulative(integrals) -> np.ndarray:
+    """The running sum of per-interval integrals along the first axis, from 0 at the first sample."""
+    integrals = np.asarray(integrals, float)
+    return np.concatenate([np.zeros((1, *integrals.shape[1:])), np.cumsum(integrals, axis=0)])
 
 
 def _span(t, cum, a: float, b: float) -> float:
@@ -98,12 +107,12 @@ def cycle_mean(t, integrals, spikes, windows: int, coarse=None) -> dict:
         raise ValueError(f"windows = {windows} must be an integer >= 2")
     if spikes.size and (spikes.min() < t[0] or spikes.max() > t[-1]):
         raise ValueError("every spike time must lie within the samples' times")
-    cum = np.concatenate([[0.0], np.cumsum(integrals)])
+    cum = cumulative(integrals)
     whole = spikes.size >= 2
     mean = _span(t, cum, spikes[0], spikes[-1]) if whole else NAN
     quad = NAN
     if coarse is not None and whole:
-        quad = abs(mean - _span(t, np.concatenate([[0.0], np.cumsum(coarse)]), spikes[0], spikes[-1]))
+        quad = abs(mean - _span(t, cumulative(coarse), spikes[0], spikes[-1]))
     edges = np.linspace(t[0], t[-1], int(windows) + 1)
     per = np.array([_span(t, cum, s[0], s[-1]) if s.size >= 2 else NAN
                     for s in (spikes[(spikes >= lo) & (spikes <= hi)] for lo, hi in zip(edges[:-1], edges[1:]))])

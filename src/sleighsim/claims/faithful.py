@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from sleighsim.chaos.faithfulness import FOLLOWS
-from sleighsim.chaos.rule import FRAGILE
+from sleighsim.chaos.rule import FRAGILE, agree
 from sleighsim.claims.judges.steady_state import PATH_RULE, path_verdict
 from sleighsim.claims.rules import CANNOT, DIFFERS, K_SIGMA, NOT_YET, REPRODUCED, SLIGHT, fmt, severity
 
@@ -262,7 +262,7 @@ def volume(paper, verdicts, state: str = "main") -> Faithful:
     d = decided(verdicts, state)
     name = "realization_decisive_mean_divergence"
     if name not in verdicts:
-        return needs(d, "the mean divergence over main's orbit in double-double")
+        return needs(d, f"the mean divergence over {state}'s orbit in double-double")
     s = verdicts.sel(state=state)
     mean = s[name].values
     sigma = np.hypot(s["realization_decisive_mean_divergence_stderr"].values,
@@ -276,15 +276,19 @@ def volume(paper, verdicts, state: str = "main") -> Faithful:
                        for r, (m, e, c) in enumerate(zip(mean, sigma, cycles)))
     text = (f"mean divergence (the sum of the exponents) over whole spike cycles of {state}'s orbit in "
             f"{d.arithmetic}: {listed}; ")
-    if contracts.all():
-        return Faithful(text + f"every realization contracts ({K_SIGMA:g} sigma)", d.arithmetic, REPRODUCED)
-    if contracts.any():
-        return Faithful(text + f"{int(contracts.sum())} of {contracts.size} realizations contract", d.arithmetic,
-                        FRAGILE)
+    verdict = _over_realizations(contracts)
     expands = int(np.sum(mean - K_SIGMA * sigma > 0))
-    why = f"the flow expands on average in {expands} of {mean.size} realizations" if expands else \
-        f"no contraction resolved: |mean divergence| <= {bound:.2g} ({K_SIGMA:g} sigma)"
-    return Faithful(text + why, d.arithmetic, DIFFERS)
+    why = {REPRODUCED: f"every realization contracts ({K_SIGMA:g} sigma)",
+           FRAGILE: f"{int(contracts.sum())} of {contracts.size} realizations contract",
+           DIFFERS: f"the flow expands on average in {expands} of {mean.size} realizations" if expands else
+           f"no contraction resolved: |mean divergence| <= {bound:.2g} ({K_SIGMA:g} sigma)"}[verdict]
+    return Faithful(text + why, d.arithmetic, verdict)
+
+
+def _over_realizations(holds) -> str:
+    """A claim's faithful verdict from whether it holds in each realization (``chaos.rule.agree``): reproduced when
+    it holds in every one, differs when in none, fragile otherwise."""
+    return agree([REPRODUCED if h else DIFFERS for h in holds])[0]
 
 
 def plane_path(paper, verdicts, state: str = "main") -> Faithful:
@@ -294,19 +298,18 @@ def plane_path(paper, verdicts, state: str = "main") -> Faithful:
     without the stage's path, not yet computed."""
     d = decided(verdicts, state)
     if "realization_decisive_path_growth" not in verdicts:
-        return needs(d, "the path (x, y) of main's orbit in double-double")
+        return needs(d, f"the path (x, y) of {state}'s orbit in double-double")
     s = verdicts.sel(state=state)
     growth, reach = s.realization_decisive_path_growth.values, s.realization_decisive_path_reach.values
     recurrence = s.realization_decisive_path_recurrence.values
     if not np.isfinite(np.r_[growth, recurrence]).all():
         return needs(d, "the path of every realization over at least three times the shortest lag")
-    ok = np.array([all(path_verdict(g, r)) for g, r in zip(growth, recurrence)])
+    ok = [all(path_verdict(g, r)) for g, r in zip(growth, recurrence)]
     listed = "; ".join(f"realization {k}: its reach grows by {g:.3f} over the second half, reaching {x:.3g}, and "
                        f"never repeats to better than {r:.2g} of its size" for k, (g, x, r)
                        in enumerate(zip(growth, reach, recurrence)))
     text = f"the path of {state}'s orbit over T = {float(verdicts.attrs['decisive_T']):.3g} in {d.arithmetic}: {listed}"
-    verdict = REPRODUCED if ok.all() else FRAGILE if ok.any() else DIFFERS
-    return Faithful(text + f" ({PATH_RULE})", d.arithmetic, verdict)
+    return Faithful(text + f" ({PATH_RULE})", d.arithmetic, _over_realizations(ok))
 
 
 def ungauged(where: str):

@@ -76,9 +76,9 @@ def divergence(y, params: Params) -> np.ndarray:
     return _call("divergence", y, params)[0]
 
 
-def second_derivative(y, params: Params) -> np.ndarray:
-    """d^2 y / dt^2 = J(y) rhs(y) along the flow, shape (..., 4)."""
-    return np.einsum("...ij,...j->...i", jacobian(y, params), rhs(y, params))
+def second_derivative(y, params: Params, f=None) -> np.ndarray:
+    """d^2 y / dt^2 = J(y) rhs(y) along the flow, shape (..., 4); ``f``: rhs(y), if already known."""
+    return np.einsum("...ij,...j->...i", jacobian(y, params), rhs(y, params) if f is None else f)
 
 
 def kinematics_rhs(y_full, params: Params) -> np.ndarray:

@@ -100,7 +100,8 @@ def spike_train(orbit: dict, dc: dict) -> np.ndarray:
 
 def derivatives(orbit: dict, params: Params) -> tuple[np.ndarray, np.ndarray]:
     """The first and second time derivatives of the decisive orbit at its samples (f, J f)."""
-    return equations.rhs(orbit["Y"], params), equations.second_derivative(orbit["Y"], params)
+    f = equations.rhs(orbit["Y"], params)
+    return f, equations.second_derivative(orbit["Y"], params, f)
 
 
 def divergence_stage(orbit: dict, dc: dict, params: Params, derivs=None) -> dict:
