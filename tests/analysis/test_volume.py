@@ -37,6 +37,10 @@ def test_hermite_quadrature_resolves_a_rotation_the_trapezoid_rule_aliases():
     trap = np.trapezoid(np.cos(2 * Y[:, 0]), T)
     assert abs(fine.sum() - ref) < 1e-9 and abs(trap - ref) > 0.1  # measured: 4e-11 and 0.16
     assert abs(fine.sum() - ref) <= abs(fine.sum() - coarse.sum())
+    alone, none = hermite_integrals(T, Y, dY, d2Y, lambda y: np.cos(2 * y[..., 0]), coarse=False)
+    assert none is None and np.array_equal(alone, fine)
+    pair, _ = hermite_integrals(T, Y, dY, d2Y, lambda y: np.stack([np.cos(2 * y[..., 0]), np.sin(y[..., 0])], -1))
+    assert pair.shape == (T.size - 1, 2) and np.array_equal(pair[:, 0], fine)
 
 
 def test_a_periodic_part_integrates_away_over_whole_cycles_only():
