@@ -40,6 +40,31 @@ def test_gain_stays_finite_beyond_the_range_of_double():
     assert fa.cycle_gains(R, [0, 20])[0] == pytest.approx(20 * 30 * math.log(10))
 
 
+def test_window_gain_is_the_largest_map_between_any_two_times_of_the_window():
+    """Against brute force on random non-normal maps: the largest singular value of R_j ... R_i over every
+    pair i <= j, which exceeds the whole window's map and every one-step map."""
+    rng = np.random.default_rng(11)
+    R = np.triu(rng.normal(size=(25, 4, 4)))
+    R[:, range(4), range(4)] = np.exp(rng.normal(scale=1.5, size=(25, 4)))
+
+    def sigma_1(i, j):
+        return math.log(np.linalg.svd(np.linalg.multi_dot([np.eye(4), *R[i:j + 1][::-1]]), compute_uv=False)[0])
+
+    brute = max(sigma_1(i, j) for i in range(25) for j in range(i, 25))
+    assert fa.window_gain(R) == pytest.approx(brute, rel=1e-12)
+    assert fa.window_gain(R) > sigma_1(0, 24) + 1.0
+
+
+def test_window_gain_finds_the_growth_inside_a_window_that_ends_contracted():
+    """Growth by e^30 over 10 steps, then contraction by e^-40: the window's end-to-end map is small, its gain
+    is the growth; it stays finite beyond the range of double."""
+    R = np.array([_diag(math.exp(3.0), 1, 1, 1)] * 10 + [_diag(math.exp(-4.0), 1, 1, 1)] * 10)
+    assert fa.window_gain(R) == pytest.approx(30.0)
+    assert fa.window_gain(np.array([_diag(1e30, 1, 1, 1e-30)] * 60)) == pytest.approx(60 * 30 * math.log(10))
+    with pytest.raises(ValueError, match="one step"):
+        fa.window_gain(np.zeros((0, 4, 4)))
+
+
 def test_spike_steps_must_increase():
     with pytest.raises(ValueError, match="increase"):
         fa.cycle_gains(np.array([np.eye(4)] * 10), [5, 2])
@@ -281,3 +306,20 @@ def test_a_state_no_audit_covers_is_told_that_a_longer_horizon_decides_nothing()
     assert "would take" not in text
     ds.attrs["decisive_vote_why"] = ""
     assert "would take about" in _to_decide(ds, 0, U, {"counts": {1.0: {}, 5.0: {}}})
+
+
+def test_the_window_gauge_follows_a_spikeless_orbit_over_a_short_window_and_not_over_a_long_one(hy):
+    """eps = 0.01 with the rotor carrying the energy (fig9_eps001's start): no spike cycle; over 200 time units the
+    window's gain is small and double follows it; the window gauge counts the window's steps as its one span."""
+    from sleighsim.engine import integrators
+    from sleighsim.model.params import Params
+
+    ta, _ = integrators.sleigh_tangent(4, 2.0**-52, True)
+    integrators.set_pars(ta, Params.paper(eps=0.01, K2=1.01))
+    g = fa.window_gains(ta, np.array([1.05784728e-02, 5.03551489e-04, 1.00102322e+02, 4.66151657e+00]), T=200.0,
+                        tau=20.0)
+    assert g["ln_gain"].size == 1 and g["spike_times"].size == 0 and 0 < g["ln_gain_max"] < 15
+    assert 1e4 < g["steps_per_cycle"] < 1e5  # about 130 Taylor steps per time unit at omega = 100
+    assert g["follows"]["double"] == fa.FOLLOWS
+    assert g["log10_gain_rounding"]["double"] == pytest.approx(
+        (g["ln_gain_max"] + math.log(g["steps_per_cycle"] * 2.0**-53)) / math.log(10))

@@ -169,7 +169,7 @@ def test_a_path_without_its_shape_is_not_computed():
 def test_a_quantity_not_computed_names_the_arithmetic_and_its_price():
     out = f.FAITHFUL_JUDGES["C14"]({}, verdicts())
     assert out.verdict == NOT_YET and out.arithmetic == "double-double" and "about 125 s over T = 5e+05" in out.value
-    out = f.FAITHFUL_JUDGES["C24"]({})
+    out = f.FAITHFUL_JUDGES["C26"]({})
     assert out.verdict == NOT_YET and out.arithmetic.startswith("unknown")
 
 
@@ -261,3 +261,40 @@ def test_a_laddered_claim_is_judged_again_by_its_own_judge_where_the_finest_arit
         claims.faithful_in_ladder(row, claim, load)
         assert row.faithful_verdict == NOT_YET and row.faithful_value.startswith("not computed")
     assert len(seen) == 1
+
+
+def test_a_laddered_claim_with_a_dataset_derived_in_double_is_judged_without_it(monkeypatch):
+    """A claim whose evidence also holds a dataset that is not laddered (derived from others in double, as
+    fig9_scaling): the judge gets None in its place, the text says so, the verdict is the judge's."""
+    from sleighsim.claims.rules import Judgement
+
+    seen = []
+
+    def judge(values, data, derived):
+        seen.append((data, derived))
+        return Judgement(REPRODUCED, measured=f"measured on {data}", rule="a rule")
+
+    monkeypatch.setitem(claims.JUDGES, "CX", judge)
+    monkeypatch.setitem(claims.EVIDENCE, "CX", ("scene", "derived"))
+    claim = type("C", (), {"id": "CX", "values": {}})()
+    row = claims.Row("CX", "", "")
+    claims.faithful_in_ladder(row, claim, LadderLoad("follows"))
+    assert seen == [("double-double's", None)] and row.faithful_verdict == REPRODUCED
+    assert row.faithful_value == "measured on double-double's (judged without derived, which is not laddered)"
+
+
+def test_c17_without_its_scaling_dataset_judges_the_same_and_leaves_the_comparison_out():
+    from sleighsim.claims.judges.steady_state import c17
+
+    def scene(loops, flat, **extra):
+        return xr.Dataset(attrs={"n_loops": loops, "attractor_flatness": flat, "energy_label": 0.8313,
+                                 "param_eps": 0.1, **extra})
+
+    scaling = xr.Dataset(attrs={"scale_factor_c": 2.716, "distance_scaled_median": 0.01,
+                                "distance_unscaled_median": 0.6})
+    for small_flat, want in ((0.2, REPRODUCED), (0.1, DIFFERS)):
+        args = ({}, scene(4, 0.18), scene(4, 0.17), scene(4, small_flat, param_eps=0.01))
+        full, bare = c17(*args, scaling), c17(*args)
+        assert full.verdict == bare.verdict == want
+        assert "divided by c = 2.716" in full.measured and "divided by" not in bare.measured
+        assert full.measured.startswith(bare.measured)

@@ -208,3 +208,29 @@ def test_double_double_samples_and_crossings_agree_with_heyoka_where_double_foll
     assert np.max(np.abs(ca["time"] - cb["time"])) < 1e-9 and cb["time"][0] > 0
     with pytest.raises(ValueError, match="kinematics"):
         integrate(p, y, grid, kinematics=True, precision="double-double", tol=1e-32)
+
+
+def test_double_double_crossings_of_a_fast_rotor_sample_finer_and_miss_none():
+    """eps = 0.01 with the rotor carrying the energy (|Omega - omega| about 100: a quarter turn every 0.016): the
+    double-double sampling step shrinks to an eighth of a turn at the start's rate, and its crossings agree with
+    heyoka's double crossing for crossing over 20 time units; a slow rotor keeps DD_SAMPLE_DT; a step too long
+    for the orbit is refused, naming the turn."""
+    from sleighsim.engine import poincare
+
+    p = Params.paper(eps=0.01, K2=1.01)
+    y = [1.05784728e-02, 5.03551489e-04, 1.00102322e+02, 4.66151657e+00]
+    assert poincare.dd_sample_dt(y) == pytest.approx(0.25 * np.pi / (y[2] - y[1]))
+    assert poincare.dd_sample_dt([0.06, 0.026, 3.31, 3.6]) == poincare.DD_SAMPLE_DT
+    assert poincare.dd_sample_dt([0.1, 0.0, 0.0, 0.0]) == poincare.DD_SAMPLE_DT
+    ca = poincare.crossings(p, y, 0.0, 20.0)
+    cb = poincare.crossings(p, y, 0.0, 20.0, tol=1e-32, precision=Precision.DOUBLE_DOUBLE)
+    assert ca["time"].size == cb["time"].size > 1200 and np.array_equal(ca["k"], cb["k"])
+    assert np.max(np.abs(ca["time"] - cb["time"])) < 1e-9
+
+
+def test_double_double_crossings_refuse_a_sampling_step_longer_than_a_quarter_turn(monkeypatch):
+    from sleighsim.engine import poincare
+
+    monkeypatch.setattr(poincare, "dd_sample_dt", lambda y0: 0.1)
+    with pytest.raises(RuntimeError, match="more than a quarter turn"):
+        poincare.dd_crossings(Params.paper(eps=0.01, K2=1.01), [0.0106, 5e-4, 100.1, 4.66], 0.0, 2.0, tol=1e-32)

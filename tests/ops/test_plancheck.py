@@ -25,6 +25,11 @@ CASES = [
     # horizons shorter than the blocks they are cut into
     (("scenes", "fig9_ref", "t_settle"), 60.0, r"scenes\.fig9_ref\.t_settle = 60.0 is shorter than the two blocks"),
     (("scenes", "fig7", "t_end"), 250.0, r"scenes\.fig7\.t_end = 250.0 must be at least t_sample_start \+ 100"),
+    # a gauge over a whole window shorter than the data it vouches for
+    (("scenes", "fig9_eps001", "gain"), {"T": 4.0, "tau": 1.0, "window": True},
+     r"scenes\.fig9_eps001\.gain\.T = 4 is shorter than t_map = 5: a gauge over the window must cover"),
+    (("scenes", "psd_eps001", "gain"), {"T": 40.0, "tau": 1.0, "window": True},
+     r"scenes\.psd_eps001\.gain\.T = 40 is shorter than duration = 50"),
 ]
 
 

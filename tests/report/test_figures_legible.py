@@ -64,11 +64,63 @@ def grid_dataset(path, spread):
                     attrs={"energy_label": 0.1127, "n_rows": 3, "fraction_flagged": 1 / 3, "reference_eps": 0.2,
                            "reference_rel_err": 0.07, "b_check": np.array([0.5, 2.0]), "scene": "grid",
                            "precision": "double"})
+    ds["row_settled_state"] = (("eps", "component"), np.arange(12.0).reshape(3, 4) + 1.0)
     return write_dataset(ds, path)
 
 
+def verdict_dataset(path, state=(5.0, 6.0, 7.0, 8.0), verdict="regular", eps=0.2):
+    """A chaos verdict deciding one state, main, at ``eps`` (K2 = 1 + eps, b = 1), settled at ``state``."""
+    one = lambda v: ("state", [v])  # noqa: E731
+    ds = xr.Dataset(
+        {"verdict": one(verdict), "n_realizations_agreeing": one(3), "decisive_lambda_max": one(8e-6),
+         "decisive_bound_T": one(5e5), "decisive_bound_text": one("lambda_1 <= 8e-06 over T = 5e5"),
+         "decisive_log10_gain_rounding": one(-11.8), "decisive_wall_time_s": one(125.0),
+         "settled_state": (("state", "component"), [list(state)])},
+        coords={"state": ["main"]},
+        attrs={"n_realizations": 3, "decisive_precision": "double-double", "decisive_T": 5e5, "energy_label": 0.1127,
+               "param_eps": eps, "param_K2": 1 + eps, "param_b": 1.0})
+    return write_dataset(ds, path)
+
+
+def test_fig10_carries_the_decided_bound_to_every_label_by_the_time_scaling_law(tmp_path):
+    """Beside double's lambda_1 against E: the regular state's bound at the verdict's label, times sqrt(E / E0) at
+    every label; at other parameters or for a state not regular, a legend entry saying none is drawn."""
+    E = np.array([0.01, 0.1127, 1.0])
+    energy = write_dataset(xr.Dataset(
+        {"lambda_1": ("label", [2e-4, 7e-4, 2e-3]), "stderr": ("label", [2e-5, 7e-5, 2e-4]),
+         "law": ("label", 7e-4 * np.sqrt(E / 0.1127))}, coords={"label": E},
+        attrs={"reference_label": 0.1127, "param_eps": 0.2, "param_b": 1.0, "param_K2": 1.2, "fitted_exponent": 0.5,
+               "fitted_exponent_stderr": 0.01, "T_reference": 1e5, "scene": "lyap_energy", "precision": "double"}),
+        tmp_path / "energy.nc")
+    fig = figures.build("fig10", [energy, verdict_dataset(tmp_path / "v.nc")])
+    ax = fig.axes[0]
+    handles, labels = ax.get_legend_handles_labels()
+    bound = next(h for h, t in zip(handles, labels) if "main is regular" in t.replace("\n", " "))
+    assert np.allclose(bound.get_ydata(), 8e-6 * np.sqrt(E / 0.1127)) and legibility(fig) == []
+    plt.close(fig)
+    for other in (verdict_dataset(tmp_path / "v1.nc", eps=0.1), verdict_dataset(tmp_path / "v2.nc", verdict="fragile")):
+        fig = figures.build("fig10", [energy, other])
+        labels = [t.replace("\n", " ") for t in fig.axes[0].get_legend_handles_labels()[1]]
+        assert any(t.startswith("decisive stage: no bound drawn") for t in labels) and not any(
+            "main is regular" in t for t in labels)
+        plt.close(fig)
+
+
+def test_fig11_draws_the_bound_of_a_row_the_chaos_verdict_decided(tmp_path):
+    """The row at eps 0.2 settles to the state the chaos verdict decided regular: its bound is drawn beside
+    double's lambda_1; a verdict on another state, or not regular, draws nothing."""
+    grid = grid_dataset(tmp_path / "grid.nc", spread=0.0)
+    for state, verdict, drawn in (((5.0, 6.0, 7.0, 8.0), "regular", True), ((5.0, 6.0, 7.0, 8.1), "regular", False),
+                                  ((5.0, 6.0, 7.0, 8.0), "fragile", False)):
+        fig = figures.build("fig11", [grid, verdict_dataset(tmp_path / "v.nc", state, verdict)])
+        labels = " ".join(fig.axes[0].get_legend_handles_labels()[1]).replace("\n", " ")
+        assert ("main is regular (3 of 3 realizations): lambda_1 <= 8e-06" in labels) is drawn, labels
+        assert legibility(fig) == []
+        plt.close(fig)
+
+
 def test_fig11_states_the_spread_across_b_from_its_data(tmp_path):
-    fig = figures.build("fig11", [grid_dataset(tmp_path / "grid.nc", spread=2.5)])
+    fig = figures.build("fig11", [grid_dataset(tmp_path / "grid.nc", spread=2.5), verdict_dataset(tmp_path / "v.nc")])
     ax = fig.axes[0]
     title = " ".join(t.get_text().replace("\n", " ") for t in (ax.title, ax._left_title, *ax.texts))
     assert "largest spread across the 3 b values of a row: 2.5 standard errors" in title
@@ -78,7 +130,8 @@ def test_fig11_states_the_spread_across_b_from_its_data(tmp_path):
     assert {"grid at b = 0.5", "grid at b = 1", "grid at b = 2"} <= set(labels)
     assert legibility(fig) == []
     plt.close(fig)
-    ax = figures.build("fig11", [grid_dataset(tmp_path / "copies.nc", spread=0.0)]).axes[0]
+    ax = figures.build("fig11", [grid_dataset(tmp_path / "copies.nc", spread=0.0),
+                                 verdict_dataset(tmp_path / "v2.nc")]).axes[0]
     copies = " ".join(t.get_text().replace("\n", " ") for t in (ax._left_title, *ax.texts))
     assert ("the 3 b columns are copies (filled by the symmetry, not computed)" in copies
             and "largest spread" not in copies)

@@ -38,3 +38,18 @@ def test_a_rows_gauge_names_the_cheapest_arithmetic_that_follows_or_none_or_unkn
     g = grid.row_gauge(Params.paper(eps=0.1, b=1.0), [0.0, 0.1, 1.0, 0.0], cfg, 1.0, Precision.LONG_DOUBLE)
     assert g["faithful_code"] == want or (math.isnan(want) and math.isnan(g["faithful_code"]))
     assert g["row_log10_gain_rounding"] == 1.0 and g["row_ln_gain_max"] == 30.0
+
+
+def test_a_rows_spike_interval_counts_every_spike_of_its_replica_stretch():
+    """The main state's row (eps = 0.1): its spikes about 2300 apart and about 2 time units wide; the stretch
+    through the replicas sampled every spike_dt (0.5) finds each of them, where 400 samples per spacing (every
+    10 time units here) missed about every other one."""
+    from sleighsim.model.params import Params
+    from sleighsim.scenes.grid import _replicas
+
+    p = Params.paper(eps=0.1, K2=1.1)
+    y = [0.06117225, 0.02642411, 3.3143803, 3.64565777]
+    cfg = {"replicas": 4, "replica_spacing": 4000.0, "spike_dt": 0.5, "transient": {"spike_factor": 1.8},
+           "tol": 2.0**-52}
+    states, interval, interval_std = _replicas(p, y, cfg, 1.0, "row")
+    assert states.shape == (4, 4) and 2250 < interval < 2400 and interval_std < 30

@@ -111,27 +111,36 @@ def _separation(runs: list[xr.Dataset]):
     return seps, first, dt
 
 
-def gauge(params_cfg: dict, y, *, T: float, tau: float, spike_factor: float, tol: float) -> dict:
-    """The faithfulness gauge along the settled orbit from y (``faithfulness.spike_cycle_gains``, in
-    double at tol over T in steps of tau): ln G per spike cycle and, per arithmetic, G x rounding and
-    whether it follows the orbit ("unknown" without a complete cycle within T)."""
-    from sleighsim.chaos.faithfulness import spike_cycle_gains
+def gauge(params_cfg: dict, y, *, T: float, tau: float, spike_factor: float, tol: float, window: bool = False) -> dict:
+    """The faithfulness gauge along the settled orbit from y (in double at tol over T in steps of tau): ln G
+    per spike cycle (``faithfulness.spike_cycle_gains``; "unknown" without a complete cycle within T) or, with
+    ``window``, over the whole window [0, T] (``faithfulness.window_gains``: an orbit without a spike cycle in
+    its data's window) and, per arithmetic, G x rounding and whether it follows the orbit."""
+    from sleighsim.chaos.faithfulness import spike_cycle_gains, window_gains
     from sleighsim.engine import integrators
     from sleighsim.model.params import Params
 
     ta, _ = integrators.sleigh_tangent(4, tol, True)
     integrators.set_pars(ta, Params.from_config(params_cfg))
+    if window:
+        return window_gains(ta, np.asarray(y, float), T=T, tau=tau)
     return spike_cycle_gains(ta, np.asarray(y, float), T=T, tau=tau, spike_factor=spike_factor)
 
 
-def _with_gauge(ds: xr.Dataset, g: dict, precisions: list[str], T: float) -> xr.Dataset:
+#: What the gauge's gains span, by its ``window`` setting.
+GAIN_SPANS = {False: "each complete spike cycle along the settled orbit",
+              True: "the whole window [0, T_gain] from the settled point (no spike cycle needed)"}
+
+
+def _with_gauge(ds: xr.Dataset, g: dict, precisions: list[str], T: float, window: bool = False) -> xr.Dataset:
     ds["ln_gain"] = ("cycle", g["ln_gain"] if len(g["ln_gain"]) else [math.nan],
-                     {"long_name": "ln G of each complete spike cycle along the settled orbit (double)"})
+                     {"long_name": f"ln G over {GAIN_SPANS[window]} (double)"})
     ds["log10_gain_rounding"] = ("precision", [g["log10_gain_rounding"][p] for p in precisions])
     ds["follows_orbit"] = ("precision", np.array([g["follows"][p] for p in precisions], dtype=object),
-                           {"long_name": "the arithmetic follows the exact orbit through a cycle "
-                                         "(G x rounding < 1e-3)"})
-    ds.attrs.update(ln_gain_max=g["ln_gain_max"], T_gain=T)
+                           {"long_name": f"the arithmetic follows the exact orbit through {GAIN_SPANS[window]} "
+                                         "(G x steps x rounding < 1e-3)"})
+    ds.attrs.update(ln_gain_max=g["ln_gain_max"], T_gain=T, gain_span=GAIN_SPANS[window],
+                    gain_steps=g["steps_per_cycle"])
     return ds
 
 
@@ -178,9 +187,10 @@ def ladder(kind: str, names: tuple[str, ...], runs: list[xr.Dataset], precisions
                                "at its machine epsilon", agreement_rule=AGREES_RULE,
                     converged_rule=CONVERGED_RULE, rel_floor=REL_FLOOR, k_sigma=K_SIGMA)
     if gain:
+        window = bool(gain.get("window", False))
         g = gauge(gain["params"], starts[0], T=gain["T"], tau=gain["tau"], spike_factor=gain["spike_factor"],
-                  tol=gain["tol"])
-        ds = _with_gauge(ds, g, precisions, gain["T"])
+                  tol=gain["tol"], window=window)
+        ds = _with_gauge(ds, g, precisions, gain["T"], window)
     return ds
 
 

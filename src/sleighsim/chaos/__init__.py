@@ -19,7 +19,8 @@ Import from the submodules (nothing is re-exported here):
   ``window_frequencies``, ``drift``), on an orbit (``frequency_drift``) and its judge
   (``judge_frequency``, ``frequency_log_ratio``, ``judged_run``).
 * ``faithfulness``: the faithfulness gauge: how much one spike cycle amplifies rounding
-  (``spike_cycle_gains``, ``cycle_gains``), the rounding it injects (``injected_rounding``) and whether an
+  (``spike_cycle_gains``, ``cycle_gains``; over a whole window without a cycle, ``window_gains``), the
+  rounding it injects (``injected_rounding``) and whether an
   arithmetic follows the orbit (``follows``, ``FAITHFUL_MAX``).
 * ``indicators``: the registry of indicators (stage, tangent-based or not, estimator, settings, judged);
   ``decisive``: the decisive stage's estimators on one sampled orbit; ``decision``: the sequence gauge,

@@ -189,6 +189,46 @@ def tangent_run(ta, y0, *, T: float, tau: float, component: int = 1) -> dict:
     return {"t": tau * np.arange(1, n_steps + 1), "x": x, "R": R_steps, "steps": taylor_steps}
 
 
+def window_gain(R_steps) -> float:
+    """ln G of a whole window: the largest singular value of the tangent map Phi(t_j, t_i) over every pair of
+    step ends t_i < t_j in it (``R_steps`` (n_steps, k, k): the R factors of the successive QR
+    re-orthonormalisations), i.e. the most the flow amplifies an error injected anywhere in the window by any
+    later time in it. For an orbit with no complete spike cycle within the window (the bound then covers the
+    window the data span, not a cycle)."""
+    R_steps = np.asarray(R_steps, float)
+    n, k = R_steps.shape[0], R_steps.shape[1]
+    if n < 1:
+        raise ValueError("need at least one step")
+    prods, log_scale, best = np.broadcast_to(np.eye(k), (n, k, k)).copy(), np.zeros(n), -math.inf
+    for offset in range(1, n + 1):  # prods[i]: the map from step end i - 1 over `offset` steps (start i = 0: t = 0)
+        m = n - offset + 1
+        prods = R_steps[offset - 1:offset - 1 + m] @ prods[:m]
+        scale = np.abs(prods).max(axis=(1, 2))
+        prods, log_scale = prods / scale[:, None, None], log_scale[:m] + np.log(scale)
+        best = max(best, float(np.max(log_scale + np.log(np.linalg.svd(prods, compute_uv=False)[:, 0]))))
+    return best
+
+
+def _gauge(ln_gain, steps: float, spikes) -> dict:
+    """The gauge's answer from the gains ``ln_gain`` of its spans (cycles or the window) of ``steps`` Taylor
+    steps each: ln_gain_max and, per precision, G x steps x rounding, G x rounding and whether it follows."""
+    ln_max = float(np.max(ln_gain)) if len(ln_gain) else math.nan
+    return {
+        "spike_times": spikes, "ln_gain": np.asarray(ln_gain, float), "ln_gain_max": ln_max, "steps_per_cycle": steps,
+        "log10_gain_rounding": {p: log10_gain_rounding(ln_max, p.rounding, steps) for p in Precision},
+        "log10_gain_unit_rounding": {p: (ln_max + math.log(p.rounding)) / math.log(10) for p in Precision},
+        "follows": {p: follows(ln_max, p.rounding, steps_per_cycle=steps) for p in Precision},
+    }
+
+
+def window_gains(ta, y0, *, T: float, tau: float = 5.0) -> dict:
+    """The gauge over the whole window [0, T] from ``y0`` (``tangent_run``, :func:`window_gain`) with the keys of
+    :func:`spike_cycle_gains`: ln_gain holds the window's one value, steps_per_cycle the window's Taylor steps,
+    spike_times is empty. An arithmetic that follows by it follows the orbit through the whole window."""
+    run = tangent_run(ta, y0, T=T, tau=tau)
+    return _gauge([window_gain(run["R"])], float(run["steps"]), np.array([]))
+
+
 def spike_cycle_gains(ta, y0, *, T: float, tau: float = 5.0, spike_factor: float = 1.8) -> dict:
     """The gain of every complete spike cycle along the orbit from ``y0`` over T (``tangent_run``;
     spikes of Omega by ``transient.spike_times`` on the step ends). Returns spike_times, ln_gain (one
@@ -200,12 +240,6 @@ def spike_cycle_gains(ta, y0, *, T: float, tau: float = 5.0, spike_factor: float
     spikes = transient.spike_times(run["t"], run["x"], factor=spike_factor, block=10 * tau)
     steps = np.searchsorted(run["t"], spikes)
     ln_gain = cycle_gains(run["R"], steps) if len(steps) >= 2 else np.array([])
-    ln_max = float(ln_gain.max()) if ln_gain.size else math.nan
     per_time = run["steps"] / (run["t"].size * tau)
     per_cycle = per_time * float(np.mean(np.diff(spikes))) if len(spikes) >= 2 else math.nan
-    return {
-        "spike_times": spikes, "ln_gain": ln_gain, "ln_gain_max": ln_max, "steps_per_cycle": per_cycle,
-        "log10_gain_rounding": {p: log10_gain_rounding(ln_max, p.rounding, per_cycle) for p in Precision},
-        "log10_gain_unit_rounding": {p: (ln_max + math.log(p.rounding)) / math.log(10) for p in Precision},
-        "follows": {p: follows(ln_max, p.rounding, steps_per_cycle=per_cycle) for p in Precision},
-    }
+    return _gauge(ln_gain, per_cycle, spikes)

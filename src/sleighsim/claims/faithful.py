@@ -40,9 +40,10 @@ IN_LADDER = InLadder()
 
 #: Written into the ledger (attribute faithful_rule).
 FAITHFUL_RULE = (
-    "faithful_verdict: a claim whose datasets the config ladders (C15, C16, C22: F9's maps; C23: F13's spectra) by "
-    "its own judge on the finest precision of the ladder when the ladder's gauge says that arithmetic follows "
-    "every one of their orbits (not yet computed otherwise); C18 from the mean divergence over whole spike cycles "
+    "faithful_verdict: a claim whose datasets the config ladders (C15, C16, C17, C22: F9's maps; C23, C24: F13's and "
+    "F14's spectra) by its own judge on the finest precision of the ladder when the ladder's gauge (per spike cycle, "
+    "or over the data's whole window where no cycle completes in it) says that arithmetic follows every one of "
+    "their orbits (not yet computed otherwise); C18 from the mean divergence over whole spike cycles "
     f"of the decisive orbit of the state at eps = 0.1 in each realization (contracts when the mean plus {K_SIGMA:g} "
     "sigma is below 0, sigma its windows' standard error and quadrature error; all contract: reproduced, none: "
     "differs, some: fragile); C14 by its own rule on the path of each realization's decisive orbit (all bounded and "
@@ -56,7 +57,7 @@ FAITHFUL_RULE = (
     "floor differs, every row followed and above it reproduces, a row not followed leaves it not yet computed); "
     "a time on the paper's own transient (C13) cannot be reproduced when it still moves with the integration "
     "error (slope beyond 2 standard errors) at the finest errors the trigger law measured; a quantity no faithful "
-    "arithmetic has computed (C17, C24, C26) is not yet computed, with the arithmetic it needs and its price."
+    "arithmetic has computed (C26) is not yet computed, with the arithmetic it needs and its price."
 )
 
 
@@ -327,14 +328,14 @@ FAITHFUL_JUDGES = {
     "C14": plane_path,
     "C15": IN_LADDER,
     "C16": IN_LADDER,
-    "C17": ungauged("the orbits at E = 0.8313 and at eps = 0.01"),
+    "C17": IN_LADDER,
     "C18": volume,
     "C19": exponents,
     "C20": energy_labels,
     "C21": grid_rows,
     "C22": IN_LADDER,
     "C23": IN_LADDER,
-    "C24": ungauged("the orbit at eps = 0.01"),
+    "C24": IN_LADDER,
     "C26": ungauged("the rows at eps > 20"),
     "C27": route,
 }

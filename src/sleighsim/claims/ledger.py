@@ -292,11 +292,13 @@ def judge_faithful(row: Row, claim: Claim, load: _Datasets) -> None:
 
 
 def faithful_in_ladder(row: Row, claim: Claim, load: _Datasets) -> None:
-    """The faithful columns of a claim judged again by its own judge on the finest precision its datasets are
-    laddered in, when each ladder's gauge says that arithmetic follows its orbit (:class:`IN_LADDER`)."""
+    """The faithful columns of a claim judged again by its own judge on the finest precision its laddered datasets
+    are laddered in, when each ladder's gauge says that arithmetic follows its orbit (:class:`IN_LADDER`); a dataset
+    of its evidence that is not laddered (derived from others in double) is passed to the judge as None."""
     names = EVIDENCE[claim.id]
-    precision = load.finest(names)
-    gauges = [load([layout.ladder(n)])[0] for n in names if n in load.ladders]
+    laddered = [n for n in names if n in load.ladders]
+    precision = load.finest(laddered)
+    gauges = [load([layout.ladder(n)])[0] for n in laddered]
     follows = [str(g.follows_orbit.sel(precision=precision).values) if "follows_orbit" in g else UNKNOWN
                for g in gauges]
     gain = ", ".join(f"10^{float(g.log10_gain_rounding.sel(precision=precision)):.1f}" for g in gauges
@@ -308,8 +310,10 @@ def faithful_in_ladder(row: Row, claim: Claim, load: _Datasets) -> None:
                               f"({', '.join(follows) or 'no gauge'}); ladder it in one the gauge accepts")
         row.faithful_verdict = NOT_YET
         return
-    j = _judged(claim, load(load.variants(names, precision)))
-    row.faithful_value = j.measured
+    found = dict(zip(laddered, load(load.variants(laddered, precision))))
+    j = _judged(claim, [found.get(n) for n in names])
+    left = [n for n in names if n not in found]
+    row.faithful_value = j.measured + (f" (judged without {', '.join(left)}, which is not laddered)" if left else "")
     row.faithful_verdict = rules.severity(j.verdict, float(j.difference))
 
 

@@ -83,9 +83,17 @@ def crossings(params: Params, y0, t0: float, t_end: float, *, tol: float = 2.0**
     }
 
 
-#: The sampling step (time units) of a double-double orbit whose section crossings are solved on the jets: a
-#: crossing at most DD_SAMPLE_DT / 2 from its sample, at most a quarter turn of delta per step (|deltadot| < 15).
+#: The longest sampling step (time units) of a double-double orbit whose section crossings are solved on the
+#: jets: a crossing at most DD_SAMPLE_DT / 2 from its sample (:func:`dd_sample_dt` shortens it for a fast rotor).
 DD_SAMPLE_DT = 0.1
+
+
+def dd_sample_dt(y0) -> float:
+    """The sampling step of :func:`dd_crossings` from the start ``y0``: DD_SAMPLE_DT, shortened so that delta
+    turns at most an eighth of a turn per step at the start's rate |Omega - omega| (each crossing of delta = k
+    pi/2 then has its own step; :func:`dd_crossings` checks the whole orbit)."""
+    rate = abs(float(y0[1]) - float(y0[2]))
+    return min(DD_SAMPLE_DT, 0.25 * math.pi / rate) if rate > 0 else DD_SAMPLE_DT
 
 
 def dd_crossings(params: Params, y0, t0: float, t_end: float, *, tol: float, scene: str = "") -> dict:
@@ -93,16 +101,20 @@ def dd_crossings(params: Params, y0, t0: float, t_end: float, *, tol: float, sce
     DD_SAMPLE_DT, each crossing solved on the double-double Taylor jet of its nearest sample
     (:func:`sleighsim.engine.ddsection.quarter_crossings`); returned in double, with the same keys."""
     start = time.perf_counter()
-    flow = DDFlow(params, tol=tol)
-    grid = np.arange(0.0, t_end - t0 + 0.5 * DD_SAMPLE_DT, DD_SAMPLE_DT)
-    log.info("%s: double-double orbit over %.6g time units, sampled every %g", scene, t_end - t0, DD_SAMPLE_DT)
+    flow, dt = DDFlow(params, tol=tol), dd_sample_dt(y0)
+    grid = np.arange(0.0, t_end - t0 + 0.5 * dt, dt)
+    log.info("%s: double-double orbit over %.6g time units, sampled every %.3g", scene, t_end - t0, dt)
     hi, lo = flow.propagate_grid(np.asarray(y0, float)[:4], grid)
+    turn = float(np.max(np.abs(np.diff(ddsection.unwrapped_delta(hi, grid))), initial=0.0))
+    if turn >= 0.5 * math.pi:
+        raise RuntimeError(f"{scene}: delta turned {turn:.3g} rad between samples {dt:.3g} apart (more than a "
+                           "quarter turn: crossings would be missed); the orbit's rotor speeds up beyond its start's")
     t, x, k, residual = ddsection.quarter_crossings(DDBatch(params, tol), hi, lo, grid)
     keep = (t > 1e-9) & (t <= t_end - t0)  # a crossing at the start is not one (as heyoka's events)
     return {"time": t0 + t[keep], "u": x[keep, 0], "Omega": x[keep, 1], "omega": x[keep, 2], "k": k[keep],
             "residual": residual[keep], "steps": flow.steps, "wall_time_s": time.perf_counter() - start,
             "compile_time_s": 0.0, "backend": "sleighsim.engine.ddtaylor",
-            "method": f"double-double Taylor sampled every {DD_SAMPLE_DT}, crossings solved on the jets"}
+            "method": f"double-double Taylor sampled every {dt:.3g}, crossings solved on the jets"}
 
 
 def rotation_number(points) -> dict:

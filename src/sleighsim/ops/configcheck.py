@@ -27,7 +27,13 @@ import os
 
 from sleighsim.ops.config import REPO
 from sleighsim.ops.names import check_scene_names
-from sleighsim.ops.plancheck import check_distinct_eps, check_labelled_states, check_magnitudes, check_pre_run
+from sleighsim.ops.plancheck import (
+    check_distinct_eps,
+    check_labelled_states,
+    check_magnitudes,
+    check_pre_run,
+    check_window_gain,
+)
 from sleighsim.ops.workmodel import chunk_work, work
 from sleighsim.precision import Precision
 from sleighsim.scenes.catalog import KINDS, scene_config
@@ -184,6 +190,7 @@ def _scene(name: str, cfg: dict, scenes: dict) -> None:
     kind.checks(w, cfg)
     check_distinct_eps(w, cfg)
     check_pre_run(w, cfg)
+    check_window_gain(w, cfg)
     _precisions(w, cfg)
     if kind.pre_run and "transient" in cfg and cfg.get(kind.pre_run, 0) > 0:
         t = cfg[kind.pre_run]

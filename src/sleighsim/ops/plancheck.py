@@ -6,6 +6,7 @@
 - the eps values a sweep lists (a key ``eps`` or ``*_eps`` holding a list) are distinct;
 - a pre-run judged by the transient rules (sleighsim.engine.transient.settle) holds two of the
   spike rule's blocks (sleighsim.scenes.checks.SPIKE_BLOCK time units each);
+- a ladder's gauge over a whole window (``gain.window``) covers the window its data span;
 - every integer of the config is at most :data:`MAX_INT` in magnitude (a 400-digit count overflowed
   the float conversions of the checks), and the states of each energy level (``levels``) rescale
   to its label as labelled start states do.
@@ -128,3 +129,18 @@ def check_pre_run(w: str, cfg: dict) -> None:
     if 0 < length < 2 * SPIKE_BLOCK:
         raise ConfigError(f"{w}.{key} = {length} is shorter than the two blocks of {SPIKE_BLOCK:g} time units the "
                           f"transient check cuts it into; make it at least {2 * SPIKE_BLOCK:g}")
+
+
+#: The keys of a block giving the spans its data cover from the settled point.
+DATA_SPANS = ("t_map", "attractor_span", "duration")
+
+
+def check_window_gain(w: str, cfg: dict) -> None:
+    """A gauge over a whole window (``gain.window``) bounds the error only within [0, T]: T must cover every
+    span the block's data cover from the settled point (:data:`DATA_SPANS`)."""
+    gain = cfg.get("gain", {})
+    spans = {k: cfg[k] for k in DATA_SPANS if k in cfg}
+    if gain.get("window") and spans and gain["T"] < max(spans.values()):
+        key = max(spans, key=spans.get)
+        raise ConfigError(f"{w}.gain.T = {gain['T']:g} is shorter than {key} = {spans[key]:g}: a gauge over the "
+                          f"window must cover every span the data cover")

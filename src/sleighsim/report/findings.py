@@ -82,7 +82,8 @@ def _ladder_summary(ds) -> str:
             for pair, t in zip(ds.pair.values, ds.t_separated.values)] if "t_separated" in ds else [])
     out = f"orbits {'; '.join(sep)}" if sep else "no orbit comparison"
     if "follows_orbit" in ds and math.isfinite(ds.attrs["ln_gain_max"]):
-        out += (f"; one spike cycle amplifies errors by up to e^{ds.attrs['ln_gain_max']:.1f}: "
+        span = ds.attrs.get("gain_span", "one spike cycle")
+        out += (f"; over {span} the flow amplifies errors by up to e^{ds.attrs['ln_gain_max']:.1f}: "
                 + ", ".join(f"{p} {f}" for p, f in zip(ds.precision.values, ds.follows_orbit.values)))
     elif "follows_orbit" in ds:
         out += f"; no complete spike cycle within T_gain = {ds.attrs['T_gain']:g}: faithfulness unknown"

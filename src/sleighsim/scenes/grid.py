@@ -99,9 +99,11 @@ def _row_transient(cfg: dict, t_pre: float) -> dict:
 def _replicas(params, y, cfg, s, label):
     """``replicas`` states along the settled orbit, replica_spacing (slow time units) apart (in the
     block's steady-state arithmetic), and the steady spike interval of that stretch (mean and
-    standard deviation)."""
-    states, run = orbit_samples(params, y, cfg["replicas"], cfg["replica_spacing"] * s, **steady_arithmetic(cfg),
-                                scene=label)
+    standard deviation; the stretch sampled every ``spike_dt`` time units at most, unscaled)."""
+    spacing = cfg["replica_spacing"] * s
+    per_spacing = max(400, math.ceil(spacing / cfg["spike_dt"]))
+    states, run = orbit_samples(params, y, cfg["replicas"], spacing, **steady_arithmetic(cfg),
+                                samples_per_spacing=per_spacing, scene=label)
     try:
         spikes = transient.spike_times(run.time.values, run.Omega.values, factor=cfg["transient"]["spike_factor"])
     except ValueError:  # a record shorter than two spike-detection blocks
@@ -345,12 +347,21 @@ def _checks(w, cfg):
         raise ConfigError(f"{w}.{bad}") from None
 
 
+def _replica_stretch(cfg: dict) -> memory.Span:
+    """The record of the stretch through a row's replicas (:func:`_replicas`), at the slowest row: replicas x
+    replica_spacing x reference_eps / min(eps) sampled every spike_dt (or 400 samples per spacing)."""
+    horizon = cfg["replicas"] * cfg["replica_spacing"] * cfg["reference_eps"] / min(cfg["eps_range"])
+    step = min(cfg.get("spike_dt", 0.5), horizon / cfg["replicas"] / 400)
+    return memory.span(cfg, ("replicas x replica_spacing x reference_eps / min(eps_range)", horizon),
+                       ("spike_dt", step), 5)
+
+
 LYAPUNOV_GRID = SceneKind(
     name="lyapunov_grid",
     title="the largest Lyapunov exponent over a grid of (eps, b) rows at one energy label",
     chunk=chunk, gather=gather, observables=("lambda_1_reference", "lambda_1_smallest"),
     records=lambda c: [*memory.pre_run(c, "t_pre"), *memory.benettin(c, 5),
-                       memory.span(c, ("n_eps x n_b", c["n_eps"] * c["n_b"]), None, 20)],
+                       memory.span(c, ("n_eps x n_b", c["n_eps"] * c["n_b"]), None, 20), _replica_stretch(c)],
     work=lambda cfg: sum(w for _, w in grid_rows(cfg)), chunk_work=chunk_work, modelled=lambda leaf: leaf in WORK_KEYS,
     chunk_holds=lambda cfg, k: [e for e, _ in grid_rows(cfg)[k::cfg["n_chunks"]]],
     checks=_checks, pre_run="t_pre")

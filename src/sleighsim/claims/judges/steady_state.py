@@ -117,23 +117,23 @@ def c16(paper, ref) -> Judgement:
                      rule="exact count of k-NN graph components per section class (loop rule in the dataset)")
 
 
-def c17(paper, ref, high, small, scaling) -> Judgement:
+def c17(paper, ref, high, small, scaling=None) -> Judgement:
     """C17, "attractor topology persists for E = 0.8313 and for eps = 0.01; larger eps with smaller E gives a
-    flatter attractor": judged from the paper's values ``paper`` and ``ref``, ``high`` , ``small``, ``scaling``;
-    returns its Judgement."""
+    flatter attractor": judged from the paper's values ``paper`` and ``ref``, ``high`` , ``small``, ``scaling``
+    (None: its comparison left out of the text; the verdict never reads it); returns its Judgement."""
     persists = high.attrs["n_loops"] == 4 and small.attrs["n_loops"] == 4
     f_ref, f_high, f_small = (d.attrs["attractor_flatness"] for d in (ref, high, small))
     flatter_at_larger_eps = f_ref < f_small
-    sc = scaling.attrs
+    scaled = "" if scaling is None else (
+        f"; the higher label divided by c = {scaling.attrs['scale_factor_c']:.4g} lies "
+        f"{scaling.attrs['distance_scaled_median']:.2g} of the size from the reference set (unscaled "
+        f"{scaling.attrs['distance_unscaled_median']:.2g})")
     return Judgement(
         REPRODUCED if persists and flatter_at_larger_eps else DIFFERS,
         measured=f"loops {high.attrs['n_loops']} (E label {high.attrs['energy_label']:.4g}), {small.attrs['n_loops']} "
                  f"(eps {small.attrs['param_eps']:g}); flatness (smallest / largest axis) {f_ref:.3g} at eps "
                  f"{ref.attrs['param_eps']:g}, {f_small:.3g} at eps {small.attrs['param_eps']:g}, {f_high:.3g} at "
-                 "E label "
-                 f"{high.attrs['energy_label']:.4g}; the higher label divided by c = {sc['scale_factor_c']:.4g} lies "
-                 f"{sc['distance_scaled_median']:.2g} of the size from the reference set (unscaled "
-                 f"{sc['distance_unscaled_median']:.2g})",
+                 f"E label {high.attrs['energy_label']:.4g}" + scaled,
         rule="the 4 loops persist at the higher label and at the smaller eps, and the attractor is flatter at the "
              "larger eps; the energy changes only the scale (exact time-scaling symmetry), so it cannot change the "
              "shape",

@@ -8,6 +8,7 @@ import textwrap
 import numpy as np
 from matplotlib.ticker import NullFormatter
 
+from sleighsim.claims.faithful import Decided, decided, decided_rows
 from sleighsim.io.netcdf import read_dataset
 from sleighsim.precision import Precision
 from sleighsim.report.figures.common import MIN_PT, PRECISION_STYLE, RATE, WIDTH, finer_precisions, finish, subplots
@@ -16,12 +17,51 @@ from sleighsim.report.figures.figure import Figure
 LAMBDA_1 = rf"$\lambda_1$ ({RATE})"
 
 
+def _same_model(ds, verdicts) -> bool:
+    """Whether ``ds`` is at the parameters (eps, b, K2) of the chaos verdict ``verdicts``."""
+    return all(np.isclose(float(ds.attrs[f"param_{k}"]), float(verdicts.attrs[f"param_{k}"]), rtol=1e-12, atol=0.0)
+               for k in ("eps", "b", "K2"))
+
+
+def _bound_label(d: Decided, how: str) -> str:
+    """The legend of a decided state's exponent bound: arithmetic, verdict, realizations, how it is carried."""
+    return textwrap.fill(f"{d.arithmetic.split(' (')[0]}, the decisive stage: {d.state} is {d.verdict} "
+                         f"({d.agreeing} of {d.realizations} realizations): lambda_1 <= {d.lambda_max:.2g}{how}", 46)
+
+
+def _faithful_labels(ax, ds, verdicts) -> None:
+    """Beside double's lambda_1 (F10), the faithful answer: the state at the reference label as chaos_verdict's
+    decisive stage decided it (``claims.faithful.decided``); when regular, its exponent bound carried to every
+    label by the exact time-scaling law (lambda_1 <= bound sqrt(E / E0)), drawn as downward triangles; when not
+    regular, or at other parameters, a legend entry saying no bound is drawn."""
+    d = decided(verdicts)
+    if d.verdict != "regular" or not _same_model(ds, verdicts):
+        why = "other parameters" if not _same_model(ds, verdicts) else d.verdict
+        ax.plot([], [], " ", label=f"decisive stage: no bound drawn ({why})")
+        return
+    E = ds.label.values
+    ax.plot(E, d.lambda_max * np.sqrt(E / float(verdicts.attrs["energy_label"])), "v", ms=7,
+            label=_bound_label(d, f" at E = {float(verdicts.attrs['energy_label']):g}, carried to every label by "
+                                  "the law"), **PRECISION_STYLE[Precision.DOUBLE_DOUBLE])
+
+
+def _decided_rows(ax, ds, verdicts) -> None:
+    """Beside double's lambda_1 (F11), the rows whose orbit is a state chaos_verdict decided regular
+    (``claims.faithful.decided_rows``: same eps, K2 = 1 + eps, the same settled state): that state's exponent
+    bound, a downward triangle."""
+    for i, d in decided_rows(ds, verdicts).items():
+        if d.verdict == "regular":
+            ax.plot([ds.eps.values[i]], [d.lambda_max], "v", ms=8, label=_bound_label(d, " (this row's orbit)"),
+                    **PRECISION_STYLE[Precision.DOUBLE_DOUBLE])
+
+
 def fig10(sources):
     """Max Lyapunov exponent against energy label, with the time-scaling law: double (the paper's
-    arithmetic) and, beside it (shifted right by 8% in E), every finer precision from the same settled state.
+    arithmetic) and, beside it (shifted right by 8% in E), every finer precision from the same settled state;
+    the faithful bound from the chaos verdict's decisive stage carried by the law (``_faithful_labels``).
     ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
-    ds, *others = (read_dataset(s) for s in sources)
-    fig, ax = subplots(7.5, 5.5)
+    ds, verdicts, *others = (read_dataset(s) for s in sources)
+    fig, ax = subplots(WIDTH, 5.5)
     lam, err, E = ds.lambda_1.values, ds.stderr.values, ds.label.values
     pos = lam > 0
     ax.errorbar(E[pos], lam[pos], yerr=err[pos], fmt="o", capsize=3, label="direct (Benettin, k = 1), double",
@@ -34,6 +74,7 @@ def fig10(sources):
         ax.plot(E[~pos], np.abs(lam[~pos]), "x", color="tab:red", label="|lambda_1| where lambda_1 <= 0")
     ax.loglog(E, np.abs(ds.law.values), "-", color="0.4",
               label=f"law $\\lambda \\propto E^{{1/2}}$ from E = {ds.attrs['reference_label']:g}")
+    _faithful_labels(ax, ds, verdicts)
     ax.set_xlabel("energy label $E$ (the paper's energy units)")
     ax.set_ylabel(f"max Lyapunov exponent {LAMBDA_1}, +- standard error")
     ax.set_title(f"$\\epsilon$ = {ds.attrs['param_eps']:.3g}, b = {ds.attrs['param_b']:.3g}: fitted exponent "
@@ -104,9 +145,10 @@ def fig11(sources):
     does not follow crossed (the row's faithfulness gauge; the arithmetics they need in the legend); the
     grid at a few b values over it, the b symmetry checked from the data in the title; in double (the
     paper's arithmetic) and, beside it (shifted right by 5% in eps), every finer precision whose rows'
-    steady parts ran in it from the same settled states.
+    steady parts ran in it from the same settled states; a row whose orbit the chaos verdict decided, that
+    decision's bound (``_decided_rows``).
     ``sources``: the paths of its datasets, in the order of its declaration. Returns the matplotlib Figure."""
-    ds, *others = (read_dataset(s) for s in sources)
+    ds, verdicts, *others = (read_dataset(s) for s in sources)
     fig, ax = subplots(WIDTH, 6)
     eps, lam, err = ds.eps.values, ds.lambda_1.values, ds.stderr.values
     _b_overlay(ax, ds)
@@ -122,6 +164,7 @@ def fig11(sources):
     ax.plot(eps[flagged], np.abs(lam[flagged]), "o", mfc="none", mec="r", ms=11,
             label="flagged row: transient, steadiness\nor lambda_1 not resolved")
     _unfollowed(ax, ds)
+    _decided_rows(ax, ds, verdicts)
     ax.axhline(1e-4, color="0.5", ls=":", label="paper: smallest value > 1e-4")
     ax.set_xscale("log")
     ax.set_yscale("log")
@@ -241,8 +284,9 @@ def drift(sources):
     return finish(fig, ds.attrs)
 
 
-FIG10 = Figure("fig10", fig10, ("lyap_energy",), "F10", ("C20",), steady=("lyap_energy",), beside=True)
-FIG11 = Figure("fig11", fig11, ("fig11_grid",), "F11", ("C21",), steady=("fig11_grid",), beside=True)
+FIG10 = Figure("fig10", fig10, ("lyap_energy", "chaos_verdict"), "F10", ("C20",), steady=("lyap_energy",),
+               beside=True)
+FIG11 = Figure("fig11", fig11, ("fig11_grid", "chaos_verdict"), "F11", ("C21",), steady=("fig11_grid",), beside=True)
 LYAPUNOV = Figure("lyapunov", lyapunov, ("lyap_spectrum", "lyap_protocol"),
                   title="Lyapunov spectrum and the paper's protocol", section="sec:chaos")
 REGIMES = Figure("regimes", regimes, ("regimes",), title="Regime diagram: lambda_1, spike interval and P_2pi rotation "
