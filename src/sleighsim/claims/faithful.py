@@ -255,6 +255,13 @@ def exponents(paper, verdicts) -> Faithful:
                            "its largest exponent is bounded as stated, against the paper's positive one")
 
 
+def contracts(mean, sigma):
+    """C18's rule per realization: the flow contracts where its mean divergence plus K_SIGMA sigma is below 0
+    (``mean``, ``sigma``: arrays, 1/time). Its power and false rate on orbits of known mean divergence:
+    ``claims.volume_power``."""
+    return np.asarray(mean, float) + K_SIGMA * np.asarray(sigma, float) < 0
+
+
 def volume(paper, verdicts, state: str = "main") -> Faithful:
     """C18: the flow contracts phase-space volume on ``state``'s orbit. Each realization's mean divergence over
     the decisive orbit's whole cycles (``analysis.volume``; sigma: its windows' standard error and the quadrature
@@ -271,16 +278,16 @@ def volume(paper, verdicts, state: str = "main") -> Faithful:
     cycles = s["realization_decisive_divergence_cycles"].values
     if not np.isfinite(mean).all() or not np.isfinite(sigma).all():
         return needs(d, "the mean divergence over whole spike cycles of every realization (some had too few spikes)")
-    contracts = mean + K_SIGMA * sigma < 0
+    shrinks = contracts(mean, sigma)
     bound = float(np.max(np.abs(mean) + K_SIGMA * sigma))
     listed = "; ".join(f"realization {r}: {m:.2g} +- {e:.2g} over {c:.0f} cycles"
                        for r, (m, e, c) in enumerate(zip(mean, sigma, cycles)))
     text = (f"mean divergence (the sum of the exponents) over whole spike cycles of {state}'s orbit in "
             f"{d.arithmetic}: {listed}; ")
-    verdict = _over_realizations(contracts)
-    expands = int(np.sum(mean - K_SIGMA * sigma > 0))
+    verdict = _over_realizations(shrinks)
+    expands = int(np.sum(contracts(-mean, sigma)))
     why = {REPRODUCED: f"every realization contracts ({K_SIGMA:g} sigma)",
-           FRAGILE: f"{int(contracts.sum())} of {contracts.size} realizations contract",
+           FRAGILE: f"{int(shrinks.sum())} of {shrinks.size} realizations contract",
            DIFFERS: f"the flow expands on average in {expands} of {mean.size} realizations" if expands else
            f"no contraction resolved: |mean divergence| <= {bound:.2g} ({K_SIGMA:g} sigma)"}[verdict]
     return Faithful(text + why, d.arithmetic, verdict)
