@@ -169,8 +169,25 @@ def test_a_path_without_its_shape_is_not_computed():
 def test_a_quantity_not_computed_names_the_arithmetic_and_its_price():
     out = f.FAITHFUL_JUDGES["C14"]({}, verdicts())
     assert out.verdict == NOT_YET and out.arithmetic == "double-double" and "about 125 s over T = 5e+05" in out.value
-    out = f.FAITHFUL_JUDGES["C26"]({})
-    assert out.verdict == NOT_YET and out.arithmetic.startswith("unknown")
+
+
+def formal(eps, lam, T=2e4):
+    return xr.Dataset({"lambda_1": ("eps", lam), "T": ("eps", [T] * len(eps))}, coords={"eps": eps})
+
+
+def test_c26s_rows_are_priced_in_the_digits_an_arithmetic_needs_to_follow_them():
+    """lambda_1 T / ln 10 + 3 digits (G >= e^(lambda_1 T), G x rounding < 1e-3); a row not positive is named
+    without a price; no row above the threshold, nothing to price."""
+    assert f.digits_to_follow(0.059, 2e4) == pytest.approx(0.059 * 2e4 / np.log(10) + 3)
+    out = f.FAITHFUL_JUDGES["C26"]({"eps_above": 20}, formal([10.0, 25.0, 50.0], [0.08, 0.059, -1e-6]))
+    assert out.verdict == NOT_YET and "eps 25: lambda_1 = 0.059 in double over T = 2e+04" in out.value
+    assert "at least 515 decimal digits" in out.value and "eps 10" not in out.value
+    assert "eps 50: lambda_1 = -1e-06 in double over T = 2e+04 (not positive" in out.value
+    assert out.arithmetic == "none affordable (at least 515 digits over T)"
+    none = f.FAITHFUL_JUDGES["C26"]({"eps_above": 20}, formal([2.0, 5.0], [0.08, 0.1]))
+    assert none.verdict == NOT_YET and "no eps above" in none.value
+    flat = f.FAITHFUL_JUDGES["C26"]({"eps_above": 20}, formal([25.0], [-1e-6]))
+    assert flat.arithmetic == "unknown (not gauged)"
 
 
 def test_every_faithful_judge_has_its_datasets_declared():

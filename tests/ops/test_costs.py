@@ -386,7 +386,9 @@ def test_estimate_of_the_cluster_config_from_the_committed_measurement():
     assert res.returncode == 0, res.stderr[-2000:]
     assert "core-hours (estimate)" in res.stdout
     wall = res.stdout.split("Wall time on N cores", 1)[1]
-    hours = [float(line.split()[2]) for line in wall.splitlines()[1:5] if line.split()[-1] == "h"]
+    per_unit = {"h": 1.0, "min": 1 / 60, "s": 1 / 3600}
+    hours = [float(line.split()[2]) * per_unit[line.split()[-1]] for line in wall.splitlines()[1:5]
+             if line.split()[-1] in per_unit]
     assert len(hours) == 4 and hours == sorted(hours, reverse=True), wall  # more cores, never longer
     assert "Longest job: " in wall and "critical path" in wall and "no job graph" not in res.stdout
 
@@ -403,7 +405,9 @@ def test_jobs_the_measured_run_did_not_have_are_estimated_from_their_scene_or_na
     target["scenes"]["fig9_ref"]["precisions"] = ["double", "long double", "quad"]
     target["scenes"]["fig9_highE"]["precisions"] = ["double", "long double", "quad"]
     target["scenes"]["lyap_energy"]["precisions"] = ["double", "long double", "quad"]
+    target["scenes"]["fig9_eps001"]["precisions"] = ["double", "double-double", "quad"]
     mjobs = [{"job": "scene/lyap_energy", "cpu_s": 10.0, "wall_s": 11.0},
+             {"job": "scene/fig9_eps001", "cpu_s": 15.0, "wall_s": 16.0},
              {"job": "scene/realization/1/lyap_energy", "cpu_s": 10.5, "wall_s": 11.0},
              {"job": "scene/precision/long_double/fig9_ref", "cpu_s": 4.0, "wall_s": 4.5},
              *({"job": f"chunk/precision/long_double/lyap_energy/{k}", "cpu_s": 3.0, "wall_s": 3.5} for k in range(2)),
@@ -422,6 +426,9 @@ def test_jobs_the_measured_run_did_not_have_are_estimated_from_their_scene_or_na
     # no long-double measurement to scale from: named, not guessed
     assert ("scene/precision/quad/fig9_highE" in est["unmeasured"]
             and "scene/precision/long_double/fig9_highE" in est["unmeasured"])
+    # no long double but the scene's own job in double: scaled from it; double-double has no cost per time unit
+    assert jobs["scene/precision/quad/fig9_eps001"]["cpu_s"] == pytest.approx(15.0 * cost["quad"] / cost["double"])
+    assert "scene/precision/double_double/fig9_eps001" in est["unmeasured"]
 
 
 def test_a_rewritten_full_run_summary_keeps_the_earlier_runs_in_its_history(tmp_path):

@@ -75,6 +75,6 @@ FAITHFUL: dict[str, tuple[str, ...]] = {
     "C22": (),
     "C23": (),
     "C24": (),
-    "C26": (),
+    "C26": ("formal_exponents",),
     "C27": ("fig11_grid", "chaos_verdict"),
 }

@@ -15,11 +15,12 @@ cost per time unit. The rule of each is :data:`FAITHFUL_RULE`; the datasets each
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
-from sleighsim.chaos.faithfulness import FOLLOWS
+from sleighsim.chaos.faithfulness import FAITHFUL_MAX, FOLLOWS
 from sleighsim.chaos.rule import FRAGILE, agree
 from sleighsim.claims.judges.steady_state import PATH_RULE, path_verdict
 from sleighsim.claims.rules import CANNOT, DIFFERS, K_SIGMA, NOT_YET, REPRODUCED, SLIGHT, fmt, severity
@@ -56,8 +57,9 @@ FAITHFUL_RULE = (
     "settled state), that state's exponent bound (a followed or decided row's lambda_1 at or below the paper's "
     "floor differs, every row followed and above it reproduces, a row not followed leaves it not yet computed); "
     "a time on the paper's own transient (C13) cannot be reproduced when it still moves with the integration "
-    "error (slope beyond 2 standard errors) at the finest errors the trigger law measured; a quantity no faithful "
-    "arithmetic has computed (C26) is not yet computed, with the arithmetic it needs and its price."
+    "error (slope beyond 2 standard errors) at the finest errors the trigger law measured; the rows of C26 (not "
+    "gauged) are not yet computed, with the digits an arithmetic needs to follow each positive-exponent orbit over "
+    "its horizon (lambda_1 T / ln 10 + 3, a lower bound)."
 )
 
 
@@ -320,13 +322,31 @@ def plane_path(paper, verdicts, state: str = "main") -> Faithful:
     return Faithful(text + f" ({PATH_RULE})", d.arithmetic, _over_realizations(ok))
 
 
-def ungauged(where: str):
-    """A judge for a claim on orbits (``where``) the faithfulness gauge has not measured."""
-    def judge(paper, *datasets) -> Faithful:
-        return Faithful(f"not computed: the faithfulness gauge has not measured {where}; it needs the gauge over a "
-                        "complete spike cycle, then the quantity in the arithmetic the gauge accepts",
-                        "unknown (no gauge)", NOT_YET)
-    return judge
+def digits_to_follow(lam: float, T: float) -> float:
+    """The decimal digits an arithmetic needs to follow an orbit of exponent ``lam`` (1/time) over ``T``: the
+    tangent map grows by at least e^(lam T), so G x rounding < FAITHFUL_MAX needs rounding below
+    FAITHFUL_MAX e^(-lam T) (the Taylor steps' count, which only adds digits, left out: a lower bound)."""
+    return lam * T / math.log(10) - math.log10(FAITHFUL_MAX)
+
+
+def formal_rows(paper, formal) -> Faithful:
+    """C26: lambda_1 below the paper's bound for eps above its threshold. The rows computed (the formal system,
+    in double over T) are not gauged; a positive lambda_1 says how many digits an arithmetic would need to follow
+    each orbit over the row's horizon (``digits_to_follow``, a lower bound): not yet computed, with that price."""
+    eps, lam, T = formal.eps.values, formal.lambda_1.values, formal.T.values
+    big = eps > paper["eps_above"]
+    if not big.any():
+        return Faithful("not computed: no eps above the paper's threshold computed", "unknown (no row)", NOT_YET)
+    parts = [f"eps {e:g}: lambda_1 = {m:.2g} in double over T = {t:.3g}, so an arithmetic follows its orbit over T "
+             f"only with at least {digits_to_follow(m, t):.0f} decimal digits" if m > 0 else
+             f"eps {e:g}: lambda_1 = {m:.2g} in double over T = {t:.3g} (not positive: the gauge along its orbit, "
+             "not computed here, would say which arithmetic follows it)" for e, m, t in zip(eps[big], lam[big], T[big])]
+    need = max((digits_to_follow(m, t) for m, t in zip(lam[big], T[big]) if m > 0), default=math.nan)
+    return Faithful("not computed: the rows above the paper's eps are not gauged; " + "; ".join(parts) +
+                    "; a faithful exponent needs windows short enough for the gauge to accept them (a gauge over a "
+                    "whole window, a ladder's gain.window), which this run does not compute",
+                    f"none affordable (at least {need:.0f} digits over T)" if math.isfinite(need) else
+                    "unknown (not gauged)", NOT_YET)
 
 
 #: Claim id -> its faithful judge (the paper's values, then the datasets of evidence.FAITHFUL).
@@ -343,6 +363,6 @@ FAITHFUL_JUDGES = {
     "C22": IN_LADDER,
     "C23": IN_LADDER,
     "C24": IN_LADDER,
-    "C26": ungauged("the rows at eps > 20"),
+    "C26": formal_rows,
     "C27": route,
 }

@@ -178,9 +178,10 @@ def _variant_cpu(cpu: dict, name: str) -> float | None:
 def _new_jobs(target: dict, mjobs: list, est: dict) -> None:
     """Jobs of the target that the measured run did not have: a realization costs what its scene's
     own job cost; a scene in a finer precision what it cost in long double (its one job, or its chunks
-    and their gather) times the ratio of the flow's cost per time unit (benchmarks/precision_cost.yaml;
-    the variant's double transient is counted at that rate too, so this errs high), as one job named
-    scene/<variant> for a variant that runs as chunks too. Anything else: unmeasured."""
+    and their gather), or without that in double (its own job), times the ratio of the flow's cost per time
+    unit (benchmarks/precision_cost.yaml; the variant's double transient is counted at that rate too, so this
+    errs high), as one job named scene/<variant> for a variant that runs as chunks too. Anything else:
+    unmeasured."""
     cpu = {j["job"]: _job_cpu(j) for j in mjobs}
     cost = _precision_cost()
     for scene, n in catalog.realized(target).items():
@@ -190,16 +191,28 @@ def _new_jobs(target: dict, mjobs: list, est: dict) -> None:
                 est["jobs"].append({"job": name, "rule": "scene_realization", "kind": target["scenes"][scene]["kind"],
                                     "scene": scene, "cpu_s": cpu[f"scene/{scene}"], "ratio": 1.0})
     for scene, precisions in catalog.laddered(target).items():
-        ld, LD = _variant_cpu(cpu, layout.variant(scene, Precision.LONG_DOUBLE)), Precision.LONG_DOUBLE
+        base = _base_variant(cpu, scene, cost)
         for p in precisions[1:]:
             if _variant_cpu(cpu, layout.variant(scene, p)) is not None:
                 continue
             name = f"scene/{layout.variant(scene, p)}"
-            if ld is not None and p in cost and LD in cost:
+            if base is not None and p in cost:
+                ratio = cost[p] / cost[base[0]]
                 est["jobs"].append({"job": name, "rule": "scene_in_precision", "kind": target["scenes"][scene]["kind"],
-                                    "scene": scene, "cpu_s": ld * cost[p] / cost[LD], "ratio": cost[p] / cost[LD]})
+                                    "scene": scene, "cpu_s": base[1] * ratio, "ratio": ratio})
             else:
                 est["unmeasured"].append(name)
+
+
+def _base_variant(cpu: dict, scene: str, cost: dict) -> tuple[Precision, float] | None:
+    """The measured run a scene's unmeasured finer precisions are priced from: its long-double variant (its one
+    job, or its chunks and their gather), else its own job in double (the whole scene, transient included, so
+    this errs high too), with that precision; None when neither was measured or priced per time unit."""
+    for p, measured in ((Precision.LONG_DOUBLE, _variant_cpu(cpu, layout.variant(scene, Precision.LONG_DOUBLE))),
+                        (Precision.DOUBLE, cpu.get(f"scene/{scene}"))):
+        if measured is not None and p in cost:
+            return p, measured
+    return None
 
 
 def _other_jobs(target: dict, mjobs: list, est: dict) -> None:
