@@ -74,11 +74,22 @@ def cycle_gains(R_steps, spike_steps) -> np.ndarray:
         starts = np.arange(a, b)
         prods, log_scale = np.broadcast_to(np.eye(k), (m, k, k)).copy(), np.zeros(m)
         for offset in range(1, m + 1):
-            prods = R_steps[starts + offset] @ prods
-            scale = np.abs(prods).max(axis=(1, 2))
-            prods, log_scale = prods / scale[:, None, None], log_scale + np.log(scale)  # finite over any cycle
-        out.append(float(np.max(log_scale + np.log(np.linalg.svd(prods, compute_uv=False)[:, 0]))))
+            prods, log_scale = _times(R_steps[starts + offset], prods, log_scale)
+        out.append(_ln_sigma_1(prods, log_scale))
     return np.array(out)
+
+
+def _times(R, prods, log_scale) -> tuple[np.ndarray, np.ndarray]:
+    """R @ prods for stacks of maps held as (prods, log_scale) = (map / e^log_scale, log_scale), renormalised by
+    each map's largest entry: finite over any cycle or window."""
+    prods = R @ prods
+    scale = np.abs(prods).max(axis=(1, 2))
+    return prods / scale[:, None, None], log_scale + np.log(scale)
+
+
+def _ln_sigma_1(prods, log_scale) -> float:
+    """ln of the largest singular value over a stack of maps held as :func:`_times` holds them."""
+    return float(np.max(log_scale + np.log(np.linalg.svd(prods, compute_uv=False)[:, 0])))
 
 
 def injected_rounding(rounding: float, steps_per_cycle: float) -> float:
@@ -202,10 +213,8 @@ def window_gain(R_steps) -> float:
     prods, log_scale, best = np.broadcast_to(np.eye(k), (n, k, k)).copy(), np.zeros(n), -math.inf
     for offset in range(1, n + 1):  # prods[i]: the map from step end i - 1 over `offset` steps (start i = 0: t = 0)
         m = n - offset + 1
-        prods = R_steps[offset - 1:offset - 1 + m] @ prods[:m]
-        scale = np.abs(prods).max(axis=(1, 2))
-        prods, log_scale = prods / scale[:, None, None], log_scale[:m] + np.log(scale)
-        best = max(best, float(np.max(log_scale + np.log(np.linalg.svd(prods, compute_uv=False)[:, 0]))))
+        prods, log_scale = _times(R_steps[offset - 1:offset - 1 + m], prods[:m], log_scale[:m])
+        best = max(best, _ln_sigma_1(prods, log_scale))
     return best
 
 

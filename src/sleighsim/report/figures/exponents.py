@@ -34,10 +34,9 @@ def _faithful_labels(ax, ds, verdicts) -> None:
     decisive stage decided it (``claims.faithful.decided``); when regular, its exponent bound carried to every
     label by the exact time-scaling law (lambda_1 <= bound sqrt(E / E0)), drawn as downward triangles; when not
     regular, or at other parameters, a legend entry saying no bound is drawn."""
-    d = decided(verdicts)
-    if d.verdict != "regular" or not _same_model(ds, verdicts):
-        why = "other parameters" if not _same_model(ds, verdicts) else d.verdict
-        ax.plot([], [], " ", label=f"decisive stage: no bound drawn ({why})")
+    d, same = decided(verdicts), _same_model(ds, verdicts)
+    if d.verdict != "regular" or not same:
+        ax.plot([], [], " ", label=f"decisive stage: no bound drawn ({d.verdict if same else 'other parameters'})")
         return
     E = ds.label.values
     ax.plot(E, d.lambda_max * np.sqrt(E / float(verdicts.attrs["energy_label"])), "v", ms=7,
