@@ -97,14 +97,19 @@ def test_grid_axes_are_log_spaced_and_cover_the_range():
 
 
 def test_grid_rows_left_to_another_config_are_stored_as_nan_with_status_elsewhere_and_cost_nothing():
+    from pathlib import Path
+
     from sleighsim.scenes.grid import grid_rows
 
     cfg = {"eps_range": [0.02, 0.5], "n_eps": 13, "b_range": [0.25, 4.0], "n_b": 12, "n_chunks": 13,
-           "reference_eps": 0.1, "elsewhere": {"eps": [0.02], "config": "config/cluster.yaml"}}
+           "reference_eps": 0.1, "elsewhere": {"eps": [0.02], "config": "config/cluster.yaml"},
+           "verdict": {"eps_min": 0.2, "realizations": 3, "T": 5e5}}
     assert grid.elsewhere(cfg).tolist() == [True] + [False] * 12
-    ds = grid.chunk(cfg, 0, scene="g")  # chunk 0 holds row 0 alone: nothing is integrated
+    record = Path(__file__).resolve().parents[2] / "benchmarks" / "judge_power.yaml"
+    ds = grid.chunk(cfg, 0, scene="g", inputs={"power": record})  # chunk 0 holds row 0 alone: nothing is integrated
     assert ds.eps.values.tolist() == [0.02] and np.isnan(ds.lambda_1.values[0])
     assert grid.STATUS[int(ds.status_code.values[0])] == "elsewhere" and ds.attrs["rule"] == ""
+    assert ds.row_verdict.values[0] == "not judged" and "config/cluster.yaml" in ds.row_verdict_reason.values[0]
     work = dict(t_pre=2e4, t_pre_min=2e4, replicas=8, replica_spacing=2e4, t_align=1e3, T_round=2e4, max_rounds=10)
     rows = grid_rows({**cfg, **work})
     assert rows[0] == (0.02, 0.0) and all(w > 0 for _, w in rows[1:])

@@ -87,6 +87,31 @@ def test_a_row_whose_orbit_is_a_decided_state_takes_its_bound():
     assert f.grid_rows({"smallest_above": 1e-4}, rows, with_state(verdicts("undecided"))).verdict == NOT_YET
 
 
+def with_row_verdicts(ds, words, lam):
+    """``ds`` with each row's own verdict (scenes.grid_verdict) ``words`` and regular bounds ``lam``."""
+    n = ds.eps.size
+    return ds.assign(row_verdict=("eps", words), row_lambda_max=("eps", lam),
+                     row_verdict_arithmetic=("eps", ["double-double"] * n),
+                     row_verdict_reason=("eps", [f"why {i}" for i in range(n)]))
+
+
+def test_a_rows_own_regular_verdict_replaces_doubles_lambda_1_and_a_judged_undecided_row_is_named():
+    """Row 0.2, which double follows at 5e-4, judged regular in double-double with lambda_1 <= 2e-5: its bound
+    stands, below the floor, so C21 differs; row 0.1 judged undecided is named with its reason and stays not
+    followed; a row not judged changes nothing."""
+    nan = float("nan")
+    rows = with_row_verdicts(grid(["follows", "does not follow", "follows"], [3e-4, 4e-4, 5e-4]),
+                             ["not judged", "undecided", "regular"], [nan, nan, 2e-5])
+    out = f.grid_rows({"smallest_above": 1e-4}, rows, verdicts())
+    assert out.verdict == DIFFERS and "eps 0.2: regular in double-double (why 2)" in out.value
+    assert "eps 0.2: 0.0005" not in out.value and "eps 0.1: undecided in double-double (why 1)" in out.value
+    assert "eps 0.1 needs double-double" in out.value and "eps 0.05: 0.0003" in out.value
+    assert list(f.row_verdicts(rows)) == ["", "undecided", "regular"]
+    assert list(f.row_verdicts(grid(["follows"], [3e-4]))) == [""]  # a grid without row verdicts
+    same = with_row_verdicts(grid(["follows"] * 3, [3e-4, 4e-4, 5e-4]), ["not judged"] * 3, [nan] * 3)
+    assert f.grid_rows({"smallest_above": 1e-4}, same, verdicts()).verdict == REPRODUCED
+
+
 def test_the_route_near_zero_needs_the_row_nearest_zero_followed():
     near = f.route({}, grid(["does not follow", "follows", "follows"], [3e-4, 4e-4, 5e-4]), verdicts())
     assert near.verdict == NOT_YET and "nearest eps = 0 (eps 0.05)" in near.value

@@ -119,6 +119,25 @@ def test_fig11_draws_the_bound_of_a_row_the_chaos_verdict_decided(tmp_path):
         plt.close(fig)
 
 
+def test_fig11_draws_each_rows_own_verdict(tmp_path):
+    """Rows judged by the grid itself (scenes.grid_verdict): a regular row's bound as a triangle, an undecided
+    row ringed, a row not judged not drawn; a grid without row verdicts draws neither."""
+    from sleighsim.io.netcdf import read_dataset, write_dataset
+
+    ds = read_dataset(grid_dataset(tmp_path / "plain.nc", spread=0.0))
+    judged = ds.assign(row_verdict=("eps", ["not judged", "undecided", "regular"]),
+                       row_lambda_max=("eps", [np.nan, np.nan, 2e-3]),
+                       row_verdict_arithmetic=("eps", ["", "double-double", "double-double"]),
+                       row_verdict_reason=("eps", ["below eps_min", "only megno says chaotic", "all agree"]))
+    for path, drawn in ((write_dataset(judged, tmp_path / "judged.nc"), True), (tmp_path / "plain.nc", False)):
+        fig = figures.build("fig11", [path, verdict_dataset(tmp_path / "v.nc", (0.0, 0.0, 0.0, 0.0))])
+        labels = " ".join(fig.axes[0].get_legend_handles_labels()[1]).replace("\n", " ")
+        assert ("the row's own verdict: regular in double-double" in labels) is drawn, labels
+        assert ("the row's own verdict in double-double: undecided" in labels) is drawn, labels
+        assert "not judged" not in labels and legibility(fig) == []
+        plt.close(fig)
+
+
 def test_fig11_states_the_spread_across_b_from_its_data(tmp_path):
     fig = figures.build("fig11", [grid_dataset(tmp_path / "grid.nc", spread=2.5), verdict_dataset(tmp_path / "v.nc")])
     ax = fig.axes[0]

@@ -24,6 +24,7 @@ from sleighsim.chaos.faithfulness import FAITHFUL_MAX, FOLLOWS
 from sleighsim.chaos.rule import FRAGILE, agree
 from sleighsim.claims.judges.steady_state import PATH_RULE, path_verdict
 from sleighsim.claims.rules import CANNOT, DIFFERS, K_SIGMA, NOT_YET, REPRODUCED, SLIGHT, fmt, severity
+from sleighsim.scenes.grid_verdict import NOT_JUDGED
 
 #: faithful_verdict of a claim whose own datasets are computed in an arithmetic that follows their orbits:
 #: the ledger puts the row's own verdict in its place.
@@ -52,10 +53,12 @@ FAITHFUL_RULE = (
     "from the state chaos_verdict decides in the arithmetic that follows it (the decisive stage, every "
     "realization): a regular state makes a positive exponent differ (by the size of the paper's value over the "
     "exponent bound), a fragile state is fragile, a chaotic or undecided one leaves it not yet computed; F10's "
-    "labels (C20) by the exact time-scaling law from that state; F11's rows (C21, C27) each in the arithmetic its "
-    "own gauge accepts, or, where the row's orbit is a state the chaos verdict decided regular (same eps and "
-    "settled state), that state's exponent bound (a followed or decided row's lambda_1 at or below the paper's "
-    "floor differs, every row followed and above it reproduces, a row not followed leaves it not yet computed); "
+    "labels (C20) by the exact time-scaling law from that state; F11's rows (C21, C27) each by its own verdict where "
+    "the grid judged it regular (scenes.grid_verdict: its exponent bound, in place of double's lambda_1), else in "
+    "the arithmetic its own gauge accepts, or, where the row's orbit is a state the chaos verdict decided regular "
+    "(same eps and settled state), that state's exponent bound (a followed or decided row's lambda_1 at or below "
+    "the paper's floor differs, every row followed and above it reproduces, a row not followed leaves it not yet "
+    "computed); "
     "a time on the paper's own transient (C13) cannot be reproduced when it still moves with the integration "
     "error (slope beyond 2 standard errors) at the finest errors the trigger law measured; the rows of C26 (not "
     "gauged) are not yet computed, with the digits an arithmetic needs to follow each positive-exponent orbit over "
@@ -219,12 +222,34 @@ def grid_rows(paper, grid, verdicts) -> Faithful:
             followed[i], lam[i], err[i] = True, s.lambda_max, 0.0
             shown.append(f"eps {eps[i]:.3g}: the state {s.state} ({s.answer()})")
             arith.add(s.arithmetic.split(" (")[0])
+    judged = row_verdicts(grid)
+    for i in np.flatnonzero(judged == "regular"):  # the row's own verdict in its arithmetic: its bound, not double's
+        followed[i], lam[i], err[i] = True, float(grid.row_lambda_max.values[i]), 0.0
+        shown = [t for t in shown if not t.startswith(f"eps {eps[i]:.3g}:")]
+        arith.add(str(grid.row_verdict_arithmetic.values[i]))
+    shown += [_row_verdict_text(grid, i) for i in np.flatnonzero(judged != "")]
     value = (f"lambda_1 where the row's arithmetic follows it: {'; '.join(shown)}" if followed.any() else
              "no row's lambda_1 is computed in an arithmetic that follows it")
     value += _row_needs(grid, here & ~followed, d)
     low = followed & ~(lam - 2 * err > paper["smallest_above"])
     verdict = DIFFERS if low.any() else REPRODUCED if followed[here].all() else NOT_YET
     return Faithful(value, f"per row: {'; '.join(sorted(arith))}", verdict)
+
+
+def row_verdicts(grid) -> np.ndarray:
+    """Each row's own verdict where the grid judged it (``scenes.grid_verdict``: chaotic, regular, undecided or
+    fragile), "" where it did not (not judged, or a grid without row verdicts)."""
+    if "row_verdict" not in grid:
+        return np.full(grid.eps.size, "", dtype=object)
+    v = np.asarray(grid.row_verdict.values, dtype=object)
+    return np.where(v == NOT_JUDGED, "", v)
+
+
+def _row_verdict_text(grid, i: int) -> str:
+    """A judged row's verdict in words: verdict, arithmetic, realizations agreeing, reason."""
+    g = grid.isel(eps=i)
+    return (f"eps {float(g.eps):.3g}: {g.row_verdict.values} in {g.row_verdict_arithmetic.values} "
+            f"({g.row_verdict_reason.values})")
 
 
 def _row_needs(grid, rows, d: Decided) -> str:

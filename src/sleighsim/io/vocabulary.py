@@ -119,6 +119,17 @@ VOCABULARY: dict[str, tuple[str, str]] = {
                             "one the ledger's faithful_value was computed in or needs", "text"),
     "lambda_1_follows": ("does lambda_1's arithmetic follow the row's orbit: follows, does not follow or unknown",
                          "text"),
+    "row_verdict": ("the row's verdict in the cheapest arithmetic its gauge accepts for its judges, over realizations "
+                    "(scenes.grid_verdict): chaotic, regular, undecided, fragile or not judged", "text"),
+    "row_verdict_reason": ("why the row has its verdict: the realizations' agreement and realization 0's decision, "
+                           "or why it is not judged", "text"),
+    "row_verdict_arithmetic": ("the arithmetic the row's verdict was computed in (or would need)", "text"),
+    "row_verdict_agree": ("realizations giving the row's most common verdict (0: not judged)", "1"),
+    "row_lambda_max": ("the largest lambda_1 a regular row's tangent-based judges leave room for (NaN: not regular)",
+                       "rate"),
+    "row_bound_T": ("the horizon row_lambda_max holds over", "time"),
+    "row_verdict_wall_s": ("wall-clock time of the row's verdict runs (one core)", "s"),
+    "realization_row_verdict": ("the verdict of each realization of the row", "text"),
     "rotation_number": ("rotation number of the P_2pi iterates", "1"),
     "curve_thickness": ("thickness of the curve of the P_2pi iterates "
                         "(sleighsim.engine.poincare.curve_thickness)", "1"),

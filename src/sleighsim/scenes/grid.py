@@ -13,9 +13,11 @@ from __future__ import annotations
 import logging
 import math
 import time
+from pathlib import Path
 
 import numpy as np
 import xarray as xr
+import yaml
 
 from sleighsim.chaos import benettin
 from sleighsim.chaos.faithfulness import DOES_NOT_FOLLOW, FOLLOWS, UNKNOWN, spike_cycle_gains
@@ -30,6 +32,7 @@ from sleighsim.precision import Precision
 from sleighsim.scenes import memory
 from sleighsim.scenes.checks import ConfigError, increasing
 from sleighsim.scenes.common import steady_arithmetic
+from sleighsim.scenes.grid_verdict import FLOATS, MARGIN, ROW_VERDICT_RULE, TEXTS, judge_row, not_judged
 from sleighsim.scenes.kind import SceneKind
 
 log = logging.getLogger("sleighsim")
@@ -207,15 +210,24 @@ def faithful_words(codes, arithmetic: Precision) -> tuple[list[str], list[str]]:
     return names, verdicts
 
 
-def chunk(cfg: dict, index: int, scene: str = "") -> xr.Dataset:
-    """The eps rows index, index + n_chunks, ... (see :func:`row`)."""
+def chunk(cfg: dict, index: int, scene: str = "", inputs: dict | None = None) -> xr.Dataset:
+    """The eps rows index, index + n_chunks, ... (see :func:`row`), each with its verdict (:func:`judged`; the
+    judge-power record ``inputs["power"]``)."""
     eps_all, _ = axes(cfg)
     ref, away = eps_all[reference_row(cfg)], set(eps_all[elsewhere(cfg)])
-    rows = {e: _not_here() if e in away else row(cfg, e, label=f"{scene}[eps={e:.4g}]", check_b=e == ref)
-            for e in eps_all[index::cfg["n_chunks"]]}
+    record = yaml.safe_load(Path(inputs["power"]).read_text())
+    rows = {}
+    for e in eps_all[index::cfg["n_chunks"]]:
+        label = f"{scene}[eps={e:.4g}]"
+        rows[e] = _not_here(cfg) if e in away else judged(cfg, row(cfg, e, label=label, check_b=e == ref), e,
+                                                          record, label)
     eps = np.array(list(rows), float)
-    ds = xr.Dataset({v: ("eps", np.array([rows[e][v] for e in eps], float)) for v in ROW_VARIABLES},
+    ds = xr.Dataset({v: ("eps", np.array([rows[e][v] for e in eps], float)) for v in ROW_VARIABLES + FLOATS},
                     coords={"eps": eps})
+    for v in TEXTS:
+        ds[v] = ("eps", np.array([rows[e][v] for e in eps], dtype=object))
+    ds["realization_row_verdict"] = (("eps", "realization"),
+                                     np.array([rows[e]["realization_verdicts"] for e in eps], dtype=object))
     ds["row_settled_state"] = (("eps", "component"), np.array([rows[e]["settled"] for e in eps], float),
                            cf.attrs("the row's settled state (u, Omega, omega, delta) in model units (double "
                                     "pre-run; its steady part starts here)"))
@@ -224,11 +236,19 @@ def chunk(cfg: dict, index: int, scene: str = "") -> xr.Dataset:
     return ds
 
 
-def _not_here() -> dict:
-    """A row left to another config: every variable NaN, status "elsewhere"."""
+def judged(cfg: dict, out: dict, eps: float, record: dict, label: str) -> dict:
+    """A computed row with its verdict (``grid_verdict.judge_row``: the decisive judges in the cheapest arithmetic
+    its gauge accepts for them, over realizations)."""
+    return {**out, **judge_row(Params.paper(eps=eps, b=1.0), out["settled"], eps, cfg["verdict"], record, out,
+                               out["spike_interval"], cfg["transient"]["spike_factor"], label)}
+
+
+def _not_here(cfg: dict) -> dict:
+    """A row left to another config: every variable NaN, status "elsewhere", not judged here."""
     out = dict.fromkeys(ROW_VARIABLES, math.nan)
     out.update(status_code=STATUS.index("elsewhere"), wall_time_s=0.0, rule="", settled=np.full(4, math.nan))
-    return out
+    where = cfg.get("elsewhere", {}).get("config", "another config")
+    return {**out, **not_judged(f"computed with {where}", realizations=cfg["verdict"]["realizations"])}
 
 
 def gather(paths, cfg: dict, scene: str = "") -> xr.Dataset:
@@ -268,6 +288,8 @@ def gather(paths, cfg: dict, scene: str = "") -> xr.Dataset:
                   "lambda_1 not resolved (status regular or capped), or the row left to another config (elsewhere)",
         n_rows=int(eps.size), n_points=int(eps.size * bs.size), fraction_flagged=float(flagged.mean()),
         gauge_rule=GAUGE_RULE, n_rows_followed=int(sum(f == FOLLOWS for f in follow)),
+        row_verdict_rule=ROW_VERDICT_RULE, vote_record=cfg["vote_record"],
+        **{f"verdict_{k}": v for k, v in cfg["verdict"].items()},
         min_lambda_1=float(np.nanmin(ds.lambda_1.values)), max_lambda_1=float(np.nanmax(ds.lambda_1.values)),
         min_lambda_1_unflagged=float(np.nanmin(ds.lambda_1.values[ok])) if ok.any() else math.nan,
         cost_total_s=float(np.nansum(ds.wall_time_s.values)), transient_tol=cfg["tol"],
@@ -291,7 +313,8 @@ def _observed(ds: xr.Dataset, ref: int) -> dict:
 
 #: Keys the lyapunov_grid work model reads (everything else of such a block is outside the model).
 WORK_KEYS = ("eps_range", "n_eps", "n_chunks", "reference_eps", "t_pre", "t_pre_min", "replicas",
-             "replica_spacing", "t_align", "T_round", "max_rounds", "poincare_span", "b_check", "eps", "T_gain")
+             "replica_spacing", "t_align", "T_round", "max_rounds", "poincare_span", "b_check", "eps", "T_gain",
+             "eps_min", "realizations", "T")
 
 
 def grid_rows(cfg: dict) -> list[tuple[float, float]]:
@@ -305,7 +328,10 @@ def grid_rows(cfg: dict) -> list[tuple[float, float]]:
       earlier cost less; target_rel is not modelled);
     - Poincare crossings: poincare_span x s;
     - the faithfulness gauge: T_gain x s (one orbit with its 4 x 4 tangent map);
-    - the reference row also runs one round per b_check value: len(b_check) x (t_align + T_round) x s.
+    - the reference row also runs one round per b_check value: len(b_check) x (t_align + T_round) x s;
+    - the row's verdict from verdict.eps_min on: verdict.realizations x verdict.T x MARGIN x s, the row's spike
+      period taken as s times the record's (``grid_verdict``; the lanes run double-double where the gauge asks,
+      which the model does not know before the run).
 
     n_b costs nothing: b is an exact symmetry and every row is computed once at b = 1; a row left to
     another config (``elsewhere``) costs nothing here."""
@@ -322,6 +348,9 @@ def grid_rows(cfg: dict) -> list[tuple[float, float]]:
         w += cfg.get("T_gain", 0.0) * s
         if i == ref:
             w += len(cfg.get("b_check") or ()) * (cfg["t_align"] + cfg["T_round"]) * s
+        verdict = cfg.get("verdict")  # a measured run's config from before row verdicts has none
+        if verdict and eps >= verdict["eps_min"]:
+            w += verdict["realizations"] * verdict["T"] * MARGIN * s
         rows.append((float(eps), float(w)))
     return rows
 
@@ -359,9 +388,12 @@ def _replica_stretch(cfg: dict) -> memory.Span:
 LYAPUNOV_GRID = SceneKind(
     name="lyapunov_grid",
     title="the largest Lyapunov exponent over a grid of (eps, b) rows at one energy label",
-    chunk=chunk, gather=gather, observables=("lambda_1_reference", "lambda_1_smallest"),
+    chunk=chunk, gather=gather, observables=("lambda_1_reference", "lambda_1_smallest"), inputs=("power",),
     records=lambda c: [*memory.pre_run(c, "t_pre"), *memory.benettin(c, 5),
-                       memory.span(c, ("n_eps x n_b", c["n_eps"] * c["n_b"]), None, 20), _replica_stretch(c)],
+                       memory.span(c, ("n_eps x n_b", c["n_eps"] * c["n_b"]), None, 20), _replica_stretch(c),
+                       # a row's verdict lanes (T / dt samples whatever the row's scale): as the decisive stage's
+                       memory.span(c, "verdict.T", "verdict.dt", 40, ("verdict.realizations",
+                                                                      c["verdict"]["realizations"]))],
     work=lambda cfg: sum(w for _, w in grid_rows(cfg)), chunk_work=chunk_work, modelled=lambda leaf: leaf in WORK_KEYS,
     chunk_holds=lambda cfg, k: [e for e, _ in grid_rows(cfg)[k::cfg["n_chunks"]]],
     checks=_checks, pre_run="t_pre")

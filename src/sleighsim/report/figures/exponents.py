@@ -8,7 +8,7 @@ import textwrap
 import numpy as np
 from matplotlib.ticker import NullFormatter
 
-from sleighsim.claims.faithful import Decided, decided, decided_rows
+from sleighsim.claims.faithful import Decided, decided, decided_rows, row_verdicts
 from sleighsim.io.netcdf import read_dataset
 from sleighsim.precision import Precision
 from sleighsim.report.figures.common import MIN_PT, PRECISION_STYLE, RATE, WIDTH, finer_precisions, finish, subplots
@@ -52,6 +52,25 @@ def _decided_rows(ax, ds, verdicts) -> None:
         if d.verdict == "regular":
             ax.plot([ds.eps.values[i]], [d.lambda_max], "v", ms=8, label=_bound_label(d, " (this row's orbit)"),
                     **PRECISION_STYLE[Precision.DOUBLE_DOUBLE])
+
+
+def _row_verdicts(ax, ds) -> None:
+    """Beside double's lambda_1 (F11), each row's own verdict (``scenes.grid_verdict``, in the arithmetic its
+    gauge accepts): a regular row's exponent bound as a downward triangle, a row judged but not decided (undecided
+    or fragile) ringed at double's lambda_1; nothing for a grid without row verdicts or rows not judged."""
+    words = row_verdicts(ds)
+    regular, open_ = words == "regular", (words != "") & (words != "regular")
+    eps, lam = ds.eps.values, np.abs(ds.lambda_1.values)
+    if regular.any():
+        arith = ", ".join(dict.fromkeys(map(str, ds.row_verdict_arithmetic.values[regular])))
+        ax.plot(eps[regular], ds.row_lambda_max.values[regular], "v", ms=8, mfc="none", mew=1.5,
+                label=f"the row's own verdict: regular in {arith}\n(all realizations): lambda_1 at most this",
+                **PRECISION_STYLE[Precision.DOUBLE_DOUBLE])
+    for word in dict.fromkeys(words[open_]):
+        sel = words == word
+        arith = ", ".join(dict.fromkeys(map(str, ds.row_verdict_arithmetic.values[sel])))
+        ax.plot(eps[sel], lam[sel], "D", mfc="none", mec="tab:purple", ms=14, mew=1.2,
+                label=f"the row's own verdict in {arith}: {word}")
 
 
 def fig10(sources):
@@ -164,6 +183,7 @@ def fig11(sources):
             label="flagged row: transient, steadiness\nor lambda_1 not resolved")
     _unfollowed(ax, ds)
     _decided_rows(ax, ds, verdicts)
+    _row_verdicts(ax, ds)
     ax.axhline(1e-4, color="0.5", ls=":", label="paper: smallest value > 1e-4")
     ax.set_xscale("log")
     ax.set_yscale("log")
