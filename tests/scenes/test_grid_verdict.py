@@ -98,3 +98,14 @@ def test_the_work_model_counts_each_judged_rows_lanes_over_its_cycles():
     added = [b - a for (_, a), (_, b) in zip(none, some)]
     assert added[0] == 0.0
     assert added[1:] == pytest.approx([3 * 5e5 * MARGIN * 0.1 / e for e, _ in some[1:]])
+
+
+def test_a_ladders_finer_rung_leaves_the_verdict_to_the_double_dataset(monkeypatch):
+    """grid.judged in a long-double variant runs no verdict (judge_row replaced by a failure) and says where it is."""
+    from sleighsim.precision import Precision
+    from sleighsim.scenes import grid
+
+    monkeypatch.setattr(grid, "judge_row", lambda *a, **k: pytest.fail("a finer rung ran the verdict again"))
+    cfg = {"precision": Precision.LONG_DOUBLE, "verdict": VC, "transient": {"spike_factor": 1.8}}
+    out = grid.judged(cfg, {"settled": [0.0] * 4, "spike_interval": 400.0}, 0.3, {}, "row")
+    assert out["row_verdict"] == "not judged" and "double dataset" in out["row_verdict_reason"]

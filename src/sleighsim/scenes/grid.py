@@ -238,7 +238,11 @@ def chunk(cfg: dict, index: int, scene: str = "", inputs: dict | None = None) ->
 
 def judged(cfg: dict, out: dict, eps: float, record: dict, label: str) -> dict:
     """A computed row with its verdict (``grid_verdict.judge_row``: the decisive judges in the cheapest arithmetic
-    its gauge accepts for them, over realizations)."""
+    its gauge accepts for them, over realizations). A ladder's finer rung runs the same rows again for lambda_1
+    only: the verdict, whose arithmetic is its own, is the double dataset's."""
+    if Precision.parse(steady_arithmetic(cfg)["precision"]) is not Precision.DOUBLE:
+        return {**out, **not_judged("judged in the grid's double dataset (the verdict chooses its own arithmetic)",
+                                    realizations=cfg["verdict"]["realizations"])}
     return {**out, **judge_row(Params.paper(eps=eps, b=1.0), out["settled"], eps, cfg["verdict"], record, out,
                                out["spike_interval"], cfg["transient"]["spike_factor"], label)}
 
