@@ -212,21 +212,22 @@ def grid_rows(paper, grid, verdicts) -> Faithful:
     d = decided(verdicts)
     eps, lam, err = grid.eps.values, grid.lambda_1.values.copy(), grid.stderr.values.copy()
     here = grid.status.values != "elsewhere"
-    followed = here & (grid.lambda_1_follows.values == FOLLOWS)
+    judged = row_verdicts(grid)
+    own = judged == "regular"  # the row's own verdict in its arithmetic: its bound, not double's lambda_1
+    followed = here & (grid.lambda_1_follows.values == FOLLOWS) & ~own
     shown = [f"eps {e:.3g}: {fmt(v, 2)} +- {fmt(s, 1)}" for e, v, s in zip(eps[followed], lam[followed],
                                                                             err[followed])]
-    arith = {str(a) for a in grid.faithful_arithmetic.values[here & ~followed]}
+    arith = {str(a) for a in grid.faithful_arithmetic.values[here & ~followed & ~own]}
     arith |= {"double"} if followed.any() else set()
     for i, s in decided_rows(grid, verdicts).items():
-        if here[i] and not followed[i] and s.verdict == "regular":
+        if here[i] and not followed[i] and not own[i] and s.verdict == "regular":
             followed[i], lam[i], err[i] = True, s.lambda_max, 0.0
             shown.append(f"eps {eps[i]:.3g}: the state {s.state} ({s.answer()})")
             arith.add(s.arithmetic.split(" (")[0])
-    judged = row_verdicts(grid)
-    for i in np.flatnonzero(judged == "regular"):  # the row's own verdict in its arithmetic: its bound, not double's
-        followed[i], lam[i], err[i] = True, float(grid.row_lambda_max.values[i]), 0.0
-        shown = [t for t in shown if not t.startswith(f"eps {eps[i]:.3g}:")]
-        arith.add(str(grid.row_verdict_arithmetic.values[i]))
+    if own.any():
+        followed |= own
+        lam[own], err[own] = grid.row_lambda_max.values[own], 0.0
+        arith |= {str(a) for a in grid.row_verdict_arithmetic.values[own]}
     shown += [_row_verdict_text(grid, i) for i in np.flatnonzero(judged != "")]
     value = (f"lambda_1 where the row's arithmetic follows it: {'; '.join(shown)}" if followed.any() else
              "no row's lambda_1 is computed in an arithmetic that follows it")

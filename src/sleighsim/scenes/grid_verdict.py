@@ -31,13 +31,7 @@ from sleighsim.chaos.rule import TANGENT_BASED
 from sleighsim.chaos.verdicts import REGULAR
 from sleighsim.precision import Precision
 from sleighsim.scenes.common import realization_states
-from sleighsim.scenes.verdict_decisive import (
-    birkhoff_stage,
-    frequency_stage,
-    megno_judged,
-    section_megno_judged,
-    what_regular_bounds,
-)
+from sleighsim.scenes.verdict_decisive import four_judges, what_regular_bounds
 from sleighsim.scenes.verdict_decisive_orbits import lane_orbits
 
 log = logging.getLogger("sleighsim")
@@ -112,8 +106,7 @@ def judged_orbit(orbit: dict, dc: dict, gauge: dict, voters, sigma: float) -> di
     (``decide_state``), and what a regular verdict bounds (``what_regular_bounds``)."""
     precision, ln_gain, steps = dc["precision"], gauge["row_ln_gain_max"], gauge["row_gain_steps_per_cycle"]
     gain_rounding = math.exp(ln_gain) * injected_rounding(precision.rounding, steps)
-    judged = {"megno": megno_judged(orbit, dc, sigma), "section_megno": section_megno_judged(orbit, dc, sigma),
-              "frequency": frequency_stage(orbit, dc, sigma), "birkhoff": birkhoff_stage(orbit, dc, gain_rounding)}
+    judged = four_judges(orbit, dc, sigma, gain_rounding, tangent=True)
     arithmetic = dict.fromkeys(judged, precision)
     follows = indicator_follows(ln_gain, arithmetic, {k: judged[k].get("resolved", math.nan) for k in judged},
                                 steps_per_cycle=steps)

@@ -196,6 +196,14 @@ def decisive_lanes(cfg: dict, lanes: list, scenes: list) -> list[xr.Dataset]:
             for (stage1, voters, vote), orbit, scene in zip(lanes, orbits, scenes)]
 
 
+def four_judges(orbit: dict, dc: dict, sigma: float, gain_rounding: float, *, tangent: bool) -> dict:
+    """The decisive judges (DECISIVE) on one orbit: MEGNO and the return map's MEGNO (``not_run`` without a
+    tangent vector), the frequency analysis and the Birkhoff averages with the arithmetic's G x rounding."""
+    return {"megno": megno_judged(orbit, dc, sigma) if tangent else not_run("megno", dc),
+            "section_megno": section_megno_judged(orbit, dc, sigma) if tangent else not_run("section_megno", dc),
+            "frequency": frequency_stage(orbit, dc, sigma), "birkhoff": birkhoff_stage(orbit, dc, gain_rounding)}
+
+
 def judged_lane(cfg: dict, stage1: xr.Dataset, orbit: dict, scene: str, *, voters: frozenset, tangent: bool,
                 orbit_s: float) -> xr.Dataset:
     """One lane's dataset: the indicators judged again on its decisive ``orbit``, the state's verdict and class
@@ -204,9 +212,7 @@ def judged_lane(cfg: dict, stage1: xr.Dataset, orbit: dict, scene: str, *, voter
     dc, sigma = decisive_config(cfg), cfg["sigma"]
     gain_rounding = math.exp(float(stage1.ln_gain_max.values[0])) * injected_rounding(
         dc["precision"].rounding, _steps_per_cycle(stage1))
-    judged = {"megno": megno_judged(orbit, dc, sigma) if tangent else not_run("megno", dc),
-              "section_megno": section_megno_judged(orbit, dc, sigma) if tangent else not_run("section_megno", dc),
-              "frequency": frequency_stage(orbit, dc, sigma), "birkhoff": birkhoff_stage(orbit, dc, gain_rounding)}
+    judged = four_judges(orbit, dc, sigma, gain_rounding, tangent=tangent)
     verdict, reason, gated = decide_again(stage1, judged, dc["precision"], sigma, voters)
     bound = what_regular_bounds(judged, gated, sigma)
     if verdict == REGULAR:
