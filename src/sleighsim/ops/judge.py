@@ -20,9 +20,9 @@ import time
 from pathlib import Path
 
 import xarray as xr
-import yaml
 
 from sleighsim.io.netcdf import write_dataset
+from sleighsim.io.yamlfile import read_yaml
 from sleighsim.model.params import PARAM_NAMES, Params, finite, integer, positive
 from sleighsim.model.symmetries import energy_label
 from sleighsim.ops.config import BASE_CONFIG, REPO, merged_config
@@ -116,5 +116,5 @@ def answer(ds: xr.Dataset, record=None) -> ChaosAnswer:
     if record is None:
         config = merged_config()
         record = REPO / config["scenes"][catalog.scenes_of(config, CHAOS_VERDICT)[0]]["vote_record"]
-    (out,) = dataset_answers(ds, yaml.safe_load(Path(record).read_text()))
+    (out,) = dataset_answers(ds, read_yaml(record))
     return out

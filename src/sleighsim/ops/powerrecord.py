@@ -14,6 +14,7 @@ reads the vote from the record. Prints the table per judge and class (markdown).
 from __future__ import annotations
 
 import argparse
+import functools
 import json
 from pathlib import Path
 
@@ -22,6 +23,7 @@ import yaml
 
 from sleighsim.chaos import power
 from sleighsim.io.netcdf import read_dataset
+from sleighsim.io.yamlfile import read_yaml
 from sleighsim.ops.config import REPO
 
 COMMAND = "python -m sleighsim.ops.powerrecord"
@@ -124,15 +126,23 @@ def empty() -> dict:
 
 def problems(path) -> list[str]:
     """What makes the record at ``path`` unusable for a vote (``chaos.power.check_record``), or that it is
-    missing or not YAML; empty when it can be voted by."""
+    missing or not YAML; empty when it can be voted by. Judged once per version of the file (its resolved
+    path, modification time and size): a config check asks about the same record for several scenes."""
     path = Path(path)
     if not path.is_file():
         return [f"no such file in the repository (write it with {COMMAND})"]
+    stat = path.stat()
+    return list(_file_problems(path.resolve(), stat.st_mtime_ns, stat.st_size))
+
+
+@functools.lru_cache(maxsize=8)
+def _file_problems(path: Path, mtime_ns: int, size: int) -> tuple[str, ...]:
+    """``problems`` of one version of a file (the time and size are the cache's key only)."""
     try:
-        rec = yaml.safe_load(path.read_text())
+        rec = read_yaml(path)
     except yaml.YAMLError as err:
-        return [f"not YAML: {err}"]
-    return power.check_record(rec)
+        return (f"not YAML: {err}",)
+    return tuple(power.check_record(rec))
 
 
 def main(argv=None) -> int:

@@ -28,6 +28,7 @@ from sleighsim.claims import fidelity
 from sleighsim.claims.ledger import Row
 from sleighsim.claims.rules import DIFFERING, MEANINGS, REPRODUCED, VERDICTS
 from sleighsim.io.netcdf import atomic_path, read_dataset, write_text
+from sleighsim.io.yamlfile import read_yaml
 from sleighsim.report import finding
 from sleighsim.report.chaos_answers import chaos_answers, elsewhere, power_table
 from sleighsim.report.figures import costs as plots
@@ -169,8 +170,8 @@ def build(rows: list[Row], *, out_dir, tex_path, labels: dict, figures: dict, da
     first screen (``elsewhere``)."""
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    power = yaml.safe_load(Path(power_record).read_text()) if power_record else None
-    cluster = yaml.safe_load(Path(cluster_record).read_text()) if cluster_record else None
+    power = read_yaml(power_record) if power_record else None
+    cluster = read_yaml(cluster_record) if cluster_record else None
     first = answers(rows, datasets, figures, power, cluster=cluster)
     found = finding.facts(rows, first["chaos"], cluster, identity, finding.provenance(datasets),
                           orbit=paper_orbit(datasets, kinds))

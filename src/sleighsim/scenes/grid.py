@@ -13,11 +13,9 @@ from __future__ import annotations
 import logging
 import math
 import time
-from pathlib import Path
 
 import numpy as np
 import xarray as xr
-import yaml
 
 from sleighsim.chaos import benettin
 from sleighsim.chaos.faithfulness import DOES_NOT_FOLLOW, FOLLOWS, UNKNOWN, spike_cycle_gains
@@ -26,6 +24,7 @@ from sleighsim.engine.integrate import orbit_samples
 from sleighsim.engine.transient import settle
 from sleighsim.io import cf
 from sleighsim.io.netcdf import read_dataset
+from sleighsim.io.yamlfile import read_yaml
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import b_image, state_at_label
 from sleighsim.precision import Precision
@@ -215,7 +214,7 @@ def chunk(cfg: dict, index: int, scene: str = "", inputs: dict | None = None) ->
     judge-power record ``inputs["power"]``)."""
     eps_all, _ = axes(cfg)
     ref, away = eps_all[reference_row(cfg)], set(eps_all[elsewhere(cfg)])
-    record = yaml.safe_load(Path(inputs["power"]).read_text())
+    record = read_yaml(inputs["power"])
     rows = {}
     for e in eps_all[index::cfg["n_chunks"]]:
         label = f"{scene}[eps={e:.4g}]"

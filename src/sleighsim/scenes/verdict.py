@@ -12,11 +12,9 @@ from __future__ import annotations
 import logging
 import math
 import time
-from pathlib import Path
 
 import numpy as np
 import xarray as xr
-import yaml
 
 from sleighsim.chaos.faithfulness import indicator_follows
 from sleighsim.chaos.loschmidt import loschmidt_indicator
@@ -42,6 +40,7 @@ from sleighsim.engine.integrate import orbit_samples
 from sleighsim.engine.transient import settle
 from sleighsim.io import cf
 from sleighsim.io.netcdf import read_dataset
+from sleighsim.io.yamlfile import read_yaml
 from sleighsim.model import equations
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import state_at_label
@@ -201,7 +200,7 @@ def chunk(cfg: dict, index: int, scene: str = "", reads=(), inputs=None) -> xr.D
     audit's record (``inputs["power"]``, the block's vote_record) lets vote with the stage's settings at its
     horizon (``chaos.power.stage_vote``; the decisive stage's states no longer in spike cycles than audited)."""
     names, base = list(cfg["states"]), _stage_one_count(cfg)
-    record = yaml.safe_load(Path(inputs["power"]).read_text())
+    record = read_yaml(inputs["power"])
     if index >= base:
         lanes = [_lane_vote(record, cfg, read_dataset(path)) for path in reads]
         order = _job_lanes(cfg, index - base)
