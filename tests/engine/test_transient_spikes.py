@@ -64,6 +64,29 @@ def test_a_low_spike_away_from_its_expected_time_is_not_taken_and_the_doubled_in
     assert not transient.spike_train(t, _train(t, spikes, heights)).rescued.any()
 
 
+def test_spikes_standing_about_factor_above_the_oscillation_are_found_as_a_periodic_train():
+    """F11's eps = 0.026 row (its settled state of the f1c9ab0 run, then in double sampled every 0.5): the
+    spikes reach 1.79-1.80 x the median block maximum, so the fixed threshold (1.8 x) found one spike in
+    6e5 time units and the row had no spike period. The file holds Omega over [3000, 36000] of that run."""
+    rec = np.load(DATA / "eps026_spike_segment.npz")
+    Omega = rec["Omega"] * float(rec["scale"])
+    t = float(rec["t0"]) + float(rec["dt"]) * np.arange(Omega.size)
+    train = transient.spike_train(t, Omega)
+    assert train.times.size == 5 and np.sum(train.heights > train.threshold) <= 1  # the fixed threshold's one
+    assert train.median_interval == pytest.approx(8020.0, abs=30.0) and not train.rescued.any()
+
+
+def test_low_bumps_are_kept_only_as_a_periodic_train_of_enough_spikes():
+    t = np.arange(0.0, 20000.0, 0.5)
+    periodic = [2000.0 * k for k in range(1, 10)]
+    low = [0.02] * 9  # peaks of about 0.05, 1.67 x the oscillation's 0.03: under the fixed threshold, above RESCUE x
+    assert transient.spike_train(t, _train(t, periodic, low)).times.size == 9
+    irregular = [1000.0, 1900.0, 4700.0, 5200.0, 9800.0, 11000.0, 15500.0, 16100.0, 19000.0]
+    train = transient.spike_train(t, _train(t, irregular, low))
+    assert train.times.size == 0 and math.isnan(train.median_interval)
+    assert transient.spike_train(t, _train(t, periodic[:3], low[:3])).times.size == 0  # too few for a period
+
+
 def test_the_period_check_needs_enough_spikes_to_know_the_period():
     t = np.arange(0.0, 8000.0, 0.5)
     train = transient.spike_train(t, _train(t, [1000.0, 5000.0, 7000.0], [0.08, 0.08, 0.08]))

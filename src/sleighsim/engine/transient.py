@@ -11,7 +11,11 @@ Definitions (stated in every dataset that uses them, :data:`RULE`):
   intervals is searched for the spike the fixed threshold missed (a low one: the highest isolated
   peak within :data:`WINDOW` median intervals of one median interval after the previous spike, kept
   when it stands :data:`RESCUE` times above the gap's envelope, the median block maximum there), and
-  an interval near twice the median left after that (:data:`DOUBLED`) is flagged.
+  an interval near twice the median left after that (:data:`DOUBLED`) is flagged. A record in which the
+  fixed threshold finds fewer than :data:`MIN_SPIKES` spikes is searched once more at :data:`RESCUE` times
+  the median block maximum (spikes that stand only about ``factor`` above the oscillation, as at small
+  eps); those spikes are kept only when they form a periodic train (at least MIN_SPIKES, the intervals'
+  median absolute deviation within :data:`PERIODIC` of their median), else the fixed threshold's stand.
 - settling time of omega: blocks of ``window`` time units; the reference is the
   mean of omega over the second half of the record; the settling time is the
   start of the first block after which every block mean lies within
@@ -44,13 +48,18 @@ def _blocks(t, x, length):
 #: a missed spike lies within WINDOW P of one P after the previous one and stands RESCUE times above the gap's
 #: envelope; an interval within DOUBLED (multiples of P) left after the search is flagged.
 MIN_SPIKES, GAP, WINDOW, RESCUE, DOUBLED = 4, 1.5, 0.1, 1.4, (1.75, 2.25)
+#: The lower threshold's train is kept when its intervals' median absolute deviation is within PERIODIC of
+#: their median.
+PERIODIC = 0.05
 
 RULE = ("spike: a local maximum of |Omega| (block maxima, 50 time units) above spike_factor x median block maximum "
         "of the second half, |Omega| falling below that within one block on each side inside the record, after "
         f"t_min; with at least {MIN_SPIKES} spikes, a gap of at least {GAP:g} median intervals P searched for a "
         f"missed spike (the highest isolated peak within {WINDOW:g} P of P after the previous one, at least "
         f"{RESCUE:g} x the gap's median block maximum), intervals within {DOUBLED[0]:g}-{DOUBLED[1]:g} P left "
-        "flagged; settling: block means of omega (window) within rtol of the second-half mean from the settling "
+        f"flagged; with fewer than {MIN_SPIKES} spikes, the spikes above {RESCUE:g} x the median block maximum "
+        f"instead when they form a periodic train (intervals' median absolute deviation <= {PERIODIC:g} of "
+        "their median); settling: block means of omega (window) within rtol of the second-half mean from the settling "
         "time on")
 
 
@@ -142,6 +151,24 @@ def _period_check(t, a, times, heights, n: int, level: float):
     return np.array(out_t), np.array(out_h), np.array(out_r)
 
 
+def _above(t, a, xb, peaks, level: float, t_min: float, min_separation: float) -> np.ndarray:
+    """Sample indices of the isolated block maxima above ``level`` after ``t_min``, merged within
+    ``min_separation`` (the higher kept)."""
+    n = xb.shape[1]
+    j = np.flatnonzero(peaks > level) * n + np.argmax(xb[peaks > level], axis=1)
+    j = np.array([i for i in j if t[i] >= t_min and _isolated(a, i, n, level)], dtype=int)
+    return j[_merged(t[j], a[j], min_separation)]
+
+
+def _periodic_train(times) -> bool:
+    """Whether spike ``times`` form a periodic train: at least MIN_SPIKES spikes, the intervals' median
+    absolute deviation at most PERIODIC of their median."""
+    if times.size < MIN_SPIKES:
+        return False
+    d = np.diff(times)
+    return bool(np.median(np.abs(d - np.median(d))) <= PERIODIC * np.median(d))
+
+
 def spike_train(t, Omega, *, factor=1.8, block=50.0, min_separation=300.0, t_min=0.0) -> SpikeTrain:
     """The spikes of Omega sampled at times ``t`` (see the module docstring; time units), with the period's
     check. ValueError for a malformed record (lengths that differ, empty, not finite) or one shorter
@@ -151,11 +178,14 @@ def spike_train(t, Omega, *, factor=1.8, block=50.0, min_separation=300.0, t_min
     tb, xb = _blocks(t, a, block)
     n = xb.shape[1]
     peaks = xb.max(axis=1)
-    level = float(factor * np.median(peaks[len(peaks) // 2:]))
-    j = np.flatnonzero(peaks > level) * n + np.argmax(xb[peaks > level], axis=1)
-    j = np.array([i for i in j if t[i] >= t_min and _isolated(a, i, n, level)], dtype=int)
-    keep = _merged(t[j], a[j], min_separation)
-    times, heights, rescued = _period_check(t, a, t[j][keep], a[j][keep], n, level)
+    typical = float(np.median(peaks[len(peaks) // 2:]))
+    level = factor * typical
+    j = _above(t, a, xb, peaks, level, t_min, min_separation)
+    if j.size < MIN_SPIKES and RESCUE < factor:
+        low = _above(t, a, xb, peaks, RESCUE * typical, t_min, min_separation)
+        if _periodic_train(t[low]):
+            j = low
+    times, heights, rescued = _period_check(t, a, t[j], a[j], n, level)
     d = np.diff(times)
     period = float(np.median(d)) if times.size >= MIN_SPIKES else float("nan")
     doubled = np.flatnonzero((d >= DOUBLED[0] * period) & (d <= DOUBLED[1] * period))
