@@ -112,6 +112,23 @@ def test_a_rows_own_regular_verdict_replaces_doubles_lambda_1_and_a_judged_undec
     assert f.grid_rows({"smallest_above": 1e-4}, same, verdicts()).verdict == REPRODUCED
 
 
+def test_a_row_not_judged_is_priced_by_the_judged_rows_cost_per_step_of_a_cycle():
+    """Row 0.2 judged in 60 s at 2000 steps per cycle (0.03 s per step of a cycle); row 0.05, not judged, takes
+    10000 steps per cycle: its verdict would cost about 300 s. A row without steps per cycle has no price; a
+    grid that judged no row prices by the decisive stage's cost as before."""
+    nan = float("nan")
+    rows = with_row_verdicts(grid(["does not follow", "does not follow", "follows"], [3e-4, 4e-4, 5e-4]),
+                             ["not judged", "not judged", "regular"], [nan, nan, 2e-5]).assign(
+        row_verdict_wall_s=("eps", [0.0, 0.0, 60.0]), row_gain_steps_per_cycle=("eps", [1e4, nan, 2e3]))
+    assert f.row_verdict_cost(rows) == pytest.approx(0.03)
+    out = f.grid_rows({"smallest_above": 1e-4}, rows, verdicts())
+    assert "eps 0.05 needs double-double (about 300 s for its verdict)" in out.value
+    assert "judged rows' measured wall time" in out.value and "decisive stage's" not in out.value
+    assert "eps 0.1 needs double-double" in out.value and "eps 0.1 needs double-double (about" not in out.value
+    assert np.isnan(f.row_verdict_cost(rows.assign(row_verdict=("eps", ["not judged"] * 3))))
+    assert np.isnan(f.row_verdict_cost(grid(["follows"], [3e-4])))
+
+
 def test_the_route_near_zero_needs_the_row_nearest_zero_followed():
     near = f.route({}, grid(["does not follow", "follows", "follows"], [3e-4, 4e-4, 5e-4]), verdicts())
     assert near.verdict == NOT_YET and "nearest eps = 0 (eps 0.05)" in near.value

@@ -254,14 +254,35 @@ def _row_verdict_text(grid, i: int) -> str:
 
 
 def _row_needs(grid, rows, d: Decided) -> str:
-    """The rows not followed: the arithmetic each needs and its price over the decisive horizon scaled to the
-    row (T x reference_eps / eps)."""
+    """The rows not followed: the arithmetic each needs and its price. Where the grid judged rows of its own
+    (``row_verdict_cost``), the price of the row's verdict; else one orbit over the decisive horizon scaled to
+    the row (T x reference_eps / eps) at the decisive stage's cost."""
     if not rows.any():
         return ""
+    per_step = row_verdict_cost(grid)
+    if np.isfinite(per_step):
+        steps = grid.row_gain_steps_per_cycle.values
+        parts = [f"eps {grid.eps.values[i]:.3g} needs {grid.faithful_arithmetic.values[i]}"
+                 + (f" (about {per_step * steps[i]:.0f} s for its verdict)" if np.isfinite(steps[i]) else "")
+                 for i in np.flatnonzero(rows)]
+        return ("; not computed: " + "; ".join(parts) + " (priced by the judged rows' measured wall time per step "
+                "of a spike cycle, times the row's steps per cycle: the verdict runs as many cycles on every row)")
     s = float(grid.attrs["reference_eps"]) / grid.eps.values[rows]
     parts = [f"eps {e:.3g} needs {a}" + (f" ({d.price(d.T * k)})" if "unknown" not in str(a) else "")
              for e, a, k in zip(grid.eps.values[rows], grid.faithful_arithmetic.values[rows], s)]
     return "; not computed: " + "; ".join(parts) + f" ({d.rate()}, over the decisive horizon x reference_eps / eps)"
+
+
+def row_verdict_cost(grid) -> float:
+    """Seconds of a row's verdict per step of one spike cycle (the gauge's steps per cycle in double): the
+    median over the rows the grid judged of their wall time over their steps per cycle. Every row's verdict
+    runs the same number of cycles (``scenes.grid_verdict``), so a row's price is this times its steps per
+    cycle. NaN when the grid judged no row."""
+    if "row_verdict_wall_s" not in grid:
+        return float("nan")
+    wall, steps = grid.row_verdict_wall_s.values, grid.row_gain_steps_per_cycle.values
+    ran = (row_verdicts(grid) != "") & (wall > 0) & np.isfinite(steps)
+    return float(np.median(wall[ran] / steps[ran])) if ran.any() else float("nan")
 
 
 def route(paper, grid, verdicts) -> Faithful:
