@@ -85,6 +85,12 @@ def test_low_bumps_are_kept_only_as_a_periodic_train_of_enough_spikes():
     train = transient.spike_train(t, _train(t, irregular, low))
     assert train.times.size == 0 and math.isnan(train.median_interval)
     assert transient.spike_train(t, _train(t, periodic[:3], low[:3])).times.size == 0  # too few for a period
+    # the fourth a flank the record's end cuts (its peak beyond the end): no spike, so no train of four
+    edge = np.arange(0.0, 8010.0, 0.5)
+    cut = _train(edge, [2000.0, 4000.0, 6000.0, 8030.0], low[:4], width=60.0)
+    assert transient.spike_train(edge, cut).times.size == 0
+    # one interval 6% short of the others (a low peak near a record's end): not a periodic train
+    assert transient.spike_train(t, _train(t, [2000.0, 4000.0, 6000.0, 7880.0], low[:4])).times.size == 0
 
 
 def test_the_period_check_needs_enough_spikes_to_know_the_period():

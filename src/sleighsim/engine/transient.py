@@ -14,8 +14,10 @@ Definitions (stated in every dataset that uses them, :data:`RULE`):
   an interval near twice the median left after that (:data:`DOUBLED`) is flagged. A record in which the
   fixed threshold finds fewer than :data:`MIN_SPIKES` spikes is searched once more at :data:`RESCUE` times
   the median block maximum (spikes that stand only about ``factor`` above the oscillation, as at small
-  eps); those spikes are kept only when they form a periodic train (at least MIN_SPIKES, the intervals'
-  median absolute deviation within :data:`PERIODIC` of their median), else the fixed threshold's stand.
+  eps), each the highest of its block and both neighbouring blocks inside the record (so a spike's flank
+  cut by the record's end does not count); those spikes are kept only when they form a periodic train (at
+  least MIN_SPIKES, every interval within :data:`PERIODIC` of their median), else the fixed threshold's
+  stand.
 - settling time of omega: blocks of ``window`` time units; the reference is the
   mean of omega over the second half of the record; the settling time is the
   start of the first block after which every block mean lies within
@@ -48,8 +50,7 @@ def _blocks(t, x, length):
 #: a missed spike lies within WINDOW P of one P after the previous one and stands RESCUE times above the gap's
 #: envelope; an interval within DOUBLED (multiples of P) left after the search is flagged.
 MIN_SPIKES, GAP, WINDOW, RESCUE, DOUBLED = 4, 1.5, 0.1, 1.4, (1.75, 2.25)
-#: The lower threshold's train is kept when its intervals' median absolute deviation is within PERIODIC of
-#: their median.
+#: The lower threshold's train is kept when every interval is within PERIODIC of their median.
 PERIODIC = 0.05
 
 RULE = ("spike: a local maximum of |Omega| (block maxima, 50 time units) above spike_factor x median block maximum "
@@ -58,9 +59,9 @@ RULE = ("spike: a local maximum of |Omega| (block maxima, 50 time units) above s
         f"missed spike (the highest isolated peak within {WINDOW:g} P of P after the previous one, at least "
         f"{RESCUE:g} x the gap's median block maximum), intervals within {DOUBLED[0]:g}-{DOUBLED[1]:g} P left "
         f"flagged; with fewer than {MIN_SPIKES} spikes, the spikes above {RESCUE:g} x the median block maximum "
-        f"instead when they form a periodic train (intervals' median absolute deviation <= {PERIODIC:g} of "
-        "their median); settling: block means of omega (window) within rtol of the second-half mean from the settling "
-        "time on")
+        "instead (each above both neighbouring blocks' maxima) when they form a periodic train (every "
+        f"interval within {PERIODIC:g} of their median); settling: block means of omega (window) within rtol of "
+        "the second-half mean from the settling time on")
 
 
 @dataclass(frozen=True)
@@ -160,13 +161,21 @@ def _above(t, a, xb, peaks, level: float, t_min: float, min_separation: float) -
     return j[_merged(t[j], a[j], min_separation)]
 
 
+def _block_peaks(blocks, peaks) -> np.ndarray:
+    """Which of the ``blocks`` (indices) hold a maximum above both neighbouring blocks' (``peaks``), both
+    inside the record."""
+    inside = (blocks > 0) & (blocks < peaks.size - 1)
+    b = np.where(inside, blocks, 1)
+    return inside & (peaks[b] > peaks[b - 1]) & (peaks[b] > peaks[np.minimum(b + 1, peaks.size - 1)])
+
+
 def _periodic_train(times) -> bool:
-    """Whether spike ``times`` form a periodic train: at least MIN_SPIKES spikes, the intervals' median
-    absolute deviation at most PERIODIC of their median."""
+    """Whether spike ``times`` form a periodic train: at least MIN_SPIKES spikes, every interval within
+    PERIODIC of their median."""
     if times.size < MIN_SPIKES:
         return False
     d = np.diff(times)
-    return bool(np.median(np.abs(d - np.median(d))) <= PERIODIC * np.median(d))
+    return bool(np.max(np.abs(d - np.median(d))) <= PERIODIC * np.median(d))
 
 
 def spike_train(t, Omega, *, factor=1.8, block=50.0, min_separation=300.0, t_min=0.0) -> SpikeTrain:
@@ -183,6 +192,7 @@ def spike_train(t, Omega, *, factor=1.8, block=50.0, min_separation=300.0, t_min
     j = _above(t, a, xb, peaks, level, t_min, min_separation)
     if j.size < MIN_SPIKES and RESCUE < factor:
         low = _above(t, a, xb, peaks, RESCUE * typical, t_min, min_separation)
+        low = low[_block_peaks(low // n, peaks)]
         if _periodic_train(t[low]):
             j = low
     times, heights, rescued = _period_check(t, a, t[j], a[j], n, level)
