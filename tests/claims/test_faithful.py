@@ -129,6 +129,14 @@ def test_a_row_not_judged_is_priced_by_the_judged_rows_cost_per_step_of_a_cycle(
     assert np.isnan(f.row_verdict_cost(grid(["follows"], [3e-4])))
 
 
+def test_a_price_runs_over_the_stages_horizon_also_for_a_state_without_a_bound():
+    """An undecided state has no exponent bound (its T NaN): what it needs is priced over the decisive stage's
+    horizon (5e5 at 125 s), as a regular one's is (the smoke ledger read 'about not computed s')."""
+    loose = verdicts("undecided").assign(decisive_bound_T=("state", [float("nan")]))
+    for v in (verdicts(), loose):
+        assert "(about 125 s over T = 5e+05;" in f.needs(f.decided(v), "something").value
+
+
 def test_the_route_near_zero_needs_the_row_nearest_zero_followed():
     near = f.route({}, grid(["does not follow", "follows", "follows"], [3e-4, 4e-4, 5e-4]), verdicts())
     assert near.verdict == NOT_YET and "nearest eps = 0 (eps 0.05)" in near.value

@@ -79,7 +79,8 @@ class Faithful:
 @dataclass(frozen=True)
 class Decided:
     """A state of chaos_verdict as the decisive stage left it: the verdict over its realizations, the exponent
-    bound, the arithmetic and its gauge, the measured cost per time unit of one lane (s)."""
+    bound and its horizon ``T`` (NaN without a bound), the arithmetic and its gauge, the measured cost per time
+    unit of one lane (s) and the stage's ``horizon`` (time units)."""
 
     state: str
     verdict: str
@@ -90,6 +91,7 @@ class Decided:
     bound: str
     arithmetic: str
     cost: float
+    horizon: float
 
     def answer(self) -> str:
         """The state's verdict in words, with its arithmetic, realizations and exponent bound."""
@@ -114,7 +116,8 @@ def decided(verdicts, state: str = "main") -> Decided:
                    int(verdicts.attrs["n_realizations"]), float(s.decisive_lambda_max), float(s.decisive_bound_T),
                    str(s.decisive_bound_text.values),
                    f"{verdicts.attrs['decisive_precision']} (G x rounding 10^{gain:.1f} on {state}'s orbit)",
-                   float(s.decisive_wall_time_s) / float(verdicts.attrs["decisive_T"]))
+                   float(s.decisive_wall_time_s) / float(verdicts.attrs["decisive_T"]),
+                   float(verdicts.attrs["decisive_T"]))
 
 
 def _unsettled(d: Decided) -> Faithful:
@@ -137,7 +140,7 @@ def against_regular(d: Decided, paper_lambda: float, what: str, bound: float | N
 
 def needs(d: Decided, what: str, T: float | None = None) -> Faithful:
     """A quantity on ``d``'s orbit that its faithful arithmetic has not computed: what it needs, at what price."""
-    return Faithful(f"not computed: needs {what} ({d.price(T or d.T)}; {d.rate()})", d.arithmetic.split(" (")[0],
+    return Faithful(f"not computed: needs {what} ({d.price(T or d.horizon)}; {d.rate()})", d.arithmetic.split(" (")[0],
                     NOT_YET)
 
 
@@ -268,7 +271,7 @@ def _row_needs(grid, rows, d: Decided) -> str:
         return ("; not computed: " + "; ".join(parts) + " (priced by the judged rows' measured wall time per step "
                 "of a spike cycle, times the row's steps per cycle: the verdict runs as many cycles on every row)")
     s = float(grid.attrs["reference_eps"]) / grid.eps.values[rows]
-    parts = [f"eps {e:.3g} needs {a}" + (f" ({d.price(d.T * k)})" if "unknown" not in str(a) else "")
+    parts = [f"eps {e:.3g} needs {a}" + (f" ({d.price(d.horizon * k)})" if "unknown" not in str(a) else "")
              for e, a, k in zip(grid.eps.values[rows], grid.faithful_arithmetic.values[rows], s)]
     return "; not computed: " + "; ".join(parts) + f" ({d.rate()}, over the decisive horizon x reference_eps / eps)"
 
