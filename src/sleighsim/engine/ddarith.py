@@ -83,7 +83,8 @@ N_TRIG = next(n for n in range(1, 40) if (math.pi / 4) ** (2 * n + 1) / math.fac
 SIN_COEF = np.array([pair(Fraction((-1) ** j, math.factorial(2 * j + 1))) for j in range(N_TRIG + 1)])
 COS_COEF = np.array([pair(Fraction((-1) ** j, math.factorial(2 * j))) for j in range(N_TRIG + 1)])
 
-_njit = numba.njit(cache=True, fastmath=False, error_model="numpy")
+#: Without the GIL: a Python thread reports progress while a kernel runs (``engine.progress``).
+_njit = numba.njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
 
 
 def jit(f):

@@ -23,6 +23,7 @@ from sleighsim.engine import ddarith as dd
 from sleighsim.engine import ddlanes
 from sleighsim.engine.ddprogram import coefficients, program, taylor_order
 from sleighsim.engine.ddtaylor import MAX_STEPS, TOL_RANGE, as_pair, check_grid, shift_angle
+from sleighsim.engine.progress import watched
 from sleighsim.model.params import Params, integer, positive
 
 #: Most lanes one batch takes (the series arrays of the tangent program at 1e-34: 71 kB per lane).
@@ -200,8 +201,11 @@ class DDBatch:
         status = np.full(W, ddlanes.OK, dtype=np.int64)
         status[real] = ddlanes.RUNNING
         steps, t = np.zeros(W, dtype=np.int64), np.zeros(W)
-        ddlanes.propagate(Xh, Xl, prog.ops, prog.lin_src, ch, cl, self.order, bh, bl, np.ascontiguousarray(grid[idx]),
-                          out_h, out_l, out_e, self.max_steps, self.step == "common", status, steps, t, (0.0,) * W)
+        times = np.ascontiguousarray(grid[idx])
+        watched(lambda: ddlanes.propagate(Xh, Xl, prog.ops, prog.lin_src, ch, cl, self.order, bh, bl, times, out_h,
+                                          out_l, out_e, self.max_steps, self.step == "common", status, steps, t,
+                                          (0.0,) * W),
+                t[real], times[real, -1], f"double-double, {times[real].shape[0]} lanes")
         return out_h, out_l, out_e, status, steps, t
 
     def propagate_grid(self, y0, t_grid) -> tuple[np.ndarray, np.ndarray]:
