@@ -40,11 +40,20 @@ def rng():
 SMOKE_RESULTS = smoke_config()["results"]
 
 
+def pytest_collection_modifyitems(config, items):
+    """Every test that reads the smoke run joins one xdist group (``--dist loadgroup``, pyproject.toml), so one
+    worker runs the smoke workflow and its readers while the other runs everything else instead of waiting on
+    the run's lock (in CI the wait was about 250 s of one of two workers)."""
+    for item in items:
+        if "smoke_run" in getattr(item, "fixturenames", ()):
+            item.add_marker(pytest.mark.xdist_group("smoke"))
+
+
 @pytest.fixture(scope="session")
 def smoke_run(tmp_path_factory, worker_id):
     """The smoke workflow, run once per test session and shared, read-only, by every test that reads
-    it or dry-runs against it. Under pytest-xdist the first worker to need it runs it while the
-    others wait on a lock, then all reuse it."""
+    it or dry-runs against it. Under pytest-xdist its readers share one worker (their xdist group); the
+    lock keeps a second worker from running it again where they do not (another --dist mode)."""
     base = tmp_path_factory.getbasetemp()
     base = base.parent if worker_id != "master" else base
     workdir = base / "smoke_shared"
