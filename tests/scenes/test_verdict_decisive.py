@@ -298,3 +298,40 @@ def test_a_regular_verdict_states_the_exponent_bound_of_the_judges_that_voted_it
     gated.update(megno=(U, "does not vote"), birkhoff=(U, "does not vote"), frequency=(U, "does not vote"))
     b = verdict_decisive.what_regular_bounds(judged, gated, 3.0)
     assert math.isnan(b["lambda_max"]) and b["text"].startswith("no tangent-based judge bounds lambda_1; not confirmed")
+
+
+def _vote_cfg():
+    """A chaos_verdict block whose decisive settings are the audited ones of ``_power_record``."""
+    return {"sigma": 3.0, "frequency": {"min_cycles": 8.0},
+            "decisive": {"T": 100000.0, "dt": 0.5, "splits": [2, 4, 8], "megno_samples": 100}}
+
+
+def _power_record():
+    """A record of one audited horizon (factor 1) at spike period 2400 in which every decisive judge votes."""
+    from sleighsim.chaos.indicators import DECISIVE, REGISTRY
+
+    counts = {i.name: {c: {"N": 301, "correct": 301, "wrong": 0, "undecided": 0} for c in ("chaotic", "tori")}
+              for i in REGISTRY.values() if i.stage == DECISIVE}
+    return {"stage": "decisive", "spike_period": 2400.0,
+            "settings": {"T": 100000.0, "dt": 0.5, "splits": [2, 4, 8], "min_cycles": 8.0, "sigma": 3.0},
+            "horizons": {1.0: {"megno_samples": 100}}, "counts": {1.0: counts}}
+
+
+def test_a_state_of_a_longer_spike_period_runs_the_audited_cycles_and_is_voted_on():
+    """Spike period 3600 above the audit's 2400: the lane is voted on at the block's own settings and runs T and
+    dt x 1.1 x 3600 / 2400 (as F11's rows); at 2000 it keeps T and is voted on at its spike period; the stage
+    integrates every lane over the largest scale and judges each with it."""
+    from sleighsim.scenes.grid_verdict import MARGIN
+
+    long = _stage1({}).assign(spike_period=("state", [3600.0]))
+    _, voters, vote = verdict._lane_vote(_power_record(), _vote_cfg(), long)
+    assert vote["cycle_scale"] == pytest.approx(MARGIN * 1.5) and voters and vote["vote_why"] == ""
+    _, short_voters, short = verdict._lane_vote(_power_record(), _vote_cfg(), long.assign(spike_period=("state",
+                                                                                                       [2000.0])))
+    assert short["cycle_scale"] == 1.0 and short_voters == voters
+    stage1 = _stage1({}).assign(settled_state=(("state", "var"), [[0.02, 0.02, 3.3, 2.5]]))
+    lanes = [(stage1, frozenset({"birkhoff"}), {"vote_horizon": 1.0, "cycle_scale": 1.5}),
+             (stage1, frozenset({"birkhoff"}), {"vote_horizon": 1.0, "cycle_scale": 1.0})]
+    parts = verdict_decisive.decisive_lanes(_decisive_cfg(), lanes, ["a", "b"])
+    assert [p.attrs["decisive_T"] for p in parts] == [300.0, 300.0]
+    assert [p.attrs["decisive_dt"] for p in parts] == [0.75, 0.75]

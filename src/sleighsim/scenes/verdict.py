@@ -48,6 +48,7 @@ from sleighsim.precision import Precision
 from sleighsim.scenes import memory
 from sleighsim.scenes.checks import ConfigError
 from sleighsim.scenes.common import REALIZATION_STATES_RULE, realization_states
+from sleighsim.scenes.grid_verdict import MARGIN
 from sleighsim.scenes.kind import SceneKind
 from sleighsim.scenes.verdict_dataset import set_attrs, variables
 from sleighsim.scenes.verdict_decisive import REALIZED_VARS, decisive_lanes, decisive_spike_period, with_decisive
@@ -217,12 +218,16 @@ def chunk(cfg: dict, index: int, scene: str = "", reads=(), inputs=None) -> xr.D
 
 
 def _lane_vote(record: dict, cfg: dict, stage1: xr.Dataset) -> tuple:
-    """One decisive lane: (the first stage's dataset of its state, its voters, its vote horizon and why)
-    by the record at the state's spike period (``chaos.power.stage_vote``)."""
-    vote = stage_vote(record, cfg, "decisive", float(stage1.spike_period.values[0]))
+    """One decisive lane: (the first stage's dataset of its state, its voters, its vote horizon, why and its
+    cycle_scale) by the record (``chaos.power.stage_vote``). A state whose spike period P exceeds the record's
+    P_a is run over the audited cycles instead, T and dt times MARGIN x P / P_a (as F11's rows,
+    ``grid_verdict``), and voted by the record at the block's own settings; else at its spike period."""
+    period, audited = float(stage1.spike_period.values[0]), float(record.get("spike_period", math.nan))
+    scale = MARGIN * period / audited if period > audited else 1.0
+    vote = stage_vote(record, cfg, "decisive", period if scale == 1.0 else math.nan)
     factor = max(vote["factor"].values(), default=math.nan)  # the audited horizon voted at (NaN: none)
     why = "" if vote["covered"] else "; ".join(dict.fromkeys(vote["why"].values()))  # no horizon would vote
-    return stage1, frozenset(vote["voters"]), {"vote_horizon": factor, "vote_why": why}
+    return stage1, frozenset(vote["voters"]), {"vote_horizon": factor, "vote_why": why, "cycle_scale": scale}
 
 
 def _stage_one_count(cfg: dict) -> int:

@@ -181,18 +181,22 @@ def decisive_config(cfg: dict) -> dict:
 
 def decisive_lanes(cfg: dict, lanes: list, scenes: list) -> list[xr.Dataset]:
     """The decisive stage of the first stage's states ``lanes`` (each (its chunk dataset, its voters, its
-    vote_horizon and vote_why)), one lane each of one integration (``lane_orbits``, with a tangent vector
-    when any lane's voters need one): per lane the indicators judged again and the state's verdict and
-    class decided again (``judged_lane``). Each lane's wall time is its share of the stage's."""
+    vote_horizon, vote_why and cycle_scale)), one lane each of one integration (``lane_orbits``, with a
+    tangent vector when any lane's voters need one) over T and dt times the largest cycle_scale (1 unless a
+    state's spike period exceeds the audit's): per lane the indicators judged again and the state's verdict
+    and class decided again (``judged_lane``). Each lane's wall time is its share of the stage's."""
     start = time.perf_counter()
+    scale = max(vote.get("cycle_scale", 1.0) for _, _, vote in lanes)
     params, dc = Params.from_config(cfg["params"]), decisive_config(cfg)
+    dc.update(T=dc["T"] * scale, dt=dc["dt"] * scale)
     tangent = any(needs_tangent(voters) for _, voters, _ in lanes)
-    log.info("%s: decisive stage: %d lanes in %s over T = %g%s", scenes[0].split("#")[0], len(lanes),
-             dc["precision"], dc["T"], " with a tangent vector" if tangent else "")
+    log.info("%s: decisive stage: %d lanes in %s over T = %g%s%s", scenes[0].split("#")[0], len(lanes),
+             dc["precision"], dc["T"], " with a tangent vector" if tangent else "",
+             f" (T and dt x {scale:.4g}: the audited spike cycles of a longer spike period)" if scale != 1 else "")
     orbits = lane_orbits(params, [s.settled_state.values[0] for s, _, _ in lanes], dc, tangent=tangent)
     share = (time.perf_counter() - start) / len(lanes)
-    return [judged_lane({**cfg, "decisive": {**cfg["decisive"], **vote}}, stage1, orbit, scene, voters=voters,
-                        tangent=tangent, orbit_s=share)
+    return [judged_lane({**cfg, "decisive": {**cfg["decisive"], **vote, "T": dc["T"], "dt": dc["dt"]}}, stage1,
+                        orbit, scene, voters=voters, tangent=tangent, orbit_s=share)
             for (stage1, voters, vote), orbit, scene in zip(lanes, orbits, scenes)]
 
 
