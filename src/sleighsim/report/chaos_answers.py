@@ -142,8 +142,8 @@ def _to_decide(ds, i: int, verdict: str, power: dict | None = None) -> str:
                 "to judge it again in an arithmetic that follows its orbit")
     wall, T = float(ds.decisive_wall_time_s.values[i]), float(ds.attrs["decisive_T"])
     left = "; ".join(f"{k}: {v}" for k, v in zip(ds.decisive_indicator.values, ds.decisive_indicator_verdict.values[i]))
-    text = (f"the decisive stage ({ds.attrs['decisive_precision']}, T = {T:g}, {wall:.0f} s per realization on one "
-            f"core, measured) left it {verdict} ({left})")
+    text = (f"{_settle_first(ds, i)}the decisive stage ({ds.attrs['decisive_precision']}, T = {T:g}, {wall:.0f} s per "
+            f"realization on one core, measured) left it {verdict} ({left})")
     now = float(ds.attrs.get("decisive_vote_horizon", 1.0))
     if not np.isfinite(now) and ds.attrs.get("decisive_vote_why", ""):
         return (text + f"; no judge votes here at any horizon ({ds.attrs['decisive_vote_why']}): the audit must cover "
@@ -160,6 +160,19 @@ def _to_decide(ds, i: int, verdict: str, power: dict | None = None) -> str:
     return (text + f"; at {h / now:g} times the horizon the judge-power audit lets {who} vote as well: "
             f"T = {T * h / now:g} (vote_horizon {h:g}; config/cluster.yaml) would take about "
             f"{wall * h / now:.0f} s per realization{more}")
+
+
+def _settle_first(ds, i: int) -> str:
+    """What comes before any longer horizon for state ``i`` ("" when nothing): a pre-run that ends its transient,
+    and a spike cycle for its gauge (without one no arithmetic is shown to follow it)."""
+    parts = []
+    if "transient_over" in ds and not int(ds.transient_over.values[i]):
+        parts.append("its transient was not over at the end of the pre-run: a longer chaos_verdict.t_transient "
+                     "(a --configfile overlay) comes first")
+    if "ln_gain_max" in ds and not np.isfinite(float(ds.ln_gain_max.values[i])):
+        parts.append("its gauge found no complete spike cycle within T_gain, so no arithmetic is shown to follow "
+                     "its orbit and Birkhoff's digits cannot be certified")
+    return "; ".join(parts) + "; besides, " if parts else ""
 
 
 def _decided_in(ds, i: int) -> str:
