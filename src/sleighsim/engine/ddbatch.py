@@ -205,7 +205,7 @@ class DDBatch:
         watched(lambda: ddlanes.propagate(Xh, Xl, prog.ops, prog.lin_src, ch, cl, self.order, bh, bl, times, out_h,
                                           out_l, out_e, self.max_steps, self.step == "common", status, steps, t,
                                           (0.0,) * W),
-                t[real], times[real, -1], f"double-double, {times[real].shape[0]} lanes")
+                t[real], times[real, -1], f"double-double, {_lanes_text(times[real].shape[0])}")
         return out_h, out_l, out_e, status, steps, t
 
     def propagate_grid(self, y0, t_grid) -> tuple[np.ndarray, np.ndarray]:
@@ -230,3 +230,8 @@ class DDBatch:
         v = out_h[:, :, 4:] + out_l[:, :, 4:]
         norm = np.linalg.norm(v, axis=2)
         return out_h[:, :, :4], out_l[:, :, :4], out_e * math.log(2.0) + np.log(norm), v / norm[:, :, None]
+
+
+def _lanes_text(n: int) -> str:
+    """'1 lane', 'n lanes'."""
+    return f"{n} lane" + ("" if n == 1 else "s")

@@ -6,6 +6,7 @@ from __future__ import annotations
 import logging
 import math
 import time
+import warnings
 
 import numpy as np
 import xarray as xr
@@ -184,8 +185,10 @@ def _level_distances(raw, smoothed, level, ok, group, c_of: list, n_levels: int)
         attrs["across_levels_distance_main_group_scaled"] = dist((level == 0) & (group == main),
                                                                   (level == 1) & (group == main))
         members = [(level == li) & (group == main) & ok for li in (0, 1)]
-        unscaled = [np.nanmean(smoothed[m], axis=0) * (c_of[li] if li else 1.0) for li, m in enumerate(members)
-                    if m.any()]  # a level without a run of the main group has no mean (NaN, no warning)
+        with warnings.catch_warnings():  # a sample time no run of the group reaches: NaN, said here once
+            warnings.simplefilter("ignore", RuntimeWarning)
+            unscaled = [np.nanmean(smoothed[m], axis=0) * (c_of[li] if li else 1.0)
+                        for li, m in enumerate(members) if m.any()]  # a level without a run of the group: no mean
         attrs["across_levels_distance_main_group_unscaled"] = (
             float(np.nanmax(np.abs(unscaled[1] - unscaled[0]))) / scale if len(unscaled) == 2 else float("nan"))
     return attrs, n_groups, main, scale
