@@ -290,3 +290,16 @@ def test_every_laddered_scene_of_the_smoke_run_has_its_ladder_from_one_settled_s
         assert finer.attrs["precision"] == precisions[-1]
         assert finer.attrs["transient_precision"] in ("double", precisions[-1])
     assert all(figure_catalog.FIGURES[f].beside for f in ("fig3", "fig8", "fig10", "fig11"))
+
+
+def test_every_smoke_dataset_names_the_runs_configuration(smoke_run):
+    """Issue 53: the datasets, like the ledger, record which configuration wrote them (label and SHA-256)."""
+    import netCDF4
+
+    ledger = read_dataset(smoke_run / SMOKE_RESULTS / "claims.nc")
+    paths = sorted((smoke_run / SMOKE_RESULTS / "data").rglob("*.nc"))
+    assert paths
+    for path in paths:
+        with netCDF4.Dataset(path) as nc:
+            assert nc.getncattr("config_label") == "smoke", path
+            assert nc.getncattr("config_sha256") == ledger.attrs["config_sha256"], path

@@ -1,5 +1,6 @@
 """Compute one scene's dataset: config block (and its input datasets) in, netCDF out (Snakemake script)."""
 
+from sleighsim.claims.fidelity import identity
 from sleighsim.io import netcdf
 from sleighsim.ops.runlog import logging_to
 from sleighsim.scenes import catalog
@@ -8,4 +9,5 @@ sm = snakemake  # noqa: F821 (injected by Snakemake)
 with logging_to(sm.log[0]):
     ds = catalog.compute(sm.wildcards.scene, sm.params.cfg, dict(sm.input.items()))
     ds.attrs.update(getattr(sm.params, "attrs", {}))  # a realization's index and perturbation size
+    ds.attrs.update(identity(sm.config))  # the run's configuration: its label and hash
     netcdf.write_dataset(ds, sm.output.nc, **catalog.writing(sm.params.cfg))

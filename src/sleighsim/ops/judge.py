@@ -21,6 +21,7 @@ from pathlib import Path
 
 import xarray as xr
 
+from sleighsim.claims.fidelity import config_sha256
 from sleighsim.io.netcdf import write_dataset
 from sleighsim.io.yamlfile import read_yaml
 from sleighsim.model.params import PARAM_NAMES, Params, finite, integer, positive
@@ -85,7 +86,9 @@ def run_block(block: dict, workdir, scene: str = "judge") -> xr.Dataset:
         what = ("decisive stage, every realization a lane" if ds.attrs.get("stage") == "decisive"
                 else f"first stage, realization {ds.attrs.get('chunk')}")
         log.info("%s: job %d of %d (%s) done in %.0f s", scene, index + 1, n, what, time.perf_counter() - start)
-    return catalog.gather(scene, block, paths)
+    ds = catalog.gather(scene, block, paths)
+    ds.attrs.update(config_label="sleighsim judge", config_sha256=config_sha256(block))  # the block it ran
+    return ds
 
 
 def judge_state(params, state, horizon=None, *, precision=None, realizations=None, label=None, configfiles=(),
