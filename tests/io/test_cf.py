@@ -214,3 +214,16 @@ def test_every_smoke_variable_has_a_long_name_and_units(smoke_run):
         assert numeric_coordinates_monotonic(ds) == [], path
         for key in ("Conventions", "title", "history", "source", "references", "time_unit"):
             assert ds.attrs[key], (path, key)
+
+
+def test_texts_become_a_cf_flag_variable_of_their_meanings():
+    from sleighsim.io import cf as cf_
+
+    dims, codes, attrs = cf_.flags(("r", "s"), [["regular", "not judged"], ["fragile", "chaotic"]],
+                                   ("chaotic", "regular", "fragile", "not judged"), "a verdict")
+    assert dims == ("r", "s") and codes.dtype == np.int8 and codes.tolist() == [[1, 3], [2, 0]]
+    assert attrs["flag_values"].tolist() == [0, 1, 2, 3]
+    assert attrs["flag_meanings"] == "chaotic regular fragile not_judged"
+    assert attrs["long_name"] == "a verdict"
+    with pytest.raises(ValueError):
+        cf_.flags("s", ["maybe"], ("chaotic", "regular"), "a verdict")

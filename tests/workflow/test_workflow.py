@@ -303,3 +303,13 @@ def test_every_smoke_dataset_names_the_runs_configuration(smoke_run):
         with netCDF4.Dataset(path) as nc:
             assert nc.getncattr("config_label") == "smoke", path
             assert nc.getncattr("config_sha256") == ledger.attrs["config_sha256"], path
+
+
+@pytest.mark.parametrize("name, text, flag", [("chaos_verdict", "verdict", "verdict_flag"),
+                                              ("chaos_verdict", "realization_verdict", "realization_verdict_flag"),
+                                              ("fig11_grid", "row_verdict", "row_verdict_flag")])
+def test_the_verdicts_are_also_cf_flags_that_decode_to_their_texts(smoke_run, name, text, flag):
+    ds = read_dataset(smoke_run / SMOKE_RESULTS / "data" / f"{name}.nc")
+    meanings = ds[flag].attrs["flag_meanings"].split()
+    decoded = np.vectorize(lambda k: meanings[k].replace("_", " "))(ds[flag].values)
+    assert decoded.tolist() == ds[text].values.tolist()

@@ -15,6 +15,7 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+import numpy as np
 import xarray as xr
 
 from sleighsim.io import layout
@@ -58,6 +59,15 @@ KINDS: dict[str, tuple[str | None, str]] = {
 #: Unit strings of the earlier, private vocabulary still written (by sleighsim.engine.integrate for its
 #: time coordinate, by sleighsim.analysis.observables for t_separated) -> their kind.
 LEGACY_UNITS = {"time": "time"}
+
+
+def flags(dims, words, meanings, long_name: str) -> tuple:
+    """``words`` (texts, shaped as ``dims``) as a CF flag variable (dims, codes, attrs): each word's index in
+    ``meanings`` (int8) with flag_values and flag_meanings (spaces as _); ValueError for a word not among them."""
+    words = np.asarray(words, dtype=object)
+    codes = np.array([list(meanings).index(w) for w in words.ravel()], dtype=np.int8).reshape(words.shape)
+    return (dims, codes, {**attrs(long_name), "flag_values": np.arange(len(meanings), dtype=np.int8),
+                          "flag_meanings": " ".join(str(m).replace(" ", "_") for m in meanings)})
 
 
 def attrs(long_name: str, kind: str = "1") -> dict:

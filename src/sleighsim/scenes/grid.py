@@ -31,7 +31,15 @@ from sleighsim.precision import Precision
 from sleighsim.scenes import memory
 from sleighsim.scenes.checks import ConfigError, increasing
 from sleighsim.scenes.common import steady_arithmetic
-from sleighsim.scenes.grid_verdict import FLOATS, MARGIN, ROW_VERDICT_RULE, TEXTS, judge_row, not_judged
+from sleighsim.scenes.grid_verdict import (
+    FLOATS,
+    MARGIN,
+    ROW_VERDICT_FLAGS,
+    ROW_VERDICT_RULE,
+    TEXTS,
+    judge_row,
+    not_judged,
+)
 from sleighsim.scenes.kind import SceneKind
 
 log = logging.getLogger("sleighsim")
@@ -227,6 +235,7 @@ def chunk(cfg: dict, index: int, scene: str = "", inputs: dict | None = None) ->
         ds[v] = ("eps", np.array([rows[e][v] for e in eps], dtype=object))
     ds["realization_row_verdict"] = (("eps", "realization"),
                                      np.array([rows[e]["realization_verdicts"] for e in eps], dtype=object))
+    ds["row_verdict_flag"] = cf.flags("eps", ds.row_verdict.values, ROW_VERDICT_FLAGS, "the row's verdict as a CF flag")
     ds["row_settled_state"] = (("eps", "component"), np.array([rows[e]["settled"] for e in eps], float),
                            cf.attrs("the row's settled state (u, Omega, omega, delta) in model units (double "
                                     "pre-run; its steady part starts here)"))

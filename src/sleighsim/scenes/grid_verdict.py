@@ -27,8 +27,8 @@ from sleighsim.chaos.decision import decide_state, over_realizations
 from sleighsim.chaos.faithfulness import FOLLOWS, follows, indicator_follows, indicator_limit, injected_rounding
 from sleighsim.chaos.frequency import PRECISION
 from sleighsim.chaos.power import stage_vote
-from sleighsim.chaos.rule import TANGENT_BASED
-from sleighsim.chaos.verdicts import REGULAR
+from sleighsim.chaos.rule import FRAGILE, TANGENT_BASED
+from sleighsim.chaos.verdicts import CHAOTIC, REGULAR, UNDECIDED
 from sleighsim.precision import Precision
 from sleighsim.scenes.common import realization_states
 from sleighsim.scenes.verdict_decisive import four_judges, what_regular_bounds
@@ -38,6 +38,8 @@ log = logging.getLogger("sleighsim")
 
 #: A row the block does not judge (the reason says why).
 NOT_JUDGED = "not judged"
+#: A row's verdicts in the order of their CF flag values (``row_verdict_flag``).
+ROW_VERDICT_FLAGS = (CHAOTIC, REGULAR, UNDECIDED, FRAGILE, NOT_JUDGED)
 
 #: The arithmetics a row's verdict may run in, cheapest first (heyoka's double; engine.ddbatch's lanes).
 VERDICT_LADDER = (Precision.DOUBLE, Precision.DOUBLE_DOUBLE)

@@ -22,6 +22,7 @@ from sleighsim.chaos.megno import megno_rate
 from sleighsim.chaos.power import stage_vote
 from sleighsim.chaos.rule import (
     AGREE_RULE,
+    FRAGILE,
     INDICATORS,
     TANGENT_BASED,
     VOTE_RULE,
@@ -33,7 +34,7 @@ from sleighsim.chaos.rule import (
     vote_gate,
 )
 from sleighsim.chaos.two_trajectory import two_trajectory_indicator
-from sleighsim.chaos.verdicts import CHAOTIC
+from sleighsim.chaos.verdicts import CHAOTIC, VERDICTS
 from sleighsim.engine import integrators
 from sleighsim.engine.ddbatch import MAX_LANES
 from sleighsim.engine.integrate import orbit_samples
@@ -280,6 +281,10 @@ def _states_together(parts: list, names: list) -> xr.Dataset:
     return ds
 
 
+#: The verdicts a state can have over its realizations, in the order of their CF flag values.
+VERDICT_FLAGS = (*VERDICTS, FRAGILE)
+
+
 def gather(paths, cfg: dict, scene: str = "") -> xr.Dataset:
     """The verdict over realizations (each gathered from its per-state jobs): realization 0's dataset
     (its indicators, runs and gauge), with
@@ -320,6 +325,9 @@ def gather(paths, cfg: dict, scene: str = "") -> xr.Dataset:
     ds["state_class"] = ("state", np.array([v for v, _, _ in classes], dtype=object))
     ds["n_realizations_agreeing"] = ("state", [n for _, n, _ in verdicts],
                                      cf.attrs("realizations that give the most common verdict"))
+    ds["verdict_flag"] = cf.flags("state", ds.verdict.values, VERDICT_FLAGS, "the verdict as a CF flag")
+    ds["realization_verdict_flag"] = cf.flags(("realization", "state"), ds.realization_verdict.values, VERDICT_FLAGS,
+                                              "each realization's verdict as a CF flag")
     ds = ds.assign_coords(realization=np.arange(len(chunks)))
     ds.attrs.pop("chunk", None)
     ds.attrs.update(n_realizations=len(chunks), realization_rel=cfg["realization_rel"],
