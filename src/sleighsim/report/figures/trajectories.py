@@ -6,6 +6,7 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib import patches
+from matplotlib.lines import Line2D
 
 from sleighsim.io.netcdf import read_dataset
 from sleighsim.precision import Precision
@@ -81,15 +82,18 @@ def fig2(sources):
 
 def _time_panels(axes, ds, names, lw=0.3, finer=None):
     """One panel per variable against time: double, and over it every finer precision in ``finer``
-    ({(scene, precision): dataset}, the same window from the same start)."""
+    ({(scene, precision): dataset}, the same window from the same start), named once in a legend above the
+    panels (a legend inside would cover the oscillation that fills each panel)."""
     for axk, name in zip(axes, names):
         axk.plot(ds.time, ds[name], lw=lw, label=Precision.DOUBLE, **PRECISION_STYLE[Precision.DOUBLE])
         for (_, precision), other in (finer or {}).items():
             axk.plot(other.time, other[name], lw=lw, label=precision, **PRECISION_STYLE[precision])
-        if finer:
-            axk.legend(loc="upper left")
         axk.set_ylabel(LABELS[name])
         axk.set_xlabel(LABELS["t"])
+    if finer:
+        shown = [Precision.DOUBLE, *(precision for _, precision in finer)]
+        axes[0].figure.legend(handles=[Line2D([], [], lw=2, label=str(p), **PRECISION_STYLE[p]) for p in shown],
+                              loc="outside upper center", ncols=len(shown), frameon=False)
 
 
 def _first_spike(ds) -> str:
