@@ -24,7 +24,7 @@ from sleighsim.report.figures.common import (
 from sleighsim.report.figures.figure import Figure
 
 
-def _attractor_panel(ax, ds, title, iterates="ppi2", legend=False):
+def _attractor_panel(ax, ds, title, iterates="ppi2"):
     """The attractor (grey) and the section's iterates, as one point cloud (one image in a PDF, where
     it is rasterised), the iterates coloured by class (P_pi/2) or by time (P_2pi)."""
     xyz = [np.concatenate([ds[f"attractor_{v}"].values, ds[f"{iterates}_{v}"].values]) for v in ("u", "Omega", "omega")]
@@ -33,9 +33,6 @@ def _attractor_panel(ax, ds, title, iterates="ppi2", legend=False):
     if iterates == "ppi2":
         cls = ds.ppi2_class.values.astype(int)
         own = np.array([colors.to_rgba(f"C{k}") for k in range(4)])[cls]
-        if legend:
-            ax.legend(handles=[Line2D([], [], ls="", marker="o", ms=4, color=f"C{k}",
-                                      label=f"$\\delta = {k}\\pi/2$ mod $2\\pi$") for k in range(4)], loc="upper left")
     else:
         t = ds.p2pi_time.values
         own = plt.get_cmap("viridis")((t - t.min()) / max(np.ptp(t), 1e-300))
@@ -68,7 +65,11 @@ def fig9(sources):
     ]
     for i, (ds, kind, title) in enumerate(panels):
         ax = fig.add_subplot(2, 2, i + 1, projection="3d")
-        _attractor_panel(ax, ds, title, kind, legend=i == 1)
+        _attractor_panel(ax, ds, title, kind)
+    # the classes of (b)-(d) named once, above the panels (inside one it covered its data and its red mark)
+    fig.legend(handles=[Line2D([], [], ls="", marker="o", ms=4, color=f"C{k}",
+                               label=f"$P_{{\\pi/2}}$: $\\delta = {k}\\pi/2$ mod $2\\pi$") for k in range(4)],
+               loc="outside upper center", ncols=4, frameon=False)
     return finish(fig, ref.attrs)
 
 
