@@ -200,8 +200,8 @@ def fig11(sources):
             f"{ds.attrs['reference_rel_err']:.2f}")
     ax.set_title(head, loc="left")
     symmetry = _b_symmetry(ds)  # beside the axes, under the legend: the title stays one line
-    ax.text(1.01, 0.0, "\n".join(textwrap.fill(line, 46) for line in symmetry), transform=ax.transAxes,
-            ha="left", va="bottom", fontsize=MIN_PT)
+    sentences = (textwrap.fill(line[0].upper() + line[1:] + ".", 46) for line in symmetry)  # one per statement
+    ax.text(1.01, 0.0, "\n".join(sentences), transform=ax.transAxes, ha="left", va="bottom", fontsize=MIN_PT)
     return finish(fig, ds.attrs)
 
 
