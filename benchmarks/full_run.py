@@ -42,6 +42,7 @@ import yaml
 from sleighsim.ops import jobgraph
 from sleighsim.ops import summary as costsummary
 from sleighsim.ops.config import BASE_CONFIG, merged_config
+from sleighsim.ops.helptext import plain
 from sleighsim.report.figures import costs as plots
 
 
@@ -116,14 +117,16 @@ def main(argv=None) -> int:
     """The command line (``argv``: the arguments, default sys.argv[1:]): run the workflow, or analyse a
     finished run with --reuse, and write the cost summary to --out; exit status 0 (a failed run exits
     non-zero)."""
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
-                                     formatter_class=argparse.RawDescriptionHelpFormatter, epilog=__doc__)
+    head, _, rest = __doc__.partition("\n\n")
+    parser = argparse.ArgumentParser(prog="python benchmarks/full_run.py", description=plain(head),
+                                     formatter_class=argparse.RawDescriptionHelpFormatter, epilog=plain(rest))
     parser.add_argument("--configfile", nargs="+", default=[],
                         help="merged onto config/config.yaml as snakemake --configfile does (default: none, "
                              "paper fidelity)")
-    parser.add_argument("--cores", type=int, default=2)
+    parser.add_argument("--cores", type=int, default=2, help="snakemake's -c (default 2)")
     parser.add_argument("--workdir", help="fresh (absent or empty) directory to run in; default: a new one in /tmp")
-    parser.add_argument("--out", default=str(REPO / "benchmarks" / "full_run.yaml"))
+    parser.add_argument("--out", default=str(REPO / "benchmarks" / "full_run.yaml"),
+                        help="the summary to write (default benchmarks/full_run.yaml)")
     parser.add_argument("--reuse", metavar="DIR", help="analyse the finished run in DIR; run nothing")
     parser.add_argument("--plot", metavar="PNG", help="also draw the cost figure (PNG and PDF beside it)")
     args = parser.parse_args(argv)

@@ -45,7 +45,8 @@ RECORD_SCHEMA = "sleighsim.estimate/1"
 def _parser(prog: str = PROG) -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog=prog, description=summary(__doc__))
     sub = parser.add_subparsers(dest="command", required=True)
-    p = sub.add_parser("estimate", help="estimated core-hours of the full run a config would launch")
+    what = "estimated core-hours of the full run a config would launch"
+    p = sub.add_parser("estimate", help=what, description=what + " (scaled from a measured full run)")
     p.add_argument("--configfile", nargs="*", default=[],
                    help="config file(s) merged onto config/config.yaml as Snakemake does (none: that file alone)")
     p.add_argument("--measured", default=str(DEFAULT_MEASURED),
@@ -60,12 +61,14 @@ def _parser(prog: str = PROG) -> argparse.ArgumentParser:
     p.add_argument("--no-schedule", action="store_true", help="core-hours only: no job graph, no wall time")
     p.add_argument("--out", metavar="FILE", help="also write the estimate as a YAML record (schema "
                    f"{RECORD_SCHEMA}; the README's times table reads benchmarks/cluster_estimate.yaml)")
-    t = sub.add_parser("times", help="the README's table of times to plan by, from the committed benchmark records")
+    what = "the README's table of times to plan by, from the committed benchmark records"
+    t = sub.add_parser("times", help=what, description=what)
     t.add_argument("--readme", metavar="FILE", help=f"write the table into FILE's '{plantimes.BLOCK}' block instead "
                    "of printing it")
-    q = sub.add_parser("plot", help="the cost figure of a full-run summary")
-    q.add_argument("summary")
-    q.add_argument("png")
+    q = sub.add_parser("plot", help="the cost figure of a full-run summary",
+                       description="the cost figure of a full-run summary (benchmarks/full_run.py's record)")
+    q.add_argument("summary", help="the full run's summary (YAML, e.g. benchmarks/full_run.yaml)")
+    q.add_argument("png", help="the figure to write (PNG)")
     q.add_argument("--pdf", help="default: the png path with .pdf")
     return parser
 

@@ -25,6 +25,7 @@ from sleighsim.chaos import power
 from sleighsim.io.netcdf import read_dataset
 from sleighsim.io.yamlfile import read_yaml
 from sleighsim.ops.config import REPO
+from sleighsim.ops.helptext import summary
 
 COMMAND = "python -m sleighsim.ops.powerrecord"
 
@@ -147,7 +148,7 @@ def _file_problems(path: Path, mtime_ns: int, size: int) -> tuple[str, ...]:
 
 def main(argv=None) -> int:
     """Write the record from the dataset given; print its table."""
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser = argparse.ArgumentParser(prog=COMMAND, description=summary(__doc__))
     parser.add_argument("dataset", nargs="?", help="the judge_power dataset")
     parser.add_argument("--empty", action="store_true", help="a record of no audit (every judge votes by nothing)")
     parser.add_argument("--out", default=str(REPO / "benchmarks" / "judge_power.yaml"))

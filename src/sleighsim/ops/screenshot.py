@@ -48,7 +48,8 @@ def screenshot(page: Path, out: Path, exe: str) -> Path:
 
 def main(argv=None) -> int:
     """Screenshot the page given (or the default run's report) to --out; 1 without the page or a browser."""
-    parser = argparse.ArgumentParser(description="The report's first screen as an image (headless Chromium).")
+    parser = argparse.ArgumentParser(prog="python -m sleighsim.ops.screenshot",
+                                     description="The report's first screen as an image (headless Chromium).")
     parser.add_argument("page", nargs="?", default="results/report/index.html")
     parser.add_argument("--out", default="docs/report-first-screen.png")
     args = parser.parse_args(argv)

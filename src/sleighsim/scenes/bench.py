@@ -322,7 +322,7 @@ def summary(ds: xr.Dataset) -> dict:
 
 def main(argv=None):
     """The bench from the command line: run it (or ``--quick``) into OUT, or ``--summarize`` an existing one."""
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser = argparse.ArgumentParser(prog="python -m sleighsim.scenes.bench", description=__doc__.split("\n\n")[0])
     parser.add_argument("out", help="netCDF file to write")
     parser.add_argument("--config", help="config YAML whose scenes hold a bench block (default: config/config.yaml)")
     parser.add_argument("--quick", action="store_true", help="a tiny run (seconds), for a first look")
