@@ -122,7 +122,7 @@ def test_agree_on_each_branch():
     from sleighsim.chaos.rule import FRAGILE, agree
 
     assert agree([U, U, U]) == (U, 3, "all 3 realizations agree")
-    assert agree(["strange attractor"]) == ("strange attractor", 1, "all 1 realizations agree")
+    assert agree(["strange attractor"]) == ("strange attractor", 1, "one realization (none to agree with)")
     v, n, why = agree([G, C, G])
     assert (v, n) == (FRAGILE, 2) and why == "realizations disagree: regular 2, chaotic 1 of 3"
     with pytest.raises(ValueError, match="no realizations"):

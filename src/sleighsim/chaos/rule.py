@@ -208,5 +208,5 @@ def agree(verdicts) -> tuple[str, int, str]:
     top = max(counts.values())
     spread = ", ".join(f"{v} {n}" for v, n in counts.items())
     if len(counts) == 1:
-        return verdicts[0], top, f"all {top} realizations agree"
+        return verdicts[0], top, f"all {top} realizations agree" if top > 1 else "one realization (none to agree with)"
     return FRAGILE, top, f"realizations disagree: {spread} of {len(verdicts)}"
