@@ -45,6 +45,20 @@ def test_each_record_present_gives_its_rows_and_an_absent_one_none(tmp_path):
     assert plantimes.rows(_records(tmp_path / "none")) == []
 
 
+def test_each_timed_command_that_ended_well_gives_a_row(tmp_path):
+    (tmp_path / "benchmarks").mkdir()
+    record = {"date": "2026-11-29T08:00:00+00:00", "git_commit": "0123456789abcdef" * 2 + "01234567",
+              "machine": {"nproc": 2, "cpu_model": "AMD EPYC"},
+              "runs": [{"what": "the executed tutorial", "command": "python docs/tutorial.py", "wall_s": 526.0,
+                        "returncode": 0},
+                       {"what": "a judged state", "command": "sleighsim judge", "wall_s": 60.0, "returncode": 1}]}
+    (tmp_path / plantimes.COMMANDS).write_text(yaml.safe_dump(record))
+    rows = plantimes.rows(tmp_path)
+    assert [r[:3] for r in rows] == [("the executed tutorial, one process (measured)", "`python docs/tutorial.py`",
+                                      plantimes.duration(526.0))]  # the failed command gives no row
+    assert plantimes.COMMANDS in rows[0][3] and "commit 01234567" in rows[0][3]
+
+
 def test_the_readme_holds_the_table_the_records_give():
     """Regenerate with: sleighsim costs times --readme README.md"""
     assert readme.block((ROOT / "README.md").read_text(), plantimes.BLOCK) == plantimes.table()

@@ -1,6 +1,7 @@
 """Times a user can plan by: the README's table, generated from the committed benchmark records (a
 full run at paper fidelity and a smoke run, each measured by ``benchmarks/full_run.py``; the cluster
-config's estimate, written by ``sleighsim costs estimate --out``). Every number names the record it
+config's estimate, written by ``sleighsim costs estimate --out``; the tutorial and a judged state, timed by
+``benchmarks/commands.py``). Every number names the record it
 comes from, its date and commit; a record that is absent gives no row.
 
     sleighsim costs times                     print the table
@@ -18,6 +19,7 @@ from sleighsim.ops.walltime import duration
 
 #: The records the table reads, below the repository.
 FULL_RUN, SMOKE_RUN = "benchmarks/full_run.yaml", "benchmarks/smoke_run.yaml"
+COMMANDS = "benchmarks/commands.yaml"
 CLUSTER = "benchmarks/cluster_estimate.yaml"
 #: The README's block the table fills (sleighsim.ops.readme).
 BLOCK = "times"
@@ -65,6 +67,12 @@ def _cluster_row(record: dict, rel: str) -> tuple[str, str, str, str]:
             f"{str(record['measured']['date'])[:10]}{missing}")
 
 
+def _command_rows(record: dict, rel: str) -> list[tuple[str, str, str, str]]:
+    """Each timed command of benchmarks/commands.py that ended well, one process on one core."""
+    return [(f"{r['what']}, one process (measured)", f"`{r['command']}`", duration(r["wall_s"]), _source(record, rel))
+            for r in record["runs"] if r["returncode"] == 0]
+
+
 def rows(root: Path = REPO) -> list[tuple[str, str, str, str]]:
     """(what, command, wall time, source) for every record present."""
     out = []
@@ -73,6 +81,8 @@ def rows(root: Path = REPO) -> list[tuple[str, str, str, str]]:
     if smoke := _read(root, SMOKE_RUN):
         out += _measured_rows(smoke, SMOKE_RUN, "smoke run (tiny; not a reproduction)",
                               "snakemake -c2 --configfile config/smoke.yaml")[:1]
+    if commands := _read(root, COMMANDS):
+        out += _command_rows(commands, COMMANDS)
     if cluster := _read(root, CLUSTER):
         out.append(_cluster_row(cluster, CLUSTER))
     return out
