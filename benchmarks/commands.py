@@ -1,7 +1,7 @@
 #!/usr/bin/env python
 """Time the documented commands a user waits on besides the workflow: the executed tutorial and one
-``sleighsim judge`` (the README's example), each in a fresh process from the repository's root, its wall time
-and exit status recorded with the machine and the load average before and after.
+``sleighsim judge`` (the README's example), each in a fresh process from the repository's root, its wall time,
+exit status and the last lines it printed recorded with the machine and the load average before and after.
 
     python benchmarks/commands.py [--out benchmarks/commands.yaml] [--quick]
 
@@ -24,6 +24,8 @@ sys.path.insert(0, str(REPO / "src"))
 from sleighsim.ops import benchio  # noqa: E402
 
 NAME = "commands"
+#: The last lines each command printed on stdout, kept in the record (the judge's verdict, the tutorial's end).
+TAIL = 12
 #: (what, command as the docs give it): each run from the repository's root.
 TUTORIAL = ("the executed tutorial (paper fidelity)", "python docs/tutorial.py")
 JUDGE = ("one state judged, the README's example", "sleighsim judge --params eps=0.05 b=1 K2=1.05 --state 0 0.1 1 0 "
@@ -39,11 +41,12 @@ def timed(what: str, command: str, tmp: str) -> dict:
     before = benchio.loadavg()
     benchio.say(NAME, f"{what}: {line}")
     start = time.perf_counter()
-    rc = subprocess.run(argv, cwd=REPO, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL).returncode
+    done = subprocess.run(argv, cwd=REPO, env=env, capture_output=True, text=True)
     wall = time.perf_counter() - start
-    benchio.say(NAME, f"{what}: exit {rc} after {wall:.0f} s")
+    benchio.say(NAME, f"{what}: exit {done.returncode} after {wall:.0f} s")
     return {"what": what, "command": command.replace(" --out {tmp}/verdict.nc", " --out results/judge/verdict.nc"),
-            "wall_s": wall, "returncode": rc, "loadavg_before": before, "loadavg_after": benchio.loadavg()}
+            "wall_s": wall, "returncode": done.returncode, "loadavg_before": before, "loadavg_after": benchio.loadavg(),
+            "printed_tail": done.stdout.splitlines()[-TAIL:]}
 
 
 def run(opts: dict) -> dict:
