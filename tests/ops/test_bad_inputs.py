@@ -137,7 +137,7 @@ def test_snakemake_stops_on_an_empty_or_root_results_directory_before_any_job(tm
            "--configfile", str(ROOT / "config" / "smoke.yaml"), str(bad), "-n", "-c1", "--nolock"]
     res = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
     out = res.stdout + res.stderr
-    assert res.returncode != 0 and "does not match '[^/]'" in out and "On instance['results']" in out, out[-2000:]
+    assert res.returncode != 0 and f"results: {value!r} does not match '[^/]'" in out, out[-2000:]
     assert "/data/" not in out and "Traceback" not in out
 
 

@@ -142,8 +142,8 @@ def test_fig11_states_the_spread_across_b_from_its_data(tmp_path):
     fig = figures.build("fig11", [grid_dataset(tmp_path / "grid.nc", spread=2.5), verdict_dataset(tmp_path / "v.nc")])
     ax = fig.axes[0]
     title = " ".join(t.get_text().replace("\n", " ") for t in (ax.title, ax._left_title, *ax.texts))
-    assert "largest spread across the 3 b values of a row: 2.5 standard errors" in title
-    assert "recomputed at b = 0.5, 2 (eps 0.2): difference 0.5 standard errors (allowed 5)" in title
+    assert "Largest spread across the 3 b values of a row: 2.5 standard errors" in title
+    assert "Recomputed at b = 0.5, 2 (eps 0.2): difference 0.5 standard errors (allowed 5)" in title
     assert "lambda_1 on the grid" in title
     labels = ax.get_legend_handles_labels()[1]
     assert {"grid at b = 0.5", "grid at b = 1", "grid at b = 2"} <= set(labels)
@@ -152,7 +152,7 @@ def test_fig11_states_the_spread_across_b_from_its_data(tmp_path):
     ax = figures.build("fig11", [grid_dataset(tmp_path / "copies.nc", spread=0.0),
                                  verdict_dataset(tmp_path / "v2.nc")]).axes[0]
     copies = " ".join(t.get_text().replace("\n", " ") for t in (ax._left_title, *ax.texts))
-    assert ("the 3 b columns are copies (filled by the symmetry, not computed)" in copies
+    assert ("The 3 b columns are copies (filled by the symmetry, not computed)" in copies
             and "largest spread" not in copies)
 
 

@@ -235,7 +235,6 @@ def chunk(cfg: dict, index: int, scene: str = "", inputs: dict | None = None) ->
         ds[v] = ("eps", np.array([rows[e][v] for e in eps], dtype=object))
     ds["realization_row_verdict"] = (("eps", "realization"),
                                      np.array([rows[e]["realization_verdicts"] for e in eps], dtype=object))
-    ds["row_verdict_flag"] = cf.flags("eps", ds.row_verdict.values, ROW_VERDICT_FLAGS, "the row's verdict as a CF flag")
     ds["row_settled_state"] = (("eps", "component"), np.array([rows[e]["settled"] for e in eps], float),
                            cf.attrs("the row's settled state (u, Omega, omega, delta) in model units (double "
                                     "pre-run; its steady part starts here)"))
@@ -283,6 +282,7 @@ def gather(paths, cfg: dict, scene: str = "") -> xr.Dataset:
     names, follow = faithful_words(ds.faithful_code.values, arithmetic)
     ds["faithful_arithmetic"] = ("eps", np.array(names, dtype=object))
     ds["lambda_1_follows"] = ("eps", np.array(follow, dtype=object))
+    ds["row_verdict_flag"] = cf.flags("eps", ds.row_verdict.values, ROW_VERDICT_FLAGS, "the row's verdict as a CF flag")
     ref = reference_row(cfg)
     ok = ~flagged
     ds.attrs.update(
