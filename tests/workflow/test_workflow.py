@@ -132,7 +132,7 @@ def _mutate(cfg, path, value):
 # One case per kind of check; test_config.py covers every key without Snakemake.
 BAD = [
     (("scenes", "fig3", "params", "eps"), 1.5, r"eps"),
-    (("scenes", "fig3", "tol"), 0.0, r"scenes\.fig3\.tol: 0\.0 is less than or equal to the minimum"),
+    (("scenes", "fig3", "tol"), 0.0, r"scenes\.fig3\.tol: 0\.0 is less than the minimum"),
     (("scenes", "fig3", "colour"), "red", r"colour"),
     (("scenes", "fig8", "t_end"), float("nan"), r"scenes.fig8.t_end = nan is not a finite number"),
     (("scenes", "fig7", "t_sample_start"), 20000.0, r"scenes.fig7.t_sample_start = 20000.0 must lie in"),

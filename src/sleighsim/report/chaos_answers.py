@@ -57,7 +57,8 @@ def dataset_answers(ds, power: dict | None = None) -> list[ChaosAnswer]:
         verdict = str(ds.verdict.values[i])
         klass = str(ds.state_class.values[i]) if "state_class" in ds.data_vars else ""
         origin = str(ds.state_origin.values[i]) if "state_origin" in ds.data_vars else ""
-        out.append(ChaosAnswer(str(st), verdict, reason + _arithmetic_note(ds, i) + _tori_note(ds, i),
+        why = reason + _arithmetic_note(ds, i) + _tori_note(ds, i) + _settle_note(ds, i)
+        out.append(ChaosAnswer(str(st), verdict, why,
                                _decided_in(ds, i), klass, _decided_by(ds, i, power),
                                _to_decide(ds, i, verdict, power), origin, _rests_on(ds, i, verdict, power)))
     return out
@@ -142,8 +143,8 @@ def _to_decide(ds, i: int, verdict: str, power: dict | None = None) -> str:
                 "to judge it again in an arithmetic that follows its orbit")
     wall, T = float(ds.decisive_wall_time_s.values[i]), float(ds.attrs["decisive_T"])
     left = "; ".join(f"{k}: {v}" for k, v in zip(ds.decisive_indicator.values, ds.decisive_indicator_verdict.values[i]))
-    text = (f"{_settle_first(ds, i)}the decisive stage ({ds.attrs['decisive_precision']}, T = {T:g}, {wall:.0f} s per "
-            f"realization on one core, measured) left it {verdict} ({left})")
+    text = (f"the decisive stage ({ds.attrs['decisive_precision']}, T = {T:g}, {wall:.0f} s per realization on one "
+            f"core, measured) left it {verdict} ({left})")
     now = float(ds.attrs.get("decisive_vote_horizon", 1.0))
     if not np.isfinite(now) and ds.attrs.get("decisive_vote_why", ""):
         return (text + f"; no judge votes here at any horizon ({ds.attrs['decisive_vote_why']}): the audit must cover "
@@ -162,17 +163,13 @@ def _to_decide(ds, i: int, verdict: str, power: dict | None = None) -> str:
             f"{wall * h / now:.0f} s per realization{more}")
 
 
-def _settle_first(ds, i: int) -> str:
-    """What comes before any longer horizon for state ``i`` ("" when nothing): a pre-run that ends its transient,
-    and a spike cycle for its gauge (without one no arithmetic is shown to follow it)."""
-    parts = []
-    if "transient_over" in ds and not int(ds.transient_over.values[i]):
-        parts.append("its transient was not over at the end of the pre-run: a longer chaos_verdict.t_transient "
-                     "(a --configfile overlay) comes first")
-    if "ln_gain_max" in ds and not np.isfinite(float(ds.ln_gain_max.values[i])):
-        parts.append("its gauge found no complete spike cycle within T_gain, so no arithmetic is shown to follow "
-                     "its orbit and Birkhoff's digits cannot be certified")
-    return "; ".join(parts) + "; besides, " if parts else ""
+def _settle_note(ds, i: int) -> str:
+    """For a state whose pre-run did not end its transient: that, and what comes before any longer horizon ("" for
+    the others; the gauge's missing spike cycle is said by the arithmetic note)."""
+    if "transient_over" not in ds or int(ds.transient_over.values[i]):
+        return ""
+    return (". Its transient was not over at the end of the pre-run: a longer chaos_verdict.t_transient (a "
+            "--configfile overlay) comes before any longer horizon")
 
 
 def _decided_in(ds, i: int) -> str:
