@@ -185,7 +185,7 @@ def test_the_first_screen_says_who_decided_and_what_would_decide_the_rest():
 
     unsettled = ds.assign(transient_over=("state", [1, 0, 1]))  # sleighsim judge at eps 0.05 from the paper's start
     assert _settle_note(unsettled, 1) == (". Its transient was not over at the end of the pre-run: a longer "
-                                          "chaos_verdict.t_transient (a --configfile overlay) comes before any "
+                                          "pre-run (t_transient, in a --configfile overlay) comes before any "
                                           "longer horizon")
     assert _settle_note(unsettled, 0) == "" and _settle_note(ds, 1) == ""  # over, or not recorded
     assert _decided_in(ds, 0) == "double-double (G x rounding = 10^-16.3; decisive stage over T = 100000)"

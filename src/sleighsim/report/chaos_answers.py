@@ -168,7 +168,7 @@ def _settle_note(ds, i: int) -> str:
     the others; the gauge's missing spike cycle is said by the arithmetic note)."""
     if "transient_over" not in ds or int(ds.transient_over.values[i]):
         return ""
-    return (". Its transient was not over at the end of the pre-run: a longer chaos_verdict.t_transient (a "
+    return (". Its transient was not over at the end of the pre-run: a longer pre-run (t_transient, in a "
             "--configfile overlay) comes before any longer horizon")
 
 
