@@ -83,6 +83,12 @@ def vote_block(vc: dict) -> dict:
             "frequency": {"min_cycles": vc["min_cycles"]}, "sigma": vc["sigma"]}
 
 
+def cycle_scale(period: float, record: dict) -> float:
+    """The factor on the audited settings' times that runs an orbit of spike period ``period`` over MARGIN times
+    the judge-power audit's cycles (``record``'s spike_period): MARGIN x period / spike_period."""
+    return MARGIN * period / float(record["spike_period"])
+
+
 def row_dc(vc: dict, precision: Precision, scale: float, spike_factor: float) -> dict:
     """The decisive functions' settings for one row in ``precision``: T and dt of the block times ``scale`` (the
     row's cycles in the audit's), tolerance verdict.tol_dd in double-double, the machine epsilon in double."""
@@ -144,7 +150,7 @@ def judge_row(p, y, eps: float, vc: dict, record: dict, gauge: dict, period: flo
     if why:
         return not_judged(why, arithmetic.value if arithmetic else "", n)
     start = time.perf_counter()
-    dc = row_dc(vc, arithmetic, MARGIN * period / float(record["spike_period"]), spike_factor)
+    dc = row_dc(vc, arithmetic, cycle_scale(period, record), spike_factor)
     starts = [realization_states([list(y)], vc["realization_rel"], r)[0] for r in range(n)]
     log.info("%s: row verdict: %d realizations in %s over T = %.6g (dt %.3g)", label, n, arithmetic.value, dc["T"],
              dc["dt"])

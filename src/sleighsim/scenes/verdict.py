@@ -49,7 +49,7 @@ from sleighsim.precision import Precision
 from sleighsim.scenes import memory
 from sleighsim.scenes.checks import ConfigError
 from sleighsim.scenes.common import REALIZATION_STATES_RULE, realization_states
-from sleighsim.scenes.grid_verdict import MARGIN
+from sleighsim.scenes.grid_verdict import cycle_scale
 from sleighsim.scenes.kind import SceneKind
 from sleighsim.scenes.verdict_dataset import set_attrs, variables
 from sleighsim.scenes.verdict_decisive import REALIZED_VARS, decisive_lanes, decisive_spike_period, with_decisive
@@ -223,8 +223,8 @@ def _lane_vote(record: dict, cfg: dict, stage1: xr.Dataset) -> tuple:
     cycle_scale) by the record (``chaos.power.stage_vote``). A state whose spike period P exceeds the record's
     P_a is run over the audited cycles instead, T and dt times MARGIN x P / P_a (as F11's rows,
     ``grid_verdict``), and voted by the record at the block's own settings; else at its spike period."""
-    period, audited = float(stage1.spike_period.values[0]), float(record.get("spike_period", math.nan))
-    scale = MARGIN * period / audited if period > audited else 1.0
+    period = float(stage1.spike_period.values[0])
+    scale = cycle_scale(period, record) if period > float(record.get("spike_period", math.nan)) else 1.0
     vote = stage_vote(record, cfg, "decisive", period if scale == 1.0 else math.nan)
     factor = max(vote["factor"].values(), default=math.nan)  # the audited horizon voted at (NaN: none)
     why = "" if vote["covered"] else "; ".join(dict.fromkeys(vote["why"].values()))  # no horizon would vote
