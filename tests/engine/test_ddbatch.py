@@ -78,6 +78,19 @@ def test_every_lane_is_ddflow_bit_for_bit(rng, lanes):
         assert flow.steps == batch.steps[lane]
 
 
+def test_one_orbit_on_grids_of_different_lengths_is_ddflow_on_each_bit_for_bit():
+    """propagate_grids: one start, three grids (3, 7 and 1 times; the shorter padded), each lane DDFlow's."""
+    grids = [np.array([0.5, 3.0, 9.0]), np.linspace(0.0, 12.0, 7), np.array([4.0])]
+    batch = DDBatch(P)
+    got = batch.propagate_grids(REFERENCE_STATE, grids)
+    assert [h.shape for h, _ in got] == [(3, 4), (7, 4), (1, 4)]
+    for (hi, lo), grid, steps in zip(got, grids, batch.steps):
+        flow = DDFlow(P)
+        fh, fl = flow.propagate_grid(REFERENCE_STATE, grid)
+        assert np.array_equal(fh, hi) and np.array_equal(fl, lo) and flow.steps == steps
+    assert len(set(batch.steps)) == 3  # the grids' ends (9, 12, 4) did reach the lanes
+
+
 def test_lanes_with_their_own_parameters_are_ddflow_bit_for_bit():
     """A row of eps (0.05 .. 0.3) in the lanes, one start: each lane is DDFlow with its own parameters."""
     params = [Params.paper(eps=e, K2=1.1) for e in (0.05, 0.1, 0.2, 0.3)]

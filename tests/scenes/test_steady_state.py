@@ -12,7 +12,7 @@ from sleighsim.model import equations
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import REFERENCE_STATE
 from sleighsim.ops.resultdiff import compare_datasets
-from sleighsim.precision import parsed
+from sleighsim.precision import Precision, parsed
 from sleighsim.scenes import steady_state
 
 
@@ -182,6 +182,20 @@ def test_the_maps_and_attractor_run_as_two_jobs_give_the_dataset_of_one(tmp_path
     assert list(two.data_vars) == list(one.data_vars) and "attractor_u" in one
     assert compare_datasets(one, two) == []
     assert all(two[v].attrs == one[v].attrs for v in one.variables)
+
+
+def test_in_double_double_the_maps_and_attractor_share_one_integration_and_give_the_two_jobs_dataset(tmp_path):
+    """In double-double one job integrates once (the attractor stretch a second lane of the maps' DDBatch): its
+    dataset is the two jobs' (two integrations of their own), numbers bit for bit."""
+    cfg = dict(MAPS, precision=Precision.DOUBLE_DOUBLE, t_map=20.0, attractor_span=10.0)
+    one = steady_state.poincare_maps(cfg, scene="maps")
+    parts = [write_dataset(steady_state.poincare_chunk(cfg, k, scene="maps"), tmp_path / f"{k}.nc",
+                           precision="double-double") for k in range(2)]
+    two = steady_state.poincare_gather(parts, cfg, scene="maps")
+    assert one.attrs["backend"] == "sleighsim.engine.ddtaylor" and one.attractor_u.size == 101
+    assert compare_datasets(*(read_dataset(write_dataset(d, tmp_path / k / "maps.nc", precision="double-double"))
+                              for k, d in (("one", one), ("two", two)))) == []
+    assert one.attrs["steps"] == two.attrs["steps"]
 
 
 def test_the_gather_refuses_parts_from_different_settled_states(tmp_path, hy):

@@ -214,6 +214,17 @@ class DDBatch:
         yh, yl = self._states(y0, None)
         return self._run(yh, yl, t_grid, tangent=False)[:2]
 
+    def propagate_grids(self, y0, grids) -> list[tuple[np.ndarray, np.ndarray]]:
+        """One orbit from y0 (4,) sampled on each of ``grids`` (time units from y0), each grid a lane started
+        from y0, so each grid's samples are bit for bit DDFlow.propagate_grid's on it, at about the price of one
+        orbit up to a block of MAX_WIDTH lanes (benchmarks/ddbatch.yaml). The grids are padded to one length by
+        repeating their last time (the padding's samples dropped). Returns each grid's (hi, lo), each (n, 4)."""
+        rows = [check_grid(g) for g in grids]
+        n = max(r.size for r in rows)
+        padded = np.array([np.r_[r, np.full(n - r.size, r[-1])] for r in rows])
+        hi, lo = self.propagate_grid(np.tile(np.asarray(y0, dtype=float)[:4], (len(rows), 1)), padded)
+        return [(hi[i, : r.size], lo[i, : r.size]) for i, r in enumerate(rows)]
+
     def propagate(self, y0, T) -> tuple[np.ndarray, np.ndarray]:
         """(hi, lo), each (lanes, 4): every lane's state a time T after its y0 (T a number or one per lane)."""
         yh, _ = as_pairs(y0)

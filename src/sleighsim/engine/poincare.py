@@ -20,7 +20,6 @@ import numpy as np
 
 from sleighsim.engine import ddsection, integrators
 from sleighsim.engine.ddbatch import DDBatch
-from sleighsim.engine.ddtaylor import DDFlow
 from sleighsim.engine.integrate import IntegrationError, check_tol
 from sleighsim.model.params import Params
 from sleighsim.precision import Precision
@@ -96,25 +95,35 @@ def dd_sample_dt(y0) -> float:
     return min(DD_SAMPLE_DT, 0.25 * math.pi / rate) if rate > 0 else DD_SAMPLE_DT
 
 
-def dd_crossings(params: Params, y0, t0: float, t_end: float, *, tol: float, scene: str = "") -> dict:
+def dd_crossings(params: Params, y0, t0: float, t_end: float, *, tol: float, scene: str = "",
+                 samples=None) -> dict:
     """:func:`crossings` in double-double (sleighsim.engine.ddtaylor at ``tol``): the orbit sampled every
     DD_SAMPLE_DT, each crossing solved on the double-double Taylor jet of its nearest sample
-    (:func:`sleighsim.engine.ddsection.quarter_crossings`); returned in double, with the same keys."""
+    (:func:`sleighsim.engine.ddsection.quarter_crossings`); returned in double, with the same keys. With
+    ``samples`` (absolute times from t0 on), also the orbit at those times (key "samples": (n, 4) states in
+    double, hi + lo) from the same integration: a second lane of one DDBatch (``DDBatch.propagate_grids``), bit
+    for bit a run of its own, at about the price of one orbit."""
     start = time.perf_counter()
-    flow, dt = DDFlow(params, tol=tol), dd_sample_dt(y0)
+    dt = dd_sample_dt(y0)
     grid = np.arange(0.0, t_end - t0 + 0.5 * dt, dt)
-    log.info("%s: double-double orbit over %.6g time units, sampled every %.3g", scene, t_end - t0, dt)
-    hi, lo = flow.propagate_grid(np.asarray(y0, float)[:4], grid)
+    log.info("%s: double-double orbit over %.6g time units, sampled every %.3g%s", scene, t_end - t0, dt,
+             "" if samples is None else f" and at {len(samples)} further times (a second lane)")
+    batch = DDBatch(params, tol)
+    orbits = batch.propagate_grids(y0, [grid] + ([] if samples is None else [np.asarray(samples, float) - t0]))
+    (hi, lo), steps = orbits[0], int(batch.steps[0])
     turn = float(np.max(np.abs(np.diff(ddsection.unwrapped_delta(hi, grid))), initial=0.0))
     if turn >= 0.5 * math.pi:
         raise RuntimeError(f"{scene}: delta turned {turn:.3g} rad between samples {dt:.3g} apart (more than a "
                            "quarter turn: crossings would be missed); the orbit's rotor speeds up beyond its start's")
-    t, x, k, residual = ddsection.quarter_crossings(DDBatch(params, tol), hi, lo, grid)
+    t, x, k, residual = ddsection.quarter_crossings(batch, hi, lo, grid)
     keep = (t > 1e-9) & (t <= t_end - t0)  # a crossing at the start is not one (as heyoka's events)
-    return {"time": t0 + t[keep], "u": x[keep, 0], "Omega": x[keep, 1], "omega": x[keep, 2], "k": k[keep],
-            "residual": residual[keep], "steps": flow.steps, "wall_time_s": time.perf_counter() - start,
-            "compile_time_s": 0.0, "backend": "sleighsim.engine.ddtaylor",
-            "method": f"double-double Taylor sampled every {dt:.3g}, crossings solved on the jets"}
+    out = {"time": t0 + t[keep], "u": x[keep, 0], "Omega": x[keep, 1], "omega": x[keep, 2], "k": k[keep],
+           "residual": residual[keep], "steps": steps, "wall_time_s": time.perf_counter() - start,
+           "compile_time_s": 0.0, "backend": "sleighsim.engine.ddtaylor",
+           "method": f"double-double Taylor sampled every {dt:.3g}, crossings solved on the jets"}
+    if samples is not None:
+        out["samples"] = orbits[1][0] + orbits[1][1]
+    return out
 
 
 def rotation_number(points) -> dict:

@@ -68,13 +68,32 @@ def _settled(cfg: dict, scene: str) -> dict:
     return {"params": params, "y0": y0, "y": y_settled, "attrs": attrs}
 
 
-def _maps(cfg: dict, s: dict, scene: str) -> xr.Dataset:
+def _attractor_grid(cfg: dict) -> np.ndarray:
+    """The attractor stretch's sample times: from t_settle over attractor_span every attractor_dt."""
+    return sample_grid(cfg["t_settle"], cfg["t_settle"] + cfg["attractor_span"], cfg["attractor_dt"])
+
+
+def _one_orbit(cfg: dict, s: dict, scene: str) -> tuple[dict | None, np.ndarray | None]:
+    """In double-double, the maps' crossings over t_map and the attractor stretch's (u, Omega, omega) from one
+    integration (the stretch a second lane of the maps' DDBatch: ``poincare.dd_crossings`` with samples, bit for
+    bit the runs of their own at about the price of one); (None, None) in heyoka's arithmetics (two runs)."""
+    arith = steady_arithmetic(cfg)
+    if Precision.parse(arith["precision"]) is not Precision.DOUBLE_DOUBLE:
+        return None, None
+    t0 = cfg["t_settle"]
+    c = poincare.dd_crossings(s["params"], s["y"], t0, t0 + cfg["t_map"], tol=arith["tol"], scene=scene,
+                              samples=_attractor_grid(cfg))
+    return c, c.pop("samples")[:, :3]
+
+
+def _maps(cfg: dict, s: dict, scene: str, c: dict | None = None) -> xr.Dataset:
     """P_2pi and P_pi/2 iterates over t_map from the settled state ``s`` (:func:`_settled`) in the
-    block's steady-state arithmetic, return times, rotation number and loop count."""
+    block's steady-state arithmetic, return times, rotation number and loop count (the crossings ``c`` when
+    given, as ``poincare.crossings`` returns them)."""
     params, y0, y_settled = s["params"], s["y0"], s["y"]
     arith = steady_arithmetic(cfg)
     t0, t1 = cfg["t_settle"], cfg["t_settle"] + cfg["t_map"]
-    c = poincare.crossings(params, y_settled, t0, t1, **arith, scene=scene)
+    c = poincare.crossings(params, y_settled, t0, t1, **arith, scene=scene) if c is None else c
     pts = np.c_[c["u"], c["Omega"], c["omega"]]
     is2pi = c["k"] % 4 == 0
     rt = np.diff(c["time"][is2pi])
@@ -111,17 +130,19 @@ def _maps(cfg: dict, s: dict, scene: str) -> xr.Dataset:
     return ds
 
 
-def _attractor(cfg: dict, s: dict, scene: str) -> xr.Dataset:
+def _attractor(cfg: dict, s: dict, scene: str, x: np.ndarray | None = None) -> xr.Dataset:
     """A stretch of the attractor (attractor_span, sampled every attractor_dt) from the settled state
-    ``s`` (:func:`_settled`) in the block's steady-state arithmetic, and its flatness."""
-    t0 = cfg["t_settle"]
-    att = integrate(s["params"], s["y"], sample_grid(t0, t0 + cfg["attractor_span"], cfg["attractor_dt"]),
-                    **steady_arithmetic(cfg), scene=f"{scene}.attractor", progress=1)
-    ds = xr.Dataset({f"attractor_{v}": ("natt", att[v].values,
+    ``s`` (:func:`_settled`) in the block's steady-state arithmetic, and its flatness (its samples of (u, Omega,
+    omega) ``x`` when given)."""
+    if x is None:
+        att = integrate(s["params"], s["y"], _attractor_grid(cfg), **steady_arithmetic(cfg),
+                        scene=f"{scene}.attractor", progress=1)
+        x = np.c_[att.u.values, att.Omega.values, att.omega.values]
+    ds = xr.Dataset({f"attractor_{v}": ("natt", x[:, i],
                                         cf.attrs(f"{v} along a sampled stretch of the attractor", STATE_KINDS[v]))
-                     for v in ("u", "Omega", "omega")})
+                     for i, v in enumerate(("u", "Omega", "omega"))})
     ds.attrs.update(
-        attractor_flatness=poincare.flatness(np.c_[att.u.values, att.Omega.values, att.omega.values]),
+        attractor_flatness=poincare.flatness(x),
         attractor_flatness_rule="smallest over largest singular value of the centred (u, Omega, omega) samples")
     return ds
 
@@ -138,7 +159,8 @@ def poincare_maps(cfg: dict, scene: str = "") -> xr.Dataset:
     number, loop count, and a sampled stretch of the attractor (F9, F12)."""
     start = time.perf_counter()
     s = _settled(cfg, scene)
-    maps, att = _maps(cfg, s, scene), _attractor(cfg, s, scene)
+    c, x = _one_orbit(cfg, s, scene)
+    maps, att = _maps(cfg, s, scene, c), _attractor(cfg, s, scene, x)
     return _with_attractor(maps, att, time.perf_counter() - start)
 
 
