@@ -232,12 +232,39 @@ def test_c26s_rows_are_priced_in_the_digits_an_arithmetic_needs_to_follow_them()
     out = f.FAITHFUL_JUDGES["C26"]({"eps_above": 20}, formal([10.0, 25.0, 50.0], [0.08, 0.059, -1e-6]))
     assert out.verdict == NOT_YET and "eps 25: lambda_1 = 0.059 in double over T = 2e+04" in out.value
     assert "at least 515 decimal digits" in out.value and "eps 10" not in out.value
-    assert "eps 50: lambda_1 = -1e-06 in double over T = 2e+04 (not positive" in out.value
+    assert "eps 50: lambda_1 = -1e-06 in double over T = 2e+04 (not gauged)" in out.value
     assert out.arithmetic == "none affordable (at least 515 digits over T)"
     none = f.FAITHFUL_JUDGES["C26"]({"eps_above": 20}, formal([2.0, 5.0], [0.08, 0.1]))
     assert none.verdict == NOT_YET and "no eps above" in none.value
     flat = f.FAITHFUL_JUDGES["C26"]({"eps_above": 20}, formal([25.0], [-1e-6]))
     assert flat.arithmetic == "unknown (not gauged)"
+
+
+def gauged(eps, lam, arithmetic, need=None, price=None, ln_gain=None):
+    n = len(eps)
+    return formal(eps, lam).assign(
+        faithful_arithmetic=("eps", np.array(arithmetic, object)),
+        gauge_needed_log10_rounding=("eps", need or [np.nan] * n),
+        faithful_price=("eps", np.array(price or [""] * n, object)),
+        gauge_ln_gain_max=("eps", ln_gain or [np.nan] * n))
+
+
+def test_c26s_gauged_rows_name_the_arithmetic_that_follows_or_the_rounding_they_need_and_its_price():
+    """Double following every row above the threshold keeps the row's own verdict; a finer arithmetic of the
+    ladder, not computed in it, names it; none of the ladder: the rounding needed and the price record's answer."""
+    judge = f.FAITHFUL_JUDGES["C26"]
+    own = judge({"eps_above": 20}, gauged([10.0, 25.0], [0.1, 2e-6], ["", "double"], ln_gain=[np.nan, 3.0]))
+    assert own.verdict == f.OWN and own.arithmetic == "double"
+    assert "eps 25: lambda_1 = 2e-06 in double over T = 2e+04; its gauge: double follows it" in own.value
+    finer = judge({"eps_above": 20}, gauged([25.0, 50.0], [2e-6, 1e-3], ["double", "double-double"]))
+    assert finer.verdict == NOT_YET and finer.arithmetic == "double; double-double"
+    none = "none of double, long double, double-double, quad (G x steps x rounding 10^6.7 in quad)"
+    priced = judge({"eps_above": 20}, gauged([25.0], [4e-3], [none], need=[-41.2],
+                                             price=["real 192 (rounding 1.6e-58) would: 0.02 CPU-s per time unit"],
+                                             ln_gain=[83.4]))
+    assert priced.verdict == NOT_YET and priced.arithmetic == none
+    assert ("ln G up to 83.4 per spike cycle, followed by none of double" in priced.value
+            and "needs unit roundoff below 1e-41 to follow it: real 192" in priced.value)
 
 
 def test_every_faithful_judge_has_its_datasets_declared():

@@ -24,6 +24,7 @@ from sleighsim.chaos.faithfulness import FAITHFUL_MAX, FOLLOWS
 from sleighsim.chaos.rule import FRAGILE, agree
 from sleighsim.claims.judges.steady_state import PATH_RULE, path_verdict
 from sleighsim.claims.rules import CANNOT, DIFFERS, K_SIGMA, NOT_YET, REPRODUCED, SLIGHT, fmt, severity
+from sleighsim.precision import Precision
 from sleighsim.scenes.grid_verdict import NOT_JUDGED
 
 #: faithful_verdict of a claim whose own datasets are computed in an arithmetic that follows their orbits:
@@ -379,24 +380,45 @@ def digits_to_follow(lam: float, T: float) -> float:
     return lam * T / math.log(10) - math.log10(FAITHFUL_MAX)
 
 
+def _formal_row_text(e: float, m: float, t: float, arithmetic: str, need: float, price: str, ln_gain: float) -> str:
+    """One row of C26's faithful value: lambda_1 in double and what its gauge says (or, not gauged, the digits a
+    positive lambda_1 asks for over T: ``digits_to_follow``)."""
+    head = f"eps {e:g}: lambda_1 = {m:.2g} in double over T = {t:.3g}"
+    if not arithmetic:
+        return head + (f", so an arithmetic follows its orbit over T only with at least {digits_to_follow(m, t):.0f} "
+                       "decimal digits (not gauged)" if m > 0 else " (not gauged)")
+    if math.isfinite(need):
+        return (f"{head}; its gauge: ln G up to {ln_gain:.3g} per spike cycle, followed by {arithmetic}; an arithmetic "
+                f"needs unit roundoff below 1e{need:.0f} to follow it: {price}")
+    return f"{head}; its gauge: {arithmetic}" + (f" follows it (ln G up to {ln_gain:.3g} per spike cycle)"
+                                                 if math.isfinite(ln_gain) else "")
+
+
 def formal_rows(paper, formal) -> Faithful:
-    """C26: lambda_1 below the paper's bound for eps above its threshold. The rows computed (the formal system,
-    in double over T) are not gauged; a positive lambda_1 says how many digits an arithmetic would need to follow
-    each orbit over the row's horizon (``digits_to_follow``, a lower bound): not yet computed, with that price."""
+    """C26: lambda_1 below the paper's bound for eps above its threshold, computed in double (the formal system).
+    Each row above it is read by its gauge (``scenes.formal_gauge``: the cheapest arithmetic that follows its
+    orbit, or the rounding one would need and its measured price): double following every row keeps the row's own
+    verdict; otherwise not yet computed, with the arithmetic each row needs and its price (a row not gauged: the
+    digits its positive lambda_1 asks for over T, ``digits_to_follow``, a lower bound)."""
     eps, lam, T = formal.eps.values, formal.lambda_1.values, formal.T.values
     big = eps > paper["eps_above"]
     if not big.any():
         return Faithful("not computed: no eps above the paper's threshold computed", "unknown (no row)", NOT_YET)
-    parts = [f"eps {e:g}: lambda_1 = {m:.2g} in double over T = {t:.3g}, so an arithmetic follows its orbit over T "
-             f"only with at least {digits_to_follow(m, t):.0f} decimal digits" if m > 0 else
-             f"eps {e:g}: lambda_1 = {m:.2g} in double over T = {t:.3g} (not positive: the gauge along its orbit, "
-             "not computed here, would say which arithmetic follows it)" for e, m, t in zip(eps[big], lam[big], T[big])]
-    need = max((digits_to_follow(m, t) for m, t in zip(lam[big], T[big]) if m > 0), default=math.nan)
-    return Faithful("not computed: the rows above the paper's eps are not gauged; " + "; ".join(parts) +
-                    "; a faithful exponent needs windows short enough for the gauge to accept them (a gauge over a "
-                    "whole window, a ladder's gain.window), which this run does not compute",
-                    f"none affordable (at least {need:.0f} digits over T)" if math.isfinite(need) else
-                    "unknown (not gauged)", NOT_YET)
+    n = eps.size
+    arith = formal.faithful_arithmetic.values if "faithful_arithmetic" in formal else np.full(n, "", object)
+    need = formal.gauge_needed_log10_rounding.values if "faithful_arithmetic" in formal else np.full(n, math.nan)
+    price = formal.faithful_price.values if "faithful_arithmetic" in formal else np.full(n, "", object)
+    ln_gain = formal.gauge_ln_gain_max.values if "faithful_arithmetic" in formal else np.full(n, math.nan)
+    rows = np.flatnonzero(big)
+    parts = [_formal_row_text(eps[i], lam[i], T[i], str(arith[i]), need[i], str(price[i]), ln_gain[i]) for i in rows]
+    if all(str(arith[i]) == Precision.DOUBLE.value for i in rows):
+        return Faithful("; ".join(parts) + ": double follows every row, so lambda_1's verdict in double stands",
+                        Precision.DOUBLE.value, OWN)
+    named = sorted({str(arith[i]) for i in rows if str(arith[i])})
+    digits = max((digits_to_follow(lam[i], T[i]) for i in rows if lam[i] > 0 and not str(arith[i])), default=math.nan)
+    unpriced = [f"none affordable (at least {digits:.0f} digits over T)"] if math.isfinite(digits) else []
+    return Faithful("not computed: " + "; ".join(parts), "; ".join(named + unpriced) or "unknown (not gauged)",
+                    NOT_YET)
 
 
 #: Claim id -> its faithful judge (the paper's values, then the datasets of evidence.FAITHFUL).

@@ -18,7 +18,7 @@ from sleighsim.io import cf
 from sleighsim.model import equations
 from sleighsim.model.params import Params
 from sleighsim.model.symmetries import state_at_label
-from sleighsim.scenes import memory
+from sleighsim.scenes import formal_gauge, memory, trigger_price
 from sleighsim.scenes.checks import ConfigError
 from sleighsim.scenes.kind import SceneKind
 
@@ -75,9 +75,10 @@ SMALL_EPS_COST = SceneKind(
                            records=lambda c: [memory.span(c, ("max(horizons)", max(c["horizons"])), "dt")])
 
 
-def _formal_row(cfg: dict, eps: float, scene: str) -> tuple:
+def _formal_row(cfg: dict, eps: float, scene: str, record: dict) -> tuple:
     """One eps of formal_exponents: (eps, lambda_1, stderr (1/time), status, T (time), transient_over,
-    energy drift, the pre-run's block fluctuation (transient.block_fluctuation), its wall time (s))."""
+    energy drift, the pre-run's block fluctuation (transient.block_fluctuation), its wall time (s), the row's
+    gauge (``formal_gauge.row_gauge`` from gauge.eps_min on, with the price ``record``))."""
     params = Params.paper(eps=eps, b=cfg["b"], K2=cfg["K2"], formal=True)
     y0 = state_at_label(cfg["y0"], params, cfg["energy_label"])
     label = f"{scene}[eps={eps:g}]"
@@ -93,22 +94,30 @@ def _formal_row(cfg: dict, eps: float, scene: str) -> tuple:
                                      t_align=cfg["t_align"], regular_floor=cfg["regular_floor"],
                                      sigma=cfg["sigma"], label=label)
     drift = float(np.max(np.abs(equations.energy(res["final_state"], params) / equations.energy(y0, params) - 1)))
+    g = cfg["gauge"]
+    gauge = (formal_gauge.row_gauge(params, y, g, cfg["tol"], cfg["compact_mode"], cfg["transient"]["spike_factor"],
+                                    record) if eps >= g["eps_min"] else formal_gauge.not_gauged())
     row = (eps, float(res["exponents"][0]), float(res["stderr"][0]), res["status"], float(res["T"]),
-           int(pre["transient_over"]), drift, pre["transient_block_fluctuation"], pre_wall)
-    log.info("%s: lambda_1 = %.3g +- %.2g (%s, T = %.3g)", label, *row[1:5])
+           int(pre["transient_over"]), drift, pre["transient_block_fluctuation"], pre_wall, gauge)
+    log.info("%s: lambda_1 = %.3g +- %.2g (%s, T = %.3g)%s", label, *row[1:5],
+             f"; followed by {gauge['faithful_arithmetic']}" if gauge["faithful_arithmetic"] else "")
     return row
 
 
-def formal_exponents(cfg: dict, scene: str = "") -> xr.Dataset:
+def formal_exponents(cfg: dict, inputs: dict, scene: str = "") -> xr.Dataset:
     """C26: lambda_1 of the formal system (eps >= 1, m_c = 1 - eps <= 0, its inertia still positive
     definite) at each eps of the config, from y0 scaled to the label: a checked pre-run, then
     independent replicas along the settled orbit run in rounds (as lyapunov_spectrum) until lambda_1
     is resolved, regular or capped. The eps of ``elsewhere`` are computed by another config (named in
     the dataset, not here). Each pre-run also records how much omega's block means scatter and its
-    wall time, what a judge needs to tell an unfinished transient from one the rule cannot certify."""
+    wall time, what a judge needs to tell an unfinished transient from one the rule cannot certify. From
+    gauge.eps_min on, each row's faithfulness gauge (``formal_gauge.GAUGE_RULE``; ``inputs["price"]``: the price
+    record's path)."""
     start = time.perf_counter()
-    rows = [_formal_row(cfg, eps, scene) for eps in cfg["eps"]]
-    eps, lam, err, status, T, over, drift, fluct, pre_wall = (np.array(c) for c in zip(*rows))
+    record = trigger_price.load(inputs["price"])
+    rows = [_formal_row(cfg, eps, scene, record) for eps in cfg["eps"]]
+    gauges = [r[-1] for r in rows]
+    eps, lam, err, status, T, over, drift, fluct, pre_wall = (np.array(c) for c in zip(*(r[:-1] for r in rows)))
     ds = xr.Dataset(
         {"lambda_1": ("eps", lam, cf.attrs("largest Lyapunov exponent lambda_1 of the formal system", "rate")),
          "stderr": ("eps", err, cf.attrs("standard error of lambda_1 over independent replicas", "rate")),
@@ -119,7 +128,11 @@ def formal_exponents(cfg: dict, scene: str = "") -> xr.Dataset:
          "pre_run_wall_s": ("eps", pre_wall, cf.attrs("wall-clock time of the pre-run (one core)", "s"))},
         coords={"eps": eps},
     )
+    ds = ds.assign(_gauge_vars(gauges))
     ds.attrs.update(
+        gauge_rule=formal_gauge.GAUGE_RULE, gauge_eps_min=cfg["gauge"]["eps_min"], gauge_T=cfg["gauge"]["T"],
+        gauge_tau=cfg["gauge"]["tau"], price_rule=trigger_price.PRICE_RULE,
+        price_record_commit=str(record.get("git_commit", "")),
         scene=scene, backend="heyoka", method="Benettin over independent replicas (k = 1), formal system m_c = 1 - eps",
         param_b=cfg["b"], param_K2=cfg["K2"], energy_label=cfg["energy_label"], y0=cfg["y0"],
         tol=cfg["tol"], tau=cfg["tau"], replicas=cfg["replicas"], replica_spacing=cfg["replica_spacing"],
@@ -133,6 +146,14 @@ def formal_exponents(cfg: dict, scene: str = "") -> xr.Dataset:
     return ds
 
 
+def _gauge_vars(gauges: list[dict]) -> dict:
+    """The rows' gauge variables (``formal_gauge.FLOATS`` and ``TEXTS``; attributes from its VOCABULARY), each
+    (eps,)."""
+    out = {v: ("eps", np.array([g[v] for g in gauges], float)) for v in formal_gauge.FLOATS}
+    out.update({v: ("eps", np.array([g[v] for g in gauges], dtype=object)) for v in formal_gauge.TEXTS})
+    return out
+
+
 def _formal_exponents_checks(w, cfg):
     both = sorted(set(cfg["eps"]) & set(cfg.get("elsewhere", {}).get("eps", [])))
     if both:
@@ -142,6 +163,6 @@ def _formal_exponents_checks(w, cfg):
 FORMAL_EXPONENTS = SceneKind(
     name="formal_exponents",
     title="the largest Lyapunov exponent of the formal system, eps >= 1 (claim C26)",
-    compute=formal_exponents, realizable=True,
+    compute=formal_exponents, realizable=True, inputs=("price",), vocabulary=formal_gauge.VOCABULARY,
     records=lambda c: [*memory.pre_run(c, "t_transient"), *memory.benettin(c, 8)],
     checks=_formal_exponents_checks, pre_run="t_transient")
