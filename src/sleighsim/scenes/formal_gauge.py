@@ -16,6 +16,7 @@ from sleighsim.engine import integrators
 from sleighsim.precision import Precision
 from sleighsim.scenes import trigger_price
 from sleighsim.scenes.grid import LADDER
+
 #: The row's gauge variables: floats, then texts.
 FLOATS = ("gauge_ln_gain_max", "gauge_steps_per_cycle", "gauge_spike_interval", "gauge_needed_log10_rounding")
 TEXTS = ("faithful_arithmetic", "faithful_price")
