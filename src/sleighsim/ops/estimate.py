@@ -11,6 +11,7 @@ from pathlib import Path
 
 from sleighsim.io import layout
 from sleighsim.io.benchmark_files import CHUNK_RULES
+from sleighsim.ops import rowprices
 from sleighsim.ops.config import BASE_CONFIG, REPO
 from sleighsim.ops.workmodel import chunk_work, is_modelled, work
 from sleighsim.precision import Precision
@@ -89,14 +90,13 @@ def _chunk_rates(have: list, mcfg: dict, base: float) -> list[tuple[float, float
     return rates
 
 
-def _chunk_check(scene: str, block: dict, tcfg: dict, twork: list, rates: list, rate: float, base: float,
-                 est: dict) -> None:
-    """The largest chunk job of a scene against its chunk_runtime_min, under ``chunks``; a warning
-    when it exceeds it."""
+def _chunk_check(scene: str, block: dict, tcfg: dict, cpus: list, rates: list, est: dict) -> None:
+    """The largest chunk job of a scene (``cpus``: each target chunk's seconds) against its chunk_runtime_min,
+    under ``chunks``; a warning when it exceeds it."""
     holds = catalog.KINDS[tcfg["kind"]].chunk_holds  # a grid's chunk holds eps rows
-    k = max(range(len(twork)), key=lambda i: twork[i])
+    k = max(range(len(cpus)), key=lambda i: cpus[i])
     limit = block.get("chunk_runtime_min")
-    entry = {"scene": scene, "n_chunks": len(twork), "largest_s": base + rate * twork[k], "largest_chunk": k,
+    entry = {"scene": scene, "n_chunks": len(cpus), "largest_s": cpus[k], "largest_chunk": k,
              "eps": holds(tcfg, k) if holds else None,
              "limit_s": None if limit is None else 60.0 * limit,
              "rate_spread": [min(c / w for c, w in rates), max(c / w for c, w in rates)]}
@@ -108,28 +108,37 @@ def _chunk_check(scene: str, block: dict, tcfg: dict, twork: list, rates: list, 
                                "the horizons, before submitting")
 
 
+def _measured_chunks(have: list) -> dict:
+    """{chunk index: CPU seconds} of the measured chunk jobs."""
+    return {int(j["wildcards"].get("chunk", j["job"].rsplit("/", 1)[-1])): _job_cpu(j) for j in have
+            if j["rule"] in CHUNK_RULES}
+
+
 def _chunked_scene(scene: str, kind: str, block: dict, mcfg: dict, tcfg: dict, have: list, ratio: float,
-                   base: float, est: dict) -> None:
+                   base: float, est: dict, prices: dict | None = None) -> None:
     """A chunked scene's jobs: its chunks re-cut to the target's, at the measured CPU seconds per
-    unit of work of its measured chunks; its other jobs as measured."""
+    unit of work of its measured chunks (a grid whose run measured its row verdicts, ``prices``: each row's
+    verdict by its steps per cycle instead, ``rowprices.chunk_seconds``); its other jobs as measured."""
     rates = _chunk_rates(have, mcfg, base)
     if not rates:
         est["unmeasured"].append(scene)
         return
     rate = sum(c for c, _ in rates) / sum(w for _, w in rates)
-    twork = chunk_work(tcfg)
-    for k, w in enumerate(twork):
+    cpus = (rowprices.chunk_seconds(prices, mcfg, tcfg, _measured_chunks(have), base) if prices
+            else [base + rate * w for w in chunk_work(tcfg)])
+    for k, cpu in enumerate(cpus):
         est["jobs"].append({"job": f"chunk/{scene}/{k}", "rule": "chunk", "kind": kind, "scene": scene,
-                            "cpu_s": base + rate * w, "ratio": ratio})
+                            "cpu_s": cpu, "ratio": ratio})
     for j in have:
         if j["rule"] not in CHUNK_RULES:
             est["jobs"].append({"job": j["job"], "rule": j["rule"], "kind": kind, "scene": scene,
                                 "cpu_s": _job_cpu(j), "ratio": 1.0})
-    _chunk_check(scene, block, tcfg, twork, rates, rate, base, est)
+    _chunk_check(scene, block, tcfg, cpus, rates, est)
 
 
-def _scene_jobs(target: dict, measured: dict, mjobs: list, base: float, est: dict) -> None:
-    """The jobs of every scene of ``target``, scaled from the measured ones."""
+def _scene_jobs(target: dict, measured: dict, mjobs: list, base: float, est: dict, prices: dict) -> None:
+    """The jobs of every scene of ``target``, scaled from the measured ones (``prices``: the summary's measured
+    row verdicts per grid scene, ``rowprices.SECTION``)."""
     by_scene = defaultdict(list)
     for j in mjobs:
         if j.get("scene"):
@@ -145,7 +154,7 @@ def _scene_jobs(target: dict, measured: dict, mjobs: list, base: float, est: dic
         mcfg = catalog.scene_config(measured, scene)
         ratio = _scene_ratio(scene, kind, mcfg, tcfg, est)
         if catalog.KINDS[kind].chunked:
-            _chunked_scene(scene, kind, block, mcfg, tcfg, have, ratio, base, est)
+            _chunked_scene(scene, kind, block, mcfg, tcfg, have, ratio, base, est, prices.get(scene))
         else:
             for j in have:
                 est["jobs"].append({"job": j["job"], "rule": j["rule"], "kind": kind, "scene": scene,
@@ -263,7 +272,7 @@ def estimate(target: dict, summary: dict) -> dict:
         raise ValueError("the measured summary records no config values: cannot compare configs")
     base = startup_s(summary)
     est = {"jobs": [], "scaled": [], "changed_not_scaled": [], "unmeasured": [], "chunks": [], "warnings": []}
-    _scene_jobs(target, measured, summary["jobs"], base, est)
+    _scene_jobs(target, measured, summary["jobs"], base, est, summary.get(rowprices.SECTION) or {})
     _new_jobs(target, summary["jobs"], est)
     _other_jobs(target, summary["jobs"], est)
     if est["unmeasured"]:

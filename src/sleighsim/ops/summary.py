@@ -18,6 +18,8 @@ Summary schema (``schema: sleighsim.costs/1``; seconds throughout; lists sorted 
     scenes: {scene: {kind, jobs, cpu_s, wall_s}}                  scene, chunk and gather jobs
     critical_path: {wall_s, jobs: [{job, rule, wall_s}], dag_jobs, predicted_wall_s: {cores: s}} or null
                                 without a job graph (predicted: jobgraph.predicted_wall, measured job walls)
+    row_verdicts: {scene: {cost_per_cycle_step_s, steps_per_cycle_law, rows}}  each Lyapunov grid's measured
+                                row verdicts, what the estimate prices other grids' rows by (ops.rowprices)
     notes: [...]
 
 ``cpu_time`` is sampled by Snakemake (every 0.5 s for the first 15 s of a job, then every 30 s),
@@ -35,6 +37,7 @@ import yaml
 
 from sleighsim.io.benchmark_files import read_benchmark, rule_from_path
 from sleighsim.io.netcdf import atomic_path
+from sleighsim.ops import rowprices
 from sleighsim.ops.config import BASE_CONFIG, merged_config
 from sleighsim.ops.facts import git_commit, machine_facts
 from sleighsim.ops.jobgraph import COSTS_DIR, DAG_FILE, DRYRUN_FILE, critical_path, job_graph, predicted_wall
@@ -208,6 +211,7 @@ def summarize(workdir, wall_s: float, config_label, *, config: dict | None = Non
         "jobs": jobs,
         "scenes": scenes,
         "critical_path": crit,
+        rowprices.SECTION: rowprices.measured(workdir / results, config),
         "notes": notes,
     }
 

@@ -329,7 +329,7 @@ WORK_KEYS = ("eps_range", "n_eps", "n_chunks", "reference_eps", "t_pre", "t_pre_
              "eps_min", "realizations", "T")
 
 
-def grid_rows(cfg: dict) -> list[tuple[float, float]]:
+def grid_rows(cfg: dict, *, verdict: bool = True) -> list[tuple[float, float]]:
     """(eps, work) of every row of a lyapunov_grid block, following :func:`row`, in time units
     integrated at slow time s = reference_eps / eps:
 
@@ -346,7 +346,8 @@ def grid_rows(cfg: dict) -> list[tuple[float, float]]:
       which the model does not know before the run).
 
     n_b costs nothing: b is an exact symmetry and every row is computed once at b = 1; a row left to
-    another config (``elsewhere``) costs nothing here."""
+    another config (``elsewhere``) costs nothing here. ``verdict=False`` leaves the verdict's term out (the cost
+    estimate prices it by the row's steps per cycle instead: ``sleighsim.ops.rowprices``)."""
     eps_all, _ = axes(cfg)
     ref, away = reference_row(cfg), elsewhere(cfg)
     rows = []
@@ -360,9 +361,9 @@ def grid_rows(cfg: dict) -> list[tuple[float, float]]:
         w += cfg.get("T_gain", 0.0) * s
         if i == ref:
             w += len(cfg.get("b_check") or ()) * (cfg["t_align"] + cfg["T_round"]) * s
-        verdict = cfg.get("verdict")  # a measured run's config from before row verdicts has none
-        if verdict and eps >= verdict["eps_min"]:
-            w += verdict["realizations"] * verdict["T"] * MARGIN * s
+        judged = cfg.get("verdict")  # a measured run's config from before row verdicts has none
+        if verdict and judged and eps >= judged["eps_min"]:
+            w += judged["realizations"] * judged["T"] * MARGIN * s
         rows.append((float(eps), float(w)))
     return rows
 
