@@ -118,6 +118,7 @@ def test_the_ledger_dataset_holds_its_verdicts_as_cf_flags_and_the_configs_ident
         meanings = flag.attrs["flag_meanings"].split()
         assert list(flag.attrs["flag_values"]) == list(range(len(meanings))) and flag.dtype == np.int8
         assert [meanings[v].replace("_", " ") for v in flag.values] == [str(x) for x in ds[text].values]
+        assert flag.attrs["long_name"] == claims.VOCABULARY[var][0] and flag.attrs["units"] == "1"
     assert cf.missing(ds) == []
     assert [r.run_verdict for r in claims.read(tmp_path / "claims.nc")] == ["reproduced", "differs", "check failed"]
     assert (tmp_path / "claims.csv").read_text().splitlines()[0].endswith(",run_verdict")

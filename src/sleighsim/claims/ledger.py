@@ -51,7 +51,7 @@ from sleighsim.claims.figure_rows import figure_from_claims, files, judge_figure
 from sleighsim.claims.judges import JUDGES
 from sleighsim.claims.rules import CANNOT, DIFFERS, DOUBLE_ONLY, FRAGILE, NOT_YET, REPRODUCED, VERDICTS
 from sleighsim.claims.setup_columns import cause_with_setup, columns
-from sleighsim.io import layout
+from sleighsim.io import cf, layout
 from sleighsim.io.claims_table import Claim, parse_claims
 from sleighsim.io.netcdf import read_dataset, write_dataset, write_text
 from sleighsim.precision import Precision
@@ -390,12 +390,10 @@ VOCABULARY = {"run_verdict": ("the verdict the rules give on this run's own data
               "run_verdict_flag": ("run_verdict as a flag (flag_meanings: the verdicts, spaces as _)", "1")}
 
 
-def _flag(verdicts) -> xr.Variable:
-    """The verdicts as a CF flag variable along ``id``: their indices in VERDICTS (int8), with
-    flag_values and flag_meanings."""
-    return xr.Variable("id", np.array([VERDICTS.index(v) for v in verdicts], dtype=np.int8),
-                       attrs={"flag_values": np.arange(len(VERDICTS), dtype=np.int8),
-                              "flag_meanings": " ".join(v.replace(" ", "_") for v in VERDICTS)})
+def _flag(name: str, verdicts) -> tuple:
+    """The verdicts as the CF flag variable ``name`` along ``id`` (``io.cf.flags``: their indices in VERDICTS,
+    int8, with flag_values and flag_meanings; its long_name the ledger's VOCABULARY's)."""
+    return cf.flags("id", list(verdicts), VERDICTS, VOCABULARY[name][0])
 
 
 def to_dataset(rows: list[Row]) -> xr.Dataset:
@@ -406,8 +404,8 @@ def to_dataset(rows: list[Row]) -> xr.Dataset:
     data = {n: ("id", np.array([getattr(r, n) for r in rows], dtype=float) if n == "difference"
                 else np.array([str(getattr(r, n)) for r in rows], dtype=object)) for n in names}
     ds = xr.Dataset(data, coords={"id": [r.id for r in rows]})
-    ds["verdict_flag"] = _flag(r.verdict for r in rows)
-    ds["run_verdict_flag"] = _flag(r.run_verdict or r.verdict for r in rows)
+    ds["verdict_flag"] = _flag("verdict_flag", (r.verdict for r in rows))
+    ds["run_verdict_flag"] = _flag("run_verdict_flag", (r.run_verdict or r.verdict for r in rows))
     ds.attrs.update({f"n_{v.replace(' ', '_')}": sum(r.verdict == v for r in rows) for v in VERDICTS})
     ds.attrs.update(rel_tol=rules.REL_TOL, k_sigma=rules.K_SIGMA, slight=rules.SLIGHT, great=rules.GREAT,
                     rules=rules.VERDICT_RULES, precision_rule=IN_PRECISION_RULE, faithful_rule=FAITHFUL_RULE,
