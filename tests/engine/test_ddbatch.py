@@ -78,6 +78,19 @@ def test_every_lane_is_ddflow_bit_for_bit(rng, lanes):
         assert flow.steps == batch.steps[lane]
 
 
+def test_the_widest_block_is_two_of_the_hosts_vector_registers():
+    """16 lanes with AVX-512 (8 doubles a register), 8 with AVX2 (4), where 16 would spill; 9 lanes then run as
+    one block of 16 or two of 8, each lane bit for bit DDFlow's either way (the tests below run at the host's)."""
+    from llvmlite import binding
+
+    from sleighsim.engine import ddbatch
+
+    doubles = ddbatch.host_vector_doubles()
+    assert doubles == (8 if binding.get_host_cpu_features().get("avx512f") else 4)
+    assert ddbatch.MAX_WIDTH == 2 * doubles and ddbatch.block_width(9) == 2 * doubles
+    assert ddbatch.block_width(3) == 4 and ddbatch.block_width(1) == 1
+
+
 def test_one_orbit_on_grids_of_different_lengths_is_ddflow_on_each_bit_for_bit():
     """propagate_grids: one start, three grids (3, 7 and 1 times; the shorter padded), each lane DDFlow's."""
     grids = [np.array([0.5, 3.0, 9.0]), np.linspace(0.0, 12.0, 7), np.array([4.0])]

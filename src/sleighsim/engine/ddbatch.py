@@ -28,8 +28,19 @@ from sleighsim.model.params import Params, integer, positive
 
 #: Most lanes one batch takes (the series arrays of the tangent program at 1e-34: 71 kB per lane).
 MAX_LANES = 1024
-#: Widest block of lanes evaluated together in vectors (16 doubles: two AVX-512 registers per value).
-MAX_WIDTH = 16
+
+
+def host_vector_doubles() -> int:
+    """Doubles in the host CPU's widest vector register: 8 with AVX-512 (avx512f), else 4 (AVX2's 256 bits)."""
+    from llvmlite import binding
+
+    return 8 if binding.get_host_cpu_features().get("avx512f") else 4
+
+
+#: Widest block of lanes evaluated together in vectors: two of the host's vector registers per value (16 doubles
+#: with AVX-512, 8 with AVX2, where a block of 16 spills its registers and costs several times one of 8). A lane's
+#: numbers do not depend on the width (tested).
+MAX_WIDTH = 2 * host_vector_doubles()
 #: Step control: each lane its own step, or the smallest of them for every lane.
 STEPS = ("lane", "common")
 _WHY = {ddlanes.TOO_MANY_STEPS: "more than max_steps steps", ddlanes.NOT_FINITE: "a non-finite step or state"}
