@@ -246,7 +246,7 @@ def gauged(eps, lam, arithmetic, need=None, price=None, ln_gain=None):
         faithful_arithmetic=("eps", np.array(arithmetic, object)),
         gauge_needed_log10_rounding=("eps", need or [np.nan] * n),
         faithful_price=("eps", np.array(price or [""] * n, object)),
-        gauge_ln_gain_max=("eps", ln_gain or [np.nan] * n))
+        row_ln_gain_max=("eps", ln_gain or [np.nan] * n))
 
 
 def test_c26s_gauged_rows_name_the_arithmetic_that_follows_or_the_rounding_they_need_and_its_price():

@@ -53,4 +53,4 @@ def test_a_row_without_two_spikes_within_t_is_unknown_and_not_priced():
     """The real gauge on the eps = 25 formal orbit over 100 time units (its spikes hundreds apart)."""
     g = formal_gauge.row_gauge(P25, [0.0, 0.1, 1.0, 0.0], {"T": 100.0, "tau": 2.0}, 2.0**-52, True, 1.8, RECORD)
     assert g["faithful_arithmetic"].startswith("unknown (fewer than two spikes within gauge.T = 100)")
-    assert math.isnan(g["gauge_ln_gain_max"]) and g["faithful_price"] == ""
+    assert math.isnan(g["row_ln_gain_max"]) and g["faithful_price"] == ""

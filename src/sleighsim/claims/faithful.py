@@ -408,7 +408,7 @@ def formal_rows(paper, formal) -> Faithful:
     arith = formal.faithful_arithmetic.values if "faithful_arithmetic" in formal else np.full(n, "", object)
     need = formal.gauge_needed_log10_rounding.values if "faithful_arithmetic" in formal else np.full(n, math.nan)
     price = formal.faithful_price.values if "faithful_arithmetic" in formal else np.full(n, "", object)
-    ln_gain = formal.gauge_ln_gain_max.values if "faithful_arithmetic" in formal else np.full(n, math.nan)
+    ln_gain = formal.row_ln_gain_max.values if "faithful_arithmetic" in formal else np.full(n, math.nan)
     rows = np.flatnonzero(big)
     parts = [_formal_row_text(eps[i], lam[i], T[i], str(arith[i]), need[i], str(price[i]), ln_gain[i]) for i in rows]
     if all(str(arith[i]) == Precision.DOUBLE.value for i in rows):

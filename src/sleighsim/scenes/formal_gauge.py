@@ -18,13 +18,12 @@ from sleighsim.scenes import trigger_price
 from sleighsim.scenes.grid import LADDER
 
 #: The row's gauge variables: floats, then texts.
-FLOATS = ("gauge_ln_gain_max", "gauge_steps_per_cycle", "gauge_spike_interval", "gauge_needed_log10_rounding")
+FLOATS = ("row_ln_gain_max", "row_gain_steps_per_cycle", "gauge_spike_interval", "gauge_needed_log10_rounding")
 TEXTS = ("faithful_arithmetic", "faithful_price")
 
-#: The (long_name, kind) of the gauge's variables (sleighsim.io.cf; faithful_arithmetic is the shared vocabulary's).
+#: The (long_name, kind) of the gauge's own variables (sleighsim.io.cf); row_ln_gain_max, row_gain_steps_per_cycle
+#: and faithful_arithmetic mean what they mean on F11's rows (the shared vocabulary's).
 VOCABULARY = {
-    "gauge_ln_gain_max": ("largest ln G of a complete spike cycle along the row's settled orbit (the gauge)", "1"),
-    "gauge_steps_per_cycle": ("the gauge's Taylor steps per spike cycle of the row's orbit (double)", "1"),
     "gauge_spike_interval": ("mean spike interval of the gauge's run", "time"),
     "gauge_needed_log10_rounding": ("log10 of the unit roundoff an arithmetic needs to follow the row's orbit, where "
                                     "none of the gauge's ladder does", "1"),
@@ -63,7 +62,7 @@ def row_gauge(params, y, g: dict, tol: float, compact_mode: bool, spike_factor: 
     if not math.isfinite(gauge["ln_gain_max"]):
         return not_gauged(f"unknown (fewer than two spikes within gauge.T = {g['T']:g})")
     interval = float(np.mean(np.diff(gauge["spike_times"])))
-    out = {"gauge_ln_gain_max": gauge["ln_gain_max"], "gauge_steps_per_cycle": gauge["steps_per_cycle"],
+    out = {"row_ln_gain_max": gauge["ln_gain_max"], "row_gain_steps_per_cycle": gauge["steps_per_cycle"],
            "gauge_spike_interval": interval, "gauge_needed_log10_rounding": math.nan, "faithful_price": ""}
     best = cheapest(gauge)
     if best is not None:
