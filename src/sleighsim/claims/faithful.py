@@ -25,6 +25,7 @@ from sleighsim.chaos.rule import FRAGILE, agree
 from sleighsim.claims.judges.steady_state import PATH_RULE, path_verdict
 from sleighsim.claims.rules import CANNOT, DIFFERS, K_SIGMA, NOT_YET, REPRODUCED, SLIGHT, fmt, severity
 from sleighsim.precision import Precision
+from sleighsim.scenes.formal_gauge import FLOATS, TEXTS, not_gauged
 from sleighsim.scenes.grid_verdict import NOT_JUDGED
 
 #: faithful_verdict of a claim whose own datasets are computed in an arithmetic that follows their orbits:
@@ -394,6 +395,16 @@ def _formal_row_text(e: float, m: float, t: float, arithmetic: str, need: float,
                                                  if math.isfinite(ln_gain) else "")
 
 
+def _gauged(formal):
+    """The formal dataset with its rows' gauge variables; one written before the gauge existed has every row not
+    gauged (``scenes.formal_gauge.not_gauged``)."""
+    if "faithful_arithmetic" in formal:
+        return formal
+    blank = not_gauged()
+    return formal.assign({v: ("eps", np.full(formal.eps.size, blank[v], dtype=object if v in TEXTS else float))
+                          for v in (*FLOATS, *TEXTS)})
+
+
 def formal_rows(paper, formal) -> Faithful:
     """C26: lambda_1 below the paper's bound for eps above its threshold, computed in double (the formal system).
     Each row above it is read by its gauge (``scenes.formal_gauge``: the cheapest arithmetic that follows its
@@ -404,11 +415,9 @@ def formal_rows(paper, formal) -> Faithful:
     big = eps > paper["eps_above"]
     if not big.any():
         return Faithful("not computed: no eps above the paper's threshold computed", "unknown (no row)", NOT_YET)
-    n = eps.size
-    arith = formal.faithful_arithmetic.values if "faithful_arithmetic" in formal else np.full(n, "", object)
-    need = formal.gauge_needed_log10_rounding.values if "faithful_arithmetic" in formal else np.full(n, math.nan)
-    price = formal.faithful_price.values if "faithful_arithmetic" in formal else np.full(n, "", object)
-    ln_gain = formal.row_ln_gain_max.values if "faithful_arithmetic" in formal else np.full(n, math.nan)
+    g = _gauged(formal)
+    arith, need, price, ln_gain = (g[v].values for v in ("faithful_arithmetic", "gauge_needed_log10_rounding",
+                                                          "faithful_price", "row_ln_gain_max"))
     rows = np.flatnonzero(big)
     parts = [_formal_row_text(eps[i], lam[i], T[i], str(arith[i]), need[i], str(price[i]), ln_gain[i]) for i in rows]
     if all(str(arith[i]) == Precision.DOUBLE.value for i in rows):

@@ -77,17 +77,17 @@ def _scene_ratio(scene: str, kind: str, mcfg: dict, tcfg: dict, est: dict) -> fl
     return ratio
 
 
+def _measured_chunks(have: list) -> dict:
+    """{chunk index: CPU seconds} of the measured chunk jobs."""
+    return {int(j["wildcards"].get("chunk", j["job"].rsplit("/", 1)[-1])): _job_cpu(j) for j in have
+            if j["rule"] in CHUNK_RULES}
+
+
 def _chunk_rates(have: list, mcfg: dict, base: float) -> list[tuple[float, float]]:
     """(CPU seconds above startup, work) of each measured chunk job with work."""
     mwork = chunk_work(mcfg)
-    rates = []
-    for j in have:
-        if j["rule"] not in CHUNK_RULES:
-            continue
-        k = int(j["wildcards"].get("chunk", j["job"].rsplit("/", 1)[-1]))
-        if k < len(mwork) and mwork[k] > 0:
-            rates.append((max(_job_cpu(j) - base, 0.0), mwork[k]))
-    return rates
+    return [(max(cpu - base, 0.0), mwork[k]) for k, cpu in _measured_chunks(have).items()
+            if k < len(mwork) and mwork[k] > 0]
 
 
 def _chunk_check(scene: str, block: dict, tcfg: dict, cpus: list, rates: list, est: dict) -> None:
@@ -106,12 +106,6 @@ def _chunk_check(scene: str, block: dict, tcfg: dict, cpus: list, rates: list, e
         est["warnings"].append(f"{scene}: chunk {k} is estimated at {entry['largest_s'] / 60:.4g} min, more than "
                                f"chunk_runtime_min = {limit} min: raise chunk_runtime_min or n_chunks, or lower "
                                "the horizons, before submitting")
-
-
-def _measured_chunks(have: list) -> dict:
-    """{chunk index: CPU seconds} of the measured chunk jobs."""
-    return {int(j["wildcards"].get("chunk", j["job"].rsplit("/", 1)[-1])): _job_cpu(j) for j in have
-            if j["rule"] in CHUNK_RULES}
 
 
 def _chunked_scene(scene: str, kind: str, block: dict, mcfg: dict, tcfg: dict, have: list, ratio: float,

@@ -79,7 +79,7 @@ def chunk_seconds(section: dict, mcfg: dict, tcfg: dict, measured_chunks: dict, 
     spent, work = 0.0, 0.0
     for k, cpu in measured_chunks.items():
         rows = m_rows[k::n_m]
-        verdicts = sum(w for e, _ in rows if math.isfinite(w := walls.get(round(e, 12), 0.0)))
+        verdicts = np.nansum([walls.get(round(e, 12), 0.0) for e, _ in rows])
         spent += max(cpu - base - verdicts, 0.0)
         work += sum(w for _, w in rows)
     rate = spent / work if work > 0 else 0.0
