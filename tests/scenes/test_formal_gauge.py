@@ -20,7 +20,7 @@ P25 = Params.paper(eps=25.0, b=1.0, K2=1.1, formal=True)
 
 def fake(monkeypatch, follows, ln_gain=83.4, steps=3.25e4):
     answers = dict(zip(formal_gauge.LADDER, follows))
-    monkeypatch.setattr(formal_gauge, "spike_cycle_gains", lambda *a, **k: {
+    monkeypatch.setattr(formal_gauge, "settled_gains", lambda *a, **k: {
         "ln_gain_max": ln_gain, "steps_per_cycle": steps, "follows": answers,
         "spike_times": np.array([100.0, 500.0, 1000.0])})
 

@@ -31,7 +31,7 @@ def test_a_rows_gauge_names_the_cheapest_arithmetic_that_follows_or_none_or_unkn
     from sleighsim.scenes import grid
 
     answers = dict(zip(grid.LADDER, follows))
-    monkeypatch.setattr(grid, "spike_cycle_gains", lambda *a, **k: {
+    monkeypatch.setattr(grid, "settled_gains", lambda *a, **k: {
         "ln_gain_max": 30.0, "steps_per_cycle": 1e4, "follows": answers,
         "log10_gain_rounding": {a: float(i) for i, a in enumerate(grid.LADDER)}})
     cfg = {"tol": 1e-12, "compact_mode": True, "T_gain": 100.0, "tau_gain": 5.0, "transient": {"spike_factor": 1.8}}

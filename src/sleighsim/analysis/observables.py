@@ -116,15 +116,11 @@ def gauge(params_cfg: dict, y, *, T: float, tau: float, spike_factor: float, tol
     per spike cycle (``faithfulness.spike_cycle_gains``; "unknown" without a complete cycle within T) or, with
     ``window``, over the whole window [0, T] (``faithfulness.window_gains``: an orbit without a spike cycle in
     its data's window) and, per arithmetic, G x rounding and whether it follows the orbit."""
-    from sleighsim.chaos.faithfulness import spike_cycle_gains, window_gains
-    from sleighsim.engine import integrators
+    from sleighsim.chaos.faithfulness import settled_gains
     from sleighsim.model.params import Params
 
-    ta, _ = integrators.sleigh_tangent(4, tol, True)
-    integrators.set_pars(ta, Params.from_config(params_cfg))
-    if window:
-        return window_gains(ta, np.asarray(y, float), T=T, tau=tau)
-    return spike_cycle_gains(ta, np.asarray(y, float), T=T, tau=tau, spike_factor=spike_factor)
+    return settled_gains(Params.from_config(params_cfg), y, tol=tol, compact_mode=True, T=T, tau=tau,
+                         spike_factor=spike_factor, window=window)
 
 
 #: What the gauge's gains span, by its ``window`` setting.

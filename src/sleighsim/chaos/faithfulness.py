@@ -252,3 +252,14 @@ def spike_cycle_gains(ta, y0, *, T: float, tau: float = 5.0, spike_factor: float
     per_time = run["steps"] / (run["t"].size * tau)
     per_cycle = per_time * float(np.mean(np.diff(spikes))) if len(spikes) >= 2 else math.nan
     return _gauge(ln_gain, per_cycle, spikes)
+
+
+def settled_gains(params, y0, *, tol: float, compact_mode: bool, T: float, tau: float, spike_factor: float,
+                  window: bool = False) -> dict:
+    """The gauge along the orbit from ``y0`` at ``params`` (:class:`~sleighsim.model.params.Params`), in double
+    at ``tol``: :func:`spike_cycle_gains` or, with ``window``, :func:`window_gains` over [0, T] in steps of tau."""
+    ta, _ = integrators.sleigh_tangent(4, tol, compact_mode)
+    integrators.set_pars(ta, params)
+    if window:
+        return window_gains(ta, np.asarray(y0, float), T=T, tau=tau)
+    return spike_cycle_gains(ta, np.asarray(y0, float), T=T, tau=tau, spike_factor=spike_factor)

@@ -11,8 +11,7 @@ import math
 
 import numpy as np
 
-from sleighsim.chaos.faithfulness import FAITHFUL_MAX, FOLLOWS, log10_gain_rounding, spike_cycle_gains
-from sleighsim.engine import integrators
+from sleighsim.chaos.faithfulness import FAITHFUL_MAX, FOLLOWS, log10_gain_rounding, settled_gains
 from sleighsim.precision import Precision
 from sleighsim.scenes import trigger_price
 from sleighsim.scenes.grid import LADDER
@@ -56,9 +55,8 @@ def cheapest(gauge: dict) -> Precision | None:
 def row_gauge(params, y, g: dict, tol: float, compact_mode: bool, spike_factor: float, record: dict) -> dict:
     """:data:`GAUGE_RULE` for one row from its settled state ``y`` (model variables) at ``params``, with the gauge
     block ``g`` (T, tau), the tolerance and compact mode of the double run and the price ``record``."""
-    ta, _ = integrators.sleigh_tangent(4, tol, compact_mode)
-    integrators.set_pars(ta, params)
-    gauge = spike_cycle_gains(ta, y, T=g["T"], tau=g["tau"], spike_factor=spike_factor)
+    gauge = settled_gains(params, y, tol=tol, compact_mode=compact_mode, T=g["T"], tau=g["tau"],
+                          spike_factor=spike_factor)
     if not math.isfinite(gauge["ln_gain_max"]):
         return not_gauged(f"unknown (fewer than two spikes within gauge.T = {g['T']:g})")
     interval = float(np.mean(np.diff(gauge["spike_times"])))

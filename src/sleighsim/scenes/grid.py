@@ -18,7 +18,7 @@ import numpy as np
 import xarray as xr
 
 from sleighsim.chaos import benettin
-from sleighsim.chaos.faithfulness import DOES_NOT_FOLLOW, FOLLOWS, UNKNOWN, spike_cycle_gains
+from sleighsim.chaos.faithfulness import DOES_NOT_FOLLOW, FOLLOWS, UNKNOWN, settled_gains
 from sleighsim.engine import integrators, poincare, transient
 from sleighsim.engine.integrate import orbit_samples
 from sleighsim.engine.transient import settle
@@ -192,10 +192,8 @@ def row_gauge(p: Params, y, cfg: dict, s: float, arithmetic: Precision) -> dict:
     """The row's faithfulness gauge (:data:`GAUGE_RULE`): row_ln_gain_max, row_gain_steps_per_cycle,
     row_log10_gain_rounding (G_max x steps x unit roundoff of ``arithmetic``, log10) and faithful_code (the
     index in LADDER of the cheapest arithmetic that follows; len(LADDER): none; NaN: unknown)."""
-    ta, _ = integrators.sleigh_tangent(4, cfg["tol"], cfg["compact_mode"])
-    integrators.set_pars(ta, p)
-    g = spike_cycle_gains(ta, y, T=cfg["T_gain"] * s, tau=cfg["tau_gain"] * s,
-                          spike_factor=cfg["transient"]["spike_factor"])
+    g = settled_gains(p, y, tol=cfg["tol"], compact_mode=cfg["compact_mode"], T=cfg["T_gain"] * s,
+                      tau=cfg["tau_gain"] * s, spike_factor=cfg["transient"]["spike_factor"])
     follows = [g["follows"][a] for a in LADDER]
     code = math.nan if UNKNOWN in follows else next((i for i, f in enumerate(follows) if f == FOLLOWS), len(LADDER))
     return {"row_ln_gain_max": g["ln_gain_max"], "row_gain_steps_per_cycle": g["steps_per_cycle"],

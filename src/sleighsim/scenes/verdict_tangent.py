@@ -8,7 +8,7 @@ import logging
 import math
 
 from sleighsim.chaos import benettin
-from sleighsim.chaos.faithfulness import spike_cycle_gains
+from sleighsim.chaos.faithfulness import settled_gains
 from sleighsim.chaos.megno import (
     judge_megno_run,
     megno,
@@ -40,9 +40,8 @@ def gain_run(params, y, cfg: dict) -> dict:
     """The faithfulness gauge along the settled orbit from y: ln G of each spike cycle (the largest
     singular value of the one-period tangent map, ``faithfulness.spike_cycle_gains``) over T_gain, in
     double at tol, and G x rounding per arithmetic."""
-    ta, _ = integrators.sleigh_tangent(4, cfg["tol"], cfg["compact_mode"])
-    integrators.set_pars(ta, params)
-    return spike_cycle_gains(ta, y, T=cfg["T_gain"], tau=cfg["tau_gain"], spike_factor=cfg["transient"]["spike_factor"])
+    return settled_gains(params, y, tol=cfg["tol"], compact_mode=cfg["compact_mode"], T=cfg["T_gain"],
+                         tau=cfg["tau_gain"], spike_factor=cfg["transient"]["spike_factor"])
 
 
 def replica_run(params, replicas, cfg: dict, scene: str) -> dict:
