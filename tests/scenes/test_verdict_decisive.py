@@ -88,8 +88,10 @@ def test_a_decisive_state_must_be_a_state_of_the_block_named_once(decisive):
 
 def test_the_decisive_lanes_must_fit_one_batch():
     verdict._checks("scenes.chaos_verdict", _cfg(decisive=("main", "rotor_a", "rotor_b"), n_chunks=341))  # 1023
+    one = _cfg(decisive=("main", "rotor_a"), n_chunks=513)
+    one["decisive"]["jobs"] = 1
     with pytest.raises(ConfigError, match="would make 1026 lanes of a decisive job .decisive.jobs = 1.; at most 1024"):
-        verdict._checks("scenes.chaos_verdict", _cfg(decisive=("main", "rotor_a"), n_chunks=513))
+        verdict._checks("scenes.chaos_verdict", one)
     two = _cfg(decisive=("main", "rotor_a"), n_chunks=513)
     two["decisive"]["jobs"] = 2  # 513 lanes each
     verdict._checks("scenes.chaos_verdict", two)
@@ -109,6 +111,18 @@ def test_the_decisive_lanes_cut_into_jobs_contiguously_and_as_even_as_they_go():
     cfg["decisive"]["jobs"] = 10
     with pytest.raises(ConfigError, match="decisive.jobs = 10: more jobs than the 9 lanes"):
         verdict._checks("scenes.chaos_verdict", cfg)
+
+
+@pytest.mark.parametrize("width, jobs, lanes", [(16, 1, [9]), (8, 2, [5, 4]), (4, 3, [3, 3, 3])])
+def test_unset_decisive_jobs_make_one_job_per_block_of_the_hosts_widest_vector(monkeypatch, width, jobs, lanes):
+    """decisive.jobs unset: 9 lanes make ceil(9 / MAX_WIDTH) jobs (AVX-512's 16: one; AVX2's 8: two), cut as even
+    as they go; a set decisive.jobs wins."""
+    monkeypatch.setattr(verdict, "MAX_WIDTH", width)
+    cfg = _cfg(decisive=("main", "rotor_a", "rotor_b"))
+    assert verdict._chunk_count(cfg) == 9 + jobs
+    assert [len(verdict._job_lanes(cfg, j)) for j in range(jobs)] == lanes
+    cfg["decisive"]["jobs"] = 1
+    assert verdict._chunk_count(cfg) == 9 + 1
 
 
 def _stage1(verdicts: dict, ln_gain=36.0):

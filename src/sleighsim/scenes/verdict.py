@@ -36,7 +36,7 @@ from sleighsim.chaos.rule import (
 from sleighsim.chaos.two_trajectory import two_trajectory_indicator
 from sleighsim.chaos.verdicts import CHAOTIC, VERDICTS
 from sleighsim.engine import integrators
-from sleighsim.engine.ddbatch import MAX_LANES
+from sleighsim.engine.ddbatch import MAX_LANES, MAX_WIDTH
 from sleighsim.engine.integrate import orbit_samples
 from sleighsim.engine.transient import settle
 from sleighsim.io import cf
@@ -242,8 +242,12 @@ def _decisive_lanes(cfg: dict) -> list[tuple[int, str]]:
 
 
 def _decisive_jobs(cfg: dict) -> int:
-    """The decisive stage's jobs: decisive.jobs (1 when unset), none without decisive states."""
-    return int(cfg["decisive"].get("jobs", 1)) if cfg["decisive"]["states"] else 0
+    """The decisive stage's jobs: decisive.jobs or, when unset, one per block of the host's widest vector
+    (``ddbatch.MAX_WIDTH`` lanes), so that its blocks run side by side rather than one after another; none
+    without decisive states."""
+    if not cfg["decisive"]["states"]:
+        return 0
+    return int(cfg["decisive"].get("jobs") or math.ceil(len(_decisive_lanes(cfg)) / MAX_WIDTH))
 
 
 def _job_lanes(cfg: dict, job: int) -> list[tuple[int, str]]:
