@@ -58,3 +58,4 @@ def test_chunk_seconds_price_the_rows_a_target_judges_by_their_steps():
     assert more[0] - measured[0] == pytest.approx(0.01 * STEPS[0])  # chunk 0 holds rows 0.05 and 0.2
     assert more[1] - measured[1] == pytest.approx(0.01 * STEPS[1])
     assert math.isclose(sum(more), sum(measured.values()) + 0.01 * (STEPS[0] + STEPS[1]))
+    assert all(type(s) is float for s in same + more)  # plain floats: a numpy scalar stops the YAML record

@@ -79,7 +79,7 @@ def chunk_seconds(section: dict, mcfg: dict, tcfg: dict, measured_chunks: dict, 
     spent, work = 0.0, 0.0
     for k, cpu in measured_chunks.items():
         rows = m_rows[k::n_m]
-        verdicts = np.nansum([walls.get(round(e, 12), 0.0) for e, _ in rows])
+        verdicts = float(np.nansum([walls.get(round(e, 12), 0.0) for e, _ in rows]))
         spent += max(cpu - base - verdicts, 0.0)
         work += sum(w for _, w in rows)
     rate = spent / work if work > 0 else 0.0
@@ -87,4 +87,4 @@ def chunk_seconds(section: dict, mcfg: dict, tcfg: dict, measured_chunks: dict, 
     cost = [rate * w + (verdict_price(section, e, mcfg, tcfg) if judged[i] else 0.0)
             for i, (e, w) in enumerate(t_rows)]
     n_t = tcfg["n_chunks"]
-    return [base + sum(cost[k::n_t]) for k in range(n_t)]
+    return [float(base + sum(cost[k::n_t])) for k in range(n_t)]  # plain floats: the record is YAML
