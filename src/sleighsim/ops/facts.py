@@ -26,14 +26,24 @@ def git_commit(repo=REPO) -> str:
     return head + ("-dirty" if dirty else "")
 
 
+def widest_vector(flags) -> str:
+    """The widest vector extension among the CPU's ``flags`` (/proc/cpuinfo's): AVX-512, AVX2, AVX or "SSE or
+    none". The double-double engine's blocks follow it (``engine.ddbatch.MAX_WIDTH``), so a job's time does too."""
+    names = {"avx512f": "AVX-512", "avx2": "AVX2", "avx": "AVX"}
+    return next((name for flag, name in names.items() if flag in set(flags)), "SSE or none")
+
+
 def machine_facts() -> dict:
-    """Cores usable here, CPU model, memory (GB), platform, Python and Snakemake versions, as a dict."""
-    model, mem_gb = "unknown", None
+    """Cores usable here, CPU model, its widest vector extension, memory (GB), platform, Python and Snakemake
+    versions, as a dict."""
+    model, flags, mem_gb = "unknown", None, None
     try:
         for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.lower().startswith("model name"):
+            key = line.split(":", 1)[0].strip().lower()
+            if key == "model name" and model == "unknown":
                 model = line.split(":", 1)[1].strip()
-                break
+            elif key == "flags" and flags is None:
+                flags = line.split(":", 1)[1].split()
     except OSError:
         pass
     try:
@@ -51,5 +61,6 @@ def machine_facts() -> dict:
         snakemake_version = metadata.version("snakemake")
     except metadata.PackageNotFoundError:
         snakemake_version = "not installed"
-    return {"nproc": nproc, "cpu_count": os.cpu_count(), "cpu_model": model, "memory_gb": mem_gb,
+    return {"nproc": nproc, "cpu_count": os.cpu_count(), "cpu_model": model,
+            "vector": widest_vector(flags) if flags is not None else "unknown", "memory_gb": mem_gb,
             "platform": platform.platform(), "python": platform.python_version(), "snakemake": snakemake_version}

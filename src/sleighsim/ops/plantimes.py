@@ -34,6 +34,7 @@ def _source(record: dict, rel: str) -> str:
     """Where a number comes from: the record, its date, commit and machine."""
     machine, load = record.get("machine") or {}, (record.get("run") or {}).get("load_average")
     where = f", {machine['nproc']} cores {machine['cpu_model']}" if machine.get("cpu_model") else ""
+    where += f" ({machine['vector']})" if where and machine.get("vector", "unknown") != "unknown" else ""
     where += f" (load average {load[0]:.1f} at the start: a shared machine)" if load else ""
     return f"`{rel}`, {str(record.get('date'))[:10]}, commit {str(record.get('git_commit'))[:8]}{where}"
 
